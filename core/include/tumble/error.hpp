@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+/// @file error.hpp
+/// Exceptions thrown at the API boundary (bad configuration, bad input files).
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace tumble {
+
+/// Configuration or input error. what() is one line meant for the user; for file input it
+/// starts with "FILE:LINE: ".
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// An input file could not be read or parsed. Carries the file and line (0 = unknown).
+class InputError : public Error {
+ public:
+  InputError(const std::string& file, long line, const std::string& problem)
+      : Error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + problem),
+        m_file(file), m_line(line), m_problem(problem) {}
+  const std::string& file() const noexcept { return m_file; }
+  long line() const noexcept { return m_line; }
+  const std::string& problem() const noexcept { return m_problem; }
+
+ private:
+  std::string m_file;
+  long m_line;
+  std::string m_problem;
+};
+
+/// The simulation left its valid range (non-finite state and the like).
+class SimulationError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace tumble

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+/// @file random.hpp
+/// A small deterministic random generator (SplitMix64). Unlike <random>'s distributions its
+/// output is specified bit for bit, so scenes built from a seed are the same on every
+/// platform and standard library.
+#pragma once
+#include <cstdint>
+
+#include "tumble/hd.hpp"
+
+namespace tumble {
+
+/// SplitMix64 (Steele, Lea, Flood 2014): 64-bit state, full period, passes BigCrush.
+struct Rng {
+  std::uint64_t state;
+  explicit Rng(std::uint64_t seed = 0) : state(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [0, 1) with 24 random bits (exactly representable as float).
+  float uniform() { return static_cast<float>(next() >> 40) * (1.0f / 16777216.0f); }
+  /// Uniform in [lo, hi).
+  float uniform(float lo, float hi) { return lo + (hi - lo) * uniform(); }
+  /// Uniform integer in [0, n) (n > 0); slight modulo bias is irrelevant here.
+  std::uint32_t below(std::uint32_t n) { return static_cast<std::uint32_t>(next() % n); }
+};
+
+}  // namespace tumble

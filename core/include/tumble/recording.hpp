@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+/// @file recording.hpp
+/// The versioned binary recording format (docs/recording.md): a header, the static particle
+/// table, then one frame per `stepsPerFrame` steps with each body's X and Q; optionally a debug
+/// block per frame (velocities, the five forces per particle, the contact pairs).
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "tumble/pipeline.hpp"
+#include "tumble/world.hpp"
+
+namespace tumble {
+
+inline constexpr std::uint32_t kRecordingVersion = 1;
+
+/// Scene-level facts a player needs.
+struct RecordingInfo {
+  std::uint32_t version = kRecordingVersion;
+  std::uint32_t numParticles = 0;
+  std::uint32_t numBodies = 0;
+  std::uint32_t stepsPerFrame = 10;
+  float dt = 0.0f;
+  float fps = 60.0f;
+  bool debug = false;
+  bool groundEnabled = false;
+  float groundHeight = 0.0f;
+  Vec3f gravity{0, 0, 0};
+  std::string sceneName;
+};
+
+/// One recorded frame.
+struct RecordedFrame {
+  std::uint64_t step = 0;
+  double time = 0.0;
+  std::uint32_t pulls = 0;                  ///< PullBits on during this frame
+  std::vector<float> px, py, pz;            ///< per body
+  std::vector<float> qw, qx, qy, qz;        ///< per body
+  ParticleDebug debug;                      ///< filled only in debug recordings
+};
+
+/// A whole recording in memory.
+struct Recording {
+  RecordingInfo info;
+  // Static particle table.
+  std::vector<float> radius, mass, elasticity;
+  std::vector<std::uint32_t> body;
+  std::vector<float> ux, uy, uz;
+  std::vector<RecordedFrame> frames;
+
+  /// Reads a recording. Throws tumble::InputError (file, byte offset as "line" 0, problem) on a
+  /// missing, truncated or corrupt file or an unsupported version; never crashes on bad bytes.
+  static Recording read(const std::string& path);
+};
+
+/// Writes a recording. Frames go to `path + ".part"`; close() (or the destructor) writes the
+/// frame count and renames it to `path`, so a crash never leaves a half-written `path`.
+class RecordingWriter {
+ public:
+  RecordingWriter(const std::string& path, const World& world, bool debug, int stepsPerFrame,
+                  float fps = 60.0f);
+  ~RecordingWriter();
+  RecordingWriter(const RecordingWriter&) = delete;
+  RecordingWriter& operator=(const RecordingWriter&) = delete;
+
+  /// Appends a frame. `debug` must be given iff the recording was opened with debug = true.
+  /// Throws tumble::Error if the state holds a non-finite value (NaN is never recorded).
+  void writeFrame(std::uint64_t step, double time, std::uint32_t pulls, const BodyState& state,
+                  const ParticleDebug* debug = nullptr);
+  /// Finishes the file and renames it into place. Idempotent.
+  void close();
+  std::uint64_t numFrames() const { return m_numFrames; }
+  const std::string& path() const { return m_path; }
+
+ private:
+  std::string m_path;
+  std::string m_partPath;
+  std::FILE* m_file = nullptr;
+  std::uint64_t m_numFrames = 0;
+  std::uint32_t m_numParticles = 0;
+  std::uint32_t m_numBodies = 0;
+  bool m_debug = false;
+  bool m_failed = false;                 ///< a write failed: close() leaves the .part file alone
+  long m_frameCountOffset = 0;           ///< byte offset of the header's frame count
+  std::vector<std::uint8_t> m_header;    ///< header bytes, re-checksummed at close()
+  std::vector<std::uint8_t> m_buffer;    ///< one frame, encoded before it is written
+
+  void writeBytes(const std::uint8_t* data, std::size_t size, const char* what);
+};
+
+}  // namespace tumble

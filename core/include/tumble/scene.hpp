@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: MIT
+/// @file scene.hpp
+/// Scene description: physical parameters, the bodies to create, and run settings. Read from
+/// TOML by readSceneFile() (docs/scenes.md) or built in code (validation/scenes.hpp).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tumble/math.hpp"
+
+namespace tumble {
+
+/// Particle–particle contact (SPEC §2.3): f_s = k_s δ n, f_d = η w, f_t = k_t (w − (w·n) n).
+struct ContactParams {
+  float stiffness = 2.0e4f;  ///< k_s [N/m]
+  float damping = 10.0f;     ///< η [N s/m]
+  float shear = 5.0f;        ///< k_t [N s/m]
+};
+
+/// Ground plane z = height with normal +z (SPEC §2.4).
+struct GroundParams {
+  bool enabled = false;
+  float height = 0.0f;
+  float stiffness = 2.0e4f;          ///< normal spring k_g [N/m]
+  float friction = 0.5f;             ///< Coulomb μ (static = kinetic)
+  float tangentialStiffness = 0.0f;  ///< stick spring k_t,g [N/m]; 0 = 2/7 k_g
+};
+
+/// Bits of PullParams::active / Pipeline::setPulls().
+enum PullBits : std::uint32_t { kPullX = 1u, kPullY = 2u, kPullSwirl = 4u };
+
+/// The report's user forces (SPEC §2.5), per particle, proportional to its mass:
+/// x: f = −m κx x ex; y: f = −m κy y ey; swirl: f = m κs (−y, x, 0). They add.
+struct PullParams {
+  float x = 2.0f;        ///< κx [1/s²]
+  float y = 2.0f;        ///< κy [1/s²]
+  float swirl = 2.0f;    ///< κs [1/s²]
+  std::uint32_t active = 0;  ///< PullBits that are on
+};
+
+/// One sphere of a shape, in the shape's own frame.
+struct SphereDef {
+  Vec3f offset{0, 0, 0};
+  float radius = 0.5f;
+  float mass = 1.0f;
+  float elasticity = 0.5f;
+};
+
+/// A rigid body shape: one or more spheres.
+struct ShapeDef {
+  std::string name;
+  std::vector<SphereDef> spheres;
+};
+
+/// One body to create: shape index, centre-of-mass position, velocities, orientation.
+struct BodyDef {
+  std::uint32_t shape = 0;
+  Vec3f position{0, 0, 0};
+  Vec3f velocity{0, 0, 0};
+  Quatf orientation{1, 0, 0, 0};
+  Vec3f angularVelocity{0, 0, 0};  ///< world frame
+};
+
+/// Collision-detection knobs. They change speed only, never the pair set.
+struct BroadphaseParams {
+  float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (2 × largest diameter)
+  int pcaEvery = 10;       ///< recompute the PCA axis every K steps (1 = every step)
+};
+
+/// Everything a run needs.
+struct Scene {
+  std::string name = "scene";
+  std::string sourceFile;  ///< the TOML file it came from, if any
+  float dt = 1.0e-4f;
+  std::uint64_t steps = 1000;
+  Vec3f gravity{0.0f, 0.0f, -9.81f};
+  ContactParams contact;
+  GroundParams ground;
+  PullParams pulls;
+  BroadphaseParams broadphase;
+  std::vector<ShapeDef> shapes;
+  std::vector<BodyDef> bodies;
+  // Output settings.
+  std::string recordFile;          ///< empty = no recording
+  std::uint64_t recordSteps = 0;   ///< 0 = the whole run
+  bool recordDebug = false;
+  int stepsPerFrame = 10;
+};
+
+}  // namespace tumble

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+/// @file world.hpp
+/// Host-owned SoA state of a scene: the static particle and body tables and the body state.
+/// Pipelines copy it in at load() and write the body state back on demand.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "tumble/math.hpp"
+#include "tumble/scene.hpp"
+#include "tumble/soa.hpp"
+
+namespace tumble {
+
+/// The integrated state of every body (one column per component).
+struct BodyState {
+  std::vector<float> px, py, pz;      ///< centre of mass X
+  std::vector<float> vx, vy, vz;      ///< V
+  std::vector<float> qw, qx, qy, qz;  ///< orientation Q
+  std::vector<float> lx, ly, lz;      ///< angular momentum L (world frame)
+  void resize(std::size_t n);
+  std::size_t size() const { return px.size(); }
+};
+
+/// Bodies, particles and parameters of one run, on the host.
+struct World {
+  Scene params;  ///< the scene it was built from (parameters; bodies/shapes kept for reference)
+
+  // Static particle table; particles of one body are contiguous, bodies in creation order.
+  std::vector<float> radius, mass, elasticity, groundDamping;
+  std::vector<std::uint32_t> body;
+  std::vector<float> ux, uy, uz;
+
+  // Static body table.
+  std::vector<float> bodyMass, invMass;
+  std::vector<Sym3f> invInertia;  ///< body frame, about the centre of mass
+  std::vector<Sym3f> inertia;     ///< I0 itself (for energies and diagnostics)
+  std::vector<std::uint32_t> first, numParticlesOf;
+
+  BodyState state;
+
+  bool hasClumps = false;  ///< some body has more than one particle
+  float maxRadius = 0.0f;
+
+  std::uint32_t numParticles() const { return static_cast<std::uint32_t>(radius.size()); }
+  std::uint32_t numBodies() const { return static_cast<std::uint32_t>(bodyMass.size()); }
+
+  /// Builds the tables from a scene: mass properties (SPEC §1), centres of mass, offsets u,
+  /// ground damping from each particle's elasticity, L = R I0 Rᵀ ω. Throws tumble::Error on an
+  /// empty scene or invalid values (radius ≤ 0, mass ≤ 0, elasticity outside (0, 1], NaN).
+  static World fromScene(const Scene& scene);
+};
+
+/// Damping coefficient c of a linear spring-dashpot k, mass m whose coefficient of restitution
+/// is e (0 < e ≤ 1): c = 2 ζ √(k m), ζ = −ln e / √(π² + ln² e). Exact for an unclamped linear
+/// spring-dashpot without gravity, contact ending when the overlap returns to zero.
+double dampingForRestitution(double e, double k, double m);
+
+/// Restitution of the same model for damping c: e = exp(−ζπ/√(1−ζ²)) (0 when ζ ≥ 1).
+double restitutionForDamping(double c, double k, double m);
+
+/// Kinetic energy Σ ½ M V² + ½ Ω·L of the body state.
+double kineticEnergy(const World& world, const BodyState& state);
+
+}  // namespace tumble

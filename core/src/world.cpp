@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: MIT
+// Building a World from a Scene: mass properties (SPEC §1) and the ground damping that makes
+// each particle's elasticity its coefficient of restitution on the ground (SPEC §2.4).
+#include "tumble/world.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "tumble/error.hpp"
+
+namespace tumble {
+
+void BodyState::resize(std::size_t n) {
+  for (auto* c : {&px, &py, &pz, &vx, &vy, &vz, &qw, &qx, &qy, &qz, &lx, &ly, &lz}) c->resize(n);
+}
+
+double dampingForRestitution(double e, double k, double m) {
+  if (!(e > 0.0) || e > 1.0) throw Error("elasticity must be in (0, 1], got " + std::to_string(e));
+  const double le = std::log(e);
+  const double pi = 3.14159265358979323846;
+  const double zeta = -le / std::sqrt(pi * pi + le * le);
+  return 2.0 * zeta * std::sqrt(k * m);
+}
+
+double restitutionForDamping(double c, double k, double m) {
+  const double zeta = c / (2.0 * std::sqrt(k * m));
+  if (zeta >= 1.0) return 0.0;
+  const double pi = 3.14159265358979323846;
+  return std::exp(-zeta * pi / std::sqrt(1.0 - zeta * zeta));
+}
+
+namespace {
+
+bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+Sym3f toSym(const Eigen::Matrix3d& m) {
+  return {static_cast<float>(m(0, 0)), static_cast<float>(m(1, 1)), static_cast<float>(m(2, 2)),
+          static_cast<float>(m(0, 1)), static_cast<float>(m(0, 2)), static_cast<float>(m(1, 2))};
+}
+
+}  // namespace
+
+World World::fromScene(const Scene& scene) {
+  if (scene.bodies.empty()) throw Error("scene '" + scene.name + "' has no bodies");
+  if (!(scene.dt > 0.0f) || !std::isfinite(scene.dt)) throw Error("dt must be a positive number");
+  World w;
+  w.params = scene;
+  w.params.bodies.clear();  // the tables below are the truth; keep the copy small
+  const auto nb = scene.bodies.size();
+  std::size_t np = 0;
+  for (const auto& b : scene.bodies) {
+    if (b.shape >= scene.shapes.size()) throw Error("body refers to an unknown shape index");
+    np += scene.shapes[b.shape].spheres.size();
+  }
+  if (np == 0) throw Error("scene '" + scene.name + "' has no particles");
+  if (np >= (std::size_t{1} << 31)) throw Error("too many particles (limit 2^31)");
+
+  for (auto* c : {&w.radius, &w.mass, &w.elasticity, &w.groundDamping, &w.ux, &w.uy, &w.uz}) c->reserve(np);
+  w.body.reserve(np);
+  w.bodyMass.resize(nb);
+  w.invMass.resize(nb);
+  w.invInertia.resize(nb);
+  w.inertia.resize(nb);
+  w.first.resize(nb);
+  w.numParticlesOf.resize(nb);
+  w.state.resize(nb);
+
+  // Mass properties per shape, computed once (double precision).
+  struct ShapeProps {
+    double mass;
+    Eigen::Vector3d com;
+    Eigen::Matrix3d inertia, invInertia;
+  };
+  std::vector<ShapeProps> props(scene.shapes.size());
+  for (std::size_t s = 0; s < scene.shapes.size(); ++s) {
+    const auto& sh = scene.shapes[s];
+    if (sh.spheres.empty()) throw Error("shape '" + sh.name + "' has no spheres");
+    ShapeProps p{0.0, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+    for (const auto& sp : sh.spheres) {
+      if (!(sp.radius > 0.0f) || !std::isfinite(sp.radius)) throw Error("shape '" + sh.name + "': radius must be > 0");
+      if (!(sp.mass > 0.0f) || !std::isfinite(sp.mass)) throw Error("shape '" + sh.name + "': mass must be > 0");
+      if (!(sp.elasticity > 0.0f) || sp.elasticity > 1.0f) throw Error("shape '" + sh.name + "': elasticity must be in (0, 1]");
+      if (!finite(sp.offset)) throw Error("shape '" + sh.name + "': offset is not finite");
+      p.mass += sp.mass;
+      p.com += sp.mass * Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z);
+    }
+    p.com /= p.mass;
+    for (const auto& sp : sh.spheres) {
+      const Eigen::Vector3d u = Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com;
+      const double r = sp.radius;
+      p.inertia += sp.mass * ((0.4 * r * r + u.squaredNorm()) * Eigen::Matrix3d::Identity() - u * u.transpose());
+    }
+    p.invInertia = p.inertia.inverse();
+    props[s] = p;
+  }
+
+  const GroundParams& g = scene.ground;
+  for (std::size_t k = 0; k < nb; ++k) {
+    const BodyDef& bd = scene.bodies[k];
+    const ShapeDef& sh = scene.shapes[bd.shape];
+    const ShapeProps& p = props[bd.shape];
+    if (!finite(bd.position) || !finite(bd.velocity) || !finite(bd.angularVelocity))
+      throw Error("body " + std::to_string(k) + " has a non-finite position or velocity");
+    w.first[k] = static_cast<std::uint32_t>(w.radius.size());
+    w.numParticlesOf[k] = static_cast<std::uint32_t>(sh.spheres.size());
+    if (sh.spheres.size() > 1) w.hasClumps = true;
+    for (const auto& sp : sh.spheres) {
+      w.radius.push_back(sp.radius);
+      w.mass.push_back(sp.mass);
+      w.elasticity.push_back(sp.elasticity);
+      w.groundDamping.push_back(
+          g.enabled ? static_cast<float>(dampingForRestitution(sp.elasticity, g.stiffness, sp.mass)) : 0.0f);
+      w.body.push_back(static_cast<std::uint32_t>(k));
+      w.ux.push_back(static_cast<float>(sp.offset.x - p.com.x()));
+      w.uy.push_back(static_cast<float>(sp.offset.y - p.com.y()));
+      w.uz.push_back(static_cast<float>(sp.offset.z - p.com.z()));
+      w.maxRadius = std::max(w.maxRadius, sp.radius);
+    }
+    w.bodyMass[k] = static_cast<float>(p.mass);
+    w.invMass[k] = static_cast<float>(1.0 / p.mass);
+    w.inertia[k] = toSym(p.inertia);
+    w.invInertia[k] = toSym(p.invInertia);
+    const Quatf q = normalized(bd.orientation);
+    auto& s = w.state;
+    s.px[k] = bd.position.x; s.py[k] = bd.position.y; s.pz[k] = bd.position.z;
+    s.vx[k] = bd.velocity.x; s.vy[k] = bd.velocity.y; s.vz[k] = bd.velocity.z;
+    s.qw[k] = q.w; s.qx[k] = q.x; s.qy[k] = q.y; s.qz[k] = q.z;
+    // L = R I0 Rᵀ ω (world frame).
+    const Eigen::Quaterniond qd(q.w, q.x, q.y, q.z);
+    const Eigen::Matrix3d R = qd.toRotationMatrix();
+    const Eigen::Vector3d L = R * p.inertia * R.transpose() *
+                              Eigen::Vector3d(bd.angularVelocity.x, bd.angularVelocity.y, bd.angularVelocity.z);
+    s.lx[k] = static_cast<float>(L.x()); s.ly[k] = static_cast<float>(L.y()); s.lz[k] = static_cast<float>(L.z());
+  }
+  return w;
+}
+
+double kineticEnergy(const World& world, const BodyState& s) {
+  double e = 0.0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double m = world.bodyMass[k];
+    e += 0.5 * m * (double(s.vx[k]) * s.vx[k] + double(s.vy[k]) * s.vy[k] + double(s.vz[k]) * s.vz[k]);
+    if (world.numParticlesOf[k] > 1) {
+      const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
+      const Vec3f Lb = rotateInv(q, Vec3f{s.lx[k], s.ly[k], s.lz[k]});
+      const Vec3f wb = mul(world.invInertia[k], Lb);
+      e += 0.5 * (double(wb.x) * Lb.x + double(wb.y) * Lb.y + double(wb.z) * Lb.z);
+    }
+  }
+  return e;
+}
+
+}  // namespace tumble

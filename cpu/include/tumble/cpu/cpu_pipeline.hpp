@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: MIT
+/// @file cpu_pipeline.hpp
+/// The CPU reference pipeline on oneTBB. Use tumble::makePipeline(Backend::Cpu) or
+/// makeCpuPipeline(); everything else about it is behind the tumble::Pipeline interface.
+#pragma once
+#include <memory>
+
+#include "tumble/pipeline.hpp"
+
+namespace tumble::cpu {
+
+/// Creates the CPU pipeline. options.threads = 0 uses every core; the results do not depend
+/// on the thread count (bitwise).
+std::unique_ptr<Pipeline> makeCpuPipeline(const PipelineOptions& options = {});
+
+}  // namespace tumble::cpu

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+/// @file scenes.hpp
+/// Scene and particle-cloud generators shared by tests, benchmarks and examples.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tumble/pipeline.hpp"
+#include "tumble/scene.hpp"
+
+namespace tumble::validation {
+
+/// The `bench` scene (SPEC §5; the peers' "clumps"): bodies of 8 spheres (radius 0.5, mass 1,
+/// offsets ±0.25) on a jittered lattice of spacing 1.65 above a ground, random velocities in
+/// ±0.5, k = 2e4, dt = 5e-4. numParticles is 16000, 128000 or 960000 (the peers' lattices) or
+/// any multiple of 8 (a near-cubic 4:4:1 lattice). Identical to scenes/bench-*.toml.
+Scene benchScene(std::uint32_t numParticles, std::uint64_t seed = 12345);
+
+/// A named particle cloud for the broadphase tests.
+struct NamedCloud {
+  std::string name;
+  ParticleCloud cloud;
+};
+
+/// Uniform random spheres in a box (radii in [rMin, rMax]), `bodySize` particles per body.
+ParticleCloud randomCloud(std::uint32_t n, std::uint64_t seed, float boxSize, float rMin, float rMax,
+                          std::uint32_t bodySize = 1);
+
+/// The hard cases of SPEC §3: every particle at one z, isotropic cloud (degenerate PCA), offset
+/// 1e6 with radii 1e-3, radii 1:100, exactly touching lattice, particles spanning many cells,
+/// negative coordinates, coincident particles, N = 0 and N = 1, all in one cell, one body.
+std::vector<NamedCloud> hardCases(std::uint64_t seed);
+
+/// 64-bit FNV-1a hash of every bit of a body state (for determinism tests and goldens).
+std::uint64_t stateHash(const BodyState& state);
+
+/// Path of a file in the source tree (scenes/…, validation/golden/…).
+std::string sourcePath(const std::string& relative);
+
+}  // namespace tumble::validation

@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: MIT
+// Physics against analytic results (SPEC §2): restitution on the ground, momentum in a clump
+// collision, torque-free rotation, stick and slide on a slope, coincident centres.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "tumble/validation/scenes.hpp"
+#include "tumble/world.hpp"
+
+using namespace tumble;
+
+namespace {
+
+class PhysicsTest : public ::testing::TestWithParam<Backend> {
+ protected:
+  void SetUp() override {
+    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+  }
+};
+
+ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
+
+// A flat 3×3 clump of spheres (radius r, spacing 2r), wide and low so it cannot tip.
+ShapeDef plateShape(float r, float m, float e) {
+  ShapeDef s{"plate", {}};
+  for (int i = -1; i <= 1; ++i)
+    for (int j = -1; j <= 1; ++j) s.spheres.push_back(SphereDef{{2 * r * i, 2 * r * j, 0}, r, m, e});
+  return s;
+}
+
+// An asymmetric clump (distinct principal moments) for rotation tests.
+ShapeDef oddShape() {
+  return ShapeDef{"odd",
+                  {SphereDef{{0, 0, 0}, 0.3f, 2.0f, 0.5f}, SphereDef{{0.5f, 0, 0}, 0.2f, 1.0f, 0.5f},
+                   SphereDef{{0, 0.35f, 0.1f}, 0.15f, 0.5f, 0.5f}, SphereDef{{-0.2f, -0.1f, 0.4f}, 0.25f, 1.5f, 0.5f}}};
+}
+
+}  // namespace
+
+// A sphere dropped from h0 rebounds to h1 = e² h0: e_measured = √(h1/h0) within 2 %. It starts
+// at the ground with the drop velocity √(2 g h0) (the same thing, without the long fall).
+TEST_P(PhysicsTest, SphereRestitutionOnGround) {
+  for (float e : {0.2f, 0.5f, 0.9f}) {
+    Scene s;
+    s.gravity = {0, 0, -9.81f};
+    s.ground.enabled = true;
+    // Contact time π √(m/k) ≈ 1 ms, so gravity changes the velocity by < 0.2 % during contact.
+    s.ground.stiffness = 1.0e7f;
+    s.shapes = {sphereShape(0.1f, 1.0f, e)};
+    const double h0 = 2.0;
+    BodyDef b;
+    b.position = {0, 0, 0.1f};
+    b.velocity = {0, 0, static_cast<float>(-std::sqrt(2.0 * 9.81 * h0))};
+    s.bodies = {b};
+    s.dt = 5.0e-6f;  // 200 steps per contact
+    World w = World::fromScene(s);
+    auto p = makePipeline(GetParam());
+    p->load(w);
+    BodyState st;
+    bool left = false;
+    double apex = -1.0;
+    for (int i = 0; i < 400000 && apex < 0.0; i += 10) {
+      p->step(10);
+      p->readState(st);
+      const float gap = st.pz[0] - 0.1f;
+      if (gap > 0.0f) left = true;
+      if (left && st.vz[0] <= 0.0f) apex = gap;
+    }
+    ASSERT_GT(apex, 0.0) << "no rebound for e = " << e;
+    const double measured = std::sqrt(apex / h0);
+    std::printf("restitution: configured %.3f measured %.4f (error %.2f %%)\n", e, measured,
+                100.0 * (measured - e) / e);
+    EXPECT_NEAR(measured, e, 0.02 * e) << "e = " << e;
+  }
+}
+
+// Two clumps collide with no ground and no gravity: P and L (about the origin) are conserved.
+TEST_P(PhysicsTest, ClumpCollisionConservesMomentum) {
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.contact = {1.0e5f, 20.0f, 10.0f};
+  s.shapes = {oddShape()};
+  s.dt = 1.0e-5f;
+  BodyDef a, b;
+  a.position = {-0.45f, 0.05f, 0.1f};
+  a.velocity = {3.0f, 0.2f, -0.1f};
+  a.angularVelocity = {1.0f, -2.0f, 3.0f};
+  a.orientation = normalized(Quatf{0.9f, 0.1f, 0.3f, -0.2f});
+  b.position = {0.45f, -0.1f, -0.05f};
+  b.velocity = {-2.5f, 0.0f, 0.3f};
+  b.angularVelocity = {-0.5f, 1.0f, 0.2f};
+  s.bodies = {a, b};
+  World w = World::fromScene(s);
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  auto momenta = [&](const BodyState& st, double P[3], double L[3]) {
+    for (int k = 0; k < 3; ++k) P[k] = L[k] = 0.0;
+    for (std::size_t k = 0; k < st.size(); ++k) {
+      const double m = w.bodyMass[k];
+      const double X[3] = {st.px[k], st.py[k], st.pz[k]}, V[3] = {m * st.vx[k], m * st.vy[k], m * st.vz[k]};
+      P[0] += V[0]; P[1] += V[1]; P[2] += V[2];
+      L[0] += X[1] * V[2] - X[2] * V[1] + st.lx[k];
+      L[1] += X[2] * V[0] - X[0] * V[2] + st.ly[k];
+      L[2] += X[0] * V[1] - X[1] * V[0] + st.lz[k];
+    }
+  };
+  BodyState st;
+  p->readState(st);
+  double P0[3], L0[3], P1[3], L1[3];
+  momenta(st, P0, L0);
+  // Stop as soon as the bodies separate: in free flight, float rounding of X += V dt alone moves
+  // Σ X × M V (by up to ½ ulp(X) per step), which is not what this test is about.
+  std::uint64_t contactSteps = 0;
+  for (int i = 0; i < 200000; ++i) {
+    p->step(1);
+    if (p->stats().numPairs > 0) ++contactSteps;
+    else if (contactSteps > 0) break;
+  }
+  p->readState(st);
+  momenta(st, P1, L1);
+  ASSERT_GT(contactSteps, 100u) << "the clumps must actually collide";
+  // Did they separate again? (relative velocity reversed along x)
+  EXPECT_LT(st.vx[0] - st.vx[1], 0.0f);
+  const double pScale = 20.0, lScale = 10.0;  // |m v| and |X × m v| of the bodies, roughly
+  for (int k = 0; k < 3; ++k) {
+    std::printf("P[%d] %.9g -> %.9g   L[%d] %.9g -> %.9g\n", k, P0[k], P1[k], k, L0[k], L1[k]);
+    // Float rounding only: the contact forces are exactly antisymmetric; per-body sums round.
+    EXPECT_NEAR(P1[k], P0[k], 1e-5 * pScale) << "linear momentum component " << k;
+    EXPECT_NEAR(L1[k], L0[k], 1e-4 * lScale) << "angular momentum component " << k;
+  }
+}
+
+// A torque-free asymmetric clump keeps |L| (L is integrated exactly when T = 0) and Q stays unit;
+// the kinetic energy drift of the report's scheme is reported.
+TEST_P(PhysicsTest, TorqueFreeSpinKeepsAngularMomentum) {
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.shapes = {oddShape()};
+  s.dt = 1.0e-4f;
+  BodyDef b;
+  b.angularVelocity = {0.5f, 6.0f, 0.3f};  // near the intermediate axis: tumbles
+  s.bodies = {b};
+  World w = World::fromScene(s);
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  BodyState st;
+  p->readState(st);
+  const double l0 = std::sqrt(double(st.lx[0]) * st.lx[0] + double(st.ly[0]) * st.ly[0] + double(st.lz[0]) * st.lz[0]);
+  const double e0 = kineticEnergy(w, st);
+  double maxDrift = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    p->step(100);
+    p->readState(st);
+    maxDrift = std::max(maxDrift, std::abs(kineticEnergy(w, st) - e0) / e0);
+  }
+  const double l1 = std::sqrt(double(st.lx[0]) * st.lx[0] + double(st.ly[0]) * st.ly[0] + double(st.lz[0]) * st.lz[0]);
+  const double qn = std::sqrt(double(st.qw[0]) * st.qw[0] + double(st.qx[0]) * st.qx[0] +
+                              double(st.qy[0]) * st.qy[0] + double(st.qz[0]) * st.qz[0]);
+  const double e1 = kineticEnergy(w, st);
+  std::printf("torque-free spin, 10000 steps of dt 1e-4: |L| %.9g -> %.9g, |Q| %.9f, KE drift %.3e (max %.3e)\n",
+              l0, l1, qn, (e1 - e0) / e0, maxDrift);
+  EXPECT_NEAR(l1, l0, 1e-6 * l0);
+  EXPECT_NEAR(qn, 1.0, 1e-6);
+  EXPECT_LT(maxDrift, 0.05) << "report's scheme drifts, but not by this much at dt = 1e-4";
+}
+
+namespace {
+
+// A plate on a slope of angle θ (gravity tilted in x–z), friction μ = 0.5. Returns the plate's
+// x velocity at t1 and t2 and its displacement from t0 to t2.
+struct SlopeRun {
+  double v1, v2, dx;
+};
+SlopeRun runSlope(Backend backend, double thetaDeg, double t1, double t2) {
+  const double th = thetaDeg * 3.14159265358979 / 180.0;
+  Scene s;
+  s.gravity = {static_cast<float>(9.81 * std::sin(th)), 0.0f, static_cast<float>(-9.81 * std::cos(th))};
+  s.ground.enabled = true;
+  s.ground.stiffness = 1.0e5f;
+  s.ground.friction = 0.5f;
+  s.shapes = {plateShape(0.05f, 0.1f, 0.3f)};
+  s.dt = 5.0e-5f;
+  BodyDef b;
+  // Start at the resting penetration of each sphere, δ = m g cos θ / k.
+  b.position = {0, 0, static_cast<float>(0.05 - 0.1 * 9.81 * std::cos(th) / 1.0e5)};
+  s.bodies = {b};
+  World w = World::fromScene(s);
+  auto p = makePipeline(backend);
+  p->load(w);
+  BodyState st;
+  p->readState(st);
+  const double x0 = st.px[0];
+  p->step(static_cast<std::uint64_t>(std::llround(t1 / s.dt)));
+  p->readState(st);
+  const double v1 = st.vx[0];
+  p->step(static_cast<std::uint64_t>(std::llround((t2 - t1) / s.dt)));
+  p->readState(st);
+  return {v1, st.vx[0], st.px[0] - x0};
+}
+
+}  // namespace
+
+TEST_P(PhysicsTest, BodyOnSlopeBelowFrictionAngleStaysPut) {
+  const SlopeRun r = runSlope(GetParam(), 20.0, 1.0, 2.0);  // tan 20° = 0.36 < μ = 0.5
+  std::printf("slope 20 deg: displacement after 2 s %.3e m, velocity %.3e m/s\n", r.dx, r.v2);
+  EXPECT_LT(std::abs(r.dx), 1.0e-4);  // the elastic stick spring stretches by ~m g sinθ / k_t
+  EXPECT_LT(std::abs(r.v2), 1.0e-4);
+}
+
+TEST_P(PhysicsTest, BodyOnSlopeAboveFrictionAngleSlides) {
+  const double th = 35.0 * 3.14159265358979 / 180.0;  // tan 35° = 0.70 > μ = 0.5
+  const SlopeRun r = runSlope(GetParam(), 35.0, 0.2, 1.2);
+  const double a = (r.v2 - r.v1) / 1.0;
+  const double expected = 9.81 * (std::sin(th) - 0.5 * std::cos(th));
+  std::printf("slope 35 deg: acceleration %.5f m/s^2, analytic g(sin - mu cos) %.5f (error %.3f %%)\n", a, expected,
+              100.0 * (a - expected) / expected);
+  EXPECT_NEAR(a, expected, 0.02 * expected);
+}
+
+// Coincident particle centres of two bodies: no NaN, and the bodies are pushed apart.
+TEST_P(PhysicsTest, CoincidentCentresNeverProduceNaN) {
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.shapes = {sphereShape(0.5f, 1.0f, 0.5f), oddShape()};
+  s.dt = 1.0e-4f;
+  BodyDef a, b, c;
+  c.shape = 1;
+  c.position = {3, 3, 3};
+  BodyDef d = c;  // two identical clumps at the same place: every centre coincides
+  s.bodies = {a, b, c, d};
+  World w = World::fromScene(s);
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  p->step(2000);
+  BodyState st;
+  p->readState(st);
+  for (std::size_t k = 0; k < st.size(); ++k)
+    for (const auto* col : {&st.px, &st.py, &st.pz, &st.vx, &st.vy, &st.vz, &st.qw, &st.lx})
+      ASSERT_TRUE(std::isfinite((*col)[k])) << "body " << k;
+  EXPECT_GT(std::abs(st.pz[0] - st.pz[1]), 0.5f) << "coincident spheres must separate";
+  EXPECT_GT(std::abs(st.pz[2] - st.pz[3]), 0.5f) << "coincident clumps must separate";
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, PhysicsTest, ::testing::ValuesIn(compiledBackends()),
+                         [](const auto& info) { return std::string(toString(info.param)); });
