@@ -52,26 +52,42 @@ struct Recording {
 
   /// Reads a recording. Throws tumble::InputError (file, byte offset as "line" 0, problem) on a
   /// missing, truncated or corrupt file or an unsupported version; never crashes on bad bytes.
+  /// Every count is checked against the file size before anything is allocated. Accepts a
+  /// `.part` file left by a crashed writer (all complete frames; a torn last frame is an error).
+  /// Memory: the whole recording. Thread safety: none shared; concurrent calls are fine.
   static Recording read(const std::string& path);
 };
 
 /// Writes a recording. Frames go to `path + ".part"`; close() (or the destructor) writes the
 /// frame count and renames it to `path`, so a crash never leaves a half-written `path`.
+/// Every frame is flushed when written. Not thread-safe: one caller at a time.
+/// Determinism: the bytes written depend only on the values given (no timestamps, no padding).
 class RecordingWriter {
  public:
+  /// Opens `path + ".part"` and writes the header and the static particle table of `world`
+  /// (radius, mass, elasticity, body, ux, uy, uz; dt, gravity, ground and name from
+  /// world.params). Throws tumble::Error if the file cannot be opened (naming it and the
+  /// reason), if stepsPerFrame < 1, fps or dt is not positive, or the table is inconsistent or
+  /// non-finite.
   RecordingWriter(const std::string& path, const World& world, bool debug, int stepsPerFrame,
                   float fps = 60.0f);
+  /// Calls close(), swallowing its exceptions.
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
 
   /// Appends a frame. `debug` must be given iff the recording was opened with debug = true.
-  /// Throws tumble::Error if the state holds a non-finite value (NaN is never recorded).
+  /// Throws tumble::Error if the state holds a non-finite value (NaN is never recorded), if
+  /// sizes do not match the world, or on a write error. Values are checked before anything is
+  /// written, so a frame rejected for its values leaves the file unchanged and the writer usable.
   void writeFrame(std::uint64_t step, double time, std::uint32_t pulls, const BodyState& state,
                   const ParticleDebug* debug = nullptr);
-  /// Finishes the file and renames it into place. Idempotent.
+  /// Finishes the file and renames it into place. Idempotent. Throws tumble::Error if that
+  /// fails. After a failed write it only closes, leaving `path + ".part"` in place.
   void close();
+  /// Frames written so far.
   std::uint64_t numFrames() const { return m_numFrames; }
+  /// The final path (without ".part").
   const std::string& path() const { return m_path; }
 
  private:

@@ -1,0 +1,683 @@
+// SPDX-License-Identifier: MIT
+// The recording format of docs/recording.md: writer and validating reader.
+//
+// Design notes
+// - Byte order. Every value is encoded little-endian with explicit shifts (floats through
+//   std::bit_cast), so files are identical on any host and the reader never depends on
+//   alignment or on the host's endianness.
+// - Crash safety. The writer appends to `path.part` and flushes after every frame, so a crashed
+//   run leaves a `.part` file that holds every frame written so far. The header's frame count
+//   stays at the sentinel kUnfinished until close() patches it (and the header checksum) and
+//   renames the file to `path`. std::rename replaces `path` atomically on POSIX, so `path` is
+//   either the previous file or the finished new one, never a torn one. There is no fsync:
+//   the guarantee covers a crashed process, not a power loss.
+// - Never NaN. writeFrame() checks every value before it encodes anything; a rejected frame
+//   leaves the file exactly as it was. The reader checks finiteness again, so a player can
+//   trust whatever read() returns.
+// - Hostile input. read() treats the file as untrusted: every count is multiplied out in
+//   64-bit arithmetic and compared with the bytes left in the file *before* anything is
+//   allocated or read, so a corrupt count cannot cause a huge allocation, and every block is
+//   covered by a checksum. Decoding runs only on buffers whose size was checked first, and the
+//   decoder checks its bounds again anyway.
+// - Checksum. FNV-1a, 32 bit (Fowler, Noll, Vo; http://www.isthe.com/chongo/tech/comp/fnv/ and
+//   IETF draft-eastlake-fnv): h = 2166136261; for each byte h = (h ^ b) * 16777619 mod 2^32.
+//   Each step is a bijection of h for a fixed byte (the prime is odd), so any single-byte
+//   change is always detected; it is an integrity check, not protection against tampering.
+#include "tumble/recording.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <system_error>
+#include <utility>
+
+#include "tumble/error.hpp"
+
+namespace tumble {
+namespace {
+
+constexpr char kMagic[8] = {'T', 'U', 'M', 'B', 'L', 'R', 'E', 'C'};
+constexpr std::uint64_t kUnfinished = std::numeric_limits<std::uint64_t>::max();
+constexpr std::uint32_t kFlagDebug = 1u;
+constexpr std::uint32_t kFlagGround = 2u;
+constexpr std::uint32_t kKnownFlags = kFlagDebug | kFlagGround;
+constexpr std::uint32_t kMaxNameBytes = 65535;
+
+// Header layout (offsets from the start of the file); L = scene name length.
+constexpr std::uint64_t kOffVersion = 8;
+constexpr std::uint64_t kOffHeaderBytes = 12;
+constexpr std::uint64_t kOffNumParticles = 16;
+constexpr std::uint64_t kOffNumBodies = 20;
+constexpr std::uint64_t kOffStepsPerFrame = 24;
+constexpr std::uint64_t kOffDt = 28;
+constexpr std::uint64_t kOffFps = 32;
+constexpr std::uint64_t kOffFlags = 36;
+constexpr std::uint64_t kOffGroundHeight = 40;
+constexpr std::uint64_t kOffGravity = 44;
+constexpr std::uint64_t kOffNameLength = 56;
+constexpr std::uint64_t kOffName = 60;
+constexpr std::uint64_t kFixedHeaderBytes = 72;  // header size without the name: H = 72 + L
+static_assert(kOffNumBodies == kOffNumParticles + 4 && kOffName == kOffNameLength + 4 &&
+                  kFixedHeaderBytes == kOffName + 8 + 4,
+              "header layout of docs/recording.md");
+
+constexpr std::uint64_t kParticleBytes = 28;       // radius, mass, elasticity, body, ux, uy, uz
+constexpr std::uint64_t kBodyBytes = 28;           // px, py, pz, qw, qx, qy, qz
+constexpr std::uint64_t kFramePrefixBytes = 20;    // step u64, time f64, pulls u32
+constexpr std::uint64_t kDebugParticleBytes = 72;  // v and five forces, 3 × f32 each
+constexpr std::uint64_t kContactBytes = 8;         // i, j
+
+const char* const kForceNames[5] = {"repulsion", "damping", "shear", "ground", "friction"};
+
+std::uint32_t fnv1a(const std::uint8_t* data, std::size_t size) {
+  std::uint32_t h = 2166136261u;
+  for (std::size_t k = 0; k < size; ++k) {
+    h ^= data[k];
+    h *= 16777619u;
+  }
+  return h;
+}
+
+std::string hex32(std::uint32_t v) {
+  static const char* const kDigits = "0123456789abcdef";
+  std::string s = "0x00000000";
+  for (int k = 0; k < 8; ++k) s[9 - k] = kDigits[(v >> (4 * k)) & 0xFu];
+  return s;
+}
+
+std::string errnoText(int err) { return std::strerror(err); }
+
+// ---- encoding ------------------------------------------------------------------------------
+
+class Encoder {
+ public:
+  explicit Encoder(std::vector<std::uint8_t>& out) : m_out(out) {}
+  void u32(std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) m_out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  }
+  void u64(std::uint64_t v) {
+    for (int k = 0; k < 8; ++k) m_out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  }
+  void f32(float v) { u32(std::bit_cast<std::uint32_t>(v)); }
+  void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
+  void bytes(const void* data, std::size_t size) {
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    m_out.insert(m_out.end(), p, p + size);
+  }
+  void f32s(const std::vector<float>& v, std::size_t count) {
+    for (std::size_t k = 0; k < count; ++k) f32(v[k]);
+  }
+
+ private:
+  std::vector<std::uint8_t>& m_out;
+};
+
+void putU32At(std::vector<std::uint8_t>& buf, std::size_t at, std::uint32_t v) {
+  for (int k = 0; k < 4; ++k) buf[at + k] = static_cast<std::uint8_t>(v >> (8 * k));
+}
+void putU64At(std::vector<std::uint8_t>& buf, std::size_t at, std::uint64_t v) {
+  for (int k = 0; k < 8; ++k) buf[at + k] = static_cast<std::uint8_t>(v >> (8 * k));
+}
+
+std::uint32_t getU32(const std::uint8_t* p) {
+  return static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 |
+         static_cast<std::uint32_t>(p[2]) << 16 | static_cast<std::uint32_t>(p[3]) << 24;
+}
+std::uint64_t getU64(const std::uint8_t* p) {
+  return static_cast<std::uint64_t>(getU32(p)) | static_cast<std::uint64_t>(getU32(p + 4)) << 32;
+}
+
+// ---- reading -------------------------------------------------------------------------------
+
+/// An open input file with its size and a read position; every error names the byte offset.
+class InFile {
+ public:
+  explicit InFile(const std::string& path) : m_path(path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status)) {
+      throw InputError(path, 0, "cannot open recording: " +
+                                    (ec ? ec.message() : errnoText(ENOENT)));
+    }
+    if (!std::filesystem::is_regular_file(status)) {
+      throw InputError(path, 0, "cannot open recording: not a regular file");
+    }
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec) throw InputError(path, 0, "cannot open recording: " + ec.message());
+    m_size = size;
+    m_file = std::fopen(path.c_str(), "rb");
+    if (m_file == nullptr) throw InputError(path, 0, "cannot open recording: " + errnoText(errno));
+  }
+  ~InFile() {
+    if (m_file != nullptr) std::fclose(m_file);
+  }
+  InFile(const InFile&) = delete;
+  InFile& operator=(const InFile&) = delete;
+
+  std::uint64_t size() const { return m_size; }
+  std::uint64_t offset() const { return m_offset; }
+  std::uint64_t remaining() const { return m_size - m_offset; }
+
+  [[noreturn]] void fail(std::uint64_t at, const std::string& problem) const {
+    throw InputError(m_path, 0, "byte " + std::to_string(at) + ": " + problem);
+  }
+
+  /// Appends the next `count` bytes to `out`. Callers check `count` against remaining() first
+  /// (with a better message); this check is the last line of defence.
+  void read(std::vector<std::uint8_t>& out, std::uint64_t count, const char* what) {
+    if (count > remaining()) {
+      fail(m_offset, std::string(what) + " truncated: needs " + std::to_string(count) +
+                         " bytes, only " + std::to_string(remaining()) + " left");
+    }
+    if (count == 0) return;
+    const std::size_t old = out.size();
+    out.resize(old + static_cast<std::size_t>(count));
+    const std::size_t got = std::fread(out.data() + old, 1, static_cast<std::size_t>(count), m_file);
+    if (got != count) {
+      fail(m_offset + got, std::string("cannot read ") + what + ": " +
+                               (std::ferror(m_file) ? errnoText(errno) : "unexpected end of file"));
+    }
+    m_offset += count;
+  }
+
+ private:
+  std::string m_path;
+  std::FILE* m_file = nullptr;
+  std::uint64_t m_size = 0;
+  std::uint64_t m_offset = 0;
+};
+
+/// Bounds-checked little-endian cursor over a buffer that starts at file offset `base`.
+class Decoder {
+ public:
+  Decoder(const InFile& in, const std::vector<std::uint8_t>& buf, std::uint64_t base,
+          std::size_t pos = 0)
+      : m_in(in), m_buf(buf), m_base(base), m_pos(pos) {}
+
+  std::uint64_t fileOffset() const { return m_base + m_pos; }
+  std::uint32_t u32() { return getU32(take(4)); }
+  std::uint64_t u64() { return getU64(take(8)); }
+  float f32() { return std::bit_cast<float>(u32()); }
+  double f64() { return std::bit_cast<double>(u64()); }
+  const std::uint8_t* take(std::size_t n) {
+    if (n > m_buf.size() - m_pos) m_in.fail(fileOffset(), "record shorter than its declared size");
+    const std::uint8_t* p = m_buf.data() + m_pos;
+    m_pos += n;
+    return p;
+  }
+  /// A finite f32; `what` names the value in the error.
+  float finite(const std::string& what) {
+    const std::uint64_t at = fileOffset();
+    const float v = f32();
+    if (!std::isfinite(v)) m_in.fail(at, what + " is not finite");
+    return v;
+  }
+  /// `count` finite f32 into `out`.
+  void finiteColumn(std::vector<float>& out, std::size_t count, const std::string& what) {
+    out.resize(count);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::uint64_t at = fileOffset();
+      out[k] = f32();
+      if (!std::isfinite(out[k])) m_in.fail(at, what + "[" + std::to_string(k) + "] is not finite");
+    }
+  }
+
+ private:
+  const InFile& m_in;
+  const std::vector<std::uint8_t>& m_buf;
+  std::uint64_t m_base;
+  std::size_t m_pos;
+};
+
+/// Reads the next u32 checksum after a block and compares it with the block's FNV-1a.
+void checkChecksum(const InFile& in, const std::vector<std::uint8_t>& buf, std::size_t from,
+                   std::size_t to, std::uint64_t checksumOffset, const std::string& what) {
+  const std::uint32_t stored = getU32(buf.data() + to);
+  const std::uint32_t computed = fnv1a(buf.data() + from, to - from);
+  if (stored != computed) {
+    in.fail(checksumOffset, what + " checksum mismatch (stored " + hex32(stored) + ", computed " +
+                                hex32(computed) + "): the file is corrupt");
+  }
+}
+
+bool allFinite(const std::vector<float>& v, std::size_t count, std::size_t* bad) {
+  for (std::size_t k = 0; k < count; ++k) {
+    if (!std::isfinite(v[k])) {
+      *bad = k;
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+// ---- Recording::read -----------------------------------------------------------------------
+
+Recording Recording::read(const std::string& path) {
+  InFile in(path);
+  Recording rec;
+  RecordingInfo& info = rec.info;
+  std::vector<std::uint8_t> buf;
+
+  // Magic, version and header size. A wrong magic is reported before a short file, so any
+  // non-recording says so; the version is checked before the checksum, so a newer file gets
+  // "unsupported version" rather than "corrupt".
+  in.read(buf, std::min<std::uint64_t>(in.size(), kOffNumParticles), "header");
+  if (!buf.empty() && std::memcmp(buf.data(), kMagic, std::min<std::size_t>(buf.size(), 8)) != 0) {
+    in.fail(0, "not a tumble recording (bad magic; expected \"TUMBLREC\")");
+  }
+  if (buf.size() < kOffNumParticles) {
+    in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) +
+                            " bytes");
+  }
+  info.version = getU32(buf.data() + kOffVersion);
+  if (info.version != kRecordingVersion) {
+    in.fail(kOffVersion, "unsupported recording version " + std::to_string(info.version) +
+                             " (this build of tumble reads version " +
+                             std::to_string(kRecordingVersion) + " only)");
+  }
+  const std::uint64_t headerBytes = getU32(buf.data() + kOffHeaderBytes);
+  if (headerBytes < kFixedHeaderBytes || headerBytes > kFixedHeaderBytes + kMaxNameBytes) {
+    in.fail(kOffHeaderBytes, "invalid header size " + std::to_string(headerBytes) +
+                                 " (must be 72 + scene name length, at most " +
+                                 std::to_string(kFixedHeaderBytes + kMaxNameBytes) + ")");
+  }
+  if (headerBytes > in.size()) {
+    in.fail(kOffHeaderBytes, "header truncated: header size " + std::to_string(headerBytes) +
+                                 " exceeds the file size " + std::to_string(in.size()));
+  }
+  in.read(buf, headerBytes - kOffNumParticles, "header");
+  checkChecksum(in, buf, 0, headerBytes - 4, headerBytes - 4, "header");
+
+  Decoder hd(in, buf, 0, kOffNumParticles);
+  info.numParticles = hd.u32();
+  info.numBodies = hd.u32();
+  info.stepsPerFrame = hd.u32();
+  info.dt = hd.f32();
+  info.fps = hd.f32();
+  const std::uint32_t flags = hd.u32();
+  info.groundHeight = hd.f32();
+  info.gravity.x = hd.f32();
+  info.gravity.y = hd.f32();
+  info.gravity.z = hd.f32();
+  const std::uint32_t nameBytes = hd.u32();
+  if (nameBytes != headerBytes - kFixedHeaderBytes) {
+    in.fail(kOffNameLength, "scene name length " + std::to_string(nameBytes) +
+                                " does not match header size " + std::to_string(headerBytes));
+  }
+  const std::uint8_t* name = hd.take(nameBytes);
+  info.sceneName.assign(reinterpret_cast<const char*>(name), nameBytes);
+  const std::uint64_t frameCountOffset = hd.fileOffset();
+  const std::uint64_t headerFrameCount = hd.u64();
+
+  if (info.stepsPerFrame == 0) in.fail(kOffStepsPerFrame, "steps per frame is 0");
+  if (!std::isfinite(info.dt) || info.dt <= 0.0f) in.fail(kOffDt, "dt is not a positive number");
+  if (!std::isfinite(info.fps) || info.fps <= 0.0f) {
+    in.fail(kOffFps, "frames per second is not a positive number");
+  }
+  if ((flags & ~kKnownFlags) != 0) {
+    in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kKnownFlags) +
+                           " (version 1 defines bit 0 debug, bit 1 ground)");
+  }
+  info.debug = (flags & kFlagDebug) != 0;
+  info.groundEnabled = (flags & kFlagGround) != 0;
+  if (!std::isfinite(info.groundHeight)) in.fail(kOffGroundHeight, "ground height is not finite");
+  if (!std::isfinite(info.gravity.x) || !std::isfinite(info.gravity.y) ||
+      !std::isfinite(info.gravity.z)) {
+    in.fail(kOffGravity, "gravity is not finite");
+  }
+
+  // Static particle table: seven column blocks, then a checksum.
+  const std::uint64_t numParticles = info.numParticles;
+  const std::uint64_t numBodies = info.numBodies;
+  const std::uint64_t tableOffset = in.offset();
+  const std::uint64_t tableBytes = kParticleBytes * numParticles;
+  if (tableBytes + 4 > in.remaining()) {
+    in.fail(tableOffset, "particle table truncated: " + std::to_string(numParticles) +
+                             " particles need " + std::to_string(tableBytes + 4) +
+                             " bytes, only " + std::to_string(in.remaining()) + " left");
+  }
+  buf.clear();
+  in.read(buf, tableBytes + 4, "particle table");
+  checkChecksum(in, buf, 0, static_cast<std::size_t>(tableBytes), tableOffset + tableBytes,
+                "particle table");
+  {
+    const std::size_t n = static_cast<std::size_t>(numParticles);
+    Decoder td(in, buf, tableOffset);
+    td.finiteColumn(rec.radius, n, "radius");
+    td.finiteColumn(rec.mass, n, "mass");
+    td.finiteColumn(rec.elasticity, n, "elasticity");
+    rec.body.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint64_t at = td.fileOffset();
+      rec.body[k] = td.u32();
+      if (rec.body[k] >= numBodies) {
+        in.fail(at, "particle " + std::to_string(k) + " belongs to body " +
+                        std::to_string(rec.body[k]) + " but there are " +
+                        std::to_string(numBodies) + " bodies");
+      }
+    }
+    td.finiteColumn(rec.ux, n, "ux");
+    td.finiteColumn(rec.uy, n, "uy");
+    td.finiteColumn(rec.uz, n, "uz");
+  }
+
+  // Frames, until the end of the file.
+  const std::uint64_t basePayload = kFramePrefixBytes + kBodyBytes * numBodies;
+  const std::uint64_t minDebugPayload = basePayload + kDebugParticleBytes * numParticles + 4;
+  const std::size_t nb = static_cast<std::size_t>(numBodies);
+  const std::size_t n3 = static_cast<std::size_t>(3 * numParticles);
+  for (std::uint64_t k = 0; in.remaining() > 0; ++k) {
+    const std::string frameName = "frame " + std::to_string(k);
+    const std::uint64_t frameOffset = in.offset();
+    if (in.remaining() < 4) {
+      in.fail(frameOffset, frameName + " truncated: needs at least 4 bytes, only " +
+                               std::to_string(in.remaining()) + " left");
+    }
+    buf.clear();
+    in.read(buf, 4, "frame size");
+    const std::uint64_t payloadBytes = getU32(buf.data());
+    if (!info.debug && payloadBytes != basePayload) {
+      in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
+                               ", expected " + std::to_string(basePayload));
+    }
+    if (info.debug && (payloadBytes < minDebugPayload ||
+                       (payloadBytes - minDebugPayload) % kContactBytes != 0)) {
+      in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
+                               ", expected " + std::to_string(minDebugPayload) +
+                               " + 8 per contact");
+    }
+    if (payloadBytes + 4 > in.remaining()) {
+      in.fail(frameOffset, frameName + " truncated: needs " + std::to_string(payloadBytes + 8) +
+                               " bytes, only " + std::to_string(in.remaining() + 4) + " left");
+    }
+    const std::uint64_t payloadOffset = in.offset();
+    buf.clear();
+    in.read(buf, payloadBytes + 4, "frame");
+    checkChecksum(in, buf, 0, static_cast<std::size_t>(payloadBytes),
+                  payloadOffset + payloadBytes, frameName);
+
+    RecordedFrame& f = rec.frames.emplace_back();
+    Decoder fd(in, buf, payloadOffset);
+    f.step = fd.u64();
+    {
+      const std::uint64_t at = fd.fileOffset();
+      f.time = fd.f64();
+      if (!std::isfinite(f.time)) in.fail(at, frameName + " time is not finite");
+    }
+    f.pulls = fd.u32();
+    fd.finiteColumn(f.px, nb, frameName + " px");
+    fd.finiteColumn(f.py, nb, frameName + " py");
+    fd.finiteColumn(f.pz, nb, frameName + " pz");
+    fd.finiteColumn(f.qw, nb, frameName + " qw");
+    fd.finiteColumn(f.qx, nb, frameName + " qx");
+    fd.finiteColumn(f.qy, nb, frameName + " qy");
+    fd.finiteColumn(f.qz, nb, frameName + " qz");
+    if (info.debug) {
+      fd.finiteColumn(f.debug.v, n3, frameName + " v");
+      for (int c = 0; c < 5; ++c) {
+        fd.finiteColumn(f.debug.force[c], n3, frameName + " " + kForceNames[c] + " force");
+      }
+      const std::uint64_t countOffset = fd.fileOffset();
+      const std::uint64_t numContacts = fd.u32();
+      if (numContacts != (payloadBytes - minDebugPayload) / kContactBytes) {
+        in.fail(countOffset, frameName + " contact count " + std::to_string(numContacts) +
+                                 " does not match its payload size " +
+                                 std::to_string(payloadBytes));
+      }
+      f.debug.contacts.resize(static_cast<std::size_t>(numContacts));
+      for (Pair& p : f.debug.contacts) {
+        const std::uint64_t at = fd.fileOffset();
+        p.i = fd.u32();
+        p.j = fd.u32();
+        if (!(p.i < p.j && p.j < numParticles)) {
+          in.fail(at, frameName + " contact (" + std::to_string(p.i) + ", " +
+                          std::to_string(p.j) + ") is not a pair i < j < " +
+                          std::to_string(numParticles));
+        }
+      }
+    }
+  }
+
+  const std::uint64_t numFrames = rec.frames.size();
+  if (headerFrameCount != kUnfinished && headerFrameCount != numFrames) {
+    in.fail(frameCountOffset, "header says " + std::to_string(headerFrameCount) +
+                                  " frames but the file holds " + std::to_string(numFrames));
+  }
+  return rec;
+}
+
+// ---- RecordingWriter -----------------------------------------------------------------------
+
+RecordingWriter::RecordingWriter(const std::string& path, const World& world, bool debug,
+                                 int stepsPerFrame, float fps)
+    : m_path(path),
+      m_partPath(path + ".part"),
+      m_numParticles(world.numParticles()),
+      m_numBodies(world.numBodies()),
+      m_debug(debug) {
+  const std::string where = "recording '" + path + "': ";
+  const Scene& params = world.params;
+  if (stepsPerFrame < 1) throw Error(where + "steps per frame must be at least 1");
+  if (!std::isfinite(fps) || fps <= 0.0f) throw Error(where + "frames per second must be > 0");
+  if (!std::isfinite(params.dt) || params.dt <= 0.0f) throw Error(where + "dt must be > 0");
+  if (!std::isfinite(params.ground.height) || !std::isfinite(params.gravity.x) ||
+      !std::isfinite(params.gravity.y) || !std::isfinite(params.gravity.z)) {
+    throw Error(where + "gravity and ground height must be finite");
+  }
+  if (params.name.size() > kMaxNameBytes) {
+    throw Error(where + "scene name longer than " + std::to_string(kMaxNameBytes) + " bytes");
+  }
+  const std::size_t n = m_numParticles;
+  if (world.mass.size() != n || world.elasticity.size() != n || world.body.size() != n ||
+      world.ux.size() != n || world.uy.size() != n || world.uz.size() != n) {
+    throw Error(where + "the world's particle columns have different sizes");
+  }
+  for (const auto* column : {&world.radius, &world.mass, &world.elasticity, &world.ux, &world.uy,
+                             &world.uz}) {
+    std::size_t bad = 0;
+    if (!allFinite(*column, n, &bad)) {
+      throw Error(where + "particle " + std::to_string(bad) + " has a non-finite static value");
+    }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (world.body[k] >= m_numBodies) {
+      throw Error(where + "particle " + std::to_string(k) + " belongs to body " +
+                  std::to_string(world.body[k]) + " of " + std::to_string(m_numBodies));
+    }
+  }
+  // Payloads are sized by a u32: refuse worlds whose frames could not be described.
+  const std::uint64_t basePayload = kFramePrefixBytes + kBodyBytes * std::uint64_t{m_numBodies} +
+                                    (debug ? kDebugParticleBytes * n + 4 : 0);
+  if (basePayload > std::numeric_limits<std::uint32_t>::max()) {
+    throw Error(where + "too many bodies or particles for one frame of the format");
+  }
+
+  // Header (docs/recording.md), with the frame count at the sentinel until close().
+  const std::uint32_t flags = (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u);
+  Encoder h(m_header);
+  h.bytes(kMagic, sizeof kMagic);
+  h.u32(kRecordingVersion);
+  h.u32(static_cast<std::uint32_t>(kFixedHeaderBytes + params.name.size()));
+  h.u32(m_numParticles);
+  h.u32(m_numBodies);
+  h.u32(static_cast<std::uint32_t>(stepsPerFrame));
+  h.f32(params.dt);
+  h.f32(fps);
+  h.u32(flags);
+  h.f32(params.ground.height);
+  h.f32(params.gravity.x);
+  h.f32(params.gravity.y);
+  h.f32(params.gravity.z);
+  h.u32(static_cast<std::uint32_t>(params.name.size()));
+  h.bytes(params.name.data(), params.name.size());
+  m_frameCountOffset = static_cast<long>(m_header.size());
+  h.u64(kUnfinished);
+  h.u32(fnv1a(m_header.data(), m_header.size()));
+
+  // Particle table as column blocks.
+  Encoder t(m_buffer);
+  t.f32s(world.radius, n);
+  t.f32s(world.mass, n);
+  t.f32s(world.elasticity, n);
+  for (std::size_t k = 0; k < n; ++k) t.u32(world.body[k]);
+  t.f32s(world.ux, n);
+  t.f32s(world.uy, n);
+  t.f32s(world.uz, n);
+  t.u32(fnv1a(m_buffer.data(), m_buffer.size()));
+
+  m_file = std::fopen(m_partPath.c_str(), "wb");
+  if (m_file == nullptr) {
+    throw Error("cannot open recording file '" + m_partPath + "' for writing: " +
+                errnoText(errno));
+  }
+  try {
+    writeBytes(m_header.data(), m_header.size(), "header");
+    writeBytes(m_buffer.data(), m_buffer.size(), "particle table");
+    if (std::fflush(m_file) != 0) {
+      throw Error("cannot write recording file '" + m_partPath + "': " + errnoText(errno));
+    }
+  } catch (...) {
+    std::fclose(m_file);
+    m_file = nullptr;
+    std::remove(m_partPath.c_str());
+    throw;
+  }
+}
+
+RecordingWriter::~RecordingWriter() {
+  try {
+    close();
+  } catch (...) {
+    // A destructor must not throw; the .part file (or the error) is all we can leave behind.
+  }
+}
+
+void RecordingWriter::writeBytes(const std::uint8_t* data, std::size_t size, const char* what) {
+  if (size != 0 && std::fwrite(data, 1, size, m_file) != size) {
+    m_failed = true;
+    throw Error("cannot write " + std::string(what) + " to recording file '" + m_partPath +
+                "': " + errnoText(errno));
+  }
+}
+
+void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t pulls,
+                                 const BodyState& state, const ParticleDebug* debug) {
+  const std::string where = "recording '" + m_path + "', step " + std::to_string(step) + ": ";
+  if (m_file == nullptr) throw Error(where + "the recording is closed");
+  if (m_failed) throw Error(where + "an earlier write failed");
+  if ((debug != nullptr) != m_debug) {
+    throw Error(where + (m_debug ? "a debug recording needs debug data for every frame"
+                                 : "debug data given to a recording opened without debug"));
+  }
+  const std::size_t nb = m_numBodies;
+  const std::size_t n3 = 3 * static_cast<std::size_t>(m_numParticles);
+  const std::vector<float>* columns[7] = {&state.px, &state.py, &state.pz, &state.qw,
+                                          &state.qx, &state.qy, &state.qz};
+  static const char* const kColumnNames[7] = {"px", "py", "pz", "qw", "qx", "qy", "qz"};
+  for (int c = 0; c < 7; ++c) {
+    if (columns[c]->size() != nb) {
+      throw Error(where + "body state has " + std::to_string(columns[c]->size()) + " " +
+                  kColumnNames[c] + " values for " + std::to_string(nb) + " bodies");
+    }
+  }
+  // Validate everything before encoding anything: a rejected frame leaves the file unchanged.
+  if (!std::isfinite(time)) throw Error(where + "time is not finite; frame not written");
+  for (int c = 0; c < 7; ++c) {
+    std::size_t bad = 0;
+    if (!allFinite(*columns[c], nb, &bad)) {
+      throw Error(where + "body " + std::to_string(bad) + " " + kColumnNames[c] +
+                  " is not finite (NaN is never recorded); frame not written");
+    }
+  }
+  if (debug != nullptr) {
+    const std::vector<float>* dcols[6] = {&debug->v,        &debug->force[0], &debug->force[1],
+                                          &debug->force[2], &debug->force[3], &debug->force[4]};
+    for (int c = 0; c < 6; ++c) {
+      const std::string name = c == 0 ? std::string("velocity") : kForceNames[c - 1] + std::string(" force");
+      if (dcols[c]->size() != n3) {
+        throw Error(where + "debug " + name + " has " + std::to_string(dcols[c]->size()) +
+                    " values, expected 3 per particle (" + std::to_string(n3) + ")");
+      }
+      std::size_t bad = 0;
+      if (!allFinite(*dcols[c], n3, &bad)) {
+        throw Error(where + "debug " + name + " of particle " + std::to_string(bad / 3) +
+                    " is not finite (NaN is never recorded); frame not written");
+      }
+    }
+    for (const Pair& p : debug->contacts) {
+      if (!(p.i < p.j && p.j < m_numParticles)) {
+        throw Error(where + "contact (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
+                    ") is not a pair i < j < " + std::to_string(m_numParticles));
+      }
+    }
+  }
+  std::uint64_t payloadBytes = kFramePrefixBytes + kBodyBytes * nb;
+  if (debug != nullptr) {
+    payloadBytes += kDebugParticleBytes * m_numParticles + 4 + kContactBytes * debug->contacts.size();
+  }
+  if (payloadBytes > std::numeric_limits<std::uint32_t>::max() ||
+      (debug != nullptr && debug->contacts.size() > std::numeric_limits<std::uint32_t>::max())) {
+    throw Error(where + "frame of " + std::to_string(payloadBytes) +
+                " bytes is too large for the format");
+  }
+
+  m_buffer.clear();
+  m_buffer.reserve(static_cast<std::size_t>(payloadBytes) + 8);
+  Encoder e(m_buffer);
+  e.u32(static_cast<std::uint32_t>(payloadBytes));
+  e.u64(step);
+  e.f64(time);
+  e.u32(pulls);
+  for (int c = 0; c < 7; ++c) e.f32s(*columns[c], nb);
+  if (debug != nullptr) {
+    e.f32s(debug->v, n3);
+    for (int c = 0; c < 5; ++c) e.f32s(debug->force[c], n3);
+    e.u32(static_cast<std::uint32_t>(debug->contacts.size()));
+    for (const Pair& p : debug->contacts) {
+      e.u32(p.i);
+      e.u32(p.j);
+    }
+  }
+  e.u32(fnv1a(m_buffer.data() + 4, m_buffer.size() - 4));
+
+  writeBytes(m_buffer.data(), m_buffer.size(), "frame");
+  // Flush every frame so that a crashed run leaves all its complete frames in the .part file.
+  if (std::fflush(m_file) != 0) {
+    m_failed = true;
+    throw Error("cannot write frame to recording file '" + m_partPath + "': " + errnoText(errno));
+  }
+  ++m_numFrames;
+}
+
+void RecordingWriter::close() {
+  if (m_file == nullptr) return;
+  std::FILE* file = std::exchange(m_file, nullptr);
+  if (m_failed) {
+    // Leave the .part file for inspection; the write error was already reported.
+    std::fclose(file);
+    return;
+  }
+  const std::size_t at = static_cast<std::size_t>(m_frameCountOffset);
+  putU64At(m_header, at, m_numFrames);
+  putU32At(m_header, at + 8, fnv1a(m_header.data(), at + 8));
+  const bool patched = std::fseek(file, m_frameCountOffset, SEEK_SET) == 0 &&
+                       std::fwrite(m_header.data() + at, 1, 12, file) == 12 &&
+                       std::fflush(file) == 0;
+  int err = patched ? 0 : (errno != 0 ? errno : EIO);
+  if (std::fclose(file) != 0 && err == 0) err = errno != 0 ? errno : EIO;
+  if (!patched || err != 0) {
+    throw Error("cannot finish recording file '" + m_partPath + "': " + errnoText(err));
+  }
+  if (std::rename(m_partPath.c_str(), m_path.c_str()) != 0) {
+    throw Error("cannot rename '" + m_partPath + "' to '" + m_path + "': " + errnoText(errno));
+  }
+}
+
+}  // namespace tumble

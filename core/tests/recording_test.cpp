@@ -1,0 +1,652 @@
+// SPDX-License-Identifier: MIT
+// Recording format (docs/recording.md): bitwise round trips, crash safety, and a reader that
+// turns every truncation and corruption into a tumble::InputError instead of a crash.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "tumble/error.hpp"
+#include "tumble/recording.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using tumble::BodyState;
+using tumble::InputError;
+using tumble::ParticleDebug;
+using tumble::Recording;
+using tumble::RecordingWriter;
+using tumble::World;
+
+constexpr std::uint32_t kNumBodies = 3;
+constexpr std::uint32_t kNumParticles = 5;
+
+std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v); }
+std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
+
+std::uint32_t fnv1a(const std::uint8_t* p, std::size_t n) {
+  std::uint32_t h = 2166136261u;
+  for (std::size_t k = 0; k < n; ++k) h = (h ^ p[k]) * 16777619u;
+  return h;
+}
+
+void putU32(std::vector<std::uint8_t>& b, std::size_t at, std::uint32_t v) {
+  for (int k = 0; k < 4; ++k) b[at + k] = static_cast<std::uint8_t>(v >> (8 * k));
+}
+std::uint32_t getU32(const std::vector<std::uint8_t>& b, std::size_t at) {
+  return static_cast<std::uint32_t>(b[at]) | static_cast<std::uint32_t>(b[at + 1]) << 8 |
+         static_cast<std::uint32_t>(b[at + 2]) << 16 | static_cast<std::uint32_t>(b[at + 3]) << 24;
+}
+
+std::vector<std::uint8_t> readAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+void writeAll(const std::string& path, const std::vector<std::uint8_t>& bytes, std::size_t n) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(n));
+}
+void writeAll(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  writeAll(path, bytes, bytes.size());
+}
+
+/// 3 bodies, 5 particles (2 + 1 + 2), built by hand; the values are awkward on purpose.
+World makeWorld() {
+  World w;
+  w.params.name = "three bodies";
+  w.params.dt = 2.5e-4f;
+  w.params.gravity = {0.25f, -0.0f, -9.81f};
+  w.params.ground.enabled = true;
+  w.params.ground.height = -1.5f;
+  w.radius = {0.5f, 0.25f, 1.0f, 0.125f, std::numeric_limits<float>::denorm_min()};
+  w.mass = {1.0f, 2.0f, 3.5f, 1e-30f, 7.0f};
+  w.elasticity = {0.5f, 1.0f, 0.1f, 0.75f, 0.3333333f};
+  w.groundDamping.assign(kNumParticles, 0.0f);
+  w.body = {0, 0, 1, 2, 2};
+  w.ux = {-0.1f, 0.2f, 0.0f, -0.0f, 1e20f};
+  w.uy = {0.3f, -0.3f, 0.0f, 0.5f, -1e-20f};
+  w.uz = {0.0f, 0.0f, 0.0f, -0.5f, 0.5f};
+  w.bodyMass = {3.0f, 3.5f, 7.0f};
+  w.invMass = {1.0f / 3.0f, 1.0f / 3.5f, 1.0f / 7.0f};
+  w.first = {0, 2, 3};
+  w.numParticlesOf = {2, 1, 2};
+  w.hasClumps = true;
+  w.maxRadius = 1.0f;
+  return w;
+}
+
+float value(std::uint32_t frame, std::uint32_t column, std::uint32_t k) {
+  // Distinct per (frame, column, k), with a few special values mixed in.
+  const float special[4] = {-0.0f, std::numeric_limits<float>::denorm_min(),
+                            std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
+  if ((frame + column + k) % 7 == 3) return special[(frame + k) % 4];
+  return static_cast<float>(frame) * 1.3f - static_cast<float>(column) * 0.77f +
+         static_cast<float>(k) / 3.0f;
+}
+
+BodyState makeState(std::uint32_t frame) {
+  BodyState s;
+  std::vector<float>* cols[7] = {&s.px, &s.py, &s.pz, &s.qw, &s.qx, &s.qy, &s.qz};
+  for (std::uint32_t c = 0; c < 7; ++c) {
+    for (std::uint32_t b = 0; b < kNumBodies; ++b) cols[c]->push_back(value(frame, c, b));
+  }
+  // Columns the format does not store may be anything, even NaN.
+  for (auto* col : {&s.vx, &s.vy, &s.vz, &s.lx, &s.ly, &s.lz}) {
+    col->assign(kNumBodies, std::numeric_limits<float>::quiet_NaN());
+  }
+  return s;
+}
+
+ParticleDebug makeDebug(std::uint32_t frame) {
+  ParticleDebug d;
+  for (std::uint32_t k = 0; k < 3 * kNumParticles; ++k) d.v.push_back(value(frame, 10, k));
+  for (std::uint32_t f = 0; f < 5; ++f) {
+    for (std::uint32_t k = 0; k < 3 * kNumParticles; ++k) {
+      d.force[f].push_back(value(frame, 20 + f, k));
+    }
+  }
+  const std::vector<tumble::Pair> all = {{0, 2}, {1, 4}, {3, 4}};
+  d.contacts.assign(all.begin(), all.begin() + frame % 4);  // 0, 1, 2, 3 contacts
+  return d;
+}
+
+constexpr std::uint32_t kPulls[] = {0, tumble::kPullX, tumble::kPullY | tumble::kPullSwirl,
+                                    tumble::kPullX | tumble::kPullY | tumble::kPullSwirl};
+
+/// Writes `numFrames` frames (and closes) into `path`.
+void writeRecording(const std::string& path, bool debug, std::uint32_t numFrames) {
+  RecordingWriter w(path, makeWorld(), debug, 10, 60.0f);
+  for (std::uint32_t f = 0; f < numFrames; ++f) {
+    const ParticleDebug d = makeDebug(f);
+    w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f), debug ? &d : nullptr);
+  }
+  EXPECT_EQ(w.numFrames(), numFrames);
+  w.close();
+}
+
+void expectSameBits(const std::vector<float>& a, const std::vector<float>& b,
+                    const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(bits(a[k]), bits(b[k])) << what << "[" << k << "]";
+}
+
+void expectRecording(const Recording& r, bool debug, std::uint32_t numFrames) {
+  const World w = makeWorld();
+  EXPECT_EQ(r.info.version, tumble::kRecordingVersion);
+  EXPECT_EQ(r.info.numParticles, kNumParticles);
+  EXPECT_EQ(r.info.numBodies, kNumBodies);
+  EXPECT_EQ(r.info.stepsPerFrame, 10u);
+  EXPECT_EQ(bits(r.info.dt), bits(w.params.dt));
+  EXPECT_EQ(bits(r.info.fps), bits(60.0f));
+  EXPECT_EQ(r.info.debug, debug);
+  EXPECT_TRUE(r.info.groundEnabled);
+  EXPECT_EQ(bits(r.info.groundHeight), bits(w.params.ground.height));
+  EXPECT_EQ(bits(r.info.gravity.x), bits(w.params.gravity.x));
+  EXPECT_EQ(bits(r.info.gravity.y), bits(w.params.gravity.y));
+  EXPECT_EQ(bits(r.info.gravity.z), bits(w.params.gravity.z));
+  EXPECT_EQ(r.info.sceneName, w.params.name);
+
+  expectSameBits(r.radius, w.radius, "radius");
+  expectSameBits(r.mass, w.mass, "mass");
+  expectSameBits(r.elasticity, w.elasticity, "elasticity");
+  EXPECT_EQ(r.body, w.body);
+  expectSameBits(r.ux, w.ux, "ux");
+  expectSameBits(r.uy, w.uy, "uy");
+  expectSameBits(r.uz, w.uz, "uz");
+
+  ASSERT_EQ(r.frames.size(), numFrames);
+  for (std::uint32_t f = 0; f < numFrames; ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    const tumble::RecordedFrame& fr = r.frames[f];
+    const BodyState s = makeState(f);
+    EXPECT_EQ(fr.step, 10u * f);
+    EXPECT_EQ(bits(fr.time), bits(10.0 * f * 2.5e-4));
+    EXPECT_EQ(fr.pulls, kPulls[f % 4]);
+    expectSameBits(fr.px, s.px, "px");
+    expectSameBits(fr.py, s.py, "py");
+    expectSameBits(fr.pz, s.pz, "pz");
+    expectSameBits(fr.qw, s.qw, "qw");
+    expectSameBits(fr.qx, s.qx, "qx");
+    expectSameBits(fr.qy, s.qy, "qy");
+    expectSameBits(fr.qz, s.qz, "qz");
+    if (debug) {
+      const ParticleDebug d = makeDebug(f);
+      expectSameBits(fr.debug.v, d.v, "v");
+      for (int c = 0; c < 5; ++c) expectSameBits(fr.debug.force[c], d.force[c], "force");
+      EXPECT_EQ(fr.debug.contacts, d.contacts);
+    } else {
+      EXPECT_TRUE(fr.debug.v.empty());
+      EXPECT_TRUE(fr.debug.contacts.empty());
+    }
+  }
+}
+
+/// Reads `path` expecting an InputError; returns its problem() ("" and a failure otherwise).
+std::string readError(const std::string& path) {
+  try {
+    Recording::read(path);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.line(), 0);
+    const std::string what = e.what();
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    return e.problem();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected tumble::InputError, got: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "expected tumble::InputError reading " << path;
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+class RecordingTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    m_dir = fs::temp_directory_path() /
+            ("tumble_recording_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(m_dir);
+    fs::create_directories(m_dir);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(m_dir, ec);
+  }
+  std::string file(const std::string& name) const { return (m_dir / name).string(); }
+
+  fs::path m_dir;
+};
+
+// Layout facts used to aim corruptions (docs/recording.md).
+constexpr std::size_t kHeaderBytes = 72 + 12;  // "three bodies"
+constexpr std::size_t kTableBytes = 28 * kNumParticles + 4;
+constexpr std::size_t kFrameBytes = 4 + 20 + 28 * kNumBodies + 4;
+
+TEST_F(RecordingTest, RoundTripIsBitwise) {
+  const std::string path = file("plain.bin");
+  writeRecording(path, false, 6);
+  EXPECT_EQ(fs::file_size(path), kHeaderBytes + kTableBytes + 6 * kFrameBytes);
+  expectRecording(Recording::read(path), false, 6);
+}
+
+TEST_F(RecordingTest, DebugRoundTripIsBitwise) {
+  const std::string path = file("debug.bin");
+  writeRecording(path, true, 6);
+  expectRecording(Recording::read(path), true, 6);
+}
+
+TEST_F(RecordingTest, ZeroFrames) {
+  const std::string path = file("empty.bin");
+  writeRecording(path, true, 0);
+  expectRecording(Recording::read(path), true, 0);
+}
+
+TEST_F(RecordingTest, PartFileUntilClose) {
+  const std::string path = file("rec.bin");
+  RecordingWriter w(path, makeWorld(), false, 10);
+  EXPECT_EQ(w.path(), path);
+  w.writeFrame(0, 0.0, 0, makeState(0));
+  EXPECT_TRUE(fs::exists(path + ".part"));
+  EXPECT_FALSE(fs::exists(path));
+  w.close();
+  EXPECT_FALSE(fs::exists(path + ".part"));
+  EXPECT_TRUE(fs::exists(path));
+  w.close();  // idempotent
+  EXPECT_THROW(w.writeFrame(10, 0.0, 0, makeState(1)), tumble::Error);
+  EXPECT_EQ(Recording::read(path).frames.size(), 1u);
+}
+
+TEST_F(RecordingTest, ReplacesAnOldFileOnlyAtClose) {
+  const std::string path = file("rec.bin");
+  writeRecording(path, false, 2);
+  {
+    RecordingWriter w(path, makeWorld(), false, 10);
+    for (std::uint32_t f = 0; f < 5; ++f) w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
+    EXPECT_EQ(Recording::read(path).frames.size(), 2u);  // still the old one
+  }
+  expectRecording(Recording::read(path), false, 5);
+}
+
+TEST_F(RecordingTest, DestroyedWithoutCloseKeepsCompleteFrames) {
+  const std::string path = file("rec.bin");
+  {
+    RecordingWriter w(path, makeWorld(), true, 10);
+    for (std::uint32_t f = 0; f < 3; ++f) {
+      const ParticleDebug d = makeDebug(f);
+      w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f), &d);
+    }
+  }
+  EXPECT_FALSE(fs::exists(path + ".part"));
+  expectRecording(Recording::read(path), true, 3);
+}
+
+TEST_F(RecordingTest, CrashedWriterPartFileIsReadable) {
+  const std::string path = file("rec.bin");
+  const std::string crashed = file("crashed.bin");
+  RecordingWriter w(path, makeWorld(), false, 10);
+  // Right after the header: the sentinel frame count and no frames.
+  fs::copy_file(path + ".part", crashed);
+  expectRecording(Recording::read(crashed), false, 0);
+  for (std::uint32_t f = 0; f < 3; ++f) w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
+  // Every frame is flushed, so a copy taken now is what a crash would leave behind.
+  const std::vector<std::uint8_t> bytes = readAll(path + ".part");
+  ASSERT_EQ(bytes.size(), kHeaderBytes + kTableBytes + 3 * kFrameBytes);
+  writeAll(crashed, bytes);
+  expectRecording(Recording::read(crashed), false, 3);
+  // A torn last frame is still an error, naming the frame.
+  writeAll(crashed, bytes, bytes.size() - 5);
+  const std::string problem = readError(crashed);
+  EXPECT_TRUE(contains(problem, "frame 2 truncated")) << problem;
+  EXPECT_TRUE(contains(problem, "byte " + std::to_string(kHeaderBytes + kTableBytes + 2 * kFrameBytes)))
+      << problem;
+  w.close();
+  expectRecording(Recording::read(path), false, 3);
+}
+
+TEST_F(RecordingTest, NonFiniteStateThrowsAndFileStaysValid) {
+  const std::string path = file("rec.bin");
+  RecordingWriter w(path, makeWorld(), true, 10);
+  for (std::uint32_t f = 0; f < 2; ++f) {
+    const ParticleDebug d = makeDebug(f);
+    w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f), &d);
+  }
+  const ParticleDebug good = makeDebug(2);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+
+  BodyState s = makeState(2);
+  s.qx[1] = nan;
+  EXPECT_THROW(w.writeFrame(20, 0.005, 0, s, &good), tumble::Error);
+  s = makeState(2);
+  s.pz[2] = -inf;
+  EXPECT_THROW(w.writeFrame(20, 0.005, 0, s, &good), tumble::Error);
+  ParticleDebug d = makeDebug(2);
+  d.force[4][7] = nan;
+  EXPECT_THROW(w.writeFrame(20, 0.005, 0, makeState(2), &d), tumble::Error);
+  d = makeDebug(2);
+  d.v[0] = inf;
+  EXPECT_THROW(w.writeFrame(20, 0.005, 0, makeState(2), &d), tumble::Error);
+  EXPECT_THROW(w.writeFrame(20, std::numeric_limits<double>::quiet_NaN(), 0, makeState(2), &good),
+               tumble::Error);
+  try {
+    s = makeState(2);
+    s.qx[1] = nan;
+    w.writeFrame(20, 0.005, 0, s, &good);
+  } catch (const tumble::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "body 1 qx")) << e.what();
+  }
+  EXPECT_EQ(w.numFrames(), 2u);
+  // The writer is still usable after a rejected frame.
+  w.writeFrame(20, 20 * 2.5e-4, kPulls[2], makeState(2), &good);
+  w.close();
+  expectRecording(Recording::read(path), true, 3);
+}
+
+TEST_F(RecordingTest, WriterRejectsMisuse) {
+  const std::string path = file("rec.bin");
+  const World world = makeWorld();
+  EXPECT_THROW(RecordingWriter(path, world, false, 0), tumble::Error);
+  EXPECT_THROW(RecordingWriter(path, world, false, 10, 0.0f), tumble::Error);
+  World bad = world;
+  bad.body[4] = 3;
+  EXPECT_THROW(RecordingWriter(path, bad, false, 10), tumble::Error);
+  bad = world;
+  bad.mass[1] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(RecordingWriter(path, bad, false, 10), tumble::Error);
+  bad = world;
+  bad.uz.pop_back();
+  EXPECT_THROW(RecordingWriter(path, bad, false, 10), tumble::Error);
+
+  RecordingWriter plain(path, world, false, 10);
+  const ParticleDebug d = makeDebug(1);
+  EXPECT_THROW(plain.writeFrame(0, 0.0, 0, makeState(0), &d), tumble::Error);
+  BodyState s = makeState(0);
+  s.qz.pop_back();
+  EXPECT_THROW(plain.writeFrame(0, 0.0, 0, s), tumble::Error);
+  plain.close();
+
+  const std::string debugPath = file("debug.bin");
+  RecordingWriter debug(debugPath, world, true, 10);
+  EXPECT_THROW(debug.writeFrame(0, 0.0, 0, makeState(0)), tumble::Error);
+  ParticleDebug pairs = makeDebug(1);
+  pairs.contacts = {{2, 1}};
+  EXPECT_THROW(debug.writeFrame(0, 0.0, 0, makeState(0), &pairs), tumble::Error);
+  pairs.contacts = {{1, 5}};
+  EXPECT_THROW(debug.writeFrame(0, 0.0, 0, makeState(0), &pairs), tumble::Error);
+  ParticleDebug shortV = makeDebug(1);
+  shortV.v.pop_back();
+  EXPECT_THROW(debug.writeFrame(0, 0.0, 0, makeState(0), &shortV), tumble::Error);
+  debug.close();
+  EXPECT_EQ(Recording::read(path).frames.size(), 0u);
+  EXPECT_EQ(Recording::read(debugPath).frames.size(), 0u);
+}
+
+TEST_F(RecordingTest, UnopenablePartFileNamesPathAndReason) {
+  const std::string path = file("no/such/dir/rec.bin");
+  try {
+    RecordingWriter w(path, makeWorld(), false, 10);
+    FAIL() << "expected tumble::Error";
+  } catch (const tumble::Error& e) {
+    const std::string what = e.what();
+    EXPECT_TRUE(contains(what, path + ".part")) << what;
+    EXPECT_TRUE(contains(what, "No such file or directory")) << what;
+  }
+}
+
+TEST_F(RecordingTest, MissingFileAndDirectory) {
+  const std::string missing = file("missing.bin");
+  EXPECT_TRUE(contains(readError(missing), "cannot open")) << readError(missing);
+  EXPECT_TRUE(contains(readError(m_dir.string()), "not a regular file"));
+}
+
+TEST_F(RecordingTest, BadMagic) {
+  const std::string path = file("text.bin");
+  const std::string text = "[scene]\nname = \"not a recording at all\"\n";
+  writeAll(path, std::vector<std::uint8_t>(text.begin(), text.end()));
+  const std::string problem = readError(path);
+  EXPECT_TRUE(contains(problem, "byte 0: not a tumble recording")) << problem;
+  writeAll(path, {'T', 'U', 'M', 'B', 'L', 'x'});
+  EXPECT_TRUE(contains(readError(path), "not a tumble recording"));
+  writeAll(path, {});
+  EXPECT_TRUE(contains(readError(path), "truncated"));
+}
+
+TEST_F(RecordingTest, FutureVersionIsRejectedByName) {
+  const std::string path = file("rec.bin");
+  writeRecording(path, false, 2);
+  std::vector<std::uint8_t> bytes = readAll(path);
+  putU32(bytes, 8, 2);
+  writeAll(path, bytes);
+  const std::string problem = readError(path);
+  EXPECT_TRUE(contains(problem, "byte 8: unsupported recording version 2")) << problem;
+  EXPECT_TRUE(contains(problem, "reads version 1")) << problem;
+  // Even with its header checksum fixed up, a future version is refused before anything else.
+  putU32(bytes, kHeaderBytes - 4, fnv1a(bytes.data(), kHeaderBytes - 4));
+  writeAll(path, bytes);
+  EXPECT_TRUE(contains(readError(path), "unsupported recording version 2"));
+}
+
+void truncatedEverywhere(const std::string& path, const std::string& cut, bool debug) {
+  writeRecording(path, debug, 3);
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  ASSERT_GT(bytes.size(), kHeaderBytes + kTableBytes);
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    SCOPED_TRACE("cut at " + std::to_string(n) + " of " + std::to_string(bytes.size()));
+    writeAll(cut, bytes, n);
+    const std::string problem = readError(cut);
+    EXPECT_EQ(problem.rfind("byte ", 0), 0u) << problem;
+    if (n >= kHeaderBytes + kTableBytes) {
+      EXPECT_TRUE(contains(problem, "frame")) << problem;
+    }
+  }
+}
+
+TEST_F(RecordingTest, TruncatedAtEveryByteIsAnError) {
+  truncatedEverywhere(file("plain.bin"), file("cut.bin"), false);
+}
+
+TEST_F(RecordingTest, DebugTruncatedAtEveryByteIsAnError) {
+  truncatedEverywhere(file("debug.bin"), file("cut.bin"), true);
+}
+
+void flippedEverywhere(const std::string& path, const std::string& bad, bool debug) {
+  // FNV-1a detects any single changed byte, so two masks per byte are enough to exercise it.
+  writeRecording(path, debug, 3);
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  for (std::size_t k = 0; k < bytes.size(); ++k) {
+    for (const std::uint8_t mask : {std::uint8_t{0x01}, std::uint8_t{0xFF}}) {
+      SCOPED_TRACE("byte " + std::to_string(k) + " ^ " + std::to_string(mask));
+      std::vector<std::uint8_t> copy = bytes;
+      copy[k] ^= mask;
+      writeAll(bad, copy);
+      const std::string problem = readError(bad);
+      EXPECT_EQ(problem.rfind("byte ", 0), 0u) << problem;
+    }
+  }
+}
+
+TEST_F(RecordingTest, AnyFlippedByteIsAnError) {
+  flippedEverywhere(file("plain.bin"), file("bad.bin"), false);
+}
+
+TEST_F(RecordingTest, DebugAnyFlippedByteIsAnError) {
+  flippedEverywhere(file("debug.bin"), file("bad.bin"), true);
+}
+
+TEST_F(RecordingTest, EachRegionReportsItsProblem) {
+  const std::string path = file("plain.bin");
+  const std::string bad = file("bad.bin");
+  writeRecording(path, false, 3);
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  auto flip = [&](std::size_t at) {
+    std::vector<std::uint8_t> copy = bytes;
+    copy[at] ^= 0x10;
+    writeAll(bad, copy);
+    return readError(bad);
+  };
+  EXPECT_TRUE(contains(flip(3), "not a tumble recording"));
+  EXPECT_TRUE(contains(flip(9), "unsupported recording version"));
+  EXPECT_TRUE(contains(flip(12), "header"));
+  EXPECT_TRUE(contains(flip(20), "header checksum mismatch"));
+  EXPECT_TRUE(contains(flip(62), "header checksum mismatch"));              // scene name
+  EXPECT_TRUE(contains(flip(kHeaderBytes - 10), "header checksum mismatch"));  // frame count
+  EXPECT_TRUE(contains(flip(kHeaderBytes + 30), "particle table checksum mismatch"));
+  const std::size_t frame1 = kHeaderBytes + kTableBytes + kFrameBytes;
+  EXPECT_TRUE(contains(flip(frame1), "byte " + std::to_string(frame1) + ": frame 1 has payload size"));
+  EXPECT_TRUE(contains(flip(frame1 + 30), "frame 1 checksum mismatch"));
+  EXPECT_TRUE(contains(flip(frame1 + kFrameBytes - 1), "frame 1 checksum mismatch"));
+
+  // Trailing bytes after the last frame.
+  std::vector<std::uint8_t> longer = bytes;
+  longer.insert(longer.end(), bytes.end() - kFrameBytes, bytes.end());
+  writeAll(bad, longer);
+  EXPECT_TRUE(contains(readError(bad), "header says 3 frames but the file holds 4"));
+}
+
+/// Rewrites the header's u32 at `at` and fixes the header checksum, so only the value is wrong.
+std::vector<std::uint8_t> withHeaderField(std::vector<std::uint8_t> bytes, std::size_t at,
+                                          std::uint32_t v) {
+  putU32(bytes, at, v);
+  putU32(bytes, kHeaderBytes - 4, fnv1a(bytes.data(), kHeaderBytes - 4));
+  return bytes;
+}
+
+TEST_F(RecordingTest, HugeCountsAreCheckedBeforeAllocating) {
+  const std::string path = file("plain.bin");
+  const std::string bad = file("bad.bin");
+  writeRecording(path, true, 2);
+  const std::vector<std::uint8_t> bytes = readAll(path);
+
+  writeAll(bad, withHeaderField(bytes, 16, 0xFFFFFFFFu));  // numParticles
+  std::string problem = readError(bad);
+  EXPECT_TRUE(contains(problem, "byte " + std::to_string(kHeaderBytes) + ": particle table truncated"))
+      << problem;
+
+  writeAll(bad, withHeaderField(bytes, 20, 0xFFFFFFFFu));  // numBodies
+  problem = readError(bad);
+  EXPECT_TRUE(contains(problem, "frame 0 has payload size")) << problem;
+
+  writeAll(bad, withHeaderField(bytes, 20, 1u));  // fewer bodies than the table uses
+  problem = readError(bad);
+  EXPECT_TRUE(contains(problem, "belongs to body")) << problem;
+
+  writeAll(bad, withHeaderField(bytes, 56, 0xFFFFFFF0u));  // name length
+  problem = readError(bad);
+  EXPECT_TRUE(contains(problem, "byte 56: scene name length")) << problem;
+
+  writeAll(bad, withHeaderField(bytes, 24, 0));  // steps per frame
+  EXPECT_TRUE(contains(readError(bad), "steps per frame"));
+  writeAll(bad, withHeaderField(bytes, 36, 0x100u));  // unknown flag
+  EXPECT_TRUE(contains(readError(bad), "unknown flag bits"));
+  writeAll(bad, withHeaderField(bytes, 48, bits(std::numeric_limits<float>::quiet_NaN())));
+  EXPECT_TRUE(contains(readError(bad), "gravity is not finite"));
+
+  // A frame size that points far past the end of the file (and a matching contact count).
+  std::vector<std::uint8_t> big = bytes;
+  const std::size_t frame0 = kHeaderBytes + kTableBytes;
+  const std::uint32_t minDebug = 20 + 28 * kNumBodies + 72 * kNumParticles + 4;
+  putU32(big, frame0, minDebug + 8u * 100000000u);
+  writeAll(bad, big);
+  problem = readError(bad);
+  EXPECT_TRUE(contains(problem, "byte " + std::to_string(frame0) + ": frame 0 truncated")) << problem;
+
+  // The header size itself.
+  std::vector<std::uint8_t> header = bytes;
+  putU32(header, 12, 0xFFFFFFFFu);
+  writeAll(bad, header);
+  EXPECT_TRUE(contains(readError(bad), "byte 12: invalid header size"));
+  putU32(header, 12, 60000);
+  writeAll(bad, header);
+  EXPECT_TRUE(contains(readError(bad), "exceeds the file size"));
+}
+
+TEST_F(RecordingTest, NonFiniteOrBadPairWithValidChecksumIsRejected) {
+  // A writer that did not follow the rules: the reader still refuses NaN and bad pairs.
+  const std::string path = file("debug.bin");
+  const std::string bad = file("bad.bin");
+  writeRecording(path, true, 2);  // frame 0 has no contact, frame 1 has (0, 2)
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  const std::size_t frame0 = kHeaderBytes + kTableBytes;
+  const std::size_t frame1 = frame0 + 4 + getU32(bytes, frame0) + 4;
+  // Overwrites the u32 at `offset` of the payload of the frame at `frame`, fixing its checksum.
+  auto patched = [&](std::size_t frame, std::size_t offset, std::uint32_t v) {
+    std::vector<std::uint8_t> copy = bytes;
+    const std::size_t payload = frame + 4;
+    const std::uint32_t payloadBytes = getU32(copy, frame);
+    putU32(copy, payload + offset, v);
+    putU32(copy, payload + payloadBytes, fnv1a(copy.data() + payload, payloadBytes));
+    writeAll(bad, copy);
+    return readError(bad);
+  };
+  const std::uint32_t nanBits = bits(std::numeric_limits<float>::quiet_NaN());
+  const std::size_t py1 = 20 + 4 * 4;  // after step, time, pulls and px[0..2], py[0]
+  std::string problem = patched(frame0, py1, nanBits);
+  EXPECT_TRUE(contains(problem, "byte " + std::to_string(frame0 + 4 + py1) +
+                                    ": frame 0 py[1] is not finite"))
+      << problem;
+  const std::size_t damping0 = 20 + 28 * kNumBodies + 2 * 4 * 3 * kNumParticles;
+  problem = patched(frame0, damping0, nanBits);
+  EXPECT_TRUE(contains(problem, "frame 0 damping force[0] is not finite")) << problem;
+  const std::size_t count0 = getU32(bytes, frame0) - 4;
+  problem = patched(frame0, count0, 1);
+  EXPECT_TRUE(contains(problem, "frame 0 contact count 1 does not match")) << problem;
+  const std::size_t pair1 = getU32(bytes, frame1) - 8;
+  problem = patched(frame1, pair1, 2);  // (0, 2) becomes (2, 2)
+  EXPECT_TRUE(contains(problem, "frame 1 contact (2, 2) is not a pair")) << problem;
+  problem = patched(frame1, pair1 + 4, 5);  // (0, 5): particle 5 does not exist
+  EXPECT_TRUE(contains(problem, "frame 1 contact (0, 5) is not a pair")) << problem;
+}
+
+TEST_F(RecordingTest, RandomDamageNeverCrashes) {
+  const std::string path = file("debug.bin");
+  const std::string bad = file("bad.bin");
+  writeRecording(path, true, 4);
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  std::mt19937 rng(12345);
+  SCOPED_TRACE("seed 12345");
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::vector<std::uint8_t> copy = bytes;
+    const int kind = static_cast<int>(rng() % 4);
+    const int damage = 1 + static_cast<int>(rng() % 8);
+    for (int d = 0; d < damage; ++d) {
+      const std::size_t at = rng() % copy.size();
+      if (kind == 0) copy[at] = static_cast<std::uint8_t>(rng());
+      if (kind == 1) copy.insert(copy.begin() + static_cast<std::ptrdiff_t>(at), static_cast<std::uint8_t>(rng()));
+      if (kind == 2 && copy.size() > 1) copy.erase(copy.begin() + static_cast<std::ptrdiff_t>(at));
+      if (kind == 3) copy[at] = 0xFF;
+    }
+    if (copy == bytes) continue;  // the damage happened to change nothing
+    writeAll(bad, copy);
+    try {
+      Recording::read(bad);
+      ADD_FAILURE() << "trial " << trial << ": damaged file was accepted";
+    } catch (const InputError&) {
+    }
+  }
+  // Pure noise, with and without a valid magic.
+  for (int trial = 0; trial < 500; ++trial) {
+    std::vector<std::uint8_t> noise(rng() % 400);
+    for (auto& b : noise) b = static_cast<std::uint8_t>(rng());
+    if (trial % 2 == 0 && noise.size() >= 16) {
+      std::copy(bytes.begin(), bytes.begin() + 16, noise.begin());
+    }
+    writeAll(bad, noise);
+    EXPECT_THROW(Recording::read(bad), InputError) << "trial " << trial;
+  }
+}
+
+}  // namespace

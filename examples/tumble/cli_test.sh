@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# End-to-end checks of the tumble command: bad input ends with status 2, one message naming the
+# file and line, and no output file; run/REC/--state-out/pairs produce what they promise.
+# usage: cli_test.sh TUMBLE_BINARY SOURCE_DIR
+set -u
+bin=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+cd "$tmp"
+fails=0; passes=0
+ok()   { passes=$((passes+1)); echo "ok: $1"; }
+bad()  { fails=$((fails+1)); echo "FAIL: $1"; }
+expect_status() {  # name status command...
+  local name=$1 want=$2; shift 2
+  "$@" >out.txt 2>err.txt; local got=$?
+  if [ "$got" = "$want" ]; then ok "$name (status $got)"; else bad "$name: status $got, want $want; stderr: $(cat err.txt)"; fi
+}
+expect_msg() {  # name regex
+  if grep -Eq "$2" err.txt; then ok "$1 message"; else bad "$1: message '$(cat err.txt)' does not match '$2'"; fi
+}
+
+# A tiny valid scene.
+cat > small.toml <<'TOML'
+[scene]
+name = "small"
+dt = 1e-4
+steps = 50
+[ground]
+height = 0.0
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+offset = [0.0, 0.0, 0.0]
+radius = 0.1
+mass = 1.0
+elasticity = 0.5
+[[group]]
+shape = "ball"
+count = [4, 4, 2]
+spacing = 0.25
+origin = [0.0, 0.0, 0.2]
+TOML
+
+expect_status "missing scene" 2 "$bin" run nope.toml --state-out s.csv
+expect_msg "missing scene" "nope.toml"
+[ -e s.csv ] && bad "missing scene wrote s.csv" || ok "missing scene wrote nothing"
+
+printf '[scene]\nname = "x"\ndt = 1e-4\nbogus = 3\n' > unknown.toml
+expect_status "unknown key" 2 "$bin" run unknown.toml --state-out s.csv
+expect_msg "unknown key" "unknown.toml:4"
+[ -e s.csv ] && bad "unknown key wrote s.csv" || ok "unknown key wrote nothing"
+
+printf '[scene\nname = 1\n' > broken.toml
+expect_status "malformed TOML" 2 "$bin" run broken.toml
+expect_msg "malformed TOML" "broken.toml:1"
+
+sed 's/radius = 0.1/radius = -0.1/' small.toml > negr.toml
+expect_status "negative radius" 2 "$bin" run negr.toml --record r.bin
+expect_msg "negative radius" "negr.toml:[0-9]+: .*radius"
+[ -e r.bin ] || [ -e r.bin.part ] && bad "negative radius left a recording" || ok "negative radius wrote no recording"
+
+sed 's/radius = 0.1/radius = nan/' small.toml > nanr.toml
+expect_status "NaN radius" 2 "$bin" run nanr.toml
+expect_msg "NaN radius" "nanr.toml:[0-9]+"
+
+printf '[scene]\nname = "empty"\ndt = 1e-4\n' > empty.toml
+expect_status "empty scene" 2 "$bin" run empty.toml
+expect_msg "empty scene" "empty.toml"
+
+# A good run: recording via REC, state written, timing table printed.
+REC=20,rec.bin expect_status "run with REC" 0 "$bin" run small.toml --threads 2 --state-out state.csv
+[ -s rec.bin ] && ok "REC wrote rec.bin" || bad "REC did not write rec.bin"
+[ "$(head -1 state.csv)" = "body,x,y,z,vx,vy,vz,qw,qx,qy,qz,lx,ly,lz" ] && ok "state header" || bad "state header"
+[ "$(wc -l < state.csv)" = "33" ] && ok "state rows" || bad "state rows: $(wc -l < state.csv)"
+grep -q "^sweep" out.txt && ok "phase table" || bad "no phase table in: $(cat out.txt)"
+"$bin" run small.toml --threads 1 --state-out state1.csv -q >/dev/null 2>&1
+cmp -s state.csv state1.csv && ok "state identical for 1 and 2 threads" || bad "state differs between thread counts"
+
+# pairs: CSV in, sorted pairs out; bad rows name the line.
+printf 'x,y,z,r,body\n0,0,0,0.5,0\n0.9,0,0,0.5,1\n0.5,0.5,0,0.5,1\n5,5,5,1,2\n' > p.csv
+expect_status "pairs" 0 "$bin" pairs p.csv
+[ "$(cat out.txt | tr '\n' ' ')" = "0,1 0,2 " ] && ok "pairs output" || bad "pairs output: $(cat out.txt | tr '\n' ' ')"
+printf 'x,y,z,r,body\n0,0,0,0.5,0\n0,0,zz,0.5,1\n' > bad.csv
+expect_status "bad csv number" 2 "$bin" pairs bad.csv
+expect_msg "bad csv number" "bad.csv:3: z is not a number"
+printf 'x,y,z,r,body\n0,0,0,0,0\n' > bad2.csv
+expect_status "zero radius csv" 2 "$bin" pairs bad2.csv
+expect_msg "zero radius csv" "bad2.csv:2: r must be > 0"
+printf 'x,y,z,r,body\n0,0,inf,1,0\n' > bad3.csv
+expect_status "inf csv" 2 "$bin" pairs bad3.csv
+expect_msg "inf csv" "bad3.csv:2: z must be finite"
+printf 'a,b\n' > bad4.csv
+expect_status "bad header" 2 "$bin" pairs bad4.csv
+expect_msg "bad header" "bad4.csv:1: header"
+
+echo "$passes passed, $fails failed"
+[ "$fails" = 0 ]

@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+// `tumble run SCENE.toml`: simulate a scene, optionally record it and write the final state.
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+
+#include "commands.hpp"
+#include "tumble/pipeline.hpp"
+#include "tumble/recording.hpp"
+#include "tumble/scene_io.hpp"
+
+namespace tumble::cli {
+namespace {
+
+struct RunOptions {
+  std::string scene;
+  std::optional<std::uint64_t> steps;
+  int threads = 0;
+  std::string pipeline = "cpu";
+  std::string record;
+  std::optional<std::uint64_t> recordSteps;
+  bool debug = false;
+  std::string stateOut;
+  std::optional<float> cellSize;
+  std::optional<int> pcaEvery;
+  bool quiet = false;
+};
+
+// REC=<n_steps>[,<file>] (SPEC §6).
+void applyRecEnv(RunOptions& o) {
+  const char* rec = std::getenv("REC");
+  if (!rec || !*rec) return;
+  const std::string s = rec;
+  const auto comma = s.find(',');
+  const std::string n = s.substr(0, comma);
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(n.c_str(), &end, 10);
+  if (n.empty() || *end != '\0' || v == 0)
+    throw Error("REC=" + s + ": expected REC=<n_steps>[,<file>] with n_steps a positive integer");
+  if (!o.recordSteps) o.recordSteps = v;
+  if (o.record.empty()) o.record = comma == std::string::npos ? "record.bin" : s.substr(comma + 1);
+  if (o.record.empty()) throw Error("REC=" + s + ": the file name after the comma is empty");
+}
+
+void writeState(const std::string& path, const BodyState& s) {
+  writeAtomically(path, [&](std::FILE* f) {
+    std::fprintf(f, "body,x,y,z,vx,vy,vz,qw,qx,qy,qz,lx,ly,lz\n");
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      // %.9g: nine significant digits read back to the same float bits.
+      std::fprintf(f, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, s.px[k], s.py[k],
+                   s.pz[k], s.vx[k], s.vy[k], s.vz[k], s.qw[k], s.qx[k], s.qy[k], s.qz[k], s.lx[k], s.ly[k], s.lz[k]);
+    }
+    if (std::ferror(f)) throw Error("cannot write " + path);
+  });
+}
+
+void printPhases(const StepStats& st, std::FILE* out) {
+  const double total = st.totalSeconds();
+  const double n = st.steps ? double(st.steps) : 1.0;
+  std::fprintf(out, "%-10s %12s %12s %7s\n", "phase", "total ms", "ms/step", "share");
+  for (int p = 0; p < kNumPhases; ++p)
+    std::fprintf(out, "%-10s %12.2f %12.4f %6.1f%%\n", toString(static_cast<Phase>(p)), 1e3 * st.seconds[p],
+                 1e3 * st.seconds[p] / n, total > 0 ? 100.0 * st.seconds[p] / total : 0.0);
+  std::fprintf(out, "%-10s %12.2f %12.4f %6.1f%%\n", "step", 1e3 * total, 1e3 * total / n, 100.0);
+}
+
+void run(RunOptions o) {
+  applyRecEnv(o);
+  Scene scene = readSceneFile(o.scene);
+  if (o.steps) scene.steps = *o.steps;
+  if (o.cellSize) {
+    if (!(*o.cellSize >= 0.0f) || !std::isfinite(*o.cellSize)) throw Error("--cell-size must be >= 0 (0 = automatic)");
+    scene.broadphase.cellSize = *o.cellSize;
+  }
+  if (o.pcaEvery) {
+    if (*o.pcaEvery < 1) throw Error("--pca-every must be >= 1");
+    scene.broadphase.pcaEvery = *o.pcaEvery;
+  }
+  if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;
+  if (!o.recordSteps && scene.recordSteps > 0) o.recordSteps = scene.recordSteps;
+  const bool debug = o.debug || scene.recordDebug;
+
+  const World world = World::fromScene(scene);
+  PipelineOptions po;
+  po.threads = o.threads;
+  auto pipeline = makePipeline(backendFromString(o.pipeline), po);
+  pipeline->load(world);
+  pipeline->setDebugCapture(debug && !o.record.empty());
+
+  const bool tty = isatty(fileno(stderr)) && !o.quiet;
+  if (!o.quiet)
+    std::fprintf(stderr, "tumble run: %s — %u bodies, %u particles, %llu steps of %g s, pipeline %s\n",
+                 scene.name.c_str(), world.numBodies(), world.numParticles(),
+                 static_cast<unsigned long long>(scene.steps), scene.dt, toString(pipeline->backend()));
+
+  std::unique_ptr<RecordingWriter> rec;
+  const std::uint64_t recSteps = o.recordSteps ? std::min<std::uint64_t>(*o.recordSteps, scene.steps) : scene.steps;
+  const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
+  BodyState state;
+  ParticleDebug dbg;
+  if (!o.record.empty()) {
+    rec = std::make_unique<RecordingWriter>(o.record, world, debug, static_cast<int>(perFrame));
+    pipeline->readState(state);
+    if (!debug) rec->writeFrame(0, 0.0, pipeline->pulls(), state);  // debug frames start after step 1
+  }
+
+  const auto t0 = std::chrono::steady_clock::now();
+  auto lastPrint = t0;
+  std::uint64_t done = 0;
+  try {
+    while (done < scene.steps) {
+      std::uint64_t chunk = scene.steps - done;
+      if (rec && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
+      chunk = std::min<std::uint64_t>(chunk, 1000);
+      pipeline->step(chunk);
+      done += chunk;
+      if (rec && done <= recSteps && done % perFrame == 0) {
+        pipeline->readState(state);
+        if (debug) pipeline->readDebug(dbg);
+        rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr);
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (tty && (now - lastPrint > std::chrono::milliseconds(200) || done == scene.steps)) {
+        lastPrint = now;
+        const double el = std::chrono::duration<double>(now - t0).count();
+        const double eta = el / double(done) * double(scene.steps - done);
+        std::fprintf(stderr, "\r  step %llu/%llu (%5.1f%%)  %.3f ms/step  elapsed %.1f s  eta %.1f s   ",
+                     static_cast<unsigned long long>(done), static_cast<unsigned long long>(scene.steps),
+                     100.0 * double(done) / double(scene.steps), 1e3 * el / double(done), el, eta);
+      }
+    }
+  } catch (const SimulationError&) {
+    if (tty) std::fprintf(stderr, "\n");
+    if (rec) {
+      rec->close();
+      std::fprintf(stderr, "tumble run: kept %llu frames in %s\n", static_cast<unsigned long long>(rec->numFrames()),
+                   rec->path().c_str());
+    }
+    throw;
+  }
+  if (tty) std::fprintf(stderr, "\n");
+  if (rec) {
+    rec->close();
+    if (!o.quiet)
+      std::fprintf(stderr, "recorded %llu frames (%llu steps, %llu steps per frame) to %s\n",
+                   static_cast<unsigned long long>(rec->numFrames()), static_cast<unsigned long long>(recSteps),
+                   static_cast<unsigned long long>(perFrame), rec->path().c_str());
+  }
+  pipeline->readState(state);
+  if (!o.stateOut.empty()) writeState(o.stateOut, state);
+  if (!o.quiet) {
+    const StepStats& st = pipeline->stats();
+    std::printf("%s: %llu steps, %u particles, %llu pairs in the last step, cell size %g (%llu cells)\n",
+                scene.name.c_str(), static_cast<unsigned long long>(st.steps), world.numParticles(),
+                static_cast<unsigned long long>(st.numPairs), st.cellSize, static_cast<unsigned long long>(st.numCells));
+    printPhases(st, stdout);
+  }
+}
+
+}  // namespace
+
+void addRun(CLI::App& app) {
+  auto o = std::make_shared<RunOptions>();
+  CLI::App* c = app.add_subcommand("run", "Simulate a scene file (TOML, see docs/scenes.md)");
+  c->add_option("scene", o->scene, "Scene file, e.g. scenes/molecules.toml")->required();
+  c->add_option("--steps", o->steps, "Number of steps (default: the scene's steps)");
+  c->add_option("--threads", o->threads, "Worker threads, 0 = all cores (results do not depend on it)")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--record", o->record, "Write a recording to FILE (docs/recording.md); REC=<n_steps>[,<file>] does the same");
+  c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)");
+  c->add_flag("--debug-record", o->debug, "Add velocities, the five forces and the contacts to every frame");
+  c->add_option("--state-out", o->stateOut, "Write the final body state as CSV (exact float round trip)");
+  c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 2 x largest diameter)");
+  c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K steps");
+  c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
+  c->callback([o] { run(*o); });
+}
+
+}  // namespace tumble::cli

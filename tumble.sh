@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# One-command set-up for a fresh Debian 12 machine (README "Quick start").
+#   ./tumble.sh run [SCENE.toml] [tumble run options]   install, build, run a scene (default: molecules)
+#   ./tumble.sh test                                     install, build, run every test
+#   ./tumble.sh build                                    install and build only
+# Environment: BUILD_DIR (default build), JOBS (default: all cores), TUMBLE_ENABLE_CUDA (AUTO|ON|OFF).
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+build=${BUILD_DIR:-$here/build}
+jobs=${JOBS:-$(nproc)}
+packages=(g++ cmake ninja-build pkg-config libtbb-dev libeigen3-dev libtomlplusplus-dev libcli11-dev
+          libgtest-dev libgmock-dev libbenchmark-dev)
+
+install_packages() {
+  local missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "tumble.sh: installing ${missing[*]}" >&2
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+configure_and_build() {
+  cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DTUMBLE_ENABLE_CUDA="${TUMBLE_ENABLE_CUDA:-AUTO}" -DTUMBLE_WERROR=ON >/dev/null
+  cmake --build "$build" -j "$jobs"
+}
+
+cmd=${1:-run}
+[ $# -gt 0 ] && shift
+case "$cmd" in
+  build)
+    install_packages; configure_and_build ;;
+  run)
+    install_packages; configure_and_build
+    scene=$here/scenes/molecules.toml
+    if [ $# -gt 0 ] && [[ "$1" != -* ]]; then scene=$1; shift; fi
+    exec "$build/examples/tumble" run "$scene" "$@" ;;
+  test)
+    install_packages; configure_and_build
+    cd "$build"
+    exec ctest --output-on-failure -j "$jobs" ;;
+  -h|--help|help)
+    sed -n '3,8p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *)
+    echo "tumble.sh: unknown command '$cmd' (expected run, test or build)" >&2; exit 2 ;;
+esac
