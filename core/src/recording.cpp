@@ -141,8 +141,8 @@ class InFile {
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status)) {
-      throw InputError(path, 0, "cannot open recording: " +
-                                    (ec ? ec.message() : errnoText(ENOENT)));
+      throw InputError(path, 0,
+                       "cannot open recording: " + (ec ? ec.message() : errnoText(ENOENT)));
     }
     if (!std::filesystem::is_regular_file(status)) {
       throw InputError(path, 0, "cannot open recording: not a regular file");
@@ -177,7 +177,8 @@ class InFile {
     if (count == 0) return;
     const std::size_t old = out.size();
     out.resize(old + static_cast<std::size_t>(count));
-    const std::size_t got = std::fread(out.data() + old, 1, static_cast<std::size_t>(count), m_file);
+    const std::size_t got =
+        std::fread(out.data() + old, 1, static_cast<std::size_t>(count), m_file);
     if (got != count) {
       fail(m_offset + got, std::string("cannot read ") + what + ": " +
                                (std::ferror(m_file) ? errnoText(errno) : "unexpected end of file"));
@@ -273,8 +274,8 @@ Recording Recording::read(const std::string& path) {
     in.fail(0, "not a tumble recording (bad magic; expected \"TUMBLREC\")");
   }
   if (buf.size() < kOffNumParticles) {
-    in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) +
-                            " bytes");
+    in.fail(buf.size(),
+            "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
   }
   info.version = getU32(buf.data() + kOffVersion);
   if (info.version != kRecordingVersion) {
@@ -340,8 +341,8 @@ Recording Recording::read(const std::string& path) {
   const std::uint64_t tableBytes = kParticleBytes * numParticles;
   if (tableBytes + 4 > in.remaining()) {
     in.fail(tableOffset, "particle table truncated: " + std::to_string(numParticles) +
-                             " particles need " + std::to_string(tableBytes + 4) +
-                             " bytes, only " + std::to_string(in.remaining()) + " left");
+                             " particles need " + std::to_string(tableBytes + 4) + " bytes, only " +
+                             std::to_string(in.remaining()) + " left");
   }
   buf.clear();
   in.read(buf, tableBytes + 4, "particle table");
@@ -387,8 +388,8 @@ Recording Recording::read(const std::string& path) {
       in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
                                ", expected " + std::to_string(basePayload));
     }
-    if (info.debug && (payloadBytes < minDebugPayload ||
-                       (payloadBytes - minDebugPayload) % kContactBytes != 0)) {
+    if (info.debug &&
+        (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0)) {
       in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
                                ", expected " + std::to_string(minDebugPayload) +
                                " + 8 per contact");
@@ -400,8 +401,8 @@ Recording Recording::read(const std::string& path) {
     const std::uint64_t payloadOffset = in.offset();
     buf.clear();
     in.read(buf, payloadBytes + 4, "frame");
-    checkChecksum(in, buf, 0, static_cast<std::size_t>(payloadBytes),
-                  payloadOffset + payloadBytes, frameName);
+    checkChecksum(in, buf, 0, static_cast<std::size_t>(payloadBytes), payloadOffset + payloadBytes,
+                  frameName);
 
     RecordedFrame& f = rec.frames.emplace_back();
     Decoder fd(in, buf, payloadOffset);
@@ -437,9 +438,8 @@ Recording Recording::read(const std::string& path) {
         p.i = fd.u32();
         p.j = fd.u32();
         if (!(p.i < p.j && p.j < numParticles)) {
-          in.fail(at, frameName + " contact (" + std::to_string(p.i) + ", " +
-                          std::to_string(p.j) + ") is not a pair i < j < " +
-                          std::to_string(numParticles));
+          in.fail(at, frameName + " contact (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
+                          ") is not a pair i < j < " + std::to_string(numParticles));
         }
       }
     }
@@ -479,8 +479,8 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
       world.ux.size() != n || world.uy.size() != n || world.uz.size() != n) {
     throw Error(where + "the world's particle columns have different sizes");
   }
-  for (const auto* column : {&world.radius, &world.mass, &world.elasticity, &world.ux, &world.uy,
-                             &world.uz}) {
+  for (const auto* column :
+       {&world.radius, &world.mass, &world.elasticity, &world.ux, &world.uy, &world.uz}) {
     std::size_t bad = 0;
     if (!allFinite(*column, n, &bad)) {
       throw Error(where + "particle " + std::to_string(bad) + " has a non-finite static value");
@@ -500,7 +500,8 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
   }
 
   // Header (docs/recording.md), with the frame count at the sentinel until close().
-  const std::uint32_t flags = (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u);
+  const std::uint32_t flags =
+      (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u);
   Encoder h(m_header);
   h.bytes(kMagic, sizeof kMagic);
   h.u32(kRecordingVersion);
@@ -534,8 +535,7 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
 
   m_file = std::fopen(m_partPath.c_str(), "wb");
   if (m_file == nullptr) {
-    throw Error("cannot open recording file '" + m_partPath + "' for writing: " +
-                errnoText(errno));
+    throw Error("cannot open recording file '" + m_partPath + "' for writing: " + errnoText(errno));
   }
   try {
     writeBytes(m_header.data(), m_header.size(), "header");
@@ -600,7 +600,8 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
     const std::vector<float>* dcols[6] = {&debug->v,        &debug->force[0], &debug->force[1],
                                           &debug->force[2], &debug->force[3], &debug->force[4]};
     for (int c = 0; c < 6; ++c) {
-      const std::string name = c == 0 ? std::string("velocity") : kForceNames[c - 1] + std::string(" force");
+      const std::string name =
+          c == 0 ? std::string("velocity") : kForceNames[c - 1] + std::string(" force");
       if (dcols[c]->size() != n3) {
         throw Error(where + "debug " + name + " has " + std::to_string(dcols[c]->size()) +
                     " values, expected 3 per particle (" + std::to_string(n3) + ")");
@@ -620,7 +621,8 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
   }
   std::uint64_t payloadBytes = kFramePrefixBytes + kBodyBytes * nb;
   if (debug != nullptr) {
-    payloadBytes += kDebugParticleBytes * m_numParticles + 4 + kContactBytes * debug->contacts.size();
+    payloadBytes +=
+        kDebugParticleBytes * m_numParticles + 4 + kContactBytes * debug->contacts.size();
   }
   if (payloadBytes > std::numeric_limits<std::uint32_t>::max() ||
       (debug != nullptr && debug->contacts.size() > std::numeric_limits<std::uint32_t>::max())) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Recording format (docs/recording.md): bitwise round trips, crash safety, and a reader that
 // turns every truncation and corruption into a tumble::InputError instead of a crash.
+#include "tumble/recording.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -16,7 +18,6 @@
 #include <vector>
 
 #include "tumble/error.hpp"
-#include "tumble/recording.hpp"
 
 namespace {
 
@@ -88,7 +89,8 @@ World makeWorld() {
 float value(std::uint32_t frame, std::uint32_t column, std::uint32_t k) {
   // Distinct per (frame, column, k), with a few special values mixed in.
   const float special[4] = {-0.0f, std::numeric_limits<float>::denorm_min(),
-                            std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
+                            std::numeric_limits<float>::max(),
+                            std::numeric_limits<float>::lowest()};
   if ((frame + column + k) % 7 == 3) return special[(frame + k) % 4];
   return static_cast<float>(frame) * 1.3f - static_cast<float>(column) * 0.77f +
          static_cast<float>(k) / 3.0f;
@@ -137,7 +139,8 @@ void writeRecording(const std::string& path, bool debug, std::uint32_t numFrames
 void expectSameBits(const std::vector<float>& a, const std::vector<float>& b,
                     const std::string& what) {
   ASSERT_EQ(a.size(), b.size()) << what;
-  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(bits(a[k]), bits(b[k])) << what << "[" << k << "]";
+  for (std::size_t k = 0; k < a.size(); ++k)
+    EXPECT_EQ(bits(a[k]), bits(b[k])) << what << "[" << k << "]";
 }
 
 void expectRecording(const Recording& r, bool debug, std::uint32_t numFrames) {
@@ -275,7 +278,8 @@ TEST_F(RecordingTest, ReplacesAnOldFileOnlyAtClose) {
   writeRecording(path, false, 2);
   {
     RecordingWriter w(path, makeWorld(), false, 10);
-    for (std::uint32_t f = 0; f < 5; ++f) w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
+    for (std::uint32_t f = 0; f < 5; ++f)
+      w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
     EXPECT_EQ(Recording::read(path).frames.size(), 2u);  // still the old one
   }
   expectRecording(Recording::read(path), false, 5);
@@ -301,7 +305,8 @@ TEST_F(RecordingTest, CrashedWriterPartFileIsReadable) {
   // Right after the header: the sentinel frame count and no frames.
   fs::copy_file(path + ".part", crashed);
   expectRecording(Recording::read(crashed), false, 0);
-  for (std::uint32_t f = 0; f < 3; ++f) w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
+  for (std::uint32_t f = 0; f < 3; ++f)
+    w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
   // Every frame is flushed, so a copy taken now is what a crash would leave behind.
   const std::vector<std::uint8_t> bytes = readAll(path + ".part");
   ASSERT_EQ(bytes.size(), kHeaderBytes + kTableBytes + 3 * kFrameBytes);
@@ -311,7 +316,8 @@ TEST_F(RecordingTest, CrashedWriterPartFileIsReadable) {
   writeAll(crashed, bytes, bytes.size() - 5);
   const std::string problem = readError(crashed);
   EXPECT_TRUE(contains(problem, "frame 2 truncated")) << problem;
-  EXPECT_TRUE(contains(problem, "byte " + std::to_string(kHeaderBytes + kTableBytes + 2 * kFrameBytes)))
+  EXPECT_TRUE(
+      contains(problem, "byte " + std::to_string(kHeaderBytes + kTableBytes + 2 * kFrameBytes)))
       << problem;
   w.close();
   expectRecording(Recording::read(path), false, 3);
@@ -502,11 +508,12 @@ TEST_F(RecordingTest, EachRegionReportsItsProblem) {
   EXPECT_TRUE(contains(flip(9), "unsupported recording version"));
   EXPECT_TRUE(contains(flip(12), "header"));
   EXPECT_TRUE(contains(flip(20), "header checksum mismatch"));
-  EXPECT_TRUE(contains(flip(62), "header checksum mismatch"));              // scene name
+  EXPECT_TRUE(contains(flip(62), "header checksum mismatch"));                 // scene name
   EXPECT_TRUE(contains(flip(kHeaderBytes - 10), "header checksum mismatch"));  // frame count
   EXPECT_TRUE(contains(flip(kHeaderBytes + 30), "particle table checksum mismatch"));
   const std::size_t frame1 = kHeaderBytes + kTableBytes + kFrameBytes;
-  EXPECT_TRUE(contains(flip(frame1), "byte " + std::to_string(frame1) + ": frame 1 has payload size"));
+  EXPECT_TRUE(
+      contains(flip(frame1), "byte " + std::to_string(frame1) + ": frame 1 has payload size"));
   EXPECT_TRUE(contains(flip(frame1 + 30), "frame 1 checksum mismatch"));
   EXPECT_TRUE(contains(flip(frame1 + kFrameBytes - 1), "frame 1 checksum mismatch"));
 
@@ -533,7 +540,8 @@ TEST_F(RecordingTest, HugeCountsAreCheckedBeforeAllocating) {
 
   writeAll(bad, withHeaderField(bytes, 16, 0xFFFFFFFFu));  // numParticles
   std::string problem = readError(bad);
-  EXPECT_TRUE(contains(problem, "byte " + std::to_string(kHeaderBytes) + ": particle table truncated"))
+  EXPECT_TRUE(
+      contains(problem, "byte " + std::to_string(kHeaderBytes) + ": particle table truncated"))
       << problem;
 
   writeAll(bad, withHeaderField(bytes, 20, 0xFFFFFFFFu));  // numBodies
@@ -562,7 +570,8 @@ TEST_F(RecordingTest, HugeCountsAreCheckedBeforeAllocating) {
   putU32(big, frame0, minDebug + 8u * 100000000u);
   writeAll(bad, big);
   problem = readError(bad);
-  EXPECT_TRUE(contains(problem, "byte " + std::to_string(frame0) + ": frame 0 truncated")) << problem;
+  EXPECT_TRUE(contains(problem, "byte " + std::to_string(frame0) + ": frame 0 truncated"))
+      << problem;
 
   // The header size itself.
   std::vector<std::uint8_t> header = bytes;
@@ -595,8 +604,8 @@ TEST_F(RecordingTest, NonFiniteOrBadPairWithValidChecksumIsRejected) {
   const std::uint32_t nanBits = bits(std::numeric_limits<float>::quiet_NaN());
   const std::size_t py1 = 20 + 4 * 4;  // after step, time, pulls and px[0..2], py[0]
   std::string problem = patched(frame0, py1, nanBits);
-  EXPECT_TRUE(contains(problem, "byte " + std::to_string(frame0 + 4 + py1) +
-                                    ": frame 0 py[1] is not finite"))
+  EXPECT_TRUE(contains(
+      problem, "byte " + std::to_string(frame0 + 4 + py1) + ": frame 0 py[1] is not finite"))
       << problem;
   const std::size_t damping0 = 20 + 28 * kNumBodies + 2 * 4 * 3 * kNumParticles;
   problem = patched(frame0, damping0, nanBits);
@@ -625,7 +634,9 @@ TEST_F(RecordingTest, RandomDamageNeverCrashes) {
     for (int d = 0; d < damage; ++d) {
       const std::size_t at = rng() % copy.size();
       if (kind == 0) copy[at] = static_cast<std::uint8_t>(rng());
-      if (kind == 1) copy.insert(copy.begin() + static_cast<std::ptrdiff_t>(at), static_cast<std::uint8_t>(rng()));
+      if (kind == 1)
+        copy.insert(copy.begin() + static_cast<std::ptrdiff_t>(at),
+                    static_cast<std::uint8_t>(rng()));
       if (kind == 2 && copy.size() > 1) copy.erase(copy.begin() + static_cast<std::ptrdiff_t>(at));
       if (kind == 3) copy[at] = 0xFF;
     }

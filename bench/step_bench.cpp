@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+// Full step of the bench scene (bodies of 8 particles) at 16k, 128k and 960k particles, threads
+// swept, with the per-phase split as counters (ms per step). TUMBLE_BENCH_SMOKE=1: 16k only.
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include <cstdlib>
+#include <map>
+#include <memory>
+
+#include "tumble/pipeline.hpp"
+#include "tumble/validation/scenes.hpp"
+
+namespace {
+
+const tumble::World& benchWorld(std::uint32_t n) {
+  static std::map<std::uint32_t, std::unique_ptr<tumble::World>> cache;
+  auto& w = cache[n];
+  if (!w) w = std::make_unique<tumble::World>(tumble::World::fromScene(tumble::validation::benchScene(n)));
+  return *w;
+}
+
+void BM_Step(benchmark::State& state) {
+  const auto n = static_cast<std::uint32_t>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  tumble::PipelineOptions o;
+  o.threads = threads;
+  auto p = tumble::makePipeline(tumble::Backend::Cpu, o);
+  p->load(benchWorld(n));
+  p->step(200);  // warm-up: the lattice starts to fall and pack
+  p->resetStats();
+  for (auto _ : state) p->step(1);
+  const auto& st = p->stats();
+  for (int ph = 0; ph < tumble::kNumPhases; ++ph)
+    state.counters[std::string("ms_") + tumble::toString(static_cast<tumble::Phase>(ph))] =
+        1e3 * st.seconds[ph] / double(st.steps);
+  state.counters["pairs"] = double(st.numPairs);
+  state.counters["ns_per_particle"] = benchmark::Counter(double(n) * double(state.iterations()) * 1e-9,
+                                                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * n);
+}
+
+void registerAll() {
+  const bool smoke = std::getenv("TUMBLE_BENCH_SMOKE") != nullptr;
+  auto* b = benchmark::RegisterBenchmark("BM_Step", BM_Step);
+  for (long n : {16000L, 128000L, 960000L}) {
+    if (smoke && n != 16000) continue;
+    for (long t : {1L, 2L}) b->Args({n, t});
+  }
+  b->ArgNames({"particles", "threads"})->UseRealTime()->Unit(benchmark::kMillisecond);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::AddCustomContext("pipeline", "cpu");
+#ifdef NDEBUG
+  benchmark::AddCustomContext("build", "release");
+#else
+  benchmark::AddCustomContext("build", "debug");
+#endif
+  registerAll();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
