@@ -261,27 +261,13 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   // Sweep: gather sorted columns, then walk each record's cell both ways.
   t0 = Clock::now();
   std::uint32_t* invp = tumble::detail::grow(inv, numRec);
-  float* sx = tumble::detail::grow(m_sx, numRec);
-  float* sy = tumble::detail::grow(m_sy, numRec);
-  float* sz = tumble::detail::grow(m_sz, numRec);
-  float* sr = tumble::detail::grow(m_sr, numRec);
-  std::uint32_t* sp = tumble::detail::grow(m_sp, numRec);
-  std::uint32_t* sbody = tumble::detail::grow(m_sbody, numRec);
-  std::int32_t* sa0 = tumble::detail::grow(m_sa0, numRec);
-  std::int32_t* sb0 = tumble::detail::grow(m_sb0, numRec);
+  SweepRow* rows = tumble::detail::grow(m_rows, numRec);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, numRec, kChunk), [&](const auto& rg) {
     for (std::uint32_t s = rg.begin(); s != rg.end(); ++s) {
       const std::uint32_t r = svals[s];
       const std::uint32_t i = recParticle[r];
       invp[r] = s;
-      sp[s] = i;
-      sx[s] = in.x[i];
-      sy[s] = in.y[i];
-      sz[s] = in.z[i];
-      sr[s] = in.r[i];
-      sbody[s] = in.body[i];
-      sa0[s] = a0[i];
-      sb0[s] = b0[i];
+      rows[s] = SweepRow{in.x[i], in.y[i], in.z[i], in.r[i], in.body[i], a0[i], b0[i], i};
     }
   });
   const std::uint32_t numChunks = (numRec + kSweepChunk - 1) / kSweepChunk;
@@ -298,15 +284,16 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
       const std::int32_t a = static_cast<std::int32_t>(cell / f.numB) + f.aMin;
       const std::int32_t b = static_cast<std::int32_t>(cell % f.numB) + f.bMin;
       const float zs = fromOrderedBits(static_cast<std::uint32_t>(key));
-      const float window = sr[s] + reachR;
-      const float xs = sx[s], ys = sy[s], zz = sz[s], rs = sr[s];
-      const std::uint32_t bs = sbody[s];
-      const std::int32_t as0 = sa0[s], bs0 = sb0[s];
+      const SweepRow me = rows[s];
+      const float window = me.r + reachR;
       const std::size_t before = out.size();
+      // Branch-free candidate test; only a hit (rare) branches.
       auto test = [&](std::uint32_t m) {
-        if (sbody[m] != bs && ownsPair(a, b, as0, bs0, sa0[m], sb0[m]) &&
-            spheresOverlap(xs, ys, zz, rs, sx[m], sy[m], sz[m], sr[m]))
-          out.push_back(sp[m]);
+        const SweepRow& o = rows[m];
+        const bool hit = (o.body != me.body) & ((me.a0 > o.a0 ? me.a0 : o.a0) == a) &
+                         ((me.b0 > o.b0 ? me.b0 : o.b0) == b) &
+                         spheresOverlap(me.x, me.y, me.z, me.r, o.x, o.y, o.z, o.r);
+        if (hit) out.push_back(o.particle);
       };
       for (std::uint32_t m = s; m-- > 0;) {
         const std::uint64_t km = skeys[m];
