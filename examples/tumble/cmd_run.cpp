@@ -122,6 +122,7 @@ void run(RunOptions o) {
         pipeline->readState(state);
         if (debug) pipeline->readDebug(dbg);
         rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr);
+        if (done + perFrame > recSteps) rec->close();  // last frame: the file is complete now
       }
       const auto now = std::chrono::steady_clock::now();
       if (tty && (now - lastPrint > std::chrono::milliseconds(200) || done == scene.steps)) {
