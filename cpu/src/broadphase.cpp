@@ -12,10 +12,11 @@
 //   unsorted record number as value, so ties break by index. The sweep writes each record's
 //   neighbours in a fixed order into fixed-size chunks whose concatenation does not depend on
 //   how TBB schedules them. The covariance is summed in double in fixed chunks.
-// - Once-only. Each record walks both backwards and forwards through its cell and keeps a
-//   neighbour only in the cell holding the lower corner of the two cell ranges' intersection
-//   (SPEC §3.7). Each particle thus lists each neighbour exactly once: a CSR contact list whose
-//   per-particle order is fixed, with no transpose and no atomics.
+// - Once-only. Each record walks forwards through its cell and keeps a neighbour only in the
+//   cell holding the lower corner of the two cell ranges' intersection (SPEC §3.7), so each
+//   pair is found exactly once. The other side's view comes from a transpose: a stable radix
+//   sort of (other particle, owner) by other particle. Both halves have a fixed order and
+//   need no atomics.
 #include "broadphase.hpp"
 
 #include <tbb/blocked_range.h>
@@ -295,12 +296,6 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
                          spheresOverlap(me.x, me.y, me.z, me.r, o.x, o.y, o.z, o.r);
         if (hit) out.push_back(o.particle);
       };
-      for (std::uint32_t m = s; m-- > 0;) {
-        const std::uint64_t km = skeys[m];
-        if (static_cast<std::uint32_t>(km >> 32) != cell) break;
-        if (!(zs - fromOrderedBits(static_cast<std::uint32_t>(km)) < window)) break;
-        test(m);
-      }
       for (std::uint32_t m = s + 1; m < numRec; ++m) {
         const std::uint64_t km = skeys[m];
         if (static_cast<std::uint32_t>(km >> 32) != cell) break;
@@ -315,22 +310,39 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, nbrCount, offs, numRec + 1);
   exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nbrCount, offs, numRec + 1);
   m_numEntries = offs[numRec];
-  std::uint32_t* nb = tumble::detail::grow(nbr, m_numEntries);
+  const std::uint32_t numEntries = static_cast<std::uint32_t>(m_numEntries);
+  std::uint32_t* nb = tumble::detail::grow(nbr, numEntries);
+  std::uint32_t* owner = tumble::detail::grow(m_owner, numEntries);
   tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
     const auto& src = m_chunkNbr[c];
     std::copy(src.begin(), src.end(), nb + offs[c * kSweepChunk]);
+    const std::uint32_t end = std::min(numRec, (c + 1) * kSweepChunk);
+    for (std::uint32_t s = c * kSweepChunk; s < end; ++s)
+      std::fill(owner + offs[s], owner + offs[s + 1], rows[s].particle);
+  });
+  // Transpose: stable sort of (other, owner) by other gives each particle its backward list.
+  std::uint32_t* bkeys = tumble::detail::grow(m_backKeys, numEntries);
+  std::uint32_t* bvals = tumble::detail::grow(back, numEntries);
+  const int nBits = std::max(1, static_cast<int>(std::bit_width(n - 1)));
+  radixSortPairs<std::uint32_t, std::uint32_t>(nullptr, tempBytes, nb, bkeys, owner, bvals, numEntries, 0, nBits);
+  radixSortPairs<std::uint32_t, std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nb, bkeys, owner,
+                                               bvals, numEntries, 0, nBits);
+  std::uint32_t* boffs = tumble::detail::grow(backOffsets, n + 1);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n + 1, kChunk), [&](const auto& rg) {
+    for (std::uint32_t i = rg.begin(); i != rg.end(); ++i)
+      boffs[i] = static_cast<std::uint32_t>(std::lower_bound(bkeys, bkeys + numEntries, i) - bkeys);
   });
   seconds[int(Phase::Sweep)] += since(t0);
 }
 
 std::vector<Pair> Broadphase::sortedPairs(std::uint32_t n) const {
   std::vector<Pair> out;
-  out.reserve(m_numEntries / 2);
+  out.reserve(m_numEntries);
   for (std::uint32_t i = 0; i < n; ++i)
     for (std::uint32_t r = recFirst[i]; r < recFirst[i + 1]; ++r) {
       const std::uint32_t s = inv[r];
       for (std::uint32_t e = nbrOffsets[s]; e < nbrOffsets[s + 1]; ++e)
-        if (nbr[e] > i) out.push_back({i, nbr[e]});
+        out.push_back({std::min(i, nbr[e]), std::max(i, nbr[e])});
     }
   std::sort(out.begin(), out.end());  // keys are unique, so the order is unique
   return out;

@@ -23,10 +23,13 @@ struct BroadphaseInput {
 };
 
 /// Finds every overlapping pair of particles of different bodies and stores them as a CSR
-/// contact list over sweep records: particle i's records are recFirst[i]..recFirst[i+1]
-/// (unsorted numbering), record r sits at sorted position inv[r], and its neighbours are
-/// nbr[nbrOffsets[s] .. nbrOffsets[s+1]). Each neighbour of i appears exactly once over all of
-/// i's records (once-only rule), so i's contacts are visited in a fixed order.
+/// contact list in two halves.
+/// - Forward: particle i's records are recFirst[i]..recFirst[i+1] (unsorted numbering), record r
+///   sits at sorted position inv[r], and the neighbours it found walking forward are
+///   nbr[nbrOffsets[s] .. nbrOffsets[s+1]). Each pair is found once, by the earlier record.
+/// - Backward: the same pairs seen from the other side, back[backOffsets[i] .. backOffsets[i+1]),
+///   in the order the forward half lists them (a stable radix sort by particle: the transpose).
+/// Together they list every neighbour of i exactly once, in an order fixed by the input.
 class Broadphase {
  public:
   /// Runs the detection. Throws tumble::Error (with `what` as context) on a non-finite coordinate.
@@ -36,7 +39,7 @@ class Broadphase {
   void invalidateAxis() { m_runsSinceAxis = -1; }
 
   std::uint32_t numRecords() const { return m_numRecords; }
-  std::uint64_t numNeighbourEntries() const { return m_numEntries; }
+  std::uint64_t numPairs() const { return m_numEntries; }
   std::uint64_t numCells() const { return std::uint64_t(m_frame.numA) * m_frame.numB; }
   const SweepFrame& frame() const { return m_frame; }
   /// Pairs (i < j), sorted.
@@ -46,7 +49,9 @@ class Broadphase {
   std::vector<std::uint32_t> recFirst;    ///< n + 1
   std::vector<std::uint32_t> inv;         ///< unsorted record → sorted position
   std::vector<std::uint32_t> nbrOffsets;  ///< numRecords + 1
-  std::vector<std::uint32_t> nbr;         ///< neighbour particle indices
+  std::vector<std::uint32_t> nbr;         ///< forward neighbour particle indices
+  std::vector<std::uint32_t> backOffsets; ///< n + 1
+  std::vector<std::uint32_t> back;        ///< backward neighbour particle indices
 
  private:
   void computeFrame(const BroadphaseInput& in, const BroadphaseParams& params);
@@ -75,6 +80,7 @@ class Broadphase {
   };
   std::vector<SweepRow> m_rows;
   std::vector<std::uint32_t> m_nbrCount;
+  std::vector<std::uint32_t> m_owner, m_backKeys;  // transpose input: (other, owner) per pair
   std::vector<std::vector<std::uint32_t>> m_chunkNbr;
 };
 

@@ -179,7 +179,7 @@ class CpuPipeline final : public Pipeline {
     ++m_steps;
     m_time += m_world.params.dt;
     ++m_stats.steps;
-    m_stats.numPairs = m_bp.numNeighbourEntries() / 2;
+    m_stats.numPairs = m_bp.numPairs();
     m_stats.numRecords = m_bp.numRecords();
     m_stats.numCells = m_bp.numCells();
     m_stats.cellSize = m_bp.frame().cellSize;
@@ -209,10 +209,7 @@ class CpuPipeline final : public Pipeline {
         Vec3f f{0.0f, 0.0f, 0.0f};
         Vec3f tau{0.0f, 0.0f, 0.0f};  // couple of forces acting at contact points (clumps only)
         Vec3f rep{0, 0, 0}, dmp{0, 0, 0}, shr{0, 0, 0};
-        for (std::uint32_t r = bp.recFirst[i]; r < bp.recFirst[i + 1]; ++r) {
-          const std::uint32_t s = bp.inv[r];
-          for (std::uint32_t e = bp.nbrOffsets[s]; e < bp.nbrOffsets[s + 1]; ++e) {
-            const std::uint32_t j = bp.nbr[e];
+        auto contact = [&](std::uint32_t j) {
             const ContactForces cf = contactForces(xi, vi, ri, Vec3f{px[j], py[j], pz[j]},
                                                    Vec3f{pvx[j], pvy[j], pvz[j]}, rad[j], i < j, cc);
             const Vec3f fc = total(cf);
@@ -223,8 +220,13 @@ class CpuPipeline final : public Pipeline {
               dmp += cf.damping;
               shr += cf.shear;
             }
-          }
+        };
+        // Fixed order: forward neighbours by record, then backward neighbours (transpose order).
+        for (std::uint32_t r = bp.recFirst[i]; r < bp.recFirst[i + 1]; ++r) {
+          const std::uint32_t s = bp.inv[r];
+          for (std::uint32_t e = bp.nbrOffsets[s]; e < bp.nbrOffsets[s + 1]; ++e) contact(bp.nbr[e]);
         }
+        for (std::uint32_t e = bp.backOffsets[i]; e < bp.backOffsets[i + 1]; ++e) contact(bp.back[e]);
         GroundForces gf{{0, 0, 0}, {0, 0, 0}};
         if (ground) {
           gf = groundForces(xi, vi, ri, m_world.groundDamping[i], gc, dt, &m_tx[i], &m_ty[i]);

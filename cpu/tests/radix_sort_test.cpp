@@ -23,7 +23,10 @@ using tumble::cpu::radixSortKeys;
 using tumble::cpu::radixSortPairs;
 
 // LowBits: 41 significant bits for uint64 (as cell keys), 20 for uint32.
-enum class Dist { Uniform, LowBits, FewDistinct, AllEqual, SparseBits, Clustered };
+// Skewed: 99% of the keys below 2^20, the rest spread over the LowBits range (one huge MSD
+// bucket that still needs sorting). Geometric: random magnitudes (MSD buckets of every size,
+// from empty through insertion-sorted to huge).
+enum class Dist { Uniform, LowBits, FewDistinct, AllEqual, SparseBits, Clustered, Skewed, Geometric };
 
 const char* toString(Dist d) {
   switch (d) {
@@ -33,12 +36,15 @@ const char* toString(Dist d) {
     case Dist::AllEqual: return "allEqual";
     case Dist::SparseBits: return "sparseBits";
     case Dist::Clustered: return "clustered";
+    case Dist::Skewed: return "skewed";
+    case Dist::Geometric: return "geometric";
   }
   return "?";
 }
 
-constexpr Dist kAllDists[] = {Dist::Uniform,  Dist::LowBits, Dist::FewDistinct,
-                              Dist::AllEqual, Dist::SparseBits,    Dist::Clustered};
+constexpr Dist kAllDists[] = {Dist::Uniform,    Dist::LowBits,   Dist::FewDistinct,
+                              Dist::AllEqual,   Dist::SparseBits, Dist::Clustered,
+                              Dist::Skewed,     Dist::Geometric};
 
 std::uint64_t caseSeed(std::size_t n, Dist d, int salt) {
   return 0x9E3779B97F4A7C15ull ^ (std::uint64_t(n) * 0x100000001B3ull) ^
@@ -74,6 +80,10 @@ std::vector<K> makeKeys(Dist d, std::size_t n, std::uint64_t seed) {
                                        K(r & 3) | K(((r >> 8) & 1) << (kBits - 3)); break;
       // Dense cluster around one key: long runs of equal high digits.
       case Dist::Clustered: keys[i] = K(base + (r & 0x3FF)); break;
+      case Dist::Skewed:
+        keys[i] = (r >> 32) % 100 == 0 ? K(r & maskBits<K>(0, sigBits)) : K(r & 0xFFFFF);
+        break;
+      case Dist::Geometric: keys[i] = K(K(r & maskBits<K>(0, sigBits)) >> ((r >> 48) % sigBits)); break;
     }
   }
   return keys;
@@ -221,11 +231,30 @@ TYPED_TEST(RadixSortTest, KeysOnlyMatchesStableSort) {
 TYPED_TEST(RadixSortTest, LargeInput) {
   using K = TypeParam;
   const std::size_t n = 3'000'000;
-  for (const Dist d : {Dist::LowBits, Dist::FewDistinct}) {
+  for (const Dist d : {Dist::LowBits, Dist::FewDistinct, Dist::Skewed}) {
     const std::uint64_t seed = caseSeed(n, d, 4);
     SCOPED_TRACE("n=" + std::to_string(n) + " dist=" + toString(d) + " seed=" + std::to_string(seed));
     const std::vector<K> keys = makeKeys<K>(d, n, seed);
     checkPairs(keys, 0, int(sizeof(K) * 8));
+  }
+}
+
+// Sizes around and above detail::kRadixHybridMinN (MSD split into in-cache buckets), with the
+// bit ranges that cell keys use.
+TYPED_TEST(RadixSortTest, HybridSizes) {
+  using K = TypeParam;
+  constexpr int kSig = sizeof(K) == 8 ? 41 : 20;
+  for (const std::size_t n : {std::size_t{131071}, std::size_t{131072}, std::size_t{300001},
+                              std::size_t{1'000'000}}) {
+    for (const Dist d : kAllDists) {
+      const std::uint64_t seed = caseSeed(n, d, 6);
+      SCOPED_TRACE("n=" + std::to_string(n) + " dist=" + toString(d) + " seed=" + std::to_string(seed));
+      const std::vector<K> keys = makeKeys<K>(d, n, seed);
+      checkPairs(keys, 0, int(sizeof(K) * 8));
+      checkPairs(keys, 0, kSig);
+      checkPairs(keys, 3, kSig - 5);
+      if (n == 300001) checkKeys(keys, 0, kSig);
+    }
   }
 }
 
@@ -284,7 +313,7 @@ TEST(RadixSortPairs, TempBytesIndependentOfThreadsAndBits) {
 
 TEST(RadixSortPairs, BitwiseIdenticalForAnyThreadCount) {
   for (const std::size_t n : {std::size_t{1025}, std::size_t{100000}, std::size_t{300000}}) {
-    for (const Dist d : {Dist::LowBits, Dist::FewDistinct, Dist::Clustered}) {
+    for (const Dist d : {Dist::LowBits, Dist::FewDistinct, Dist::Clustered, Dist::Skewed, Dist::Geometric}) {
       const std::uint64_t seed = caseSeed(n, d, 5);
       SCOPED_TRACE("n=" + std::to_string(n) + " dist=" + toString(d) + " seed=" + std::to_string(seed));
       const std::vector<std::uint64_t> keys = makeKeys<std::uint64_t>(d, n, seed);
