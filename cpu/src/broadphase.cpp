@@ -262,47 +262,78 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   // Sweep: gather sorted columns, then walk each record's cell both ways.
   t0 = Clock::now();
   std::uint32_t* invp = tumble::detail::grow(inv, numRec);
-  SweepRow* rows = tumble::detail::grow(m_rows, numRec);
+  float* sx = tumble::detail::grow(m_sx, numRec);
+  float* sy = tumble::detail::grow(m_sy, numRec);
+  float* sz = tumble::detail::grow(m_sz, numRec);
+  float* sr = tumble::detail::grow(m_sr, numRec);
+  float* spz = tumble::detail::grow(m_spz, numRec);
+  std::uint32_t* sp = tumble::detail::grow(m_sp, numRec);
+  std::uint32_t* sbody = tumble::detail::grow(m_sbody, numRec);
+  std::int32_t* sa0 = tumble::detail::grow(m_sa0, numRec);
+  std::int32_t* sb0 = tumble::detail::grow(m_sb0, numRec);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, numRec, kChunk), [&](const auto& rg) {
     for (std::uint32_t s = rg.begin(); s != rg.end(); ++s) {
       const std::uint32_t r = svals[s];
       const std::uint32_t i = recParticle[r];
       invp[r] = s;
-      rows[s] = SweepRow{in.x[i], in.y[i], in.z[i], in.r[i], in.body[i], a0[i], b0[i], i};
+      sp[s] = i;
+      sx[s] = in.x[i];
+      sy[s] = in.y[i];
+      sz[s] = in.z[i];
+      sr[s] = in.r[i];
+      spz[s] = pz[i];
+      sbody[s] = in.body[i];
+      sa0[s] = a0[i];
+      sb0[s] = b0[i];
     }
   });
   const std::uint32_t numChunks = (numRec + kSweepChunk - 1) / kSweepChunk;
   if (m_chunkNbr.size() < numChunks) m_chunkNbr.resize(numChunks);
   std::uint32_t* nbrCount = tumble::detail::grow(m_nbrCount, numRec + 1);
   const float reachR = in.maxRadius + 2.0f * f.slack;
+  const float maxWindow = 2.0f * reachR;  // ≥ every record's window r_s + reachR
   tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
     auto& out = m_chunkNbr[c];
     out.clear();
+    std::vector<std::uint32_t> cand;
     const std::uint32_t end = std::min(numRec, (c + 1) * kSweepChunk);
+    std::uint32_t e = c * kSweepChunk + 1;  // two pointers: end of the widest possible window
     for (std::uint32_t s = c * kSweepChunk; s < end; ++s) {
-      const std::uint64_t key = skeys[s];
-      const std::uint32_t cell = static_cast<std::uint32_t>(key >> 32);
+      const std::uint32_t cell = static_cast<std::uint32_t>(skeys[s] >> 32);
+      const float zs = spz[s];
+      if (e <= s) e = s + 1;
+      while (e < numRec && static_cast<std::uint32_t>(skeys[e] >> 32) == cell && spz[e] - zs < maxWindow) ++e;
       const std::int32_t a = static_cast<std::int32_t>(cell / f.numB) + f.aMin;
       const std::int32_t b = static_cast<std::int32_t>(cell % f.numB) + f.bMin;
-      const float zs = fromOrderedBits(static_cast<std::uint32_t>(key));
-      const SweepRow me = rows[s];
-      const float window = me.r + reachR;
-      const std::size_t before = out.size();
-      // Branch-free candidate test; only a hit (rare) branches.
-      auto test = [&](std::uint32_t m) {
-        const SweepRow& o = rows[m];
-        const bool hit = (o.body != me.body) & ((me.a0 > o.a0 ? me.a0 : o.a0) == a) &
-                         ((me.b0 > o.b0 ? me.b0 : o.b0) == b) &
-                         spheresOverlap(me.x, me.y, me.z, me.r, o.x, o.y, o.z, o.r);
-        if (hit) out.push_back(o.particle);
-      };
-      for (std::uint32_t m = s + 1; m < numRec; ++m) {
-        const std::uint64_t km = skeys[m];
-        if (static_cast<std::uint32_t>(km >> 32) != cell) break;
-        if (!(fromOrderedBits(static_cast<std::uint32_t>(km)) - zs < window)) break;
-        test(m);
+      const float window = sr[s] + reachR;
+      const float xs = sx[s], ys = sy[s], zz = sz[s], rs = sr[s];
+      const std::uint32_t bs = sbody[s];
+      const std::int32_t as0 = sa0[s], bs0 = sb0[s];
+      const std::uint32_t len = e - s - 1;
+      if (cand.size() < len) cand.resize(len);
+      std::uint32_t* __restrict hits = cand.data();
+      const std::uint32_t base = s + 1;
+      const float* __restrict cx = sx + base;
+      const float* __restrict cy = sy + base;
+      const float* __restrict cz = sz + base;
+      const float* __restrict cr = sr + base;
+      const float* __restrict cpz = spz + base;
+      const std::uint32_t* __restrict cb = sbody + base;
+      const std::int32_t* __restrict ca0 = sa0 + base;
+      const std::int32_t* __restrict cb0 = sb0 + base;
+      // Branch-free test of every candidate in the window (vectorised), then a compaction.
+      for (std::uint32_t t = 0; t < len; ++t) {
+        const bool hit = (cpz[t] - zs < window) & (cb[t] != bs) & (std::max(as0, ca0[t]) == a) &
+                         (std::max(bs0, cb0[t]) == b) & spheresOverlap(xs, ys, zz, rs, cx[t], cy[t], cz[t], cr[t]);
+        hits[t] = hit;
       }
-      nbrCount[s] = static_cast<std::uint32_t>(out.size() - before);
+      std::uint32_t k = 0;
+      for (std::uint32_t t = 0; t < len; ++t)
+        if (hits[t]) {
+          out.push_back(sp[base + t]);
+          ++k;
+        }
+      nbrCount[s] = k;
     }
   });
   nbrCount[numRec] = 0;
@@ -318,7 +349,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     std::copy(src.begin(), src.end(), nb + offs[c * kSweepChunk]);
     const std::uint32_t end = std::min(numRec, (c + 1) * kSweepChunk);
     for (std::uint32_t s = c * kSweepChunk; s < end; ++s)
-      std::fill(owner + offs[s], owner + offs[s + 1], rows[s].particle);
+      std::fill(owner + offs[s], owner + offs[s + 1], sp[s]);
   });
   // Transpose: stable sort of (other, owner) by other gives each particle its backward list.
   std::uint32_t* bkeys = tumble::detail::grow(m_backKeys, numEntries);

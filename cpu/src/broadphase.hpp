@@ -70,15 +70,10 @@ class Broadphase {
   std::vector<std::uint64_t> m_keys, m_sortedKeys;
   std::vector<std::uint32_t> m_vals, m_sortedVals, m_recParticle;
   std::vector<std::byte> m_temp;
-  // Sorted records with everything the sweep reads, one 32-byte row each: the sweep walks
-  // neighbouring rows, so one row per candidate streams through the cache.
-  struct alignas(32) SweepRow {
-    float x, y, z, r;
-    std::uint32_t body;
-    std::int32_t a0, b0;
-    std::uint32_t particle;
-  };
-  std::vector<SweepRow> m_rows;
+  // Sorted-record columns: the sweep reads contiguous runs of them (branch-free, vectorisable).
+  std::vector<float> m_sx, m_sy, m_sz, m_sr, m_spz;
+  std::vector<std::uint32_t> m_sp, m_sbody;
+  std::vector<std::int32_t> m_sa0, m_sb0;
   std::vector<std::uint32_t> m_nbrCount;
   std::vector<std::uint32_t> m_owner, m_backKeys;  // transpose input: (other, owner) per pair
   std::vector<std::vector<std::uint32_t>> m_chunkNbr;
