@@ -205,17 +205,13 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
 
   // Keys: count records per particle, scan, emit (key, unsorted record number).
   t0 = Clock::now();
-  std::int32_t* a0 = tumble::detail::grow(m_a0, n);
-  std::int32_t* b0 = tumble::detail::grow(m_b0, n);
-  float* pz = tumble::detail::grow(m_pz, n);
+  ParticleRow* prow = tumble::detail::grow(m_prow, n);
   std::uint32_t* counts = tumble::detail::grow(m_counts, n + 1);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kChunk), [&](const auto& rg) {
     for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
       const Projected pr = project(f, Vec3f{in.x[i], in.y[i], in.z[i]});
       const CellRange cr = cellRange(f, pr, in.r[i]);
-      a0[i] = cr.a0;
-      b0[i] = cr.b0;
-      pz[i] = pr.z;
+      prow[i] = ParticleRow{in.x[i], in.y[i], in.z[i], in.r[i], pr.z, in.body[i], cr.a0, cr.b0};
       counts[i] = tumble::numRecords(cr);
     }
   });
@@ -232,8 +228,9 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kChunk), [&](const auto& rg) {
     for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
       std::uint32_t r = first[i];
+      const ParticleRow& pi = prow[i];
       if (counts[i] == 1) {
-        keys[r] = sweepKey(cellNumber(f, a0[i], b0[i]), pz[i]);
+        keys[r] = sweepKey(cellNumber(f, pi.a0, pi.b0), pi.pz);
         vals[r] = r;
         recParticle[r] = i;
         continue;
@@ -241,7 +238,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
       const CellRange cr = cellRange(f, project(f, Vec3f{in.x[i], in.y[i], in.z[i]}), in.r[i]);
       for (std::int32_t a = cr.a0; a <= cr.a1; ++a)
         for (std::int32_t b = cr.b0; b <= cr.b1; ++b, ++r) {
-          keys[r] = sweepKey(cellNumber(f, a, b), pz[i]);
+          keys[r] = sweepKey(cellNumber(f, a, b), pi.pz);
           vals[r] = r;
           recParticle[r] = i;
         }
@@ -275,16 +272,17 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     for (std::uint32_t s = rg.begin(); s != rg.end(); ++s) {
       const std::uint32_t r = svals[s];
       const std::uint32_t i = recParticle[r];
+      const ParticleRow pi = prow[i];
       invp[r] = s;
       sp[s] = i;
-      sx[s] = in.x[i];
-      sy[s] = in.y[i];
-      sz[s] = in.z[i];
-      sr[s] = in.r[i];
-      spz[s] = pz[i];
-      sbody[s] = in.body[i];
-      sa0[s] = a0[i];
-      sb0[s] = b0[i];
+      sx[s] = pi.x;
+      sy[s] = pi.y;
+      sz[s] = pi.z;
+      sr[s] = pi.r;
+      spz[s] = pi.pz;
+      sbody[s] = pi.body;
+      sa0[s] = pi.a0;
+      sb0[s] = pi.b0;
     }
   });
   const std::uint32_t numChunks = (numRec + kSweepChunk - 1) / kSweepChunk;
@@ -358,10 +356,15 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   radixSortPairs<std::uint32_t, std::uint32_t>(nullptr, tempBytes, nb, bkeys, owner, bvals, numEntries, 0, nBits);
   radixSortPairs<std::uint32_t, std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nb, bkeys, owner,
                                                bvals, numEntries, 0, nBits);
+  // Offsets from the sorted keys: entry k starts particle i's list for every i in
+  // (key[k−1], key[k]]; one writer per offset.
   std::uint32_t* boffs = tumble::detail::grow(backOffsets, n + 1);
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n + 1, kChunk), [&](const auto& rg) {
-    for (std::uint32_t i = rg.begin(); i != rg.end(); ++i)
-      boffs[i] = static_cast<std::uint32_t>(std::lower_bound(bkeys, bkeys + numEntries, i) - bkeys);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, numEntries + 1, kChunk), [&](const auto& rg) {
+    for (std::uint32_t k = rg.begin(); k != rg.end(); ++k) {
+      const std::uint32_t lo = k == 0 ? 0 : bkeys[k - 1] + 1;
+      const std::uint32_t hi = k == numEntries ? n : bkeys[k];
+      for (std::uint32_t i = lo; i <= hi; ++i) boffs[i] = k;
+    }
   });
   seconds[int(Phase::Sweep)] += since(t0);
 }

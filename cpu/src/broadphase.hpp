@@ -64,8 +64,14 @@ class Broadphase {
   int m_cellBits = 0;
 
   // Scratch (grow-only).
-  std::vector<std::int32_t> m_a0, m_b0;
-  std::vector<float> m_pz;
+  // Per-particle row written by the key pass, so that the gather after the sort reads one
+  // 32-byte row per record instead of eight scattered columns.
+  struct alignas(32) ParticleRow {
+    float x, y, z, r, pz;
+    std::uint32_t body;
+    std::int32_t a0, b0;
+  };
+  std::vector<ParticleRow> m_prow;
   std::vector<std::uint32_t> m_counts;
   std::vector<std::uint64_t> m_keys, m_sortedKeys;
   std::vector<std::uint32_t> m_vals, m_sortedVals, m_recParticle;

@@ -38,6 +38,7 @@
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -55,12 +56,12 @@ inline constexpr int kRadixDigitBits = 11;
 inline constexpr std::size_t kRadixBlockSize = std::size_t{1} << 14;
 /// From this size on, sort MSD-first into cache-sized buckets (see the design notes). Below it,
 /// keys, values and their ping-pong partners (24 bytes per pair) fit in the L2 caches anyway.
-inline constexpr std::size_t kRadixHybridMinN = std::size_t{1} << 17;
+inline constexpr std::size_t kRadixHybridMinN = std::size_t{1} << 16;
 /// The MSD digit is made wide enough that the average bucket has at most this many elements.
-inline constexpr std::size_t kRadixBucketTarget = std::size_t{1} << 13;
+inline constexpr std::size_t kRadixBucketTarget = std::size_t{1} << 12;
 /// Buckets above this size are sorted with blocked (parallel, out-of-cache) passes instead.
 inline constexpr std::size_t kRadixBucketMax = std::size_t{1} << 16;
-/// Buckets up to this size are sorted by insertion (stable) instead of radix passes.
+/// Inputs and buckets up to this size are sorted by (stable) insertion instead of radix passes.
 inline constexpr std::size_t kRadixInsertionMax = 32;
 /// Blocked scatters of at least this many elements prefetch their destination lines for writing.
 inline constexpr std::size_t kRadixPrefetchMinN = std::size_t{1} << 17;
@@ -170,7 +171,13 @@ class RadixSorter {
   void sort(const K* keysIn, K* keysOut, const V* valuesIn, V* valuesOut, std::size_t n,
             int beginBit, int endBit) {
     if (n == 0) return;
-    const K varying = n == 1 ? K{0} : K(varyingBits(keysIn, n) & bitRangeMask<K>(beginBit, endBit));
+    if (n <= kRadixInsertionMax) {  // no tasks, no histograms
+      std::memcpy(keysOut, keysIn, n * sizeof(K));
+      if constexpr (kHasValues) std::memcpy(valuesOut, valuesIn, n * sizeof(V));
+      insertionSort(keysOut, valuesOut, n, bitRangeMask<K>(beginBit, endBit));
+      return;
+    }
+    const K varying = K(varyingBits(keysIn, n) & bitRangeMask<K>(beginBit, endBit));
     if (varying == 0) {  // all keys equal on the sorted bits: the stable order is the input order
       parallelCopy(keysIn, valuesIn, keysOut, valuesOut, n);
       return;
@@ -180,7 +187,7 @@ class RadixSorter {
     DigitSlice slices[kMaxSlices];
 
     if (n < kRadixHybridMinN || hi - lo <= kDigitBits) {
-      const int numSlices = evenSlices(lo, hi, varying, slices);
+      const int numSlices = evenSlices(lo, hi, kDigitBits, varying, slices);
       lsdBlocked(keysIn, valuesIn, keysOut, valuesOut, m_keysAlt, m_valuesAlt, n, slices, numSlices);
       return;
     }
@@ -190,7 +197,7 @@ class RadixSorter {
     while (msdBits < kDigitBits && (n >> msdBits) > kRadixBucketTarget) ++msdBits;
     msdBits = std::min(msdBits, hi - lo - 1);
     const DigitSlice msd{hi - msdBits, msdBits};
-    const int numSlices = evenSlices(lo, msd.shift, varying, slices);
+    const int numSlices = evenSlices(lo, msd.shift, kDigitBits, varying, slices);
     // Pick X so that buckets with every pass executed finish in the outputs.
     const bool xIsOut = numSlices % 2 == 0;
     K* xKeys = xIsOut ? keysOut : m_keysAlt;
@@ -242,12 +249,12 @@ class RadixSorter {
     else return values;
   }
 
-  /// Cuts [lo, hi) into ceil((hi - lo) / kDigitBits) evenly wide digits and keeps those that
+  /// Cuts [lo, hi) into ceil((hi - lo) / maxBits) evenly wide digits and keeps those that
   /// contain a varying bit. Returns their number.
-  static int evenSlices(int lo, int hi, K varying, DigitSlice* out) {
+  static int evenSlices(int lo, int hi, int maxBits, K varying, DigitSlice* out) {
     if (hi <= lo) return 0;
     const int bits = hi - lo;
-    const int count = (bits + kDigitBits - 1) / kDigitBits;
+    const int count = (bits + maxBits - 1) / maxBits;
     int numSlices = 0;
     int shift = lo;
     for (int i = 0; i < count; ++i) {
@@ -526,7 +533,7 @@ void radixSort(void* temp, std::size_t& tempBytes, const K* keysIn, K* keysOut, 
 ///   (about 12.1 bytes per pair for uint64 keys and uint32 values). Nothing is allocated inside
 ///   the call; a task uses up to ~64 KiB of stack for in-cache bucket histograms.
 /// - Work: only the bits that differ between keys are sorted (high bits that are zero in every
-///   key cost nothing). n < 2^17: LSD passes of up to 11 bits. Larger n: one MSD pass into
+///   key cost nothing). n < 2^16: LSD passes of up to 11 bits. Larger n: one MSD pass into
 ///   cache-sized buckets, then in-cache LSD passes per bucket.
 /// - Thread safety: runs tbb::parallel_for in the calling arena and honours
 ///   tbb::global_control. Concurrent calls are safe if they use distinct `temp` and outputs.
