@@ -20,6 +20,8 @@ const tumble::World& benchWorld(std::uint32_t n) {
   return *w;
 }
 
+std::uint64_t smokeWarmup() { return std::getenv("TUMBLE_BENCH_SMOKE") ? 20 : 500; }
+
 void BM_Step(benchmark::State& state) {
   const auto n = static_cast<std::uint32_t>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
@@ -27,7 +29,7 @@ void BM_Step(benchmark::State& state) {
   o.threads = threads;
   auto p = tumble::makePipeline(tumble::Backend::Cpu, o);
   p->load(benchWorld(n));
-  p->step(200);  // warm-up: the lattice starts to fall and pack
+  p->step(smokeWarmup());  // warm-up: the lattice lands and packs (the peers time steps 500–2500)
   p->resetStats();
   for (auto _ : state) p->step(1);
   const auto& st = p->stats();

@@ -18,7 +18,7 @@ struct BenchOptions {
   std::vector<std::uint32_t> sizes{16000, 128000, 960000};
   std::vector<int> threads{0};
   std::vector<std::string> pipelines{"cpu"};
-  int warmup = 200;
+  int warmup = 500;  // the peers time steps 500–2500: by then the lattice has landed and packs
   int steps = 20;
 };
 
