@@ -126,6 +126,47 @@ Vec3f principalAxis(const BroadphaseInput& in) {
   return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
 }
 
+// The sweep's inner loop: tests `len` consecutive sorted records against one probe record and
+// writes a 0/1 hit flag per candidate; returns the number of hits. Branch-free, so it vectorises; compiled twice (AVX2 and
+// baseline x86-64) and picked at load time. Both clones do the same IEEE operations (no FMA:
+// -ffp-contract=off), so the flags are identical.
+struct Probe {
+  float x, y, z, r, pz, window;
+  std::uint32_t body;
+  std::int32_t a0, b0, a, b;
+};
+struct SortedColumns {
+  const float* x;
+  const float* y;
+  const float* z;
+  const float* r;
+  const float* pz;
+  const std::uint32_t* body;
+  const std::int32_t* a0;
+  const std::int32_t* b0;
+};
+
+__attribute__((target_clones("avx2", "default"))) std::uint32_t testCandidates(const SortedColumns& c, std::uint32_t base,
+                                                                    std::uint32_t len, const Probe& me,
+                                                                    std::uint32_t* __restrict hits) {
+  const float* __restrict cx = c.x + base;
+  const float* __restrict cy = c.y + base;
+  const float* __restrict cz = c.z + base;
+  const float* __restrict cr = c.r + base;
+  const float* __restrict cpz = c.pz + base;
+  const std::uint32_t* __restrict cb = c.body + base;
+  const std::int32_t* __restrict ca0 = c.a0 + base;
+  const std::int32_t* __restrict cb0 = c.b0 + base;
+  std::uint32_t numHits = 0;
+  for (std::uint32_t t = 0; t < len; ++t) {
+    const bool hit = (cpz[t] - me.pz < me.window) & (cb[t] != me.body) & (std::max(me.a0, ca0[t]) == me.a) &
+                     (std::max(me.b0, cb0[t]) == me.b) & spheresOverlap(me.x, me.y, me.z, me.r, cx[t], cy[t], cz[t], cr[t]);
+    hits[t] = hit;
+    numHits += hit;
+  }
+  return numHits;
+}
+
 }  // namespace
 
 void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams& params) {
@@ -290,6 +331,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   std::uint32_t* nbrCount = tumble::detail::grow(m_nbrCount, numRec + 1);
   const float reachR = in.maxRadius + 2.0f * f.slack;
   const float maxWindow = 2.0f * reachR;  // ≥ every record's window r_s + reachR
+  const SortedColumns cols{sx, sy, sz, sr, spz, sbody, sa0, sb0};
   tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
     auto& out = m_chunkNbr[c];
     out.clear();
@@ -303,34 +345,16 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
       while (e < numRec && static_cast<std::uint32_t>(skeys[e] >> 32) == cell && spz[e] - zs < maxWindow) ++e;
       const std::int32_t a = static_cast<std::int32_t>(cell / f.numB) + f.aMin;
       const std::int32_t b = static_cast<std::int32_t>(cell % f.numB) + f.bMin;
-      const float window = sr[s] + reachR;
-      const float xs = sx[s], ys = sy[s], zz = sz[s], rs = sr[s];
-      const std::uint32_t bs = sbody[s];
-      const std::int32_t as0 = sa0[s], bs0 = sb0[s];
+      const Probe me{sx[s], sy[s], sz[s], sr[s], zs, sr[s] + reachR, sbody[s], sa0[s], sb0[s], a, b};
       const std::uint32_t len = e - s - 1;
       if (cand.size() < len) cand.resize(len);
-      std::uint32_t* __restrict hits = cand.data();
       const std::uint32_t base = s + 1;
-      const float* __restrict cx = sx + base;
-      const float* __restrict cy = sy + base;
-      const float* __restrict cz = sz + base;
-      const float* __restrict cr = sr + base;
-      const float* __restrict cpz = spz + base;
-      const std::uint32_t* __restrict cb = sbody + base;
-      const std::int32_t* __restrict ca0 = sa0 + base;
-      const std::int32_t* __restrict cb0 = sb0 + base;
-      // Branch-free test of every candidate in the window (vectorised), then a compaction.
-      for (std::uint32_t t = 0; t < len; ++t) {
-        const bool hit = (cpz[t] - zs < window) & (cb[t] != bs) & (std::max(as0, ca0[t]) == a) &
-                         (std::max(bs0, cb0[t]) == b) & spheresOverlap(xs, ys, zz, rs, cx[t], cy[t], cz[t], cr[t]);
-        hits[t] = hit;
+      const std::uint32_t k = testCandidates(cols, base, len, me, cand.data());
+      if (k > 0) {  // most records have no contact at all
+        const std::uint32_t* hits = cand.data();
+        for (std::uint32_t t = 0; t < len; ++t)
+          if (hits[t]) out.push_back(sp[base + t]);
       }
-      std::uint32_t k = 0;
-      for (std::uint32_t t = 0; t < len; ++t)
-        if (hits[t]) {
-          out.push_back(sp[base + t]);
-          ++k;
-        }
       nbrCount[s] = k;
     }
   });
