@@ -107,7 +107,7 @@ class CpuPipeline final : public Pipeline {
       out.v[3 * i + 1] = vy()[i];
       out.v[3 * i + 2] = vz()[i];
     }
-    for (int k = 0; k < 5; ++k) out.force[k] = m_dbg[k];
+    for (int k = 0; k < 5; ++k) out.force[k].assign(m_dbg[k].begin(), m_dbg[k].begin() + 3 * std::size_t(n));
     out.contacts = pairs();
   }
 

@@ -76,6 +76,9 @@ grep -q "^sweep" out.txt && ok "phase table" || bad "no phase table in: $(cat ou
 "$bin" run small.toml --threads 1 --state-out state1.csv -q >/dev/null 2>&1
 cmp -s state.csv state1.csv && ok "state identical for 1 and 2 threads" || bad "state differs between thread counts"
 
+expect_status "debug recording" 0 "$bin" run small.toml --debug-record --record dbg.bin --record-steps 30 -q
+[ -s dbg.bin ] && ok "debug recording written" || bad "no debug recording"
+
 # pairs: CSV in, sorted pairs out; bad rows name the line.
 printf 'x,y,z,r,body\n0,0,0,0.5,0\n0.9,0,0,0.5,1\n0.5,0.5,0,0.5,1\n5,5,5,1,2\n' > p.csv
 expect_status "pairs" 0 "$bin" pairs p.csv
