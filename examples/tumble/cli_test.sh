@@ -96,5 +96,10 @@ printf 'a,b\n' > bad4.csv
 expect_status "bad header" 2 "$bin" pairs bad4.csv
 expect_msg "bad header" "bad4.csv:1: header"
 
+expect_status "validate" 0 "$bin" validate --random 2 --steps 30 --scene small.toml
+grep -q "validate: PASSED" out.txt && ok "validate passed" || bad "validate output: $(tail -3 out.txt)"
+expect_status "validate cuda without cuda" 2 "$bin" validate --pipelines cpu,cuda --random 0 --steps 1
+expect_msg "validate cuda without cuda" "no CUDA"
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

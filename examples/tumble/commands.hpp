@@ -15,6 +15,7 @@ inline constexpr int kExitDiverged = 3;
 void addRun(CLI::App& app);
 void addPairs(CLI::App& app);
 void addBench(CLI::App& app);
+void addValidate(CLI::App& app);
 
 /// Writes a file atomically: `write` fills `path + ".part"`, which is then renamed to `path`.
 /// On any failure the partial file is removed and tumble::Error is thrown.

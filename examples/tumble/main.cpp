@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   tumble::cli::addRun(app);
   tumble::cli::addPairs(app);
   tumble::cli::addBench(app);
+  tumble::cli::addValidate(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+/// @file compare.hpp
+/// Cross-validation of pipelines: pair sets against the brute-force oracle and each other, and
+/// trajectories stepped side by side and compared after every step (`tumble validate`).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tumble/pipeline.hpp"
+
+namespace tumble::validation {
+
+/// One pair-set case: the oracle's count and, per pipeline, whether its set was identical.
+struct PairCase {
+  std::string name;
+  std::size_t oraclePairs = 0;
+  std::vector<bool> matches;       ///< per pipeline, same order as the pipelines given
+  std::vector<std::string> detail; ///< per pipeline: "" or the first difference
+};
+
+/// Runs every hard case of SPEC §3 and `numRandom` random clouds (seeds seed, seed+1, …)
+/// through each pipeline's findPairs() and the oracle.
+std::vector<PairCase> comparePairSets(const std::vector<Backend>& pipelines, std::uint64_t seed, int numRandom);
+
+/// Tolerance of a side-by-side trajectory comparison: positions within `positionTol` × the
+/// smallest particle radius, orientations within `orientationTol` (|Δq| of unit quaternions,
+/// sign-aligned), for the first `horizon` steps.
+struct TrajectoryTolerance {
+  double positionTol = 1e-3;
+  double orientationTol = 1e-3;
+  std::uint64_t horizon = 200;
+};
+
+/// Result of stepping two pipelines side by side.
+struct TrajectoryResult {
+  std::uint64_t steps = 0;            ///< steps compared
+  bool bitwiseIdentical = true;       ///< every compared state equal bit for bit
+  std::uint64_t firstDifferentStep = 0;  ///< first step whose state differs at all (0 = none)
+  std::uint32_t firstDifferentBody = 0;
+  std::uint64_t firstOutOfTolStep = 0;   ///< first step beyond tolerance (0 = none)
+  std::uint32_t firstOutOfTolBody = 0;
+  double maxPositionDev = 0.0;        ///< max |ΔX| / r_min within the horizon
+  double maxOrientationDev = 0.0;     ///< max |Δq| within the horizon
+  bool pairsIdentical = true;         ///< pair lists equal after every step
+  std::uint64_t firstPairMismatchStep = 0;
+  bool withinTolerance() const { return firstOutOfTolStep == 0; }
+};
+
+/// Steps pipelines a and b from the same world for `steps` steps and compares the body state
+/// (and the pair lists) after every step.
+TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& world, std::uint64_t steps,
+                                     const TrajectoryTolerance& tol);
+
+}  // namespace tumble::validation

@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: MIT
+#include "tumble/validation/compare.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <iterator>
+#include <memory>
+
+#include "tumble/random.hpp"
+#include "tumble/validation/brute_force.hpp"
+#include "tumble/validation/scenes.hpp"
+
+namespace tumble::validation {
+namespace {
+
+std::string firstDifference(const std::vector<Pair>& got, const std::vector<Pair>& want) {
+  std::vector<Pair> missing, extra;
+  std::set_difference(want.begin(), want.end(), got.begin(), got.end(), std::back_inserter(missing));
+  std::set_difference(got.begin(), got.end(), want.begin(), want.end(), std::back_inserter(extra));
+  if (missing.empty() && extra.empty()) return {};
+  std::string s = std::to_string(missing.size()) + " missing, " + std::to_string(extra.size()) + " extra";
+  if (!missing.empty()) s += ", e.g. (" + std::to_string(missing[0].i) + "," + std::to_string(missing[0].j) + ") missing";
+  if (!extra.empty()) s += ", e.g. (" + std::to_string(extra[0].i) + "," + std::to_string(extra[0].j) + ") extra";
+  return s;
+}
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+}  // namespace
+
+std::vector<PairCase> comparePairSets(const std::vector<Backend>& pipelines, std::uint64_t seed, int numRandom) {
+  std::vector<NamedCloud> cases = hardCases(seed);
+  Rng rng(seed);
+  for (int k = 0; k < numRandom; ++k) {
+    const std::uint64_t s = seed + static_cast<std::uint64_t>(k);
+    const std::uint32_t n = 100 + rng.below(20000);
+    const float rmin = rng.uniform(0.02f, 0.5f);
+    cases.push_back({"random seed " + std::to_string(s) + " n " + std::to_string(n),
+                     randomCloud(n, s, rng.uniform(2.0f, 80.0f), rmin, rmin * rng.uniform(1.0f, 10.0f),
+                                 1 + rng.below(8))});
+  }
+  std::vector<std::unique_ptr<Pipeline>> ps;
+  for (Backend b : pipelines) ps.push_back(makePipeline(b));
+  std::vector<PairCase> out;
+  for (const auto& c : cases) {
+    PairCase pc;
+    pc.name = c.name;
+    const auto want = bruteForcePairs(c.cloud);
+    pc.oraclePairs = want.size();
+    for (auto& p : ps) {
+      const auto got = p->findPairs(c.cloud, BroadphaseParams{});
+      const std::string d = firstDifference(got, want);
+      pc.matches.push_back(d.empty());
+      pc.detail.push_back(d);
+    }
+    out.push_back(std::move(pc));
+  }
+  return out;
+}
+
+TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& world, std::uint64_t steps,
+                                     const TrajectoryTolerance& tol) {
+  TrajectoryResult r;
+  a.load(world);
+  b.load(world);
+  const float rmin = *std::min_element(world.radius.begin(), world.radius.end());
+  BodyState sa, sb;
+  for (std::uint64_t s = 1; s <= steps; ++s) {
+    a.step(1);
+    b.step(1);
+    a.readState(sa);
+    b.readState(sb);
+    r.steps = s;
+    if (r.pairsIdentical && a.pairs() != b.pairs()) {
+      r.pairsIdentical = false;
+      r.firstPairMismatchStep = s;
+    }
+    for (std::uint32_t k = 0; k < sa.size(); ++k) {
+      const float* ca[] = {&sa.px[k], &sa.py[k], &sa.pz[k], &sa.vx[k], &sa.vy[k], &sa.vz[k], &sa.qw[k],
+                           &sa.qx[k], &sa.qy[k], &sa.qz[k], &sa.lx[k], &sa.ly[k], &sa.lz[k]};
+      const float* cb[] = {&sb.px[k], &sb.py[k], &sb.pz[k], &sb.vx[k], &sb.vy[k], &sb.vz[k], &sb.qw[k],
+                           &sb.qx[k], &sb.qy[k], &sb.qz[k], &sb.lx[k], &sb.ly[k], &sb.lz[k]};
+      bool same = true;
+      for (int c = 0; c < 13; ++c) same = same && sameBits(*ca[c], *cb[c]);
+      if (!same && r.bitwiseIdentical) {
+        r.bitwiseIdentical = false;
+        r.firstDifferentStep = s;
+        r.firstDifferentBody = k;
+      }
+      if (same) continue;
+      const double dx = double(sa.px[k]) - sb.px[k], dy = double(sa.py[k]) - sb.py[k],
+                   dz = double(sa.pz[k]) - sb.pz[k];
+      const double dpos = std::sqrt(dx * dx + dy * dy + dz * dz) / rmin;
+      const double dot = double(sa.qw[k]) * sb.qw[k] + double(sa.qx[k]) * sb.qx[k] + double(sa.qy[k]) * sb.qy[k] +
+                         double(sa.qz[k]) * sb.qz[k];
+      const double sign = dot < 0 ? -1.0 : 1.0;  // q and −q are the same rotation
+      const double qw = sa.qw[k] - sign * sb.qw[k], qx = sa.qx[k] - sign * sb.qx[k],
+                   qy = sa.qy[k] - sign * sb.qy[k], qz = sa.qz[k] - sign * sb.qz[k];
+      const double dq = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+      if (s <= tol.horizon) {
+        r.maxPositionDev = std::max(r.maxPositionDev, dpos);
+        r.maxOrientationDev = std::max(r.maxOrientationDev, dq);
+        if (r.firstOutOfTolStep == 0 && (!(dpos <= tol.positionTol) || !(dq <= tol.orientationTol))) {
+          r.firstOutOfTolStep = s;
+          r.firstOutOfTolBody = k;
+        }
+      }
+    }
+  }
+  return r;
+}
+
+}  // namespace tumble::validation
