@@ -42,7 +42,34 @@ void BM_Step(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * n);
 }
 
+// CUDA pipeline: the phase times come from CUDA events, so the iteration time is their sum
+// (manual time); one untimed warm-up covers context creation and lazy kernel loading.
+void BM_StepCuda(benchmark::State& state) {
+  const auto n = static_cast<std::uint32_t>(state.range(0));
+  auto p = tumble::makePipeline(tumble::Backend::Cuda);
+  p->load(benchWorld(n));
+  p->step(smokeWarmup());
+  p->resetStats();
+  for (auto _ : state) {
+    const double before = p->stats().totalSeconds();
+    p->step(1);
+    state.SetIterationTime(p->stats().totalSeconds() - before);
+  }
+  const auto& st = p->stats();
+  for (int ph = 0; ph < tumble::kNumPhases; ++ph)
+    state.counters[std::string("ms_") + tumble::toString(static_cast<tumble::Phase>(ph))] =
+        1e3 * st.seconds[ph] / double(st.steps);
+  state.counters["pairs"] = double(st.numPairs);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * n);
+}
+
 void registerAll() {
+  if (tumble::cudaAvailable()) {
+    auto* c = benchmark::RegisterBenchmark("BM_StepCuda", BM_StepCuda);
+    for (long n : {16000L, 128000L, 960000L, 4000000L, 10000000L})
+      if (!std::getenv("TUMBLE_BENCH_SMOKE") || n == 16000) c->Arg(n);
+    c->ArgName("particles")->UseManualTime()->Unit(benchmark::kMillisecond);
+  }
   const bool smoke = std::getenv("TUMBLE_BENCH_SMOKE") != nullptr;
   auto* b = benchmark::RegisterBenchmark("BM_Step", BM_Step);
   for (long n : {16000L, 128000L, 960000L}) {

@@ -40,6 +40,8 @@ void bench(const BenchOptions& o) {
         po.threads = t;
         auto p = makePipeline(backendFromString(pl), po);
         p->load(world);
+        if (backendFromString(pl) == Backend::Cuda && !cudaAvailable())
+          throw Error("--pipeline cuda: this build of tumble has no CUDA pipeline or no CUDA device");
         std::fprintf(stderr, "bench: %u particles, %s, threads %s: %d warm-up steps...", n, pl.c_str(),
                      t ? std::to_string(t).c_str() : "all", o.warmup);
         p->step(static_cast<std::uint64_t>(o.warmup));  // the lattice falls and packs: contacts appear
@@ -58,16 +60,21 @@ void bench(const BenchOptions& o) {
   std::printf("Full step (detection, response, integration), bench scene: bodies of 8 particles.\n");
   std::printf("Median of %d timed steps after %d warm-up steps; threads 0 = all cores.\n\n", o.steps, o.warmup);
   std::printf("| particles | report (Intel Iris 6100) | [1] (Tesla C1060, detection) | pipeline | threads | "
-              "median ms | min ms | pairs |");
+              "median ms | min ms | speedup vs cpu | pairs |");
   for (int ph = 0; ph < kNumPhases; ++ph) std::printf(" %s |", toString(static_cast<Phase>(ph)));
-  std::printf("\n|---|---|---|---|---|---|---|---|");
+  std::printf("\n|---|---|---|---|---|---|---|---|---|");
   for (int ph = 0; ph < kNumPhases; ++ph) std::printf("---|");
   std::printf("\n");
   for (const Row& r : rows) {
     const char* rep = r.n == 16000 ? "3.9 ms" : r.n == 128000 ? "12 ms" : r.n == 960000 ? "87 ms" : "-";
     const char* ref = r.n == 16000 ? "3 ms" : r.n == 128000 ? "11 ms" : r.n == 960000 ? "161 ms" : "-";
-    std::printf("| %u | %s | %s | %s | %d | %.2f | %.2f | %llu |", r.n, rep, ref, r.pipeline.c_str(), r.threads,
-                r.medianMs, r.minMs, static_cast<unsigned long long>(r.stats.numPairs));
+    // Speedup against the fastest CPU row of the same size.
+    double cpuBest = 0.0;
+    for (const Row& q : rows)
+      if (q.n == r.n && q.pipeline == "cpu" && (cpuBest == 0.0 || q.medianMs < cpuBest)) cpuBest = q.medianMs;
+    const std::string speedup = cpuBest > 0.0 ? std::to_string(cpuBest / r.medianMs).substr(0, 5) + "x" : "-";
+    std::printf("| %u | %s | %s | %s | %d | %.2f | %.2f | %s | %llu |", r.n, rep, ref, r.pipeline.c_str(), r.threads,
+                r.medianMs, r.minMs, speedup.c_str(), static_cast<unsigned long long>(r.stats.numPairs));
     for (int ph = 0; ph < kNumPhases; ++ph)
       std::printf(" %.2f |", 1e3 * r.stats.seconds[ph] / double(std::max<std::uint64_t>(1, r.stats.steps)));
     std::printf("\n");
