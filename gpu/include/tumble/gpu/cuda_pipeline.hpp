@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+/// @file cuda_pipeline.hpp
+/// The CUDA pipeline: the same stage list as the CPU pipeline (state → axis → keys → sort →
+/// sweep → forces → integrate), run on one CUDA device. Plain C++: this header includes no CUDA
+/// header and exposes no CUDA type, so any host target may include it (STYLE §2.4).
+#pragma once
+#include <memory>
+
+#include "tumble/error.hpp"
+#include "tumble/pipeline.hpp"
+
+namespace tumble {
+
+/// A CUDA runtime or CUB call failed. what() names the expression, file:line and the CUDA error
+/// string. The pipeline that threw is left in an unspecified (but destructible) state.
+class CudaError : public Error {
+ public:
+  using Error::Error;
+};
+
+namespace gpu {
+
+/// Creates the CUDA pipeline on the current device.
+///
+/// Determinism: the pair list, every count and offset are bitwise equal to the CPU pipeline's;
+/// the float state is bitwise equal to the CPU pipeline's when both are built with
+/// TUMBLE_STRICT_FP (no FMA contraction), and bit-identical across runs in any case (fixed-order
+/// sums, integer keys, stable sorts, no float atomics).
+/// Throws tumble::Error when no CUDA device is available, tumble::CudaError when the device
+/// cannot be set up.
+std::unique_ptr<Pipeline> makeCudaPipeline(const PipelineOptions& options = {});
+
+/// True when the CUDA runtime reports at least one device. Never throws; any CUDA error
+/// (no driver, no device) gives false. Safe to call repeatedly; do not call it from a static
+/// initialiser (test discovery runs binaries at build time).
+bool deviceAvailable() noexcept;
+
+}  // namespace gpu
+}  // namespace tumble

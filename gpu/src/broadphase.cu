@@ -1,0 +1,419 @@
+// SPDX-License-Identifier: MIT
+// CUDA broadphase (SPEC §3), the stage-by-stage twin of cpu/src/broadphase.cpp.
+//
+// Design notes
+// - Same bits as the CPU. Every per-element decision calls the shared TUMBLE_HD function the
+//   CPU calls (project, cellRange, sweepKey, ownsPair, spheresOverlap), on the same inputs, so
+//   with --fmad=false (TUMBLE_STRICT_FP) every key, every sorted position and every pair is the
+//   same. The radix sorts are CUB's stable LSD sorts over the same bit ranges as the CPU's
+//   stable sorts, with the unsorted record number as value: the permutation is unique.
+// - Bounds. Each 4096-particle chunk (the CPU's kChunk) is reduced by one block whose threads
+//   take 16 contiguous particles each and are combined as a tree over contiguous ranges, in
+//   order; chunk partials are merged on the host in chunk order. mergeBounds keeps the
+//   lowest-index value among equal extrema, which is what the CPU's ordered parallel_reduce with
+//   std::min/std::max gives, so even −0 versus +0 comes out the same.
+// - Covariance. Summed in double per chunk *sequentially* (one thread walks the chunk in index
+//   order, reading it through shared memory) with __dadd_rn/__dmul_rn, which are never
+//   contracted, exactly as the CPU's per-chunk loop; the partials go to the host, which adds them
+//   in chunk order and runs the same Eigen solve (frame.cpp). The axis is therefore bit-identical.
+//   It runs only when the axis is due (every pcaEvery steps) and costs ~4096 dependent double
+//   adds per chunk.
+// - Output capacity. The CPU's sweep appends into fixed-size chunk buffers; here the sweep runs
+//   twice instead, count → exclusive scan → emit (STYLE §5), which yields the same nbrOffsets and
+//   nbr arrays with no atomics and no overflow path. The owner of every entry is written by the
+//   emit pass; the transpose is CUB's stable sort of (other, owner) by other, like the CPU's.
+// - Window. The CPU bounds each record's candidate run by the widest window (maxWindow, two
+//   pointers) and tests the record's own window r_s + reach per candidate. Along a cell the
+//   records are sorted by z, and fl(z_t − z_s) is monotone in z_t, so once a candidate fails the
+//   record's own window every later one fails it too: breaking there drops only candidates the
+//   CPU rejects. The pair set and its order are unchanged.
+#include "broadphase.cuh"
+
+#include <algorithm>
+#include <string>
+
+#include "cub_primitives.cuh"
+#include "tumble/config.hpp"
+#include "tumble/error.hpp"
+#include "tumble/kernels/overlap.hpp"
+
+namespace tumble::gpu::detail {
+namespace {
+
+constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+constexpr std::uint32_t kPerThread = kChunk / kBlock;  // contiguous particles per thread in the bounds pass
+static_assert(kChunk % kBlock == 0, "a bounds chunk must split evenly over one block");
+
+// --- Axis ----------------------------------------------------------------------------------
+
+// One block per chunk; twin of the CPU's computeBounds (see the design notes for the order).
+__global__ void __launch_bounds__(kBlock) boundsKernel(BroadphaseInput in, BoundsPartial* outPart) {
+  __shared__ BoundsPartial sh[kBlock];
+  const std::uint32_t t = threadIdx.x;
+  const std::uint32_t begin = blockIdx.x * kChunk + t * kPerThread;
+  const std::uint32_t end = in.n < begin + kPerThread ? in.n : begin + kPerThread;
+  BoundsPartial b = emptyBounds();
+  for (std::uint32_t i = begin; i < end; ++i) addParticle(b, i, in.x[i], in.y[i], in.z[i], in.r[i]);
+  sh[t] = b;
+  __syncthreads();
+  // Interleaved tree: after the pass with stride d, sh[t] (t a multiple of 2d) covers threads
+  // [t, t + 2d), so every merge joins two contiguous ranges, the lower one on the left.
+  for (std::uint32_t d = 1; d < kBlock; d <<= 1) {
+    if ((t & (2 * d - 1)) == 0) mergeBounds(sh[t], sh[t + d]);
+    __syncthreads();
+  }
+  if (t == 0) outPart[blockIdx.x] = sh[0];
+}
+
+// One block per chunk; twin of the CPU's per-chunk covariance loop in principalAxis.
+__global__ void __launch_bounds__(kBlock) covarianceKernel(BroadphaseInput in, double* outPart) {
+  __shared__ float tx[kBlock], ty[kBlock], tz[kBlock];
+  const std::uint32_t begin = blockIdx.x * kChunk;
+  const std::uint32_t end = in.n < begin + kChunk ? in.n : begin + kChunk;
+  // Shift by particle 0: keeps the sums well conditioned (float → double is exact).
+  const double sx = in.x[0], sy = in.y[0], sz = in.z[0];
+  double a[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (std::uint32_t base = begin; base < end; base += kBlock) {
+    const std::uint32_t i = base + threadIdx.x;
+    if (i < end) {
+      tx[threadIdx.x] = in.x[i];
+      ty[threadIdx.x] = in.y[i];
+      tz[threadIdx.x] = in.z[i];
+    }
+    __syncthreads();
+    if (threadIdx.x == 0) {
+      const std::uint32_t m = end - base < kBlock ? end - base : kBlock;
+      for (std::uint32_t k = 0; k < m; ++k) {
+        // The CPU's "x = in.x[i] − sx; a[0] += x; … a[3] += x * x; …", one rounding per operation.
+        const double x = __dsub_rn(static_cast<double>(tx[k]), sx);
+        const double y = __dsub_rn(static_cast<double>(ty[k]), sy);
+        const double z = __dsub_rn(static_cast<double>(tz[k]), sz);
+        a[0] = __dadd_rn(a[0], x);
+        a[1] = __dadd_rn(a[1], y);
+        a[2] = __dadd_rn(a[2], z);
+        a[3] = __dadd_rn(a[3], __dmul_rn(x, x));
+        a[4] = __dadd_rn(a[4], __dmul_rn(y, y));
+        a[5] = __dadd_rn(a[5], __dmul_rn(z, z));
+        a[6] = __dadd_rn(a[6], __dmul_rn(x, y));
+        a[7] = __dadd_rn(a[7], __dmul_rn(x, z));
+        a[8] = __dadd_rn(a[8], __dmul_rn(y, z));
+      }
+    }
+    __syncthreads();
+  }
+  if (threadIdx.x == 0)
+    for (int k = 0; k < 9; ++k) outPart[9 * std::size_t(blockIdx.x) + k] = a[k];
+}
+
+// --- Keys ----------------------------------------------------------------------------------
+
+// Twin of the CPU's first key loop; thread n writes the trailing zero of counts.
+__global__ void keysCountKernel(BroadphaseInput in, SweepFrame f, ParticleRow* prow, std::uint32_t* counts) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i > in.n) return;
+  if (i == in.n) {
+    counts[i] = 0;
+    return;
+  }
+  const Projected pr = project(f, Vec3f{in.x[i], in.y[i], in.z[i]});
+  const CellRange cr = cellRange(f, pr, in.r[i]);
+  prow[i] = ParticleRow{in.x[i], in.y[i], in.z[i], in.r[i], pr.z, in.body[i], cr.a0, cr.b0};
+  counts[i] = numRecords(cr);
+}
+
+// Twin of the CPU's second key loop: particle i's records in (a, b) row-major order.
+__global__ void keysEmitKernel(BroadphaseInput in, SweepFrame f, const ParticleRow* prow, const std::uint32_t* counts,
+                               const std::uint32_t* first, std::uint64_t* keys, std::uint32_t* vals,
+                               std::uint32_t* recParticle) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= in.n) return;
+  std::uint32_t r = first[i];
+  const ParticleRow pi = prow[i];
+  if (counts[i] == 1) {
+    keys[r] = sweepKey(cellNumber(f, pi.a0, pi.b0), pi.pz);
+    vals[r] = r;
+    recParticle[r] = i;
+    return;
+  }
+  const CellRange cr = cellRange(f, project(f, Vec3f{in.x[i], in.y[i], in.z[i]}), in.r[i]);
+  for (std::int32_t a = cr.a0; a <= cr.a1; ++a)
+    for (std::int32_t b = cr.b0; b <= cr.b1; ++b, ++r) {
+      keys[r] = sweepKey(cellNumber(f, a, b), pi.pz);
+      vals[r] = r;
+      recParticle[r] = i;
+    }
+}
+
+// --- Sweep ---------------------------------------------------------------------------------
+
+// Twin of the CPU's gather loop.
+__global__ void gatherKernel(const std::uint32_t* svals, const std::uint32_t* recParticle, const ParticleRow* prow,
+                             std::uint32_t numRec, std::uint32_t* inv, std::uint32_t* sp, ParticleRow* srow) {
+  const std::uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= numRec) return;
+  const std::uint32_t r = svals[s];
+  const std::uint32_t i = recParticle[r];
+  inv[r] = s;
+  sp[s] = i;
+  srow[s] = prow[i];
+}
+
+struct SweepArgs {
+  const std::uint64_t* skeys;
+  const ParticleRow* srow;
+  const std::uint32_t* sp;
+  std::uint32_t numRec;
+  std::uint32_t numB;
+  std::int32_t aMin, bMin;
+  float reach;      // maxRadius + 2 slack
+  float maxWindow;  // 2 reach
+};
+
+// The CPU's per-record sweep (two-pointer bound, then testCandidates): walks forward through
+// the record's cell and counts (kEmit = false) or writes (kEmit = true) the hits in candidate
+// order. The hit test is testCandidates' expression term by term.
+template <bool kEmit>
+__device__ __forceinline__ std::uint32_t sweepRecord(const SweepArgs& a, std::uint32_t s, std::uint32_t* nbr,
+                                                     std::uint32_t* owner, std::uint32_t base) {
+  const std::uint32_t cell = static_cast<std::uint32_t>(a.skeys[s] >> 32);
+  const ParticleRow me = a.srow[s];
+  const std::int32_t ca = static_cast<std::int32_t>(cell / a.numB) + a.aMin;
+  const std::int32_t cb = static_cast<std::int32_t>(cell % a.numB) + a.bMin;
+  const float window = me.r + a.reach;
+  const std::uint32_t self = kEmit ? a.sp[s] : 0u;
+  std::uint32_t k = 0;
+  for (std::uint32_t t = s + 1; t < a.numRec; ++t) {
+    if (static_cast<std::uint32_t>(a.skeys[t] >> 32) != cell) break;  // the CPU's two-pointer bound …
+    const ParticleRow c = a.srow[t];
+    if (!(c.pz - me.pz < a.maxWindow)) break;                          // … (same cell, z within maxWindow)
+    if (!(c.pz - me.pz < window)) break;  // exact early exit: see "Window" in the design notes
+    if (c.body != me.body && ownsPair(ca, cb, me.a0, me.b0, c.a0, c.b0) &&
+        spheresOverlap(me.x, me.y, me.z, me.r, c.x, c.y, c.z, c.r)) {
+      if constexpr (kEmit) {
+        nbr[base + k] = a.sp[t];
+        owner[base + k] = self;
+      }
+      ++k;
+    }
+  }
+  return k;
+}
+
+// Count pass; thread numRec writes the trailing zero of the counts.
+__global__ void sweepCountKernel(SweepArgs a, std::uint32_t* nbrCount) {
+  const std::uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s > a.numRec) return;
+  nbrCount[s] = s == a.numRec ? 0u : sweepRecord<false>(a, s, nullptr, nullptr, 0u);
+}
+
+// Emit pass: the same walk, writing at the scanned offsets (one writer per entry).
+__global__ void sweepEmitKernel(SweepArgs a, const std::uint32_t* nbrOffsets, std::uint32_t* nbr,
+                                std::uint32_t* owner) {
+  const std::uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= a.numRec) return;
+  const std::uint32_t base = nbrOffsets[s];
+  if (nbrOffsets[s + 1] == base) return;  // most records have no contact at all
+  sweepRecord<true>(a, s, nbr, owner, base);
+}
+
+// backOffsets[i] = first k with bkeys[k] ≥ i (numEntries if none): the CPU's per-entry fill
+// written per offset instead, by binary search over the sorted keys. One writer per offset.
+__global__ void backOffsetsKernel(const std::uint32_t* bkeys, std::uint32_t numEntries, std::uint32_t n,
+                                  std::uint32_t* backOffsets) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i > n) return;
+  std::uint32_t lo = 0, hi = numEntries;
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    if (bkeys[mid] < i)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  backOffsets[i] = lo;
+}
+
+}  // namespace
+
+std::uint32_t Broadphase::readCount(const std::uint32_t* devicePtr, cudaStream_t stream) const {
+  std::uint32_t v = 0;
+  TUMBLE_CUDA_CHECK(cudaMemcpyAsync(&v, devicePtr, sizeof v, cudaMemcpyDeviceToHost, stream));
+  TUMBLE_CUDA_CHECK(cudaStreamSynchronize(stream));
+  return v;
+}
+
+void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams& params, const StreamContext& ctx) {
+  const cudaStream_t stream = ctx.stream();
+  const std::uint32_t numChunks = (in.n + kChunk - 1) / kChunk;
+  boundsKernel<<<numChunks, kBlock, 0, stream>>>(in, m_boundsPart.grow(numChunks));
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "boundsKernel");
+  const bool newAxis = m_runsSinceAxis < 0 || m_runsSinceAxis >= std::max(1, params.pcaEvery);
+  // Launched before the bounds are checked, to save a round trip; with a non-finite particle
+  // its result is discarded (the CPU computes it only after the check; same observable result).
+  const bool covariance = newAxis && in.n >= 2;
+  if (covariance) {
+    covarianceKernel<<<numChunks, kBlock, 0, stream>>>(in, m_covPart.grow(9 * std::size_t(numChunks)));
+    TUMBLE_CUDA_AFTER_LAUNCH(ctx, "covarianceKernel");
+  }
+  m_hostBounds.resize(numChunks);
+  m_boundsPart.download(m_hostBounds.data(), numChunks, stream);
+  if (covariance) {
+    m_hostCov.resize(9 * std::size_t(numChunks));
+    m_covPart.download(m_hostCov.data(), m_hostCov.size(), stream);
+  }
+  ctx.synchronize();
+
+  const BoundsPartial b = combineBounds(m_hostBounds.data(), numChunks);
+  if (b.firstBad != kNone)
+    throw SimulationError("particle " + std::to_string(b.firstBad) + " has a non-finite position or radius");
+  if (newAxis) {
+    m_axis = covariance ? principalAxisFromPartials(m_hostCov.data(), numChunks, in.n) : Vec3f{0.0f, 0.0f, 1.0f};
+    m_runsSinceAxis = 0;
+  }
+  ++m_runsSinceAxis;
+  m_cellBits = detail::computeFrame(b, m_axis, in.maxRadius, params, &m_frame);
+}
+
+void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, const StreamContext& ctx,
+                     PhaseTimer* timer) {
+  const std::uint32_t n = in.n;
+  const cudaStream_t stream = ctx.stream();
+  m_numRecords = 0;
+  m_numEntries = 0;
+  m_hasRun = false;
+  if (timer != nullptr) timer->mark(Phase::Axis, stream);
+  if (n == 0) {
+    TUMBLE_CUDA_CHECK(cudaMemsetAsync(recFirst.grow(1), 0, sizeof(std::uint32_t), stream));
+    TUMBLE_CUDA_CHECK(cudaMemsetAsync(nbrOffsets.grow(1), 0, sizeof(std::uint32_t), stream));
+    TUMBLE_CUDA_CHECK(cudaMemsetAsync(backOffsets.grow(1), 0, sizeof(std::uint32_t), stream));
+    if (timer != nullptr)
+      for (Phase p : {Phase::Keys, Phase::Sort, Phase::Sweep}) timer->mark(p, stream);
+    m_hasRun = true;
+    return;
+  }
+  computeFrame(in, params, ctx);
+  const SweepFrame f = m_frame;
+
+  // Keys: count records per particle, scan, emit (key, unsorted record number).
+  if (timer != nullptr) timer->mark(Phase::Keys, stream);
+  ParticleRow* prow = m_prow.grow(n);
+  std::uint32_t* counts = m_counts.grow(std::size_t(n) + 1);
+  std::uint32_t* first = recFirst.grow(std::size_t(n) + 1);
+  keysCountKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, stream>>>(in, f, prow, counts);
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "keysCountKernel");
+  std::size_t tempBytes = 0;
+  TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, tempBytes, counts, first, n + 1, stream));
+  TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(tempBytes), tempBytes, counts, first, n + 1, stream));
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "exclusiveSum(record counts)");
+  const std::uint32_t numRec = readCount(first + n, stream);
+  m_numRecords = numRec;
+  std::uint64_t* keys = m_keys.grow(numRec);
+  std::uint32_t* vals = m_vals.grow(numRec);
+  std::uint32_t* recParticle = m_recParticle.grow(numRec);
+  keysEmitKernel<<<blocksFor(n), kBlock, 0, stream>>>(in, f, prow, counts, first, keys, vals, recParticle);
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "keysEmitKernel");
+
+  // Sort records by (cell, z): stable, bits [0, 32 + cellBits), as the CPU.
+  if (timer != nullptr) timer->mark(Phase::Sort, stream);
+  std::uint64_t* skeys = m_sortedKeys.grow(numRec);
+  std::uint32_t* svals = m_sortedVals.grow(numRec);
+  const int endBit = 32 + m_cellBits;
+  TUMBLE_CUDA_CHECK(radixSortPairs(nullptr, tempBytes, keys, skeys, vals, svals, numRec, 0, endBit, stream));
+  TUMBLE_CUDA_CHECK(
+      radixSortPairs(m_temp.grow(tempBytes), tempBytes, keys, skeys, vals, svals, numRec, 0, endBit, stream));
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "radixSortPairs(records)");
+
+  // Sweep: gather sorted rows, count, scan, emit; then the transpose.
+  if (timer != nullptr) timer->mark(Phase::Sweep, stream);
+  std::uint32_t* invp = inv.grow(numRec);
+  std::uint32_t* sp = m_sp.grow(numRec);
+  ParticleRow* srow = m_srow.grow(numRec);
+  gatherKernel<<<blocksFor(numRec), kBlock, 0, stream>>>(svals, recParticle, prow, numRec, invp, sp, srow);
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "gatherKernel");
+  const SweepWindow w = sweepWindow(in.maxRadius, f);
+  const SweepArgs args{skeys, srow, sp, numRec, f.numB, f.aMin, f.bMin, w.reach, w.maxWindow};
+  std::uint32_t* nbrCount = m_nbrCount.grow(std::size_t(numRec) + 1);
+  sweepCountKernel<<<blocksFor(std::uint64_t(numRec) + 1), kBlock, 0, stream>>>(args, nbrCount);
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "sweepCountKernel");
+  std::uint32_t* offs = nbrOffsets.grow(std::size_t(numRec) + 1);
+  TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, tempBytes, nbrCount, offs, numRec + 1, stream));
+  TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(tempBytes), tempBytes, nbrCount, offs, numRec + 1, stream));
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "exclusiveSum(neighbour counts)");
+  const std::uint32_t numEntries = readCount(offs + numRec, stream);
+  m_numEntries = numEntries;
+  std::uint32_t* nb = nbr.grow(numEntries);
+  std::uint32_t* owner = m_owner.grow(numEntries);
+  std::uint32_t* bkeys = m_backKeys.grow(numEntries);
+  std::uint32_t* bvals = back.grow(numEntries);
+  if (numEntries > 0) {
+    sweepEmitKernel<<<blocksFor(numRec), kBlock, 0, stream>>>(args, offs, nb, owner);
+    TUMBLE_CUDA_AFTER_LAUNCH(ctx, "sweepEmitKernel");
+    // Transpose: stable sort of (other, owner) by other over bits [0, bit_width(n − 1)).
+    int nBits = 1;
+    while (nBits < 32 && ((n - 1) >> nBits) != 0) ++nBits;  // max(1, std::bit_width(n − 1))
+    TUMBLE_CUDA_CHECK(radixSortPairs(nullptr, tempBytes, nb, bkeys, owner, bvals, numEntries, 0, nBits, stream));
+    TUMBLE_CUDA_CHECK(
+        radixSortPairs(m_temp.grow(tempBytes), tempBytes, nb, bkeys, owner, bvals, numEntries, 0, nBits, stream));
+    TUMBLE_CUDA_AFTER_LAUNCH(ctx, "radixSortPairs(transpose)");
+  }
+  std::uint32_t* boffs = backOffsets.grow(std::size_t(n) + 1);
+  backOffsetsKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, stream>>>(bkeys, numEntries, n, boffs);
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "backOffsetsKernel");
+  m_hasRun = true;
+#if TUMBLE_VALIDATE
+  validate(n, stream);
+#endif
+}
+
+void Broadphase::validate(std::uint32_t n, cudaStream_t stream) const {
+  const std::uint32_t numRec = m_numRecords;
+  const auto numEntries = static_cast<std::uint32_t>(m_numEntries);
+  std::vector<std::uint64_t> skeys(numRec);
+  std::vector<std::uint32_t> first(std::size_t(n) + 1), invh(numRec), offs(std::size_t(numRec) + 1), nb(numEntries),
+      bkeys(numEntries), bvals(numEntries), boffs(std::size_t(n) + 1);
+  m_sortedKeys.download(skeys.data(), skeys.size(), stream);
+  recFirst.download(first.data(), first.size(), stream);
+  inv.download(invh.data(), invh.size(), stream);
+  nbrOffsets.download(offs.data(), offs.size(), stream);
+  nbr.download(nb.data(), nb.size(), stream);
+  m_backKeys.download(bkeys.data(), bkeys.size(), stream);
+  back.download(bvals.data(), bvals.size(), stream);
+  backOffsets.download(boffs.data(), boffs.size(), stream);
+  TUMBLE_CUDA_CHECK(cudaStreamSynchronize(stream));
+  auto fail = [](const std::string& what) { throw Error("TUMBLE_VALIDATE (CUDA broadphase): " + what); };
+  if (first[0] != 0 || first[n] != numRec) fail("recFirst does not span the records");
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (first[i + 1] <= first[i]) fail("particle " + std::to_string(i) + " has no record");
+  for (std::uint32_t s = 1; s < numRec; ++s)
+    if (skeys[s] < skeys[s - 1]) fail("sort keys not sorted at " + std::to_string(s));
+  std::vector<char> seen(numRec, 0);
+  for (std::uint32_t r = 0; r < numRec; ++r) {
+    if (invh[r] >= numRec || seen[invh[r]]) fail("inv is not a permutation at record " + std::to_string(r));
+    seen[invh[r]] = 1;
+  }
+  if (offs[0] != 0 || offs[numRec] != numEntries) fail("nbrOffsets does not span the entries");
+  for (std::uint32_t s = 0; s < numRec; ++s)
+    if (offs[s + 1] < offs[s]) fail("nbrOffsets decreases at " + std::to_string(s));
+  for (std::uint32_t e = 0; e < numEntries; ++e) {
+    if (nb[e] >= n || bvals[e] >= n) fail("entry " + std::to_string(e) + " names a particle out of range");
+    if (e > 0 && bkeys[e] < bkeys[e - 1]) fail("transpose keys not sorted at " + std::to_string(e));
+  }
+  if (boffs[0] != 0 || boffs[n] != numEntries) fail("backOffsets does not span the entries");
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t e = boffs[i]; e < boffs[i + 1]; ++e)
+      if (bkeys[e] != i) fail("backOffsets of particle " + std::to_string(i) + " are wrong");
+}
+
+std::vector<Pair> Broadphase::sortedPairs(std::uint32_t n, cudaStream_t stream) const {
+  if (!m_hasRun) return {};
+  std::vector<std::uint32_t> hFirst(std::size_t(n) + 1), hInv(m_numRecords), hOffs(std::size_t(m_numRecords) + 1),
+      hNbr(m_numEntries);
+  recFirst.download(hFirst.data(), hFirst.size(), stream);
+  inv.download(hInv.data(), hInv.size(), stream);
+  nbrOffsets.download(hOffs.data(), hOffs.size(), stream);
+  nbr.download(hNbr.data(), hNbr.size(), stream);
+  TUMBLE_CUDA_CHECK(cudaStreamSynchronize(stream));
+  return detail::sortedPairs(n, hFirst.data(), hInv.data(), hOffs.data(), hNbr.data(), m_numEntries);
+}
+
+}  // namespace tumble::gpu::detail

@@ -1,0 +1,477 @@
+// SPDX-License-Identifier: MIT
+// The CUDA pipeline (SPEC §2–§4): the twin of cpu/src/cpu_pipeline.cpp, stage by stage.
+//
+// Determinism: as on the CPU, every output element has one writer and every floating-point sum
+// runs in a fixed order: a particle sums its contacts in CSR order (its records in cell order,
+// each record's neighbours in sweep order, then its backward list), then ground, then gravity and
+// pulls; a body sums its particles in index order. No float atomics, no float reductions in CUB.
+// Each kernel below is a thin wrapper around the shared TUMBLE_HD functions of core/, called
+// with the same arguments in the same order as the CPU's loop body, so with --fmad=false
+// (TUMBLE_STRICT_FP) the state is bit-identical to the CPU pipeline's after every step.
+//
+// A scene pays only for what it uses, as on the CPU: single-sphere scenes skip the
+// particle-from-body pass (particle columns alias the body columns), torques and rotation;
+// scenes without ground skip the ground test.
+//
+// Host synchronisation per step: after the bounds (the frame is computed on the host, as the
+// CPU does), after each of the two scans whose totals size the next buffers (records, entries),
+// and at the end of the step for the phase timers.
+#include <cuda_runtime_api.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "broadphase.cuh"
+#include "cuda_context.cuh"
+#include "device_buffer.cuh"
+#include "frame.hpp"
+#include "tumble/error.hpp"
+#include "tumble/gpu/cuda_pipeline.hpp"
+#include "tumble/kernels/contact.hpp"
+#include "tumble/kernels/integrate.hpp"
+
+namespace tumble::gpu {
+namespace detail {
+namespace {
+
+/// The CSR contact list of the broadphase (see Broadphase).
+struct ContactList {
+  const std::uint32_t* recFirst;
+  const std::uint32_t* inv;
+  const std::uint32_t* nbrOffsets;
+  const std::uint32_t* nbr;
+  const std::uint32_t* backOffsets;
+  const std::uint32_t* back;
+};
+
+/// Per-particle couples of the forces acting at contact points (clumps only).
+struct Couples {
+  float* x;
+  float* y;
+  float* z;
+};
+
+/// Scene constants of the force stage, prepared on the host exactly as the CPU's forces().
+struct ForceParams {
+  ContactCoeffs contact;
+  GroundCoeffs ground;
+  Vec3f gravity;
+  float pullX, pullY, pullSwirl;
+  float dt;
+  std::uint32_t pulls;
+  bool hasGround;
+};
+
+/// Debug capture: repulsion, damping, shear, ground, friction; 3 floats per particle each.
+struct DebugForces {
+  float* f[5];
+};
+
+// 1. Particle state from body state (clumps only). Twin: CpuPipeline::stepOnce, step 1.
+__global__ void stateKernel(BodiesView bodies, const Vec3f* omega, ParticleStaticView st, ParticleStateView ps) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= st.count) return;
+  const std::uint32_t k = st.body[i];
+  Vec3f xo, vo;
+  const Vec3f ru = particleFromBody(Vec3f{bodies.px[k], bodies.py[k], bodies.pz[k]},
+                                    Vec3f{bodies.vx[k], bodies.vy[k], bodies.vz[k]},
+                                    Quatf{bodies.qw[k], bodies.qx[k], bodies.qy[k], bodies.qz[k]}, omega[k],
+                                    Vec3f{st.ux[i], st.uy[i], st.uz[i]}, &xo, &vo);
+  ps.x[i] = xo.x; ps.y[i] = xo.y; ps.z[i] = xo.z;
+  ps.vx[i] = vo.x; ps.vy[i] = vo.y; ps.vz[i] = vo.z;
+  ps.rx[i] = ru.x; ps.ry[i] = ru.y; ps.rz[i] = ru.z;
+}
+
+// 3–5. Per-particle forces. Twin: CpuPipeline::forces<kDebug, kClumps>, the loop body.
+template <bool kDebug, bool kClumps>
+__global__ void forcesKernel(ParticleStaticView st, ParticleStateView ps, Couples couples, ContactList cl,
+                             ForceParams fp, DebugForces dbg) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= ps.count) return;
+  const Vec3f xi{ps.x[i], ps.y[i], ps.z[i]};
+  const Vec3f vi{ps.vx[i], ps.vy[i], ps.vz[i]};
+  const float ri = st.radius[i];
+  Vec3f f{0.0f, 0.0f, 0.0f};
+  Vec3f tau{0.0f, 0.0f, 0.0f};  // couple of forces acting at contact points (clumps only)
+  Vec3f rep{0, 0, 0}, dmp{0, 0, 0}, shr{0, 0, 0};
+  auto contact = [&](std::uint32_t j) {
+    const ContactForces cf = contactForces(xi, vi, ri, Vec3f{ps.x[j], ps.y[j], ps.z[j]},
+                                           Vec3f{ps.vx[j], ps.vy[j], ps.vz[j]}, st.radius[j], i < j, fp.contact);
+    const Vec3f fc = total(cf);
+    f += fc;
+    if constexpr (kClumps) tau += cross(cf.lever, fc);
+    if constexpr (kDebug) {
+      rep += cf.repulsion;
+      dmp += cf.damping;
+      shr += cf.shear;
+    }
+  };
+  // Fixed order: forward neighbours by record, then backward neighbours (transpose order).
+  for (std::uint32_t r = cl.recFirst[i]; r < cl.recFirst[i + 1]; ++r) {
+    const std::uint32_t s = cl.inv[r];
+    for (std::uint32_t e = cl.nbrOffsets[s]; e < cl.nbrOffsets[s + 1]; ++e) contact(cl.nbr[e]);
+  }
+  for (std::uint32_t e = cl.backOffsets[i]; e < cl.backOffsets[i + 1]; ++e) contact(cl.back[e]);
+  GroundForces gf{{0, 0, 0}, {0, 0, 0}};
+  if (fp.hasGround) {
+    float tx = ps.tx[i], ty = ps.ty[i];
+    gf = groundForces(xi, vi, ri, st.groundDamping[i], fp.ground, fp.dt, &tx, &ty);
+    ps.tx[i] = tx;
+    ps.ty[i] = ty;
+    f += gf.normal + gf.friction;
+    if constexpr (kClumps) {
+      const float dg = ri - (xi.z - fp.ground.height);
+      tau += cross(Vec3f{0.0f, 0.0f, -(ri - 0.5f * dg)}, gf.friction);
+    }
+  }
+  f += externalForce(xi, st.mass[i], fp.gravity, fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls);
+  ps.fx[i] = f.x;
+  ps.fy[i] = f.y;
+  ps.fz[i] = f.z;
+  if constexpr (kClumps) {
+    couples.x[i] = tau.x;
+    couples.y[i] = tau.y;
+    couples.z[i] = tau.z;
+  }
+  if constexpr (kDebug) {
+    const Vec3f parts[5] = {rep, dmp, shr, gf.normal, gf.friction};
+    for (int k = 0; k < 5; ++k) {
+      dbg.f[k][3 * std::size_t(i)] = parts[k].x;
+      dbg.f[k][3 * std::size_t(i) + 1] = parts[k].y;
+      dbg.f[k][3 * std::size_t(i) + 2] = parts[k].z;
+    }
+  }
+}
+
+// 6–7. Body totals and integration. Twin: CpuPipeline::integrate, the loop body.
+__global__ void integrateKernel(BodiesView b, ParticleStateView ps, Couples couples, Vec3f* omega, float dt,
+                                bool clumps) {
+  const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= b.count) return;
+  Vec3f F, T{0, 0, 0};
+  if (clumps) {
+    F = Vec3f{0, 0, 0};
+    const std::uint32_t a = b.first[k], e = a + b.numParticles[k];
+    for (std::uint32_t i = a; i < e; ++i) {
+      const Vec3f fi{ps.fx[i], ps.fy[i], ps.fz[i]};
+      F += fi;
+      T += cross(Vec3f{ps.rx[i], ps.ry[i], ps.rz[i]}, fi) + Vec3f{couples.x[i], couples.y[i], couples.z[i]};
+    }
+  } else {
+    F = Vec3f{ps.fx[k], ps.fy[k], ps.fz[k]};
+  }
+  Vec3f X{b.px[k], b.py[k], b.pz[k]}, V{b.vx[k], b.vy[k], b.vz[k]};
+  integrateTranslation(F, b.invMass[k], dt, &X, &V);
+  b.px[k] = X.x; b.py[k] = X.y; b.pz[k] = X.z;
+  b.vx[k] = V.x; b.vy[k] = V.y; b.vz[k] = V.z;
+  if (clumps && b.numParticles[k] > 1) {
+    Vec3f L{b.lx[k], b.ly[k], b.lz[k]};
+    Quatf q{b.qw[k], b.qx[k], b.qy[k], b.qz[k]};
+    omega[k] = integrateRotation(T, b.invInertia[k], dt, &L, &q);
+    b.lx[k] = L.x; b.ly[k] = L.y; b.lz[k] = L.z;
+    b.qw[k] = q.w; b.qx[k] = q.x; b.qy[k] = q.y; b.qz[k] = q.z;
+  }
+}
+
+/// The integrated body state on the device, one column per BodyState column.
+struct BodyColumns {
+  DeviceBuffer<float> px, py, pz, vx, vy, vz, qw, qx, qy, qz, lx, ly, lz;
+};
+
+/// Grows b to n elements and zeroes them.
+void zeros(DeviceBuffer<float>& b, std::size_t n, cudaStream_t stream) {
+  b.grow(n);
+  if (n > 0) TUMBLE_CUDA_CHECK(cudaMemsetAsync(b.data(), 0, n * sizeof(float), stream));
+}
+
+class CudaPipeline final : public Pipeline {
+ public:
+  explicit CudaPipeline(const PipelineOptions& /*options: threads do not apply to the device*/) {}
+
+  Backend backend() const override { return Backend::Cuda; }
+
+  // Twin: CpuPipeline::load.
+  void load(const World& world) override {
+    if (world.numParticles() == 0) throw Error("cannot load an empty world");
+    m_loaded = false;
+    m_world = world;
+    const std::uint32_t n = world.numParticles();
+    const cudaStream_t s = m_ctx.stream();
+    m_clumps = world.hasClumps;
+
+    const BodyState& st = world.state;
+    m_state.px.upload(st.px, s); m_state.py.upload(st.py, s); m_state.pz.upload(st.pz, s);
+    m_state.vx.upload(st.vx, s); m_state.vy.upload(st.vy, s); m_state.vz.upload(st.vz, s);
+    m_state.qw.upload(st.qw, s); m_state.qx.upload(st.qx, s); m_state.qy.upload(st.qy, s);
+    m_state.qz.upload(st.qz, s);
+    m_state.lx.upload(st.lx, s); m_state.ly.upload(st.ly, s); m_state.lz.upload(st.lz, s);
+    m_invMass.upload(world.invMass, s);
+    m_invInertia.upload(world.invInertia, s);
+    m_first.upload(world.first, s);
+    m_numOf.upload(world.numParticlesOf, s);
+    const std::vector<Vec3f> omega = initialOmega(world);
+    m_omega.upload(omega, s);
+
+    m_radius.upload(world.radius, s);
+    m_mass.upload(world.mass, s);
+    m_elasticity.upload(world.elasticity, s);
+    m_groundDamping.upload(world.groundDamping, s);
+    m_body.upload(world.body, s);
+    m_ux.upload(world.ux, s); m_uy.upload(world.uy, s); m_uz.upload(world.uz, s);
+
+    const std::size_t nc = m_clumps ? n : 0;
+    for (auto* c : {&m_x, &m_y, &m_z, &m_vx, &m_vy, &m_vz, &m_rx, &m_ry, &m_rz, &m_cx, &m_cy, &m_cz}) zeros(*c, nc, s);
+    for (auto* c : {&m_fx, &m_fy, &m_fz, &m_tx, &m_ty}) zeros(*c, n, s);
+    m_ctx.synchronize();
+
+    m_pulls = world.params.pulls.active;
+    m_time = 0.0;
+    m_steps = 0;
+    m_bp.reset();
+    resetStats();
+    m_hasDebug = false;
+    m_loaded = true;
+  }
+
+  void step(std::uint64_t n) override {
+    if (!m_loaded) throw Error("step() before load()");
+    for (std::uint64_t s = 0; s < n; ++s) stepOnce();
+  }
+
+  void readState(BodyState& out) const override {
+    if (!m_loaded) {
+      out = BodyState{};  // as the CPU pipeline's empty state before load()
+      return;
+    }
+    const std::size_t nb = m_world.numBodies();
+    const cudaStream_t s = m_ctx.stream();
+    out.resize(nb);
+    m_state.px.download(out.px.data(), nb, s); m_state.py.download(out.py.data(), nb, s);
+    m_state.pz.download(out.pz.data(), nb, s);
+    m_state.vx.download(out.vx.data(), nb, s); m_state.vy.download(out.vy.data(), nb, s);
+    m_state.vz.download(out.vz.data(), nb, s);
+    m_state.qw.download(out.qw.data(), nb, s); m_state.qx.download(out.qx.data(), nb, s);
+    m_state.qy.download(out.qy.data(), nb, s); m_state.qz.download(out.qz.data(), nb, s);
+    m_state.lx.download(out.lx.data(), nb, s); m_state.ly.download(out.ly.data(), nb, s);
+    m_state.lz.download(out.lz.data(), nb, s);
+    m_ctx.synchronize();
+  }
+
+  std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles(), m_ctx.stream()); }
+
+  // Twin: CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
+  std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
+    const std::size_t n = cloud.size();
+    if (cloud.y.size() != n || cloud.z.size() != n || cloud.r.size() != n || cloud.body.size() != n)
+      throw Error("particle cloud columns differ in length");
+    if (n >= (std::size_t{1} << 31)) throw Error("too many particles (limit 2^31)");
+    float maxR = 0.0f;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(cloud.r[i] > 0.0f) || !std::isfinite(cloud.r[i]))
+        throw Error("particle " + std::to_string(i) + ": radius must be a positive finite number");
+      maxR = std::max(maxR, cloud.r[i]);
+    }
+    if (n == 0) return {};
+    const cudaStream_t s = m_ctx.stream();
+    DeviceBuffer<float> x, y, z, r;
+    DeviceBuffer<std::uint32_t> body;
+    x.upload(cloud.x, s);
+    y.upload(cloud.y, s);
+    z.upload(cloud.z, s);
+    r.upload(cloud.r, s);
+    body.upload(cloud.body, s);
+    Broadphase b;
+    const BroadphaseInput in{x.data(), y.data(), z.data(), r.data(), body.data(), static_cast<std::uint32_t>(n), maxR};
+    b.run(in, bp, m_ctx, nullptr);
+    return b.sortedPairs(static_cast<std::uint32_t>(n), s);
+  }
+
+  void setDebugCapture(bool on) override { m_debug = on; }
+
+  // Twin: CpuPipeline::readDebug (velocities as the CPU's vx(): the particle columns for clumps,
+  // the body columns otherwise).
+  void readDebug(ParticleDebug& out) const override {
+    if (!m_hasDebug) throw Error("readDebug(): enable setDebugCapture(true) and run a step first");
+    const std::uint32_t n = m_world.numParticles();
+    const cudaStream_t s = m_ctx.stream();
+    std::vector<float> v[3];
+    const float* src[3] = {m_clumps ? m_vx.data() : m_state.vx.data(), m_clumps ? m_vy.data() : m_state.vy.data(),
+                           m_clumps ? m_vz.data() : m_state.vz.data()};
+    for (int c = 0; c < 3; ++c) {
+      v[c].resize(n);
+      if (n > 0) TUMBLE_CUDA_CHECK(cudaMemcpyAsync(v[c].data(), src[c], n * sizeof(float), cudaMemcpyDeviceToHost, s));
+    }
+    for (int k = 0; k < 5; ++k) {
+      out.force[k].resize(3 * std::size_t(n));
+      m_dbg[k].download(out.force[k].data(), out.force[k].size(), s);
+    }
+    m_ctx.synchronize();
+    out.v.resize(3 * std::size_t(n));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      out.v[3 * std::size_t(i)] = v[0][i];
+      out.v[3 * std::size_t(i) + 1] = v[1][i];
+      out.v[3 * std::size_t(i) + 2] = v[2][i];
+    }
+    out.contacts = pairs();
+  }
+
+  void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u; }
+  std::uint32_t pulls() const override { return m_pulls; }
+  const StepStats& stats() const override { return m_stats; }
+  void resetStats() override { m_stats = StepStats{}; }
+  double time() const override { return m_time; }
+
+ private:
+  // Particle columns: with single-sphere bodies, particle i is body i (as the CPU's x() etc.).
+  float* x() { return m_clumps ? m_x.data() : m_state.px.data(); }
+  float* y() { return m_clumps ? m_y.data() : m_state.py.data(); }
+  float* z() { return m_clumps ? m_z.data() : m_state.pz.data(); }
+  float* vx() { return m_clumps ? m_vx.data() : m_state.vx.data(); }
+  float* vy() { return m_clumps ? m_vy.data() : m_state.vy.data(); }
+  float* vz() { return m_clumps ? m_vz.data() : m_state.vz.data(); }
+
+  BodiesView bodiesView() {
+    return BodiesView{m_invMass.data(), m_invInertia.data(), m_first.data(), m_numOf.data(),
+                      m_state.px.data(), m_state.py.data(), m_state.pz.data(),
+                      m_state.vx.data(), m_state.vy.data(), m_state.vz.data(),
+                      m_state.qw.data(), m_state.qx.data(), m_state.qy.data(), m_state.qz.data(),
+                      m_state.lx.data(), m_state.ly.data(), m_state.lz.data(), m_world.numBodies()};
+  }
+  ParticleStaticView staticView() const {
+    return ParticleStaticView{m_radius.data(), m_mass.data(), m_elasticity.data(), m_groundDamping.data(),
+                              m_body.data(),   m_ux.data(),   m_uy.data(),         m_uz.data(),
+                              m_world.numParticles()};
+  }
+  ParticleStateView stateView() {
+    const bool c = m_clumps;
+    return ParticleStateView{x(), y(), z(), vx(), vy(), vz(),
+                             c ? m_rx.data() : nullptr, c ? m_ry.data() : nullptr, c ? m_rz.data() : nullptr,
+                             m_fx.data(), m_fy.data(), m_fz.data(), m_tx.data(), m_ty.data(),
+                             m_world.numParticles()};
+  }
+
+  // Twin: CpuPipeline::stepOnce.
+  void stepOnce() {
+    const std::uint32_t n = m_world.numParticles();
+    const std::uint32_t nb = m_world.numBodies();
+    const cudaStream_t s = m_ctx.stream();
+    const Scene& p = m_world.params;
+
+    // 1. Particle state from body state.
+    m_timer.mark(Phase::State, s);
+    if (m_clumps) {
+      stateKernel<<<blocksFor(n), kBlock, 0, s>>>(bodiesView(), m_omega.data(), staticView(), stateView());
+      TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "stateKernel");
+    }
+
+    // 2. Collision detection → CSR contact list.
+    const BroadphaseInput in{x(), y(), z(), m_radius.data(), m_body.data(), n, m_world.maxRadius};
+    try {
+      m_bp.run(in, p.broadphase, m_ctx, &m_timer);
+    } catch (const SimulationError& e) {
+      throw SimulationError("step " + std::to_string(m_steps) + ": " + e.what() +
+                            "; the simulation diverged (try a smaller dt, e.g. half of " + std::to_string(p.dt) +
+                            " s)");
+    }
+
+    // 3–5. Per-particle forces: contacts (CSR order), ground, gravity and pulls.
+    m_timer.mark(Phase::Forces, s);
+    const ForceParams fp{ContactCoeffs{p.contact.stiffness, p.contact.damping, p.contact.shear},
+                         GroundCoeffs{p.ground.height, p.ground.stiffness,
+                                      p.ground.tangentialStiffness > 0.0f ? p.ground.tangentialStiffness
+                                                                          : p.ground.stiffness * (2.0f / 7.0f),
+                                      p.ground.friction},
+                         p.gravity,
+                         p.pulls.x,
+                         p.pulls.y,
+                         p.pulls.swirl,
+                         p.dt,
+                         m_pulls,
+                         p.ground.enabled};
+    const ContactList cl{m_bp.recFirst.data(), m_bp.inv.data(),  m_bp.nbrOffsets.data(),
+                         m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
+    const Couples couples{m_cx.data(), m_cy.data(), m_cz.data()};
+    DebugForces dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}};
+    if (m_debug) {
+      for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].grow(3 * std::size_t(n));
+      if (m_clumps)
+        forcesKernel<true, true><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
+      else
+        forcesKernel<true, false><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
+      m_hasDebug = true;
+    } else {
+      if (m_clumps)
+        forcesKernel<false, true><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
+      else
+        forcesKernel<false, false><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
+    }
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "forcesKernel");
+
+    // 6–7. Body totals and integration.
+    m_timer.mark(Phase::Integrate, s);
+    integrateKernel<<<blocksFor(nb), kBlock, 0, s>>>(bodiesView(), stateView(), couples, m_omega.data(), p.dt,
+                                                     m_clumps);
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "integrateKernel");
+    m_timer.finish(s);
+    m_timer.accumulate(m_stats.seconds);  // waits for the step
+
+    ++m_steps;
+    m_time += p.dt;
+    ++m_stats.steps;
+    m_stats.numPairs = m_bp.numPairs();
+    m_stats.numRecords = m_bp.numRecords();
+    m_stats.numCells = m_bp.numCells();
+    m_stats.cellSize = m_bp.frame().cellSize;
+  }
+
+  StreamContext m_ctx;
+  PhaseTimer m_timer;
+  World m_world;
+  bool m_loaded = false;
+  bool m_clumps = false;
+  // Bodies.
+  BodyColumns m_state;
+  DeviceBuffer<float> m_invMass;
+  DeviceBuffer<Sym3f> m_invInertia;
+  DeviceBuffer<std::uint32_t> m_first, m_numOf;
+  DeviceBuffer<Vec3f> m_omega;
+  // Static particle table.
+  DeviceBuffer<float> m_radius, m_mass, m_elasticity, m_groundDamping, m_ux, m_uy, m_uz;
+  DeviceBuffer<std::uint32_t> m_body;
+  // Per-step particle state; x … rz and the couples exist for clump scenes only.
+  DeviceBuffer<float> m_x, m_y, m_z, m_vx, m_vy, m_vz, m_rx, m_ry, m_rz;
+  DeviceBuffer<float> m_fx, m_fy, m_fz, m_tx, m_ty;
+  DeviceBuffer<float> m_cx, m_cy, m_cz;
+  DeviceBuffer<float> m_dbg[5];
+  Broadphase m_bp;
+  StepStats m_stats;
+  std::uint32_t m_pulls = 0;
+  double m_time = 0.0;
+  std::uint64_t m_steps = 0;
+  bool m_debug = false;
+  bool m_hasDebug = false;
+};
+
+}  // namespace
+}  // namespace detail
+
+bool deviceAvailable() noexcept {
+  int count = 0;
+  const cudaError_t e = cudaGetDeviceCount(&count);
+  if (e != cudaSuccess) {
+    (void)cudaGetLastError();  // no driver / no device: not an error for the caller
+    return false;
+  }
+  return count > 0;
+}
+
+std::unique_ptr<Pipeline> makeCudaPipeline(const PipelineOptions& options) {
+  if (!deviceAvailable())
+    throw Error("the CUDA pipeline needs a CUDA device and none is available (use --pipeline cpu)");
+  return std::make_unique<detail::CudaPipeline>(options);
+}
+
+}  // namespace tumble::gpu

@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+// Host-side halves of the CUDA broadphase stages whose results must be bit-identical to the CPU
+// pipeline's. Each function below is a copy of its CPU twin in cpu/src/broadphase.cpp or
+// cpu/src/cpu_pipeline.cpp with only the data source changed (chunk partials copied back from
+// the device instead of computed here); the arithmetic and its order are unchanged. Compiled by
+// the host compiler with the project's flags, as the CPU twins are. Keep the two in step: a
+// change to the CPU's frame or axis must be copied here (REVIEW.md lists the pairs).
+#include "frame.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+
+#include "tumble/kernels/integrate.hpp"
+
+namespace tumble::gpu::detail {
+
+BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks) {
+  BoundsPartial b = emptyBounds();
+  for (std::uint32_t c = 0; c < numChunks; ++c) mergeBounds(b, part[c]);
+  return b;
+}
+
+// Twin: cpu/src/broadphase.cpp principalAxis(), from "std::array<double, 9> s{}" on.
+Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std::uint32_t n) {
+  if (n < 2) return {0.0f, 0.0f, 1.0f};
+  std::array<double, 9> s{};
+  for (std::uint32_t c = 0; c < numChunks; ++c)
+    for (int k = 0; k < 9; ++k) s[k] += part[9 * std::size_t(c) + k];
+  const double nd = n;
+  const double mx = s[0] / nd, my = s[1] / nd, mz = s[2] / nd;
+  Eigen::Matrix3d cov;
+  cov(0, 0) = s[3] / nd - mx * mx;
+  cov(1, 1) = s[4] / nd - my * my;
+  cov(2, 2) = s[5] / nd - mz * mz;
+  cov(0, 1) = cov(1, 0) = s[6] / nd - mx * my;
+  cov(0, 2) = cov(2, 0) = s[7] / nd - mx * mz;
+  cov(1, 2) = cov(2, 1) = s[8] / nd - my * mz;
+  if (!cov.allFinite() || cov.norm() == 0.0) return {0.0f, 0.0f, 1.0f};
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Eigen::Vector3d v = es.eigenvectors().col(2);  // largest eigenvalue
+  // Fixed sign: largest-magnitude component positive.
+  int k = 0;
+  for (int j = 1; j < 3; ++j)
+    if (std::abs(v[j]) > std::abs(v[k])) k = j;
+  if (v[k] < 0) v = -v;
+  v.normalize();
+  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+}
+
+// Twin: cpu/src/broadphase.cpp Broadphase::computeFrame(), after the bounds check and the axis.
+int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const BroadphaseParams& params,
+                 SweepFrame* outFrame) {
+  SweepFrame& f = *outFrame;
+  f.lz = axis;
+  // l_p ⟂ l_z from a cross product with the coordinate axis least aligned with l_z.
+  const double az[3] = {axis.x, axis.y, axis.z};
+  int least = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(az[k]) < std::abs(az[least])) least = k;
+  double e[3] = {0, 0, 0};
+  e[least] = 1.0;
+  double p[3] = {az[1] * e[2] - az[2] * e[1], az[2] * e[0] - az[0] * e[2], az[0] * e[1] - az[1] * e[0]};
+  const double pn = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  for (double& c : p) c /= pn;
+  const double q[3] = {az[1] * p[2] - az[2] * p[1], az[2] * p[0] - az[0] * p[2], az[0] * p[1] - az[1] * p[0]};
+  f.lp = {float(p[0]), float(p[1]), float(p[2])};
+  f.lq = {float(q[0]), float(q[1]), float(q[2])};
+
+  double half[3];
+  float c[3];
+  for (int k = 0; k < 3; ++k) {
+    c[k] = static_cast<float>(0.5 * (double(b.lo[k]) + double(b.hi[k])));
+    half[k] = std::max(double(b.hi[k]) - c[k], double(c[k]) - b.lo[k]);
+  }
+  f.center = {c[0], c[1], c[2]};
+  const double u = std::ldexp(1.0, -24);
+  const double slack = 32.0 * u * (half[0] + half[1] + half[2]) + 1e-30;
+  f.slack = static_cast<float>(slack);
+  const double ep = std::abs(p[0]) * half[0] + std::abs(p[1]) * half[1] + std::abs(p[2]) * half[2];
+  const double eq = std::abs(q[0]) * half[0] + std::abs(q[1]) * half[1] + std::abs(q[2]) * half[2];
+  const double reach = double(maxRadius) + 4.0 * slack;
+
+  double m = params.cellSize > 0.0f ? params.cellSize : 4.0 * maxRadius;
+  for (;;) {
+    const double na = std::floor((ep + reach) / m) - std::floor(-(ep + reach) / m) + 3.0;
+    const double nb = std::floor((eq + reach) / m) - std::floor(-(eq + reach) / m) + 3.0;
+    if (na * nb < 2147483648.0) {
+      f.cellSize = static_cast<float>(m);
+      f.invCellSize = static_cast<float>(1.0 / m);
+      f.aMin = static_cast<std::int32_t>(std::floor(-(ep + reach) / m)) - 1;
+      f.bMin = static_cast<std::int32_t>(std::floor(-(eq + reach) / m)) - 1;
+      f.numA = static_cast<std::uint32_t>(na);
+      f.numB = static_cast<std::uint32_t>(nb);
+      break;
+    }
+    m *= std::sqrt(na * nb / 1073741824.0) * 1.01;  // too many cells: coarser grid (speed only)
+  }
+  const std::uint64_t cells = std::uint64_t(f.numA) * f.numB;
+  return cells > 1 ? static_cast<int>(std::bit_width(cells - 1)) : 0;
+}
+
+// Twin: cpu/src/cpu_pipeline.cpp CpuPipeline::load(), the m_omega loop.
+std::vector<Vec3f> initialOmega(const World& world) {
+  const BodyState& s = world.state;
+  std::vector<Vec3f> omega(world.numBodies(), Vec3f{0, 0, 0});
+  for (std::uint32_t k = 0; k < world.numBodies(); ++k)
+    omega[k] = angularVelocity(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, world.invInertia[k],
+                               Vec3f{s.lx[k], s.ly[k], s.lz[k]});
+  return omega;
+}
+
+// Twin: cpu/src/broadphase.cpp Broadphase::sortedPairs().
+std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, const std::uint32_t* inv,
+                              const std::uint32_t* nbrOffsets, const std::uint32_t* nbr, std::uint64_t numEntries) {
+  std::vector<Pair> out;
+  out.reserve(numEntries);
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t r = recFirst[i]; r < recFirst[i + 1]; ++r) {
+      const std::uint32_t s = inv[r];
+      for (std::uint32_t e = nbrOffsets[s]; e < nbrOffsets[s + 1]; ++e)
+        out.push_back({std::min(i, nbr[e]), std::max(i, nbr[e])});
+    }
+  std::sort(out.begin(), out.end());  // keys are unique, so the order is unique
+  return out;
+}
+
+}  // namespace tumble::gpu::detail
+
+namespace tumble::gpu::detail {
+
+// Twin: cpu/src/broadphase.cpp Broadphase::run(), "reachR" and "maxWindow".
+SweepWindow sweepWindow(float maxRadius, const SweepFrame& f) {
+  const float reachR = maxRadius + 2.0f * f.slack;
+  const float maxWindow = 2.0f * reachR;  // ≥ every record's window r_s + reachR
+  return {reachR, maxWindow};
+}
+
+}  // namespace tumble::gpu::detail

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: MIT
+// Host-side pieces of the CUDA broadphase that must give the same bits as the CPU pipeline:
+// the bounds reduction semantics, the PCA axis from the covariance chunk partials (Eigen),
+// the sweep frame, the initial angular velocities and the sorted pair list. frame.cpp is
+// compiled by the host compiler with the project's flags (-ffp-contract=off), like
+// cpu/src/broadphase.cpp; this header is also included by .cu files (valid C++17).
+// Internal to tumble::gpu.
+#pragma once
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "tumble/hd.hpp"
+#include "tumble/kernels/cell_key.hpp"
+#include "tumble/pipeline.hpp"
+#include "tumble/scene.hpp"
+#include "tumble/world.hpp"
+
+namespace tumble::gpu::detail {
+
+/// Fixed reduction chunk, the CPU's kChunk (cpu/src/broadphase.cpp): bounds and covariance
+/// partials are per 4096 particles, combined on the host in chunk order.
+inline constexpr std::uint32_t kChunk = 4096;
+
+/// Bounding box of the finite particles plus the lowest index of a non-finite one
+/// (twin of the CPU's Bounds; FLT_MAX is std::numeric_limits<float>::max()).
+struct BoundsPartial {
+  float lo[3];
+  float hi[3];
+  std::uint32_t firstBad;
+};
+
+TUMBLE_HD_INLINE BoundsPartial emptyBounds() {
+  return BoundsPartial{{FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, 0xFFFFFFFFu};
+}
+
+/// Adds particle i exactly as the CPU's computeBounds does: a particle with a non-finite
+/// coordinate or radius only lowers firstBad.
+TUMBLE_HD_INLINE void addParticle(BoundsPartial& b, std::uint32_t i, float x, float y, float z, float r) {
+  if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && std::isfinite(r))) {
+    if (i < b.firstBad) b.firstBad = i;
+    return;
+  }
+  const float v[3] = {x, y, z};
+  for (int k = 0; k < 3; ++k) {
+    b.lo[k] = v[k] < b.lo[k] ? v[k] : b.lo[k];  // std::min(lo, v): keeps lo unless v < lo
+    b.hi[k] = b.hi[k] < v[k] ? v[k] : b.hi[k];  // std::max(hi, v): keeps hi unless hi < v
+  }
+}
+
+/// left ∪ right, where `left` covers lower particle indices than `right`. std::min/std::max
+/// keep their first argument on ties, so this keeps the LOWEST-index value among equal extrema
+/// (which matters only for −0 vs +0). Associative, so any tree that combines contiguous ranges
+/// in order gives the same bits as the CPU's ordered parallel_reduce.
+TUMBLE_HD_INLINE void mergeBounds(BoundsPartial& left, const BoundsPartial& right) {
+  for (int k = 0; k < 3; ++k) {
+    left.lo[k] = right.lo[k] < left.lo[k] ? right.lo[k] : left.lo[k];
+    left.hi[k] = left.hi[k] < right.hi[k] ? right.hi[k] : left.hi[k];
+  }
+  left.firstBad = right.firstBad < left.firstBad ? right.firstBad : left.firstBad;
+}
+
+/// Combines per-chunk partials in chunk order (host).
+BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks);
+
+/// Principal axis from the covariance chunk partials part[9 c + k] (k: Σx, Σy, Σz, Σx², Σy², Σz²,
+/// Σxy, Σxz, Σyz of the coordinates shifted by particle 0), summed in chunk order, then the same
+/// Eigen solve and sign rule as the CPU's principalAxis. n ≥ 2.
+Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std::uint32_t n);
+
+/// The CPU's Broadphase::computeFrame after the bounds and axis: frame axes, centre, slack,
+/// cell size and cell counts. Returns the number of cell bits of the sort key.
+int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const BroadphaseParams& params,
+                 SweepFrame* outFrame);
+
+/// Ω = R I0⁻¹ Rᵀ L of every body (the CPU pipeline's load()).
+std::vector<Vec3f> initialOmega(const World& world);
+
+/// Pairs (i < j), sorted, from the forward half of the CSR contact list (the CPU's
+/// Broadphase::sortedPairs).
+std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, const std::uint32_t* inv,
+                              const std::uint32_t* nbrOffsets, const std::uint32_t* nbr, std::uint64_t numEntries);
+
+}  // namespace tumble::gpu::detail
+
+namespace tumble::gpu::detail {
+
+/// The sweep's two window constants, computed exactly as the CPU's Broadphase::run does:
+/// reach = maxRadius + 2·slack; every record's window is r_s + reach, and maxWindow = 2·reach
+/// bounds them all.
+struct SweepWindow {
+  float reach;
+  float maxWindow;
+};
+SweepWindow sweepWindow(float maxRadius, const SweepFrame& f);
+
+}  // namespace tumble::gpu::detail
