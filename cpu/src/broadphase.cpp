@@ -21,9 +21,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -36,6 +34,7 @@
 #include "tumble/cpu/scan.hpp"
 #include "tumble/error.hpp"
 #include "tumble/kernels/overlap.hpp"
+#include "tumble/sweep_frame.hpp"
 
 namespace tumble::cpu::detail {
 namespace {
@@ -43,88 +42,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-constexpr std::uint32_t kChunk = 4096;        // fixed reduction / sweep chunk (determinism)
+using tumble::detail::kChunk;  // fixed reduction chunk (determinism)
 constexpr std::uint32_t kSweepChunk = 2048;   // records per sweep output buffer
-
-struct Bounds {
-  float lo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-                 std::numeric_limits<float>::max()};
-  float hi[3] = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
-                 -std::numeric_limits<float>::max()};
-  std::uint32_t firstBad = std::numeric_limits<std::uint32_t>::max();
-};
-
-Bounds computeBounds(const BroadphaseInput& in) {
-  const std::uint32_t numChunks = (in.n + kChunk - 1) / kChunk;
-  return tbb::parallel_reduce(
-      tbb::blocked_range<std::uint32_t>(0, numChunks), Bounds{},
-      [&](const tbb::blocked_range<std::uint32_t>& rc, Bounds b) {
-        for (std::uint32_t c = rc.begin(); c != rc.end(); ++c) {
-          const std::uint32_t end = std::min(in.n, (c + 1) * kChunk);
-          for (std::uint32_t i = c * kChunk; i < end; ++i) {
-            const float v[3] = {in.x[i], in.y[i], in.z[i]};
-            if (!(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) && std::isfinite(in.r[i]))) {
-              b.firstBad = std::min(b.firstBad, i);
-              continue;
-            }
-            for (int k = 0; k < 3; ++k) {
-              b.lo[k] = std::min(b.lo[k], v[k]);
-              b.hi[k] = std::max(b.hi[k], v[k]);
-            }
-          }
-        }
-        return b;
-      },
-      [](Bounds a, const Bounds& b) {  // min / max are exact: any combination order is fine
-        for (int k = 0; k < 3; ++k) {
-          a.lo[k] = std::min(a.lo[k], b.lo[k]);
-          a.hi[k] = std::max(a.hi[k], b.hi[k]);
-        }
-        a.firstBad = std::min(a.firstBad, b.firstBad);
-        return a;
-      });
-}
-
-// Principal axis of the centred covariance (SPEC §3.1 fix), summed in double in fixed chunks.
-Vec3f principalAxis(const BroadphaseInput& in) {
-  if (in.n < 2) return {0.0f, 0.0f, 1.0f};
-  const double sx = in.x[0], sy = in.y[0], sz = in.z[0];  // shift: keeps the sums well conditioned
-  const std::uint32_t numChunks = (in.n + kChunk - 1) / kChunk;
-  std::vector<std::array<double, 9>> part(numChunks);
-  tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
-    std::array<double, 9> a{};
-    const std::uint32_t end = std::min(in.n, (c + 1) * kChunk);
-    for (std::uint32_t i = c * kChunk; i < end; ++i) {
-      const double x = in.x[i] - sx, y = in.y[i] - sy, z = in.z[i] - sz;
-      a[0] += x; a[1] += y; a[2] += z;
-      a[3] += x * x; a[4] += y * y; a[5] += z * z;
-      a[6] += x * y; a[7] += x * z; a[8] += y * z;
-    }
-    part[c] = a;
-  });
-  std::array<double, 9> s{};
-  for (const auto& a : part)
-    for (int k = 0; k < 9; ++k) s[k] += a[k];
-  const double n = in.n;
-  const double mx = s[0] / n, my = s[1] / n, mz = s[2] / n;
-  Eigen::Matrix3d cov;
-  cov(0, 0) = s[3] / n - mx * mx;
-  cov(1, 1) = s[4] / n - my * my;
-  cov(2, 2) = s[5] / n - mz * mz;
-  cov(0, 1) = cov(1, 0) = s[6] / n - mx * my;
-  cov(0, 2) = cov(2, 0) = s[7] / n - mx * mz;
-  cov(1, 2) = cov(2, 1) = s[8] / n - my * mz;
-  if (!cov.allFinite() || cov.norm() == 0.0) return {0.0f, 0.0f, 1.0f};
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
-  Eigen::Vector3d v = es.eigenvectors().col(2);  // largest eigenvalue
-  // Fixed sign: largest-magnitude component positive.
-  int k = 0;
-  for (int j = 1; j < 3; ++j)
-    if (std::abs(v[j]) > std::abs(v[k])) k = j;
-  if (v[k] < 0) v = -v;
-  v.normalize();
-  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
-}
 
 // The sweep's inner loop: tests `len` consecutive sorted records against one probe record and
 // writes a 0/1 hit flag per candidate; returns the number of hits. Branch-free, so it vectorises; compiled twice (AVX2 and
@@ -170,63 +89,40 @@ __attribute__((target_clones("avx2", "default"))) std::uint32_t testCandidates(c
 }  // namespace
 
 void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams& params) {
-  const Bounds b = computeBounds(in);
-  if (b.firstBad != std::numeric_limits<std::uint32_t>::max())
+  using namespace tumble::detail;
+  const std::uint32_t numChunks = (in.n + kChunk - 1) / kChunk;
+  BoundsPartial* part = tumble::detail::grow(m_boundsPart, numChunks);
+  tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
+    BoundsPartial b = emptyBounds();
+    const std::uint32_t end = std::min(in.n, (c + 1) * kChunk);
+    for (std::uint32_t i = c * kChunk; i < end; ++i) addParticle(b, i, in.x[i], in.y[i], in.z[i], in.r[i]);
+    part[c] = b;
+  });
+  const BoundsPartial b = combineBounds(part, numChunks);
+  if (b.firstBad != 0xFFFFFFFFu)
     throw SimulationError("particle " + std::to_string(b.firstBad) + " has a non-finite position or radius");
 
   if (m_runsSinceAxis < 0 || m_runsSinceAxis >= std::max(1, params.pcaEvery)) {
-    m_axis = principalAxis(in);
+    // Centred covariance (SPEC §3.1 fix) in double, per fixed chunk, shifted by particle 0 so
+    // that the sums stay well conditioned; the chunks are combined in order.
+    double* cov = tumble::detail::grow(m_covPart, 9 * std::size_t(numChunks));
+    const double sx = in.x[0], sy = in.y[0], sz = in.z[0];
+    tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
+      double a[9] = {};
+      const std::uint32_t end = std::min(in.n, (c + 1) * kChunk);
+      for (std::uint32_t i = c * kChunk; i < end; ++i) {
+        const double x = in.x[i] - sx, y = in.y[i] - sy, z = in.z[i] - sz;
+        a[0] += x; a[1] += y; a[2] += z;
+        a[3] += x * x; a[4] += y * y; a[5] += z * z;
+        a[6] += x * y; a[7] += x * z; a[8] += y * z;
+      }
+      std::copy(a, a + 9, cov + 9 * std::size_t(c));
+    });
+    m_axis = principalAxisFromPartials(cov, numChunks, in.n);
     m_runsSinceAxis = 0;
   }
   ++m_runsSinceAxis;
-
-  SweepFrame& f = m_frame;
-  f.lz = m_axis;
-  // l_p ⟂ l_z from a cross product with the coordinate axis least aligned with l_z.
-  const double az[3] = {m_axis.x, m_axis.y, m_axis.z};
-  int least = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(az[k]) < std::abs(az[least])) least = k;
-  double e[3] = {0, 0, 0};
-  e[least] = 1.0;
-  double p[3] = {az[1] * e[2] - az[2] * e[1], az[2] * e[0] - az[0] * e[2], az[0] * e[1] - az[1] * e[0]};
-  const double pn = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-  for (double& c : p) c /= pn;
-  const double q[3] = {az[1] * p[2] - az[2] * p[1], az[2] * p[0] - az[0] * p[2], az[0] * p[1] - az[1] * p[0]};
-  f.lp = {float(p[0]), float(p[1]), float(p[2])};
-  f.lq = {float(q[0]), float(q[1]), float(q[2])};
-
-  double half[3];
-  float c[3];
-  for (int k = 0; k < 3; ++k) {
-    c[k] = static_cast<float>(0.5 * (double(b.lo[k]) + double(b.hi[k])));
-    half[k] = std::max(double(b.hi[k]) - c[k], double(c[k]) - b.lo[k]);
-  }
-  f.center = {c[0], c[1], c[2]};
-  const double u = std::ldexp(1.0, -24);
-  const double slack = 32.0 * u * (half[0] + half[1] + half[2]) + 1e-30;
-  f.slack = static_cast<float>(slack);
-  const double ep = std::abs(p[0]) * half[0] + std::abs(p[1]) * half[1] + std::abs(p[2]) * half[2];
-  const double eq = std::abs(q[0]) * half[0] + std::abs(q[1]) * half[1] + std::abs(q[2]) * half[2];
-  const double reach = double(in.maxRadius) + 4.0 * slack;
-
-  double m = params.cellSize > 0.0f ? params.cellSize : 4.0 * in.maxRadius;
-  for (;;) {
-    const double na = std::floor((ep + reach) / m) - std::floor(-(ep + reach) / m) + 3.0;
-    const double nb = std::floor((eq + reach) / m) - std::floor(-(eq + reach) / m) + 3.0;
-    if (na * nb < 2147483648.0) {
-      f.cellSize = static_cast<float>(m);
-      f.invCellSize = static_cast<float>(1.0 / m);
-      f.aMin = static_cast<std::int32_t>(std::floor(-(ep + reach) / m)) - 1;
-      f.bMin = static_cast<std::int32_t>(std::floor(-(eq + reach) / m)) - 1;
-      f.numA = static_cast<std::uint32_t>(na);
-      f.numB = static_cast<std::uint32_t>(nb);
-      break;
-    }
-    m *= std::sqrt(na * nb / 1073741824.0) * 1.01;  // too many cells: coarser grid (speed only)
-  }
-  const std::uint64_t cells = std::uint64_t(f.numA) * f.numB;
-  m_cellBits = cells > 1 ? std::bit_width(cells - 1) : 0;
+  m_cellBits = tumble::detail::computeFrame(b, m_axis, in.maxRadius, params, &m_frame);
 }
 
 void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, double* seconds) {
@@ -329,8 +225,9 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   const std::uint32_t numChunks = (numRec + kSweepChunk - 1) / kSweepChunk;
   if (m_chunkNbr.size() < numChunks) m_chunkNbr.resize(numChunks);
   std::uint32_t* nbrCount = tumble::detail::grow(m_nbrCount, numRec + 1);
-  const float reachR = in.maxRadius + 2.0f * f.slack;
-  const float maxWindow = 2.0f * reachR;  // ≥ every record's window r_s + reachR
+  const tumble::detail::SweepWindow win = tumble::detail::sweepWindow(in.maxRadius, f);
+  const float reachR = win.reach;
+  const float maxWindow = win.maxWindow;  // ≥ every record's window r_s + reachR
   const SortedColumns cols{sx, sy, sz, sr, spz, sbody, sa0, sb0};
   tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
     auto& out = m_chunkNbr[c];
@@ -394,16 +291,8 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
 }
 
 std::vector<Pair> Broadphase::sortedPairs(std::uint32_t n) const {
-  std::vector<Pair> out;
-  out.reserve(m_numEntries);
-  for (std::uint32_t i = 0; i < n; ++i)
-    for (std::uint32_t r = recFirst[i]; r < recFirst[i + 1]; ++r) {
-      const std::uint32_t s = inv[r];
-      for (std::uint32_t e = nbrOffsets[s]; e < nbrOffsets[s + 1]; ++e)
-        out.push_back({std::min(i, nbr[e]), std::max(i, nbr[e])});
-    }
-  std::sort(out.begin(), out.end());  // keys are unique, so the order is unique
-  return out;
+  if (recFirst.size() < std::size_t(n) + 1 || m_numRecords == 0) return {};  // before the first detection
+  return tumble::detail::sortedPairs(n, recFirst.data(), inv.data(), nbrOffsets.data(), nbr.data(), m_numEntries);
 }
 
 }  // namespace tumble::cpu::detail

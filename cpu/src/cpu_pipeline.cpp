@@ -25,6 +25,7 @@
 #include "tumble/error.hpp"
 #include "tumble/kernels/contact.hpp"
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/sweep_frame.hpp"
 
 namespace tumble::cpu {
 namespace {
@@ -45,14 +46,11 @@ class CpuPipeline final : public Pipeline {
     m_world = world;
     m_state = world.state;
     const std::uint32_t n = world.numParticles();
-    const std::uint32_t nb = world.numBodies();
     m_clumps = world.hasClumps;
     for (auto* c : {&m_x, &m_y, &m_z, &m_vx, &m_vy, &m_vz, &m_rx, &m_ry, &m_rz}) c->assign(m_clumps ? n : 0, 0.0f);
     for (auto* c : {&m_fx, &m_fy, &m_fz, &m_tx, &m_ty}) c->assign(n, 0.0f);
     for (auto* c : {&m_cx, &m_cy, &m_cz}) c->assign(m_clumps ? n : 0, 0.0f);
-    m_omega.assign(nb, Vec3f{0, 0, 0});
-    for (std::uint32_t k = 0; k < nb; ++k)
-      m_omega[k] = angularVelocity(quat(k), world.invInertia[k], Vec3f{m_state.lx[k], m_state.ly[k], m_state.lz[k]});
+    m_omega = tumble::detail::initialOmega(world);
     m_pulls = world.params.pulls.active;
     m_time = 0.0;
     m_steps = 0;
@@ -316,21 +314,3 @@ std::unique_ptr<Pipeline> makeCpuPipeline(const PipelineOptions& options) {
 
 }  // namespace tumble::cpu
 
-namespace tumble {
-
-std::vector<Backend> compiledBackends() {
-#if TUMBLE_HAS_CUDA_PIPELINE
-  return {Backend::Cpu, Backend::Cuda};
-#else
-  return {Backend::Cpu};
-#endif
-}
-
-bool cudaAvailable() { return false; }
-
-std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options) {
-  if (backend == Backend::Cpu) return cpu::makeCpuPipeline(options);
-  throw Error("this build of tumble has no CUDA pipeline (it lands with the CUDA module; use --pipeline cpu)");
-}
-
-}  // namespace tumble

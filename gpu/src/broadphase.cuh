@@ -7,10 +7,14 @@
 
 #include "cuda_context.cuh"
 #include "device_buffer.cuh"
-#include "frame.hpp"
+#include "tumble/sweep_frame.hpp"
 #include "tumble/kernels/cell_key.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
+
+namespace tumble::gpu::detail {
+using namespace tumble::detail;  // shared host-side frame logic (core/include/tumble/sweep_frame.hpp)
+}  // namespace tumble::gpu::detail
 
 namespace tumble::gpu::detail {
 

@@ -27,7 +27,7 @@
 #include "broadphase.cuh"
 #include "cuda_context.cuh"
 #include "device_buffer.cuh"
-#include "frame.hpp"
+#include "tumble/sweep_frame.hpp"
 #include "tumble/error.hpp"
 #include "tumble/gpu/cuda_pipeline.hpp"
 #include "tumble/kernels/contact.hpp"

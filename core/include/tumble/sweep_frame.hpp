@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Host-side pieces of the CUDA broadphase that must give the same bits as the CPU pipeline:
-// the bounds reduction semantics, the PCA axis from the covariance chunk partials (Eigen),
-// the sweep frame, the initial angular velocities and the sorted pair list. frame.cpp is
-// compiled by the host compiler with the project's flags (-ffp-contract=off), like
-// cpu/src/broadphase.cpp; this header is also included by .cu files (valid C++17).
-// Internal to tumble::gpu.
+/// @file sweep_frame.hpp
+/// Host-side pieces of the broadphase shared by the CPU and CUDA pipelines, written once so
+/// that both give the same bits: the bounds reduction (per fixed chunk, merged in order), the
+/// PCA axis from the covariance chunk partials (Eigen, in core/src/sweep_frame.cpp), the sweep
+/// frame and cell grid, the sweep window, the initial angular velocities and the sorted pair
+/// list. Valid C++17 (also included by .cu files). Internal: namespace tumble::detail.
 #pragma once
 #include <cfloat>
 #include <cmath>
@@ -17,14 +17,14 @@
 #include "tumble/scene.hpp"
 #include "tumble/world.hpp"
 
-namespace tumble::gpu::detail {
+namespace tumble::detail {
 
-/// Fixed reduction chunk, the CPU's kChunk (cpu/src/broadphase.cpp): bounds and covariance
-/// partials are per 4096 particles, combined on the host in chunk order.
+/// Fixed reduction chunk: bounds and covariance partials are per 4096 particles, combined on
+/// the host in chunk order (the same on every backend and thread count).
 inline constexpr std::uint32_t kChunk = 4096;
 
 /// Bounding box of the finite particles plus the lowest index of a non-finite one
-/// (twin of the CPU's Bounds; FLT_MAX is std::numeric_limits<float>::max()).
+/// (FLT_MAX is std::numeric_limits<float>::max()).
 struct BoundsPartial {
   float lo[3];
   float hi[3];
@@ -82,9 +82,9 @@ std::vector<Vec3f> initialOmega(const World& world);
 std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, const std::uint32_t* inv,
                               const std::uint32_t* nbrOffsets, const std::uint32_t* nbr, std::uint64_t numEntries);
 
-}  // namespace tumble::gpu::detail
+}  // namespace tumble::detail
 
-namespace tumble::gpu::detail {
+namespace tumble::detail {
 
 /// The sweep's two window constants, computed exactly as the CPU's Broadphase::run does:
 /// reach = maxRadius + 2·slack; every record's window is r_s + reach, and maxWindow = 2·reach
@@ -95,4 +95,4 @@ struct SweepWindow {
 };
 SweepWindow sweepWindow(float maxRadius, const SweepFrame& f);
 
-}  // namespace tumble::gpu::detail
+}  // namespace tumble::detail

@@ -5,7 +5,7 @@
 // the device instead of computed here); the arithmetic and its order are unchanged. Compiled by
 // the host compiler with the project's flags, as the CPU twins are. Keep the two in step: a
 // change to the CPU's frame or axis must be copied here (REVIEW.md lists the pairs).
-#include "frame.hpp"
+#include "tumble/sweep_frame.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -15,7 +15,7 @@
 
 #include "tumble/kernels/integrate.hpp"
 
-namespace tumble::gpu::detail {
+namespace tumble::detail {
 
 BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks) {
   BoundsPartial b = emptyBounds();
@@ -127,9 +127,9 @@ std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, co
   return out;
 }
 
-}  // namespace tumble::gpu::detail
+}  // namespace tumble::detail
 
-namespace tumble::gpu::detail {
+namespace tumble::detail {
 
 // Twin: cpu/src/broadphase.cpp Broadphase::run(), "reachR" and "maxWindow".
 SweepWindow sweepWindow(float maxRadius, const SweepFrame& f) {
@@ -138,4 +138,4 @@ SweepWindow sweepWindow(float maxRadius, const SweepFrame& f) {
   return {reachR, maxWindow};
 }
 
-}  // namespace tumble::gpu::detail
+}  // namespace tumble::detail

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+// The pipeline factory: the one place that knows which backends this build has.
+#include <string>
+
+#include "tumble/config.hpp"
+#include "tumble/cpu/cpu_pipeline.hpp"
+#include "tumble/error.hpp"
+#include "tumble/pipeline.hpp"
+#if TUMBLE_HAS_CUDA
+#include "tumble/gpu/cuda_pipeline.hpp"
+#endif
+
+namespace tumble {
+
+std::vector<Backend> compiledBackends() {
+#if TUMBLE_HAS_CUDA
+  return {Backend::Cpu, Backend::Cuda};
+#else
+  return {Backend::Cpu};
+#endif
+}
+
+bool cudaAvailable() {
+#if TUMBLE_HAS_CUDA
+  return gpu::deviceAvailable();
+#else
+  return false;
+#endif
+}
+
+std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options) {
+  if (backend == Backend::Cpu) return cpu::makeCpuPipeline(options);
+#if TUMBLE_HAS_CUDA
+  if (!gpu::deviceAvailable())
+    throw Error("the CUDA pipeline needs an NVIDIA GPU, and none was found (use --pipeline cpu)");
+  return gpu::makeCudaPipeline(options);
+#else
+  throw Error("this build of tumble has no CUDA pipeline: rebuild with a CUDA compiler "
+              "(TUMBLE_ENABLE_CUDA=ON) or use --pipeline cpu");
+#endif
+}
+
+}  // namespace tumble
