@@ -23,8 +23,7 @@
 #include "broadphase.hpp"
 #include "grow.hpp"
 #include "tumble/error.hpp"
-#include "tumble/kernels/contact.hpp"
-#include "tumble/kernels/integrate.hpp"
+#include "tumble/kernels/step.hpp"
 #include "tumble/sweep_frame.hpp"
 
 namespace tumble::cpu {
@@ -116,7 +115,6 @@ class CpuPipeline final : public Pipeline {
   double time() const override { return m_time; }
 
  private:
-  Quatf quat(std::uint32_t k) const { return {m_state.qw[k], m_state.qx[k], m_state.qy[k], m_state.qz[k]}; }
   // Particle columns: with single-sphere bodies, particle i is body i.
   const float* x() const { return m_clumps ? m_x.data() : m_state.px.data(); }
   const float* y() const { return m_clumps ? m_y.data() : m_state.py.data(); }
@@ -132,17 +130,11 @@ class CpuPipeline final : public Pipeline {
     // 1. Particle state from body state.
     auto t0 = Clock::now();
     if (m_clumps) {
+      const BodiesView bv = bodiesView();
+      const ParticleStaticView st = staticView();
+      const ParticleStateView ps = stateView();
       tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kGrain), [&](const auto& rg) {
-        for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
-          const std::uint32_t k = m_world.body[i];
-          Vec3f xo, vo;
-          const Vec3f ru = particleFromBody(Vec3f{m_state.px[k], m_state.py[k], m_state.pz[k]},
-                                            Vec3f{m_state.vx[k], m_state.vy[k], m_state.vz[k]}, quat(k), m_omega[k],
-                                            Vec3f{m_world.ux[i], m_world.uy[i], m_world.uz[i]}, &xo, &vo);
-          m_x[i] = xo.x; m_y[i] = xo.y; m_z[i] = xo.z;
-          m_vx[i] = vo.x; m_vy[i] = vo.y; m_vz[i] = vo.z;
-          m_rx[i] = ru.x; m_ry[i] = ru.y; m_rz[i] = ru.z;
-        }
+        for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) particleStateOf(bv, m_omega.data(), st, ps, i);
       });
     }
     sec[int(Phase::State)] += since(t0);
@@ -186,106 +178,55 @@ class CpuPipeline final : public Pipeline {
   template <bool kDebug, bool kClumps>
   void forces() {
     const std::uint32_t n = m_world.numParticles();
-    const Scene& p = m_world.params;
-    const ContactCoeffs cc{p.contact.stiffness, p.contact.damping, p.contact.shear};
-    const GroundCoeffs gc{p.ground.height, p.ground.stiffness,
-                          p.ground.tangentialStiffness > 0.0f ? p.ground.tangentialStiffness
-                                                              : p.ground.stiffness * (2.0f / 7.0f),
-                          p.ground.friction};
-    const bool ground = p.ground.enabled;
-    const float dt = p.dt;
-    const std::uint32_t pulls = m_pulls;
-    const float* px = x(); const float* py = y(); const float* pz = z();
-    const float* pvx = vx(); const float* pvy = vy(); const float* pvz = vz();
-    const float* rad = m_world.radius.data();
-    const auto& bp = m_bp;
+    const ParticleStaticView st = staticView();
+    const ParticleStateView ps = stateView();
+    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data()};
+    const ContactListView cl{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
+                             m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
+    const ForceParams fp = makeForceParams(m_world.params, m_pulls);
+    DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}};
+    if constexpr (kDebug)
+      for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].data();
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kGrain), [&](const auto& rg) {
-      for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
-        const Vec3f xi{px[i], py[i], pz[i]};
-        const Vec3f vi{pvx[i], pvy[i], pvz[i]};
-        const float ri = rad[i];
-        Vec3f f{0.0f, 0.0f, 0.0f};
-        Vec3f tau{0.0f, 0.0f, 0.0f};  // couple of forces acting at contact points (clumps only)
-        Vec3f rep{0, 0, 0}, dmp{0, 0, 0}, shr{0, 0, 0};
-        auto contact = [&](std::uint32_t j) {
-            const ContactForces cf = contactForces(xi, vi, ri, Vec3f{px[j], py[j], pz[j]},
-                                                   Vec3f{pvx[j], pvy[j], pvz[j]}, rad[j], i < j, cc);
-            const Vec3f fc = total(cf);
-            f += fc;
-            if constexpr (kClumps) tau += cross(cf.lever, fc);
-            if constexpr (kDebug) {
-              rep += cf.repulsion;
-              dmp += cf.damping;
-              shr += cf.shear;
-            }
-        };
-        // Fixed order: forward neighbours by record, then backward neighbours (transpose order).
-        for (std::uint32_t r = bp.recFirst[i]; r < bp.recFirst[i + 1]; ++r) {
-          const std::uint32_t s = bp.inv[r];
-          for (std::uint32_t e = bp.nbrOffsets[s]; e < bp.nbrOffsets[s + 1]; ++e) contact(bp.nbr[e]);
-        }
-        for (std::uint32_t e = bp.backOffsets[i]; e < bp.backOffsets[i + 1]; ++e) contact(bp.back[e]);
-        GroundForces gf{{0, 0, 0}, {0, 0, 0}};
-        if (ground) {
-          gf = groundForces(xi, vi, ri, m_world.groundDamping[i], gc, dt, &m_tx[i], &m_ty[i]);
-          f += gf.normal + gf.friction;
-          if constexpr (kClumps) {
-            const float dg = ri - (xi.z - gc.height);
-            tau += cross(Vec3f{0.0f, 0.0f, -(ri - 0.5f * dg)}, gf.friction);
-          }
-        }
-        f += externalForce(xi, m_world.mass[i], p.gravity, p.pulls.x, p.pulls.y, p.pulls.swirl, pulls);
-        m_fx[i] = f.x;
-        m_fy[i] = f.y;
-        m_fz[i] = f.z;
-        if constexpr (kClumps) {
-          m_cx[i] = tau.x;
-          m_cy[i] = tau.y;
-          m_cz[i] = tau.z;
-        }
-        if constexpr (kDebug) {
-          const Vec3f parts[5] = {rep, dmp, shr, gf.normal, gf.friction};
-          for (int k = 0; k < 5; ++k) {
-            m_dbg[k][3 * i] = parts[k].x;
-            m_dbg[k][3 * i + 1] = parts[k].y;
-            m_dbg[k][3 * i + 2] = parts[k].z;
-          }
-        }
-      }
+      for (std::uint32_t i = rg.begin(); i != rg.end(); ++i)
+        particleForces<kDebug, kClumps>(st, ps, couples, cl, fp, dbg, i);
     });
   }
 
   void integrate() {
-    const std::uint32_t nb = m_world.numBodies();
+    const BodiesView bv = bodiesView();
+    const ParticleStateView ps = stateView();
+    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data()};
     const float dt = m_world.params.dt;
-    auto& s = m_state;
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb, kGrain), [&](const auto& rg) {
-      for (std::uint32_t k = rg.begin(); k != rg.end(); ++k) {
-        Vec3f F, T{0, 0, 0};
-        if (m_clumps) {
-          F = Vec3f{0, 0, 0};
-          const std::uint32_t a = m_world.first[k], e = a + m_world.numParticlesOf[k];
-          for (std::uint32_t i = a; i < e; ++i) {
-            const Vec3f fi{m_fx[i], m_fy[i], m_fz[i]};
-            F += fi;
-            T += cross(Vec3f{m_rx[i], m_ry[i], m_rz[i]}, fi) + Vec3f{m_cx[i], m_cy[i], m_cz[i]};
-          }
-        } else {
-          F = Vec3f{m_fx[k], m_fy[k], m_fz[k]};
-        }
-        Vec3f X{s.px[k], s.py[k], s.pz[k]}, V{s.vx[k], s.vy[k], s.vz[k]};
-        integrateTranslation(F, m_world.invMass[k], dt, &X, &V);
-        s.px[k] = X.x; s.py[k] = X.y; s.pz[k] = X.z;
-        s.vx[k] = V.x; s.vy[k] = V.y; s.vz[k] = V.z;
-        if (m_clumps && m_world.numParticlesOf[k] > 1) {
-          Vec3f L{s.lx[k], s.ly[k], s.lz[k]};
-          Quatf q = quat(k);
-          m_omega[k] = integrateRotation(T, m_world.invInertia[k], dt, &L, &q);
-          s.lx[k] = L.x; s.ly[k] = L.y; s.lz[k] = L.z;
-          s.qw[k] = q.w; s.qx[k] = q.x; s.qy[k] = q.y; s.qz[k] = q.z;
-        }
-      }
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, m_world.numBodies(), kGrain), [&](const auto& rg) {
+      for (std::uint32_t k = rg.begin(); k != rg.end(); ++k) integrateBody(bv, ps, couples, m_omega.data(), dt, m_clumps, k);
     });
+  }
+
+  // Views of the columns (the layout the shared stage bodies read). With single-sphere bodies
+  // the particle position and velocity columns are the body columns.
+  ParticleStaticView staticView() const {
+    const World& w = m_world;
+    return {w.radius.data(), w.mass.data(), w.elasticity.data(), w.groundDamping.data(), w.body.data(),
+            w.ux.data(),     w.uy.data(),   w.uz.data(),         w.numParticles()};
+  }
+  ParticleStateView stateView() {
+    auto& s = m_state;
+    float* px = m_clumps ? m_x.data() : s.px.data();
+    float* py = m_clumps ? m_y.data() : s.py.data();
+    float* pz = m_clumps ? m_z.data() : s.pz.data();
+    float* pvx = m_clumps ? m_vx.data() : s.vx.data();
+    float* pvy = m_clumps ? m_vy.data() : s.vy.data();
+    float* pvz = m_clumps ? m_vz.data() : s.vz.data();
+    return {px, py, pz, pvx, pvy, pvz, m_rx.data(), m_ry.data(), m_rz.data(), m_fx.data(), m_fy.data(),
+            m_fz.data(), m_tx.data(), m_ty.data(), m_world.numParticles()};
+  }
+  BodiesView bodiesView() {
+    auto& s = m_state;
+    return {m_world.invMass.data(), m_world.invInertia.data(), m_world.first.data(), m_world.numParticlesOf.data(),
+            s.px.data(), s.py.data(), s.pz.data(), s.vx.data(), s.vy.data(), s.vz.data(),
+            s.qw.data(), s.qx.data(), s.qy.data(), s.qz.data(), s.lx.data(), s.ly.data(), s.lz.data(),
+            m_world.numBodies()};
   }
 
   tbb::task_arena m_arena;

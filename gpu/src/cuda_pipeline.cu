@@ -27,6 +27,7 @@
 #include "broadphase.cuh"
 #include "cuda_context.cuh"
 #include "device_buffer.cuh"
+#include "tumble/kernels/step.hpp"
 #include "tumble/sweep_frame.hpp"
 #include "tumble/error.hpp"
 #include "tumble/gpu/cuda_pipeline.hpp"
@@ -37,143 +38,28 @@ namespace tumble::gpu {
 namespace detail {
 namespace {
 
-/// The CSR contact list of the broadphase (see Broadphase).
-struct ContactList {
-  const std::uint32_t* recFirst;
-  const std::uint32_t* inv;
-  const std::uint32_t* nbrOffsets;
-  const std::uint32_t* nbr;
-  const std::uint32_t* backOffsets;
-  const std::uint32_t* back;
-};
+using ContactList = ContactListView;
+using Couples = CouplesView;
+using DebugForces = DebugForcesView;
 
-/// Per-particle couples of the forces acting at contact points (clumps only).
-struct Couples {
-  float* x;
-  float* y;
-  float* z;
-};
-
-/// Scene constants of the force stage, prepared on the host exactly as the CPU's forces().
-struct ForceParams {
-  ContactCoeffs contact;
-  GroundCoeffs ground;
-  Vec3f gravity;
-  float pullX, pullY, pullSwirl;
-  float dt;
-  std::uint32_t pulls;
-  bool hasGround;
-};
-
-/// Debug capture: repulsion, damping, shear, ground, friction; 3 floats per particle each.
-struct DebugForces {
-  float* f[5];
-};
-
-// 1. Particle state from body state (clumps only). Twin: CpuPipeline::stepOnce, step 1.
+// Two-line wrappers around the shared stage bodies (core/include/tumble/kernels/step.hpp);
+// the CPU pipeline calls the same functions from TBB loops.
 __global__ void stateKernel(BodiesView bodies, const Vec3f* omega, ParticleStaticView st, ParticleStateView ps) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= st.count) return;
-  const std::uint32_t k = st.body[i];
-  Vec3f xo, vo;
-  const Vec3f ru = particleFromBody(Vec3f{bodies.px[k], bodies.py[k], bodies.pz[k]},
-                                    Vec3f{bodies.vx[k], bodies.vy[k], bodies.vz[k]},
-                                    Quatf{bodies.qw[k], bodies.qx[k], bodies.qy[k], bodies.qz[k]}, omega[k],
-                                    Vec3f{st.ux[i], st.uy[i], st.uz[i]}, &xo, &vo);
-  ps.x[i] = xo.x; ps.y[i] = xo.y; ps.z[i] = xo.z;
-  ps.vx[i] = vo.x; ps.vy[i] = vo.y; ps.vz[i] = vo.z;
-  ps.rx[i] = ru.x; ps.ry[i] = ru.y; ps.rz[i] = ru.z;
+  if (i < st.count) particleStateOf(bodies, omega, st, ps, i);
 }
 
-// 3–5. Per-particle forces. Twin: CpuPipeline::forces<kDebug, kClumps>, the loop body.
 template <bool kDebug, bool kClumps>
 __global__ void forcesKernel(ParticleStaticView st, ParticleStateView ps, Couples couples, ContactList cl,
                              ForceParams fp, DebugForces dbg) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= ps.count) return;
-  const Vec3f xi{ps.x[i], ps.y[i], ps.z[i]};
-  const Vec3f vi{ps.vx[i], ps.vy[i], ps.vz[i]};
-  const float ri = st.radius[i];
-  Vec3f f{0.0f, 0.0f, 0.0f};
-  Vec3f tau{0.0f, 0.0f, 0.0f};  // couple of forces acting at contact points (clumps only)
-  Vec3f rep{0, 0, 0}, dmp{0, 0, 0}, shr{0, 0, 0};
-  auto contact = [&](std::uint32_t j) {
-    const ContactForces cf = contactForces(xi, vi, ri, Vec3f{ps.x[j], ps.y[j], ps.z[j]},
-                                           Vec3f{ps.vx[j], ps.vy[j], ps.vz[j]}, st.radius[j], i < j, fp.contact);
-    const Vec3f fc = total(cf);
-    f += fc;
-    if constexpr (kClumps) tau += cross(cf.lever, fc);
-    if constexpr (kDebug) {
-      rep += cf.repulsion;
-      dmp += cf.damping;
-      shr += cf.shear;
-    }
-  };
-  // Fixed order: forward neighbours by record, then backward neighbours (transpose order).
-  for (std::uint32_t r = cl.recFirst[i]; r < cl.recFirst[i + 1]; ++r) {
-    const std::uint32_t s = cl.inv[r];
-    for (std::uint32_t e = cl.nbrOffsets[s]; e < cl.nbrOffsets[s + 1]; ++e) contact(cl.nbr[e]);
-  }
-  for (std::uint32_t e = cl.backOffsets[i]; e < cl.backOffsets[i + 1]; ++e) contact(cl.back[e]);
-  GroundForces gf{{0, 0, 0}, {0, 0, 0}};
-  if (fp.hasGround) {
-    float tx = ps.tx[i], ty = ps.ty[i];
-    gf = groundForces(xi, vi, ri, st.groundDamping[i], fp.ground, fp.dt, &tx, &ty);
-    ps.tx[i] = tx;
-    ps.ty[i] = ty;
-    f += gf.normal + gf.friction;
-    if constexpr (kClumps) {
-      const float dg = ri - (xi.z - fp.ground.height);
-      tau += cross(Vec3f{0.0f, 0.0f, -(ri - 0.5f * dg)}, gf.friction);
-    }
-  }
-  f += externalForce(xi, st.mass[i], fp.gravity, fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls);
-  ps.fx[i] = f.x;
-  ps.fy[i] = f.y;
-  ps.fz[i] = f.z;
-  if constexpr (kClumps) {
-    couples.x[i] = tau.x;
-    couples.y[i] = tau.y;
-    couples.z[i] = tau.z;
-  }
-  if constexpr (kDebug) {
-    const Vec3f parts[5] = {rep, dmp, shr, gf.normal, gf.friction};
-    for (int k = 0; k < 5; ++k) {
-      dbg.f[k][3 * std::size_t(i)] = parts[k].x;
-      dbg.f[k][3 * std::size_t(i) + 1] = parts[k].y;
-      dbg.f[k][3 * std::size_t(i) + 2] = parts[k].z;
-    }
-  }
+  if (i < ps.count) particleForces<kDebug, kClumps>(st, ps, couples, cl, fp, dbg, i);
 }
 
-// 6–7. Body totals and integration. Twin: CpuPipeline::integrate, the loop body.
 __global__ void integrateKernel(BodiesView b, ParticleStateView ps, Couples couples, Vec3f* omega, float dt,
                                 bool clumps) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= b.count) return;
-  Vec3f F, T{0, 0, 0};
-  if (clumps) {
-    F = Vec3f{0, 0, 0};
-    const std::uint32_t a = b.first[k], e = a + b.numParticles[k];
-    for (std::uint32_t i = a; i < e; ++i) {
-      const Vec3f fi{ps.fx[i], ps.fy[i], ps.fz[i]};
-      F += fi;
-      T += cross(Vec3f{ps.rx[i], ps.ry[i], ps.rz[i]}, fi) + Vec3f{couples.x[i], couples.y[i], couples.z[i]};
-    }
-  } else {
-    F = Vec3f{ps.fx[k], ps.fy[k], ps.fz[k]};
-  }
-  Vec3f X{b.px[k], b.py[k], b.pz[k]}, V{b.vx[k], b.vy[k], b.vz[k]};
-  integrateTranslation(F, b.invMass[k], dt, &X, &V);
-  b.px[k] = X.x; b.py[k] = X.y; b.pz[k] = X.z;
-  b.vx[k] = V.x; b.vy[k] = V.y; b.vz[k] = V.z;
-  if (clumps && b.numParticles[k] > 1) {
-    Vec3f L{b.lx[k], b.ly[k], b.lz[k]};
-    Quatf q{b.qw[k], b.qx[k], b.qy[k], b.qz[k]};
-    omega[k] = integrateRotation(T, b.invInertia[k], dt, &L, &q);
-    b.lx[k] = L.x; b.ly[k] = L.y; b.lz[k] = L.z;
-    b.qw[k] = q.w; b.qx[k] = q.x; b.qy[k] = q.y; b.qz[k] = q.z;
-  }
+  if (k < b.count) integrateBody(b, ps, couples, omega, dt, clumps, k);
 }
 
 /// The integrated body state on the device, one column per BodyState column.
@@ -379,18 +265,7 @@ class CudaPipeline final : public Pipeline {
 
     // 3–5. Per-particle forces: contacts (CSR order), ground, gravity and pulls.
     m_timer.mark(Phase::Forces, s);
-    const ForceParams fp{ContactCoeffs{p.contact.stiffness, p.contact.damping, p.contact.shear},
-                         GroundCoeffs{p.ground.height, p.ground.stiffness,
-                                      p.ground.tangentialStiffness > 0.0f ? p.ground.tangentialStiffness
-                                                                          : p.ground.stiffness * (2.0f / 7.0f),
-                                      p.ground.friction},
-                         p.gravity,
-                         p.pulls.x,
-                         p.pulls.y,
-                         p.pulls.swirl,
-                         p.dt,
-                         m_pulls,
-                         p.ground.enabled};
+    const ForceParams fp = makeForceParams(p, m_pulls);
     const ContactList cl{m_bp.recFirst.data(), m_bp.inv.data(),  m_bp.nbrOffsets.data(),
                          m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
     const Couples couples{m_cx.data(), m_cy.data(), m_cz.data()};
