@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "tumble/error.hpp"
@@ -25,6 +27,20 @@ const char* toString(Phase p) {
     case Phase::Integrate: return "integrate";
     default: return "?";
   }
+}
+
+float checkCloud(const ParticleCloud& cloud) {
+  const std::size_t n = cloud.size();
+  if (cloud.y.size() != n || cloud.z.size() != n || cloud.r.size() != n || cloud.body.size() != n)
+    throw Error("particle cloud columns differ in length");
+  if (n >= (std::size_t{1} << 31)) throw Error("too many particles (limit 2^31)");
+  float maxR = 0.0f;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(cloud.r[i] > 0.0f) || !std::isfinite(cloud.r[i]))
+      throw Error("particle " + std::to_string(i) + ": radius must be a positive finite number");
+    maxR = std::max(maxR, cloud.r[i]);
+  }
+  return maxR;
 }
 
 double StepStats::totalSeconds() const {

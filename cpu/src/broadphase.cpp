@@ -145,12 +145,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   ParticleRow* prow = tumble::detail::grow(m_prow, n);
   std::uint32_t* counts = tumble::detail::grow(m_counts, n + 1);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kChunk), [&](const auto& rg) {
-    for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
-      const Projected pr = project(f, Vec3f{in.x[i], in.y[i], in.z[i]});
-      const CellRange cr = cellRange(f, pr, in.r[i]);
-      prow[i] = ParticleRow{in.x[i], in.y[i], in.z[i], in.r[i], pr.z, in.body[i], cr.a0, cr.b0};
-      counts[i] = tumble::numRecords(cr);
-    }
+    for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) countRecords(in, f, prow, counts, i);
   });
   counts[n] = 0;
   std::uint32_t* first = recFirst.data();
@@ -163,23 +158,8 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   std::uint32_t* vals = tumble::detail::grow(m_vals, numRec);
   std::uint32_t* recParticle = tumble::detail::grow(m_recParticle, numRec);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kChunk), [&](const auto& rg) {
-    for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
-      std::uint32_t r = first[i];
-      const ParticleRow& pi = prow[i];
-      if (counts[i] == 1) {
-        keys[r] = sweepKey(cellNumber(f, pi.a0, pi.b0), pi.pz);
-        vals[r] = r;
-        recParticle[r] = i;
-        continue;
-      }
-      const CellRange cr = cellRange(f, project(f, Vec3f{in.x[i], in.y[i], in.z[i]}), in.r[i]);
-      for (std::int32_t a = cr.a0; a <= cr.a1; ++a)
-        for (std::int32_t b = cr.b0; b <= cr.b1; ++b, ++r) {
-          keys[r] = sweepKey(cellNumber(f, a, b), pi.pz);
-          vals[r] = r;
-          recParticle[r] = i;
-        }
-    }
+    for (std::uint32_t i = rg.begin(); i != rg.end(); ++i)
+      emitRecords(in, f, prow, counts, first, keys, vals, recParticle, i);
   });
   seconds[int(Phase::Keys)] += since(t0);
 

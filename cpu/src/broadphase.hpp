@@ -6,22 +6,12 @@
 #include <vector>
 
 #include "tumble/kernels/cell_key.hpp"
+#include "tumble/kernels/records.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/sweep_frame.hpp"
 
 namespace tumble::cpu::detail {
-
-/// Particle columns the broadphase reads.
-struct BroadphaseInput {
-  const float* x;
-  const float* y;
-  const float* z;
-  const float* r;
-  const std::uint32_t* body;
-  std::uint32_t n;
-  float maxRadius;
-};
 
 /// Finds every overlapping pair of particles of different bodies and stores them as a CSR
 /// contact list in two halves.
@@ -65,13 +55,6 @@ class Broadphase {
   int m_cellBits = 0;
 
   // Scratch (grow-only).
-  // Per-particle row written by the key pass, so that the gather after the sort reads one
-  // 32-byte row per record instead of eight scattered columns.
-  struct alignas(32) ParticleRow {
-    float x, y, z, r, pz;
-    std::uint32_t body;
-    std::int32_t a0, b0;
-  };
   std::vector<ParticleRow> m_prow;
   std::vector<std::uint32_t> m_counts;
   std::vector<std::uint64_t> m_keys, m_sortedKeys;

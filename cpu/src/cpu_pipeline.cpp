@@ -70,19 +70,11 @@ class CpuPipeline final : public Pipeline {
   std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles()); }
 
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
+    const float maxR = checkCloud(cloud);
     const std::size_t n = cloud.size();
-    if (cloud.y.size() != n || cloud.z.size() != n || cloud.r.size() != n || cloud.body.size() != n)
-      throw Error("particle cloud columns differ in length");
-    if (n >= (std::size_t{1} << 31)) throw Error("too many particles (limit 2^31)");
-    float maxR = 0.0f;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!(cloud.r[i] > 0.0f) || !std::isfinite(cloud.r[i]))
-        throw Error("particle " + std::to_string(i) + ": radius must be a positive finite number");
-      maxR = std::max(maxR, cloud.r[i]);
-    }
     cpu::detail::Broadphase b;
     double sec[kNumPhases] = {};
-    const cpu::detail::BroadphaseInput in{cloud.x.data(), cloud.y.data(),    cloud.z.data(),
+    const BroadphaseInput in{cloud.x.data(), cloud.y.data(),    cloud.z.data(),
                                           cloud.r.data(), cloud.body.data(), static_cast<std::uint32_t>(n),
                                           maxR};
     std::vector<Pair> out;
@@ -140,7 +132,7 @@ class CpuPipeline final : public Pipeline {
     sec[int(Phase::State)] += since(t0);
 
     // 2. Collision detection → CSR contact list.
-    const cpu::detail::BroadphaseInput in{x(), y(), z(), m_world.radius.data(), m_world.body.data(), n,
+    const BroadphaseInput in{x(), y(), z(), m_world.radius.data(), m_world.body.data(), n,
                                           m_world.maxRadius};
     try {
       m_bp.run(in, m_world.params.broadphase, sec);

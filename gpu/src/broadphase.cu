@@ -110,15 +110,8 @@ __global__ void __launch_bounds__(kBlock) covarianceKernel(BroadphaseInput in, d
 // Twin of the CPU's first key loop; thread n writes the trailing zero of counts.
 __global__ void keysCountKernel(BroadphaseInput in, SweepFrame f, ParticleRow* prow, std::uint32_t* counts) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i > in.n) return;
-  if (i == in.n) {
-    counts[i] = 0;
-    return;
-  }
-  const Projected pr = project(f, Vec3f{in.x[i], in.y[i], in.z[i]});
-  const CellRange cr = cellRange(f, pr, in.r[i]);
-  prow[i] = ParticleRow{in.x[i], in.y[i], in.z[i], in.r[i], pr.z, in.body[i], cr.a0, cr.b0};
-  counts[i] = numRecords(cr);
+  if (i < in.n) countRecords(in, f, prow, counts, i);
+  if (i == in.n) counts[i] = 0;
 }
 
 // Twin of the CPU's second key loop: particle i's records in (a, b) row-major order.
@@ -126,22 +119,7 @@ __global__ void keysEmitKernel(BroadphaseInput in, SweepFrame f, const ParticleR
                                const std::uint32_t* first, std::uint64_t* keys, std::uint32_t* vals,
                                std::uint32_t* recParticle) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= in.n) return;
-  std::uint32_t r = first[i];
-  const ParticleRow pi = prow[i];
-  if (counts[i] == 1) {
-    keys[r] = sweepKey(cellNumber(f, pi.a0, pi.b0), pi.pz);
-    vals[r] = r;
-    recParticle[r] = i;
-    return;
-  }
-  const CellRange cr = cellRange(f, project(f, Vec3f{in.x[i], in.y[i], in.z[i]}), in.r[i]);
-  for (std::int32_t a = cr.a0; a <= cr.a1; ++a)
-    for (std::int32_t b = cr.b0; b <= cr.b1; ++b, ++r) {
-      keys[r] = sweepKey(cellNumber(f, a, b), pi.pz);
-      vals[r] = r;
-      recParticle[r] = i;
-    }
+  if (i < in.n) emitRecords(in, f, prow, counts, first, keys, vals, recParticle, i);
 }
 
 // --- Sweep ---------------------------------------------------------------------------------

@@ -9,6 +9,7 @@
 #include "device_buffer.cuh"
 #include "tumble/sweep_frame.hpp"
 #include "tumble/kernels/cell_key.hpp"
+#include "tumble/kernels/records.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
 
@@ -17,25 +18,6 @@ using namespace tumble::detail;  // shared host-side frame logic (core/include/t
 }  // namespace tumble::gpu::detail
 
 namespace tumble::gpu::detail {
-
-/// Particle columns the broadphase reads (device pointers).
-struct BroadphaseInput {
-  const float* x;
-  const float* y;
-  const float* z;
-  const float* r;
-  const std::uint32_t* body;
-  std::uint32_t n;
-  float maxRadius;
-};
-
-/// One particle's row, written by the key pass and gathered per sorted record (the CPU's
-/// ParticleRow: one 32-byte load per record instead of eight scattered columns).
-struct alignas(32) ParticleRow {
-  float x, y, z, r, pz;
-  std::uint32_t body;
-  std::int32_t a0, b0;
-};
 
 /// Finds every overlapping pair of particles of different bodies and stores them as the CPU's
 /// CSR contact list in two halves, with identical contents:

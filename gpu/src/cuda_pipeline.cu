@@ -150,16 +150,8 @@ class CudaPipeline final : public Pipeline {
 
   // Twin: CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
+    const float maxR = checkCloud(cloud);
     const std::size_t n = cloud.size();
-    if (cloud.y.size() != n || cloud.z.size() != n || cloud.r.size() != n || cloud.body.size() != n)
-      throw Error("particle cloud columns differ in length");
-    if (n >= (std::size_t{1} << 31)) throw Error("too many particles (limit 2^31)");
-    float maxR = 0.0f;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!(cloud.r[i] > 0.0f) || !std::isfinite(cloud.r[i]))
-        throw Error("particle " + std::to_string(i) + ": radius must be a positive finite number");
-      maxR = std::max(maxR, cloud.r[i]);
-    }
     if (n == 0) return {};
     const cudaStream_t s = m_ctx.stream();
     DeviceBuffer<float> x, y, z, r;

@@ -69,6 +69,10 @@ struct ParticleCloud {
   std::size_t size() const { return x.size(); }
 };
 
+/// Checks a cloud for Pipeline::findPairs(): equal column lengths, fewer than 2^31 particles,
+/// every radius positive and finite. Returns the largest radius; throws tumble::Error.
+float checkCloud(const ParticleCloud& cloud);
+
 /// One simulation pipeline. Not thread-safe: one caller at a time.
 ///
 /// Determinism: for a given backend, the state after step() is bit-identical for any thread
