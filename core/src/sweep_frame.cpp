@@ -83,22 +83,24 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const Broa
   const double eq = std::abs(q[0]) * half[0] + std::abs(q[1]) * half[1] + std::abs(q[2]) * half[2];
   const double reach = double(maxRadius) + 4.0 * slack;
 
-  double m = params.cellSize > 0.0f ? params.cellSize : 4.0 * maxRadius;
+  double m = params.cellSize > 0.0f ? params.cellSize : 6.0 * maxRadius;  // 3 diameters: measured best (docs/performance.md)
   for (;;) {
     const double na = std::floor((ep + reach) / m) - std::floor(-(ep + reach) / m) + 3.0;
     const double nb = std::floor((eq + reach) / m) - std::floor(-(eq + reach) / m) + 3.0;
-    if (na * nb < 2147483648.0) {
+    const double nbPow2 = nb <= 1.0 ? 1.0 : std::exp2(std::ceil(std::log2(nb)));
+    if (na * nbPow2 < 2147483648.0) {
       f.cellSize = static_cast<float>(m);
       f.invCellSize = static_cast<float>(1.0 / m);
       f.aMin = static_cast<std::int32_t>(std::floor(-(ep + reach) / m)) - 1;
       f.bMin = static_cast<std::int32_t>(std::floor(-(eq + reach) / m)) - 1;
       f.numA = static_cast<std::uint32_t>(na);
       f.numB = static_cast<std::uint32_t>(nb);
+      f.bShift = f.numB > 1 ? static_cast<std::uint32_t>(std::bit_width(f.numB - 1)) : 0u;
       break;
     }
-    m *= std::sqrt(na * nb / 1073741824.0) * 1.01;  // too many cells: coarser grid (speed only)
+    m *= std::sqrt(na * nbPow2 / 1073741824.0) * 1.01;  // too many cells: coarser grid (speed only)
   }
-  const std::uint64_t cells = std::uint64_t(f.numA) * f.numB;
+  const std::uint64_t cells = std::uint64_t(f.numA) << f.bShift;
   return cells > 1 ? static_cast<int>(std::bit_width(cells - 1)) : 0;
 }
 

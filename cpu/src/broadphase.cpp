@@ -220,8 +220,8 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
       const float zs = spz[s];
       if (e <= s) e = s + 1;
       while (e < numRec && static_cast<std::uint32_t>(skeys[e] >> 32) == cell && spz[e] - zs < maxWindow) ++e;
-      const std::int32_t a = static_cast<std::int32_t>(cell / f.numB) + f.aMin;
-      const std::int32_t b = static_cast<std::int32_t>(cell % f.numB) + f.bMin;
+      std::int32_t a, b;
+      cellOfNumber(f, cell, &a, &b);
       const Probe me{sx[s], sy[s], sz[s], sr[s], zs, sr[s] + reachR, sbody[s], sa0[s], sb0[s], a, b};
       const std::uint32_t len = e - s - 1;
       if (cand.size() < len) cand.resize(len);

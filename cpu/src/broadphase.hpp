@@ -31,7 +31,7 @@ class Broadphase {
 
   std::uint32_t numRecords() const { return m_numRecords; }
   std::uint64_t numPairs() const { return m_numEntries; }
-  std::uint64_t numCells() const { return std::uint64_t(m_frame.numA) * m_frame.numB; }
+  std::uint64_t numCells() const { return std::uint64_t(m_frame.numA) * m_frame.numB; }  ///< cells of the grid
   const SweepFrame& frame() const { return m_frame; }
   /// Pairs (i < j), sorted.
   std::vector<Pair> sortedPairs(std::uint32_t n) const;

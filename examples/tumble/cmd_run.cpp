@@ -176,7 +176,7 @@ void addRun(CLI::App& app) {
   c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)");
   c->add_flag("--debug-record", o->debug, "Add velocities, the five forces and the contacts to every frame");
   c->add_option("--state-out", o->stateOut, "Write the final body state as CSV (exact float round trip)");
-  c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 2 x largest diameter)");
+  c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 x largest diameter)");
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K steps");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->callback([o] { run(*o); });

@@ -141,8 +141,7 @@ struct SweepArgs {
   const ParticleRow* srow;
   const std::uint32_t* sp;
   std::uint32_t numRec;
-  std::uint32_t numB;
-  std::int32_t aMin, bMin;
+  SweepFrame frame;
   float reach;      // maxRadius + 2 slack
   float maxWindow;  // 2 reach
 };
@@ -155,8 +154,8 @@ __device__ __forceinline__ std::uint32_t sweepRecord(const SweepArgs& a, std::ui
                                                      std::uint32_t* owner, std::uint32_t base) {
   const std::uint32_t cell = static_cast<std::uint32_t>(a.skeys[s] >> 32);
   const ParticleRow me = a.srow[s];
-  const std::int32_t ca = static_cast<std::int32_t>(cell / a.numB) + a.aMin;
-  const std::int32_t cb = static_cast<std::int32_t>(cell % a.numB) + a.bMin;
+  std::int32_t ca, cb;
+  cellOfNumber(a.frame, cell, &ca, &cb);
   const float window = me.r + a.reach;
   const std::uint32_t self = kEmit ? a.sp[s] : 0u;
   std::uint32_t k = 0;
@@ -309,7 +308,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   gatherKernel<<<blocksFor(numRec), kBlock, 0, stream>>>(svals, recParticle, prow, numRec, invp, sp, srow);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "gatherKernel");
   const SweepWindow w = sweepWindow(in.maxRadius, f);
-  const SweepArgs args{skeys, srow, sp, numRec, f.numB, f.aMin, f.bMin, w.reach, w.maxWindow};
+  const SweepArgs args{skeys, srow, sp, numRec, f, w.reach, w.maxWindow};
   std::uint32_t* nbrCount = m_nbrCount.grow(std::size_t(numRec) + 1);
   sweepCountKernel<<<blocksFor(std::uint64_t(numRec) + 1), kBlock, 0, stream>>>(args, nbrCount);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "sweepCountKernel");

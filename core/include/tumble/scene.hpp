@@ -64,7 +64,7 @@ struct BodyDef {
 
 /// Collision-detection knobs. They change speed only, never the pair set.
 struct BroadphaseParams {
-  float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (2 × largest diameter)
+  float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (3 × largest diameter)
   int pcaEvery = 10;       ///< recompute the PCA axis every K steps (1 = every step)
 };
 

@@ -24,6 +24,7 @@ struct SweepFrame {
   float slack;            ///< bound on the rounding error of a projected coordinate difference
   std::int32_t aMin, bMin;  ///< lowest cell indices that can occur
   std::uint32_t numA, numB; ///< cells along p and q
+  std::uint32_t bShift;     ///< cell number = (a − aMin) << bShift | (b − bMin); 2^bShift ≥ numB
 };
 
 /// Order-preserving map float → uint32: a < b (as floats, not NaN) ⇔ bits(a) < bits(b).
@@ -72,9 +73,16 @@ TUMBLE_HD_INLINE CellRange cellRange(const SweepFrame& f, Projected pr, float r)
           cellIndex(pr.q - e, f.invCellSize, f.bMin, f.numB), cellIndex(pr.q + e, f.invCellSize, f.bMin, f.numB)};
 }
 
-/// Linear cell number of cell (a, b).
+/// Cell number of cell (a, b): the b index in the low bShift bits, so that decoding a cell
+/// number takes a shift and a mask rather than an integer division.
 TUMBLE_HD_INLINE std::uint32_t cellNumber(const SweepFrame& f, std::int32_t a, std::int32_t b) {
-  return static_cast<std::uint32_t>(a - f.aMin) * f.numB + static_cast<std::uint32_t>(b - f.bMin);
+  return (static_cast<std::uint32_t>(a - f.aMin) << f.bShift) | static_cast<std::uint32_t>(b - f.bMin);
+}
+
+/// Inverse of cellNumber().
+TUMBLE_HD_INLINE void cellOfNumber(const SweepFrame& f, std::uint32_t cell, std::int32_t* outA, std::int32_t* outB) {
+  *outA = static_cast<std::int32_t>(cell >> f.bShift) + f.aMin;
+  *outB = static_cast<std::int32_t>(cell & ((1u << f.bShift) - 1u)) + f.bMin;
 }
 
 /// Sort key of a sweep record: cell number high, ordered z bits low.
