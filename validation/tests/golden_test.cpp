@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+// Golden state hashes (validation/golden/state_hashes.txt): the CPU pipeline's result for each
+// scene is fixed bit for bit, on any machine and thread count. A change must be deliberate.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "tumble/scene_io.hpp"
+#include "tumble/validation/scenes.hpp"
+
+using namespace tumble;
+using namespace tumble::validation;
+
+TEST(Golden, CpuStateHashesMatch) {
+  std::ifstream in(sourcePath("validation/golden/state_hashes.txt"));
+  ASSERT_TRUE(in) << "cannot open validation/golden/state_hashes.txt";
+  std::string line;
+  int checked = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::string scene, hashText;
+    std::uint64_t steps = 0;
+    ASSERT_TRUE(ls >> scene >> steps >> hashText) << "bad line: " << line;
+    const std::uint64_t want = std::stoull(hashText, nullptr, 16);
+    const World w = World::fromScene(readSceneFile(sourcePath(scene)));
+    for (int threads : {1, 2}) {
+      PipelineOptions o;
+      o.threads = threads;
+      auto p = makePipeline(Backend::Cpu, o);
+      p->load(w);
+      p->step(steps);
+      BodyState s;
+      p->readState(s);
+      char got[17];
+      std::snprintf(got, sizeof got, "%016llx", static_cast<unsigned long long>(stateHash(s)));
+      EXPECT_EQ(stateHash(s), want) << scene << " after " << steps << " steps, " << threads << " threads: got " << got;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+}
