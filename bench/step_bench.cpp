@@ -82,7 +82,7 @@ void registerAll() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::AddCustomContext("pipeline", "cpu");
+  benchmark::AddCustomContext("pipeline", tumble::cudaAvailable() ? "cpu,cuda" : "cpu");
 #ifdef NDEBUG
   benchmark::AddCustomContext("build", "release");
 #else

@@ -31,9 +31,7 @@ bool cudaAvailable() {
 std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options) {
   if (backend == Backend::Cpu) return cpu::makeCpuPipeline(options);
 #if TUMBLE_HAS_CUDA
-  if (!gpu::deviceAvailable())
-    throw Error("the CUDA pipeline needs an NVIDIA GPU, and none was found (use --pipeline cpu)");
-  return gpu::makeCudaPipeline(options);
+  return gpu::makeCudaPipeline(options);  // throws tumble::Error naming the reason when no GPU can be used
 #else
   throw Error("this build of tumble has no CUDA pipeline: rebuild with a CUDA compiler "
               "(TUMBLE_ENABLE_CUDA=ON) or use --pipeline cpu");

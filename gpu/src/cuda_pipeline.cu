@@ -268,7 +268,6 @@ class CudaPipeline final : public Pipeline {
         forcesKernel<true, true><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
       else
         forcesKernel<true, false><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
-      m_hasDebug = true;
     } else {
       if (m_clumps)
         forcesKernel<false, true><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
@@ -276,6 +275,7 @@ class CudaPipeline final : public Pipeline {
         forcesKernel<false, false><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
     }
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "forcesKernel");
+    if (m_debug) m_hasDebug = true;
 
     // 6–7. Body totals and integration.
     m_timer.mark(Phase::Integrate, s);
@@ -336,8 +336,13 @@ bool deviceAvailable() noexcept {
 }
 
 std::unique_ptr<Pipeline> makeCudaPipeline(const PipelineOptions& options) {
-  if (!deviceAvailable())
-    throw Error("the CUDA pipeline needs a CUDA device and none is available (use --pipeline cpu)");
+  int count = 0;
+  const cudaError_t e = cudaGetDeviceCount(&count);
+  if (e != cudaSuccess) {
+    (void)cudaGetLastError();
+    throw Error(std::string("the CUDA pipeline cannot use a GPU: ") + cudaGetErrorString(e) + " (use --pipeline cpu)");
+  }
+  if (count == 0) throw Error("the CUDA pipeline needs a CUDA device and none is available (use --pipeline cpu)");
   return std::make_unique<detail::CudaPipeline>(options);
 }
 

@@ -51,9 +51,11 @@ TUMBLE_HD_INLINE void emitRecords(const BroadphaseInput& in, const SweepFrame& f
     recParticle[r] = i;
     return;
   }
+  // Same float expressions as countRecords(), so the same range; `end` guards the slot anyway.
+  const std::uint32_t end = first[i + 1];
   const CellRange cr = cellRange(f, project(f, Vec3f{in.x[i], in.y[i], in.z[i]}), in.r[i]);
   for (std::int32_t a = cr.a0; a <= cr.a1; ++a)
-    for (std::int32_t b = cr.b0; b <= cr.b1; ++b, ++r) {
+    for (std::int32_t b = cr.b0; b <= cr.b1 && r < end; ++b, ++r) {
       keys[r] = sweepKey(cellNumber(f, a, b), pi.pz);
       vals[r] = r;
       recParticle[r] = i;
