@@ -6,6 +6,8 @@
 #include "tumble/cpu/radix_sort.hpp"
 
 #include <gtest/gtest.h>
+
+#include "test_util.hpp"
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
@@ -18,6 +20,8 @@
 #include <vector>
 
 namespace {
+
+using tumble::cpu::test::sameArray;
 
 using tumble::cpu::radixSortKeys;
 using tumble::cpu::radixSortPairs;
@@ -101,20 +105,6 @@ std::vector<std::uint32_t> referencePermutation(const std::vector<K>& keys, int 
   return perm;
 }
 
-template <class T>
-::testing::AssertionResult sameArray(const std::vector<T>& actual, const std::vector<T>& expected) {
-  if (actual.size() != expected.size())
-    return ::testing::AssertionFailure() << "size " << actual.size() << " != " << expected.size();
-  for (std::size_t i = 0; i < actual.size(); ++i) {
-    if (std::memcmp(&actual[i], &expected[i], sizeof(T)) != 0) {
-      auto failure = ::testing::AssertionFailure() << "first mismatch at index " << i;
-      if constexpr (std::is_integral_v<T>)
-        failure << ": got " << actual[i] << ", expected " << expected[i];
-      return failure;
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
 
 /// Runs radixSortPairs with an unaligned, garbage-filled temp and returns the outputs.
 template <class K, class V>
@@ -169,14 +159,7 @@ void checkKeys(const std::vector<K>& keys, int beginBit, int endBit) {
   EXPECT_TRUE(sameArray(out, expected));
 }
 
-std::vector<std::size_t> testSizes() {
-  std::vector<std::size_t> sizes = {0,    1,    2,     31,    32,    33,    127,   128,
-                                    129,  1023, 1024,  1025,  16383, 16384, 16385, 32767,
-                                    32768, 32769};
-  std::mt19937_64 rng(20240611);  // the random sizes are fixed by this seed
-  for (int i = 0; i < 4; ++i) sizes.push_back(2 + rng() % 200000);
-  return sizes;
-}
+std::vector<std::size_t> testSizes() { return tumble::cpu::test::testSizes(20240611, 200000); }  // seed fixes the random sizes
 
 template <class K>
 std::vector<std::pair<int, int>> bitRanges() {

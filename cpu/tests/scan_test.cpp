@@ -6,6 +6,8 @@
 #include "tumble/cpu/scan.hpp"
 
 #include <gtest/gtest.h>
+
+#include "test_util.hpp"
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
@@ -17,6 +19,8 @@
 #include <vector>
 
 namespace {
+
+using tumble::cpu::test::sameArray;
 
 using tumble::cpu::exclusiveSum;
 using tumble::cpu::inclusiveSum;
@@ -66,16 +70,6 @@ std::vector<T> reference(const std::vector<T>& in, bool inclusive) {
   return out;
 }
 
-template <class T>
-::testing::AssertionResult sameArray(const std::vector<T>& actual, const std::vector<T>& expected) {
-  if (actual.size() != expected.size())
-    return ::testing::AssertionFailure() << "size " << actual.size() << " != " << expected.size();
-  for (std::size_t i = 0; i < actual.size(); ++i)
-    if (actual[i] != expected[i])
-      return ::testing::AssertionFailure() << "first mismatch at index " << i << ": got "
-                                           << +actual[i] << ", expected " << +expected[i];
-  return ::testing::AssertionSuccess();
-}
 
 /// Runs the scan out of place (unaligned garbage temp) and in place; both must match.
 template <class T>
@@ -105,14 +99,7 @@ void checkScan(const std::vector<T>& in, bool inclusive) {
   EXPECT_TRUE(sameArray(inPlace, expected)) << "in place";
 }
 
-std::vector<std::size_t> testSizes() {
-  std::vector<std::size_t> sizes = {0,    1,    2,     31,    32,    33,    127,   128,
-                                    129,  1023, 1024,  1025,  16383, 16384, 16385, 32767,
-                                    32768, 32769};
-  std::mt19937_64 rng(987654321);  // the random sizes are fixed by this seed
-  for (int i = 0; i < 4; ++i) sizes.push_back(2 + rng() % 300000);
-  return sizes;
-}
+std::vector<std::size_t> testSizes() { return tumble::cpu::test::testSizes(987654321, 300000); }  // seed fixes the random sizes
 
 template <class T>
 class ScanTest : public ::testing::Test {};
