@@ -4,7 +4,9 @@
 #include "tumble/world.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -135,6 +137,30 @@ World World::fromScene(const Scene& scene) {
     s.lx[k] = static_cast<float>(L.x()); s.ly[k] = static_cast<float>(L.y()); s.lz[k] = static_cast<float>(L.z());
   }
   return w;
+}
+
+double shortestContactTime(const World& w) {
+  const double pi = 3.14159265358979323846;
+  double tc = std::numeric_limits<double>::infinity();
+  if (w.radius.empty()) return tc;
+  const double mMin = *std::min_element(w.mass.begin(), w.mass.end());
+  if (w.numBodies() > 1 && w.params.contact.stiffness > 0.0f)
+    tc = std::min(tc, pi * std::sqrt(0.5 * mMin / double(w.params.contact.stiffness)));
+  if (w.params.ground.enabled && w.params.ground.stiffness > 0.0f)
+    tc = std::min(tc, pi * std::sqrt(mMin / double(w.params.ground.stiffness)));
+  return tc;
+}
+
+std::string timeStepWarning(const World& w) {
+  const double tc = shortestContactTime(w);
+  const double dt = w.params.dt;
+  if (!(dt > tc / 10.0)) return {};
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "dt = %g s resolves the shortest contact (t_c = %.3g s, lightest particle %g kg) with only %.1f steps; "
+                "contacts may be inaccurate or unstable: use dt <= %.3g s (t_c / 20)",
+                dt, tc, double(*std::min_element(w.mass.begin(), w.mass.end())), tc / dt, tc / 20.0);
+  return buf;
 }
 
 double kineticEnergy(const World& world, const BodyState& s) {

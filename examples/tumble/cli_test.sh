@@ -76,6 +76,10 @@ grep -q "^sweep" out.txt && ok "phase table" || bad "no phase table in: $(cat ou
 "$bin" run small.toml --threads 1 --state-out state1.csv -q >/dev/null 2>&1
 cmp -s state.csv state1.csv && ok "state identical for 1 and 2 threads" || bad "state differs between thread counts"
 
+sed 's/^dt = 1e-4/dt = 2e-2/' small.toml > bigdt.toml
+expect_status "large dt runs" 0 "$bin" run bigdt.toml --steps 2 -q
+expect_msg "large dt warns" "warning: bigdt.toml: dt = 0.02 s .*use dt <="
+
 expect_status "debug recording" 0 "$bin" run small.toml --debug-record --record dbg.bin --record-steps 30 -q
 [ -s dbg.bin ] && ok "debug recording written" || bad "no debug recording"
 

@@ -85,6 +85,8 @@ void run(RunOptions o) {
   const bool debug = o.debug || scene.recordDebug;
 
   const World world = World::fromScene(scene);
+  if (const std::string w = timeStepWarning(world); !w.empty())
+    std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), w.c_str());
   PipelineOptions po;
   po.threads = o.threads;
   auto pipeline = makePipeline(backendFromString(o.pipeline), po);

@@ -4,6 +4,7 @@
 /// Pipelines copy it in at load() and write the body state back on demand.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "tumble/math.hpp"
@@ -58,6 +59,14 @@ double dampingForRestitution(double e, double k, double m);
 
 /// Restitution of the same model for damping c: e = exp(−ζπ/√(1−ζ²)) (0 when ζ ≥ 1).
 double restitutionForDamping(double c, double k, double m);
+
+/// Contact time π √(m_eff / k) of the stiffest, lightest contact the scene can have (two of its
+/// lightest particles with k_s; its lightest particle on the ground with k_g), undamped.
+double shortestContactTime(const World& world);
+
+/// Empty when dt resolves the shortest contact with at least 10 steps; otherwise a one-line
+/// warning naming the contact time and the dt to use (t_c / 20).
+std::string timeStepWarning(const World& world);
 
 /// Kinetic energy Σ ½ M V² + ½ Ω·L of the body state.
 double kineticEnergy(const World& world, const BodyState& state);

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+// Mass properties (SPEC §1) against analytic values, the restitution–damping relation, and the
+// time-step check.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tumble/error.hpp"
+#include "tumble/world.hpp"
+
+using namespace tumble;
+
+namespace {
+
+Scene oneBody(const ShapeDef& shape) {
+  Scene s;
+  s.shapes = {shape};
+  s.bodies = {BodyDef{}};
+  return s;
+}
+
+}  // namespace
+
+TEST(World, SingleSphereIsASolidSphere) {
+  const World w = World::fromScene(oneBody(ShapeDef{"s", {SphereDef{{1, 2, 3}, 0.5f, 2.0f, 0.5f}}}));
+  const float i = 0.4f * 2.0f * 0.25f;  // 2/5 m r²
+  EXPECT_FLOAT_EQ(w.inertia[0].xx, i);
+  EXPECT_FLOAT_EQ(w.inertia[0].yy, i);
+  EXPECT_FLOAT_EQ(w.inertia[0].zz, i);
+  EXPECT_FLOAT_EQ(w.inertia[0].xy, 0.0f);
+  EXPECT_FLOAT_EQ(w.invInertia[0].xx, 1.0f / i);
+  EXPECT_FLOAT_EQ(w.ux[0], 0.0f);  // the offset is measured from the centre of mass
+  EXPECT_FALSE(w.hasClumps);
+}
+
+TEST(World, DumbbellCentreOfMassAndInertia) {
+  // Masses 1 and 3 at x = 0 and x = 4: centre of mass at x = 3, offsets −3 and +1.
+  const World w = World::fromScene(
+      oneBody(ShapeDef{"d", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}, SphereDef{{4, 0, 0}, 0.5f, 3.0f, 0.5f}}}));
+  EXPECT_FLOAT_EQ(w.ux[0], -3.0f);
+  EXPECT_FLOAT_EQ(w.ux[1], 1.0f);
+  EXPECT_FLOAT_EQ(w.bodyMass[0], 4.0f);
+  const double spheres = 0.4 * 1.0 * 0.25 + 0.4 * 3.0 * 0.25;
+  EXPECT_NEAR(w.inertia[0].xx, spheres, 1e-6);                          // along the axis
+  EXPECT_NEAR(w.inertia[0].yy, spheres + 1.0 * 9.0 + 3.0 * 1.0, 1e-5);  // parallel axis terms
+  EXPECT_NEAR(w.inertia[0].zz, w.inertia[0].yy, 1e-6);
+  EXPECT_TRUE(w.hasClumps);
+}
+
+TEST(World, InitialAngularMomentumIsInertiaTimesOmega) {
+  Scene s = oneBody(ShapeDef{"d", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}, SphereDef{{4, 0, 0}, 0.5f, 3.0f, 0.5f}}});
+  s.bodies[0].angularVelocity = {0.0f, 0.0f, 2.0f};
+  const World w = World::fromScene(s);
+  EXPECT_NEAR(w.state.lz[0], 2.0 * w.inertia[0].zz, 1e-4);
+}
+
+TEST(World, RejectsBadScenes) {
+  Scene empty;
+  EXPECT_THROW(World::fromScene(empty), Error);
+  EXPECT_THROW(World::fromScene(oneBody(ShapeDef{"s", {SphereDef{{0, 0, 0}, -1.0f, 1.0f, 0.5f}}})), Error);
+  EXPECT_THROW(World::fromScene(oneBody(ShapeDef{"s", {SphereDef{{0, 0, 0}, 1.0f, 0.0f, 0.5f}}})), Error);
+  EXPECT_THROW(World::fromScene(oneBody(ShapeDef{"s", {SphereDef{{0, 0, 0}, 1.0f, 1.0f, 1.5f}}})), Error);
+}
+
+TEST(World, DampingGivesTheRequestedRestitution) {
+  for (double e : {0.05, 0.2, 0.5, 0.9, 1.0}) {
+    const double c = dampingForRestitution(e, 1e5, 0.3);
+    EXPECT_NEAR(restitutionForDamping(c, 1e5, 0.3), e, 1e-12) << "e = " << e;
+  }
+  EXPECT_EQ(dampingForRestitution(1.0, 1e5, 0.3), 0.0);
+}
+
+TEST(World, TimeStepWarning) {
+  Scene s = oneBody(ShapeDef{"s", {SphereDef{{0, 0, 0}, 0.1f, 0.5f, 0.5f}}});
+  s.ground.enabled = true;
+  s.ground.stiffness = 1.0e4f;
+  const double tc = 3.14159265358979 * std::sqrt(0.5 / 1.0e4);  // ≈ 22 ms
+  s.dt = static_cast<float>(tc / 50.0);
+  EXPECT_NEAR(shortestContactTime(World::fromScene(s)), tc, 1e-9);
+  EXPECT_TRUE(timeStepWarning(World::fromScene(s)).empty());
+  s.dt = static_cast<float>(tc / 4.0);
+  const std::string w = timeStepWarning(World::fromScene(s));
+  EXPECT_NE(w.find("use dt <="), std::string::npos) << w;
+}
