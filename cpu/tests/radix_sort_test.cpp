@@ -8,8 +8,6 @@
 #include <gtest/gtest.h>
 
 #include "test_util.hpp"
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -282,9 +280,7 @@ TEST(RadixSortPairs, TempBytesIndependentOfThreadsAndBits) {
                                                  nullptr, n);
     EXPECT_GT(reference, 0u);
     for (const int threads : {1, 2, 3}) {
-      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-      tbb::task_arena arena(threads);
-      arena.execute([&] {
+      tumble::cpu::test::withThreads(threads, [&] {
         std::size_t bytes = 0;
         radixSortPairs<std::uint64_t, std::uint32_t>(nullptr, bytes, nullptr, nullptr, nullptr,
                                                      nullptr, n, 3, 47);
@@ -306,11 +302,9 @@ TEST(RadixSortPairs, BitwiseIdenticalForAnyThreadCount) {
       std::vector<std::uint32_t> firstValues;
       for (const int threads : {1, 2, 3}) {
         SCOPED_TRACE("threads=" + std::to_string(threads));
-        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-        tbb::task_arena arena(threads);
         std::vector<std::uint64_t> outKeys;
         std::vector<std::uint32_t> outValues;
-        arena.execute([&] { runPairs(keys, values, outKeys, outValues, 0, 41); });
+        tumble::cpu::test::withThreads(threads, [&] { runPairs(keys, values, outKeys, outValues, 0, 41); });
         if (threads == 1) {
           firstKeys = outKeys;
           firstValues = outValues;

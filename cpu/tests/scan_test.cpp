@@ -8,8 +8,6 @@
 #include <gtest/gtest.h>
 
 #include "test_util.hpp"
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
 
 #include <cstdint>
 #include <numeric>
@@ -134,9 +132,7 @@ TEST(Scan, TempBytesIndependentOfThreads) {
     exclusiveSum<std::uint32_t>(nullptr, reference, nullptr, nullptr, n);
     EXPECT_GT(reference, 0u);
     for (const int threads : {1, 2, 3}) {
-      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-      tbb::task_arena arena(threads);
-      arena.execute([&] {
+      tumble::cpu::test::withThreads(threads, [&] {
         std::size_t bytes = 0;
         exclusiveSum<std::uint32_t>(nullptr, bytes, nullptr, nullptr, n);
         EXPECT_EQ(bytes, reference) << "threads=" << threads;
@@ -153,10 +149,8 @@ TEST(Scan, BitwiseIdenticalForAnyThreadCount) {
     const std::vector<std::uint32_t> expected = reference(in, false);
     for (const int threads : {1, 2, 3}) {
       SCOPED_TRACE("threads=" + std::to_string(threads));
-      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-      tbb::task_arena arena(threads);
       std::vector<std::uint32_t> out(n);
-      arena.execute([&] {
+      tumble::cpu::test::withThreads(threads, [&] {
         std::size_t bytes = 0;
         exclusiveSum<std::uint32_t>(nullptr, bytes, in.data(), out.data(), n);
         std::vector<unsigned char> temp(bytes);

@@ -2,6 +2,8 @@
 // Helpers shared by the primitive tests: array comparison and the CUB-style size list.
 #pragma once
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <cstdint>
 #include <cstring>
@@ -35,6 +37,14 @@ inline std::vector<std::size_t> testSizes(std::uint64_t seed, std::size_t maxRan
   std::mt19937_64 rng(seed);
   for (int i = 0; i < 4; ++i) sizes.push_back(2 + rng() % maxRandom);
   return sizes;
+}
+
+/// Runs f with TBB limited to `threads` worker threads (global limit and an arena of that size).
+template <class F>
+void withThreads(int threads, F&& f) {
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  tbb::task_arena arena(threads);
+  arena.execute(f);
 }
 
 }  // namespace tumble::cpu::test
