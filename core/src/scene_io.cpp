@@ -353,14 +353,14 @@ class SceneParser {
     scene.sourceFile = m_file;
     scene.name = stemOf(m_file);
 
-    static constexpr std::array<std::string_view, 9> kTopKeys = {
-        "scene", "contact", "ground", "pulls", "broadphase", "output", "shape", "body", "group"};
+    static constexpr std::array<std::string_view, 10> kTopKeys = {
+        "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output", "shape", "body", "group"};
     for (auto&& [key, value] : m_root) {
       (void)value;
       if (std::find(kTopKeys.begin(), kTopKeys.end(), key.str()) == kTopKeys.end()) {
         throw InputError(m_file, lineOf(key), "unknown top-level key '" + std::string(key.str()) +
                                                   "'; allowed tables: [scene], [contact], [ground], "
-                                                  "[pulls], [broadphase], [output], [[shape]], "
+                                                  "[pulls], [broadphase], [integrator], [output], [[shape]], "
                                                   "[[body]], [[group]]");
       }
     }
@@ -370,6 +370,7 @@ class SceneParser {
     readGround(scene);
     readPulls(scene);
     readBroadphase(scene);
+    readIntegrator(scene);
     readOutput(scene);
     readShapes(scene);
     readBodies(scene);
@@ -455,6 +456,22 @@ class SceneParser {
       r.fail(lineOf(*r.find("pca_every")), "pca_every is too large (got " + std::to_string(every) + ")");
     }
     b.pcaEvery = static_cast<int>(every);
+  }
+
+  void readIntegrator(Scene& scene) {
+    const toml::table* t = sectionOf(m_file, m_root, "integrator");
+    if (t == nullptr) return;
+    const TableReader r(m_file, *t, "[integrator]", {"rotation"});
+    if (const toml::node* n = r.find("rotation")) {
+      const std::string name = r.string(*n, "rotation");
+      if (name == "report") {
+        scene.integrator.rotation = RotationScheme::Report;
+      } else if (name == "splitting") {
+        scene.integrator.rotation = RotationScheme::Splitting;
+      } else {
+        r.fail(lineOf(*n), "unknown rotation scheme \"" + name + "\"; use \"report\" or \"splitting\"");
+      }
+    }
   }
 
   void readOutput(Scene& scene) {

@@ -18,6 +18,8 @@ void BodyState::resize(std::size_t n) {
   for (auto* c : {&px, &py, &pz, &vx, &vy, &vz, &qw, &qx, &qy, &qz, &lx, &ly, &lz}) c->resize(n);
 }
 
+const char* toString(RotationScheme s) { return s == RotationScheme::Report ? "report" : "splitting"; }
+
 double dampingForRestitution(double e, double k, double m) {
   if (!(e > 0.0) || e > 1.0) throw Error("elasticity must be in (0, 1], got " + std::to_string(e));
   const double le = std::log(e);

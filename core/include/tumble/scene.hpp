@@ -68,6 +68,24 @@ struct BroadphaseParams {
   int pcaEvery = 10;       ///< recompute the PCA axis every K steps (1 = every step)
 };
 
+/// How body orientations advance (SPEC §2.7). Translation is always leapfrog (kick-drift).
+enum class RotationScheme : std::uint8_t {
+  /// The report's scheme: L += T dt, then Q ← exp(Ω dt) Q with Ω = R I0⁻¹ Rᵀ L held fixed over
+  /// the step. Not symplectic: for an asymmetric body the kinetic energy drifts.
+  Report,
+  /// Symplectic splitting (Dullweber–Leimkuhler–McLachlan 1997): L += T dt, then the free
+  /// rotation as five exact rotations about the principal axes (½ h about 1, ½ h about 2, h
+  /// about 3, ½ h about 2, ½ h about 1). Keeps |L| exactly and the energy bounded.
+  Splitting,
+};
+
+/// "report" / "splitting".
+const char* toString(RotationScheme s);
+
+struct IntegratorParams {
+  RotationScheme rotation = RotationScheme::Report;
+};
+
 /// Everything a run needs.
 struct Scene {
   std::string name = "scene";
@@ -79,6 +97,7 @@ struct Scene {
   GroundParams ground;
   PullParams pulls;
   BroadphaseParams broadphase;
+  IntegratorParams integrator;
   std::vector<ShapeDef> shapes;
   std::vector<BodyDef> bodies;
   // Output settings.
