@@ -18,6 +18,12 @@ void BodyState::resize(std::size_t n) {
   for (auto* c : {&px, &py, &pz, &vx, &vy, &vz, &qw, &qx, &qy, &qz, &lx, &ly, &lz}) c->resize(n);
 }
 
+Quatf shapeOrientation(const World& world, const BodyState& s, std::size_t k) {
+  const Quatf f = world.bodyToShape[k];
+  if (f.w == 1.0f && f.x == 0.0f && f.y == 0.0f && f.z == 0.0f) return Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
+  return normalized(mul(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, Quatf{f.w, -f.x, -f.y, -f.z}));
+}
+
 const char* toString(RotationScheme s) { return s == RotationScheme::Report ? "report" : "splitting"; }
 
 double dampingForRestitution(double e, double k, double m) {
@@ -67,6 +73,7 @@ World World::fromScene(const Scene& scene) {
   w.invMass.resize(nb);
   w.invInertia.resize(nb);
   w.inertia.resize(nb);
+  w.bodyToShape.resize(nb);
   w.first.resize(nb);
   w.numParticlesOf.resize(nb);
   w.state.resize(nb);
@@ -76,12 +83,16 @@ World World::fromScene(const Scene& scene) {
     double mass;
     Eigen::Vector3d com;
     Eigen::Matrix3d inertia, invInertia;
+    Eigen::Matrix3d frame;  ///< columns: the body-frame axes in the shape frame
+    Eigen::Matrix3d shapeInertia;  ///< inertia in the shape frame (for L = R I0 Rᵀ ω)
   };
+  const bool principal = scene.integrator.rotation == RotationScheme::Splitting;
   std::vector<ShapeProps> props(scene.shapes.size());
   for (std::size_t s = 0; s < scene.shapes.size(); ++s) {
     const auto& sh = scene.shapes[s];
     if (sh.spheres.empty()) throw Error("shape '" + sh.name + "' has no spheres");
-    ShapeProps p{0.0, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+    ShapeProps p{0.0, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(),
+                 Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Zero()};
     for (const auto& sp : sh.spheres) {
       if (!(sp.radius > 0.0f) || !std::isfinite(sp.radius)) throw Error("shape '" + sh.name + "': radius must be > 0");
       if (!(sp.mass > 0.0f) || !std::isfinite(sp.mass)) throw Error("shape '" + sh.name + "': mass must be > 0");
@@ -96,7 +107,18 @@ World World::fromScene(const Scene& scene) {
       const double r = sp.radius;
       p.inertia += sp.mass * ((0.4 * r * r + u.squaredNorm()) * Eigen::Matrix3d::Identity() - u * u.transpose());
     }
+    p.shapeInertia = p.inertia;
+    if (principal && sh.spheres.size() > 1) {
+      // The splitting integrator rotates about the principal axes: use them as the body frame.
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(p.inertia);
+      p.frame = eig.eigenvectors();
+      if (p.frame.determinant() < 0.0) p.frame.col(2) = -p.frame.col(2);
+      p.inertia = eig.eigenvalues().asDiagonal();
+    }
     p.invInertia = p.inertia.inverse();
+    if (principal && sh.spheres.size() > 1) {  // exact zeros off the diagonal
+      p.invInertia = p.inertia.diagonal().cwiseInverse().asDiagonal();
+    }
     props[s] = p;
   }
 
@@ -117,24 +139,29 @@ World World::fromScene(const Scene& scene) {
       w.groundDamping.push_back(
           g.enabled ? static_cast<float>(dampingForRestitution(sp.elasticity, g.stiffness, sp.mass)) : 0.0f);
       w.body.push_back(static_cast<std::uint32_t>(k));
-      w.ux.push_back(static_cast<float>(sp.offset.x - p.com.x()));
-      w.uy.push_back(static_cast<float>(sp.offset.y - p.com.y()));
-      w.uz.push_back(static_cast<float>(sp.offset.z - p.com.z()));
+      const Eigen::Vector3d u = p.frame.transpose() * (Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com);
+      w.ux.push_back(static_cast<float>(u.x()));
+      w.uy.push_back(static_cast<float>(u.y()));
+      w.uz.push_back(static_cast<float>(u.z()));
       w.maxRadius = std::max(w.maxRadius, sp.radius);
     }
     w.bodyMass[k] = static_cast<float>(p.mass);
     w.invMass[k] = static_cast<float>(1.0 / p.mass);
     w.inertia[k] = toSym(p.inertia);
     w.invInertia[k] = toSym(p.invInertia);
-    const Quatf q = normalized(bd.orientation);
+    const Quatf qShape = normalized(bd.orientation);
+    const Eigen::Quaterniond frame(p.frame);
+    w.bodyToShape[k] = Quatf{static_cast<float>(frame.w()), static_cast<float>(frame.x()),
+                             static_cast<float>(frame.y()), static_cast<float>(frame.z())};
+    const Quatf q = principal ? normalized(mul(qShape, w.bodyToShape[k])) : qShape;
     auto& s = w.state;
     s.px[k] = bd.position.x; s.py[k] = bd.position.y; s.pz[k] = bd.position.z;
     s.vx[k] = bd.velocity.x; s.vy[k] = bd.velocity.y; s.vz[k] = bd.velocity.z;
     s.qw[k] = q.w; s.qx[k] = q.x; s.qy[k] = q.y; s.qz[k] = q.z;
     // L = R I0 Rᵀ ω (world frame).
-    const Eigen::Quaterniond qd(q.w, q.x, q.y, q.z);
+    const Eigen::Quaterniond qd(qShape.w, qShape.x, qShape.y, qShape.z);
     const Eigen::Matrix3d R = qd.toRotationMatrix();
-    const Eigen::Vector3d L = R * p.inertia * R.transpose() *
+    const Eigen::Vector3d L = R * p.shapeInertia * R.transpose() *
                               Eigen::Vector3d(bd.angularVelocity.x, bd.angularVelocity.y, bd.angularVelocity.z);
     s.lx[k] = static_cast<float>(L.x()); s.ly[k] = static_cast<float>(L.y()); s.lz[k] = static_cast<float>(L.z());
   }

@@ -100,7 +100,8 @@ void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams&
   });
   const BoundsPartial b = combineBounds(part, numChunks);
   if (b.firstBad != 0xFFFFFFFFu)
-    throw SimulationError("particle " + std::to_string(b.firstBad) + " has a non-finite position or radius");
+    throw SimulationError("particle " + std::to_string(b.firstBad) + " has a non-finite position or radius",
+                          b.firstBad);
 
   if (m_runsSinceAxis < 0 || m_runsSinceAxis >= std::max(1, params.pcaEvery)) {
     // Centred covariance (SPEC §3.1 fix) in double, per fixed chunk, shifted by particle 0 so

@@ -11,6 +11,7 @@
 // (particles alias the body columns), torques and rotation; scenes without ground skip the
 // ground test; pulls cost nothing while off.
 #include "tumble/cpu/cpu_pipeline.hpp"
+#include "tumble/guard.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -137,9 +138,9 @@ class CpuPipeline final : public Pipeline {
     try {
       m_bp.run(in, m_world.params.broadphase, sec);
     } catch (const SimulationError& e) {
-      throw SimulationError("step " + std::to_string(m_steps) + ": " + e.what() +
-                            "; the simulation diverged (try a smaller dt, e.g. half of " +
-                            std::to_string(m_world.params.dt) + " s)");
+      if (e.particle() < 0) throw;
+      throw SimulationError(divergenceMessage(m_world, m_steps, static_cast<std::uint32_t>(e.particle())),
+                            e.particle());
     }
 
     // 3–5. Per-particle forces: contacts (CSR order), ground, gravity and pulls.
@@ -190,8 +191,10 @@ class CpuPipeline final : public Pipeline {
     const ParticleStateView ps = stateView();
     const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data()};
     const float dt = m_world.params.dt;
+    const RotationScheme scheme = m_world.params.integrator.rotation;
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, m_world.numBodies(), kGrain), [&](const auto& rg) {
-      for (std::uint32_t k = rg.begin(); k != rg.end(); ++k) integrateBody(bv, ps, couples, m_omega.data(), dt, m_clumps, k);
+      for (std::uint32_t k = rg.begin(); k != rg.end(); ++k)
+        integrateBody(bv, ps, couples, m_omega.data(), dt, m_clumps, scheme, k);
     });
   }
 

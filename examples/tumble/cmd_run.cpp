@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/recording.hpp"
 #include "tumble/scene_io.hpp"
@@ -28,6 +29,8 @@ struct RunOptions {
   std::optional<float> cellSize;
   std::optional<int> pcaEvery;
   bool quiet = false;
+  bool noGuard = false;
+  std::optional<std::uint64_t> guardEvery;
 };
 
 // REC=<n_steps>[,<file>] (SPEC §6).
@@ -46,13 +49,14 @@ void applyRecEnv(RunOptions& o) {
   if (o.record.empty()) throw Error("REC=" + s + ": the file name after the comma is empty");
 }
 
-void writeState(const std::string& path, const BodyState& s) {
+void writeState(const std::string& path, const World& world, const BodyState& s) {
   writeAtomically(path, [&](std::FILE* f) {
     std::fprintf(f, "body,x,y,z,vx,vy,vz,qw,qx,qy,qz,lx,ly,lz\n");
     for (std::size_t k = 0; k < s.size(); ++k) {
+      const Quatf q = shapeOrientation(world, s, k);  // the scene file's shape frame
       // %.9g: nine significant digits read back to the same float bits.
       std::fprintf(f, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, s.px[k], s.py[k],
-                   s.pz[k], s.vx[k], s.vy[k], s.vz[k], s.qw[k], s.qx[k], s.qy[k], s.qz[k], s.lx[k], s.ly[k], s.lz[k]);
+                   s.pz[k], s.vx[k], s.vy[k], s.vz[k], q.w, q.x, q.y, q.z, s.lx[k], s.ly[k], s.lz[k]);
     }
     if (std::ferror(f)) throw Error("cannot write " + path);
   });
@@ -110,6 +114,12 @@ void run(RunOptions o) {
     if (!debug) rec->writeFrame(0, 0.0, pipeline->pulls(), state);  // debug frames start after step 1
   }
 
+  // Guards (docs/model.md#guards): checked every guardEvery steps and before every frame.
+  std::optional<RunGuard> guard;
+  if (!o.noGuard) guard.emplace(world, *pipeline);
+  const std::uint64_t guardEvery = o.guardEvery ? *o.guardEvery : perFrame;
+  if (guardEvery == 0) throw Error("--guard-every must be >= 1");
+
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;
   std::uint64_t done = 0;
@@ -117,10 +127,15 @@ void run(RunOptions o) {
     while (done < scene.steps) {
       std::uint64_t chunk = scene.steps - done;
       if (rec && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
+      if (guard) chunk = std::min(chunk, guardEvery - done % guardEvery);
       chunk = std::min<std::uint64_t>(chunk, 1000);
       pipeline->step(chunk);
       done += chunk;
-      if (rec && done <= recSteps && done % perFrame == 0) {
+      const bool frameDue = rec && done <= recSteps && done % perFrame == 0;
+      if (guard && (frameDue || done % guardEvery == 0 || done == scene.steps)) {
+        if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
+      }
+      if (frameDue) {
         pipeline->readState(state);
         if (debug) pipeline->readDebug(dbg);
         rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr);
@@ -154,7 +169,7 @@ void run(RunOptions o) {
                    static_cast<unsigned long long>(perFrame), rec->path().c_str());
   }
   pipeline->readState(state);
-  if (!o.stateOut.empty()) writeState(o.stateOut, state);
+  if (!o.stateOut.empty()) writeState(o.stateOut, world, state);
   if (!o.quiet) {
     const StepStats& st = pipeline->stats();
     std::printf("%s: %llu steps, %u particles, %llu pairs in the last step, cell size %g (%llu cells)\n",
@@ -181,6 +196,9 @@ void addRun(CLI::App& app) {
   c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 x largest diameter)");
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K steps");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
+  c->add_option("--guard-every", o->guardEvery,
+                "Check the guards (finite state, energy, overlaps) every N steps (default: the steps per frame)");
+  c->add_flag("--no-guard", o->noGuard, "Do not check the guards (a diverging run then stops only at a non-finite position)");
   c->callback([o] { run(*o); });
 }
 

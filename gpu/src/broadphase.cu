@@ -242,7 +242,8 @@ void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams&
 
   const BoundsPartial b = combineBounds(m_hostBounds.data(), numChunks);
   if (b.firstBad != kNone)
-    throw SimulationError("particle " + std::to_string(b.firstBad) + " has a non-finite position or radius");
+    throw SimulationError("particle " + std::to_string(b.firstBad) + " has a non-finite position or radius",
+                          b.firstBad);
   if (newAxis) {
     m_axis = covariance ? principalAxisFromPartials(m_hostCov.data(), numChunks, in.n) : Vec3f{0.0f, 0.0f, 1.0f};
     m_runsSinceAxis = 0;

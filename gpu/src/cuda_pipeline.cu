@@ -31,6 +31,7 @@
 #include "tumble/sweep_frame.hpp"
 #include "tumble/error.hpp"
 #include "tumble/gpu/cuda_pipeline.hpp"
+#include "tumble/guard.hpp"
 #include "tumble/kernels/contact.hpp"
 #include "tumble/kernels/integrate.hpp"
 
@@ -57,9 +58,9 @@ __global__ void forcesKernel(ParticleStaticView st, ParticleStateView ps, Couple
 }
 
 __global__ void integrateKernel(BodiesView b, ParticleStateView ps, Couples couples, Vec3f* omega, float dt,
-                                bool clumps) {
+                                bool clumps, RotationScheme scheme) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < b.count) integrateBody(b, ps, couples, omega, dt, clumps, k);
+  if (k < b.count) integrateBody(b, ps, couples, omega, dt, clumps, scheme, k);
 }
 
 /// The integrated body state on the device, one column per BodyState column.
@@ -250,9 +251,9 @@ class CudaPipeline final : public Pipeline {
     try {
       m_bp.run(in, p.broadphase, m_ctx, &m_timer);
     } catch (const SimulationError& e) {
-      throw SimulationError("step " + std::to_string(m_steps) + ": " + e.what() +
-                            "; the simulation diverged (try a smaller dt, e.g. half of " + std::to_string(p.dt) +
-                            " s)");
+      if (e.particle() < 0) throw;
+      throw SimulationError(divergenceMessage(m_world, m_steps, static_cast<std::uint32_t>(e.particle())),
+                            e.particle());
     }
 
     // 3–5. Per-particle forces: contacts (CSR order), ground, gravity and pulls.
@@ -280,7 +281,7 @@ class CudaPipeline final : public Pipeline {
     // 6–7. Body totals and integration.
     m_timer.mark(Phase::Integrate, s);
     integrateKernel<<<blocksFor(nb), kBlock, 0, s>>>(bodiesView(), stateView(), couples, m_omega.data(), p.dt,
-                                                     m_clumps);
+                                                     m_clumps, p.integrator.rotation);
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "integrateKernel");
     m_timer.finish(s);
     m_timer.accumulate(m_stats.seconds);  // waits for the step

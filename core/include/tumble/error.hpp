@@ -2,6 +2,7 @@
 /// @file error.hpp
 /// Exceptions thrown at the API boundary (bad configuration, bad input files).
 #pragma once
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -34,6 +35,13 @@ class InputError : public Error {
 class SimulationError : public Error {
  public:
   using Error::Error;
+  /// particle: the first particle found in a bad state (its index), when known.
+  SimulationError(const std::string& what, std::int64_t particle) : Error(what), m_particle(particle) {}
+  /// The particle found in a bad state, or −1.
+  std::int64_t particle() const { return m_particle; }
+
+ private:
+  std::int64_t m_particle = -1;
 };
 
 }  // namespace tumble

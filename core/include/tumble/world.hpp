@@ -37,6 +37,11 @@ struct World {
   std::vector<Sym3f> invInertia;  ///< body frame, about the centre of mass
   std::vector<Sym3f> inertia;     ///< I0 itself (for energies and diagnostics)
   std::vector<std::uint32_t> first, numParticlesOf;
+  /// Per body, the rotation from the frame the pipelines integrate (the "body frame") to the
+  /// shape frame of the scene file. Identity, except with [integrator] rotation = "splitting",
+  /// which needs the principal axes: then the body frame is the principal frame, the offsets u
+  /// and the inertia are expressed in it, and BodyState::q is the principal frame's orientation.
+  std::vector<Quatf> bodyToShape;
 
   BodyState state;
 
@@ -51,6 +56,9 @@ struct World {
   /// empty scene or invalid values (radius ≤ 0, mass ≤ 0, elasticity outside (0, 1], NaN).
   static World fromScene(const Scene& scene);
 };
+
+/// Orientation of body k's shape frame (as written in the scene file): q_k ⊗ bodyToShape[k]⁻¹.
+Quatf shapeOrientation(const World& world, const BodyState& state, std::size_t k);
 
 /// Damping coefficient c of a linear spring-dashpot k, mass m whose coefficient of restitution
 /// is e (0 < e ≤ 1): c = 2 ζ √(k m), ζ = −ln e / √(π² + ln² e). Exact for an unclamped linear

@@ -154,9 +154,9 @@ TUMBLE_HD_INLINE void particleForces(const ParticleStaticView& st, const Particl
 }
 
 /// Stages 6–7: body k's totals F = Σ f_i, T = Σ R u_i × f_i + Σ τ_i (particle order), then the
-/// integration; omega[k] receives Ω of the new state.
+/// integration (rotation by `scheme`); omega[k] receives Ω of the new state.
 TUMBLE_HD_INLINE void integrateBody(const BodiesView& b, const ParticleStateView& ps, const CouplesView& couples,
-                                    Vec3f* omega, float dt, bool clumps, std::uint32_t k) {
+                                    Vec3f* omega, float dt, bool clumps, RotationScheme scheme, std::uint32_t k) {
   Vec3f F, T{0.0f, 0.0f, 0.0f};
   if (clumps) {
     F = Vec3f{0.0f, 0.0f, 0.0f};
@@ -176,7 +176,8 @@ TUMBLE_HD_INLINE void integrateBody(const BodiesView& b, const ParticleStateView
   if (clumps && b.numParticles[k] > 1) {
     Vec3f L{b.lx[k], b.ly[k], b.lz[k]};
     Quatf q{b.qw[k], b.qx[k], b.qy[k], b.qz[k]};
-    omega[k] = integrateRotation(T, b.invInertia[k], dt, &L, &q);
+    omega[k] = scheme == RotationScheme::Splitting ? integrateRotationSplitting(T, b.invInertia[k], dt, &L, &q)
+                                                   : integrateRotation(T, b.invInertia[k], dt, &L, &q);
     b.lx[k] = L.x; b.ly[k] = L.y; b.lz[k] = L.z;
     b.qw[k] = q.w; b.qx[k] = q.x; b.qy[k] = q.y; b.qz[k] = q.z;
   }

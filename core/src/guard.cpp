@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: MIT
+#include "tumble/guard.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "tumble/kernels/integrate.hpp"
+
+namespace tumble {
+
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+double dtToUse(const World& w) {
+  const double tc = shortestContactTime(w);
+  const double dt = w.params.dt;
+  if (std::isfinite(tc) && tc / 20.0 < dt) return tc / 20.0;
+  return 0.5 * dt;
+}
+
+std::string dtAdvice(const World& w) {
+  const double tc = shortestContactTime(w);
+  const double use = dtToUse(w);
+  if (std::isfinite(tc) && tc / 20.0 < w.params.dt)
+    return format("the shortest contact lasts %.3g s; use dt <= %.3g s (t_c / 20, now %g s)", tc, use, w.params.dt);
+  return format("dt = %g s already resolves the shortest contact (%.3g s); try dt = %.3g s", w.params.dt, tc, use);
+}
+
+bool finiteRow(const BodyState& s, std::size_t k) {
+  for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz})
+    if (!std::isfinite((*c)[k])) return false;
+  return true;
+}
+
+}  // namespace
+
+std::string divergenceMessage(const World& world, std::uint64_t step, std::uint32_t particle) {
+  const std::uint32_t body = particle < world.body.size() ? world.body[particle] : 0;
+  return "step " + std::to_string(step) + ": particle " + std::to_string(particle) + " (body " + std::to_string(body) +
+         ") has a non-finite position: the simulation diverged; " + dtAdvice(world);
+}
+
+RunGuard::RunGuard(const World& world, Pipeline& pipeline, GuardParams params) : m_world(world), m_params(params) {
+  m_mask = pipeline.pulls();
+  const Snapshot s = measure(pipeline, m_mask, pipeline.stats().steps == 0 ? &pipeline : nullptr);
+  m_reference = s.energy;
+  m_lastEnergy = s.energy;
+  m_lastPower = s.swirlPower;
+  m_lastTime = pipeline.time();
+  m_initialOverlap = s.maxOverlap;
+  m_scale = s.available;
+}
+
+double RunGuard::suggestedDt() const { return dtToUse(m_world); }
+
+RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mask, Pipeline* findPairsWith) {
+  const World& w = m_world;
+  pipeline.readState(m_state);
+  const BodyState& s = m_state;
+  const Scene& sc = w.params;
+  Snapshot out;
+  const std::size_t nb = s.size();
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (!finiteRow(s, k)) {
+      out.nonFiniteBody = static_cast<std::int64_t>(k);
+      return out;
+    }
+  }
+
+  // Particle positions and velocities from the bodies (double from here on).
+  const std::uint32_t np = w.numParticles();
+  std::vector<double> x(3 * std::size_t(np));
+  double kinetic = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
+  double lowest = std::numeric_limits<double>::infinity();
+  const Vec3f g = sc.gravity;
+  const double gNorm = std::sqrt(double(g.x) * g.x + double(g.y) * g.y + double(g.z) * g.z);
+  for (std::size_t k = 0; k < nb; ++k) {
+    const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
+    const Vec3f X{s.px[k], s.py[k], s.pz[k]}, V{s.vx[k], s.vy[k], s.vz[k]};
+    const bool rotates = w.numParticlesOf[k] > 1;
+    const Vec3f omega = rotates ? angularVelocity(q, w.invInertia[k], Vec3f{s.lx[k], s.ly[k], s.lz[k]}) : Vec3f{0, 0, 0};
+    const double m = w.bodyMass[k];
+    double e = 0.5 * m * (double(V.x) * V.x + double(V.y) * V.y + double(V.z) * V.z);
+    if (rotates) e += 0.5 * (double(omega.x) * s.lx[k] + double(omega.y) * s.ly[k] + double(omega.z) * s.lz[k]);
+    kinetic += e;
+    if (e > hottest) {
+      hottest = e;
+      out.hottestBody = static_cast<std::uint32_t>(k);
+    }
+    const double h = -(double(g.x) * X.x + double(g.y) * X.y + double(g.z) * X.z);
+    gravity += m * h;
+    lowest = std::min(lowest, h);
+    for (std::uint32_t i = w.first[k], e1 = i + w.numParticlesOf[k]; i < e1; ++i) {
+      Vec3f xi = X, vi = V;
+      if (rotates) particleFromBody(X, V, q, omega, Vec3f{w.ux[i], w.uy[i], w.uz[i]}, &xi, &vi);
+      x[3 * std::size_t(i)] = xi.x;
+      x[3 * std::size_t(i) + 1] = xi.y;
+      x[3 * std::size_t(i) + 2] = xi.z;
+      const double mi = w.mass[i];
+      if (mask & kPullX) pullPotential += 0.5 * mi * sc.pulls.x * double(xi.x) * xi.x;
+      if (mask & kPullY) pullPotential += 0.5 * mi * sc.pulls.y * double(xi.y) * xi.y;
+      if (mask & kPullSwirl) power += mi * sc.pulls.swirl * (-double(xi.y) * vi.x + double(xi.x) * vi.y);
+    }
+  }
+
+  // Contact springs and overlaps: particle pairs of the last detection, and the ground.
+  double springs = 0.0;
+  std::vector<Pair> pairs;
+  if (findPairsWith) {
+    ParticleCloud cloud;
+    for (auto* c : {&cloud.x, &cloud.y, &cloud.z, &cloud.r}) c->resize(np);
+    for (std::uint32_t i = 0; i < np; ++i) {
+      cloud.x[i] = static_cast<float>(x[3 * std::size_t(i)]);
+      cloud.y[i] = static_cast<float>(x[3 * std::size_t(i) + 1]);
+      cloud.z[i] = static_cast<float>(x[3 * std::size_t(i) + 2]);
+      cloud.r[i] = w.radius[i];
+    }
+    cloud.body = w.body;
+    pairs = findPairsWith->findPairs(cloud, sc.broadphase);
+  } else {
+    pairs = pipeline.pairs();
+  }
+  for (const Pair& p : pairs) {
+    const double dx = x[3 * std::size_t(p.i)] - x[3 * std::size_t(p.j)];
+    const double dy = x[3 * std::size_t(p.i) + 1] - x[3 * std::size_t(p.j) + 1];
+    const double dz = x[3 * std::size_t(p.i) + 2] - x[3 * std::size_t(p.j) + 2];
+    const double delta = double(w.radius[p.i]) + w.radius[p.j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (delta <= 0.0) continue;
+    springs += 0.5 * sc.contact.stiffness * delta * delta;
+    const double frac = delta / std::min(w.radius[p.i], w.radius[p.j]);
+    if (frac > out.maxOverlap) {
+      out.maxOverlap = frac;
+      out.overlapBody = w.body[p.i];
+      out.overlapOther = w.body[p.j];
+      out.groundOverlap = false;
+    }
+  }
+  if (sc.ground.enabled) {
+    for (std::uint32_t i = 0; i < np; ++i) {
+      const double delta = double(sc.ground.height) - (x[3 * std::size_t(i) + 2] - w.radius[i]);
+      if (delta <= 0.0) continue;
+      springs += 0.5 * sc.ground.stiffness * delta * delta;
+      const double frac = delta / w.radius[i];
+      if (frac > out.maxOverlap) {
+        out.maxOverlap = frac;
+        out.overlapBody = w.body[i];
+        out.groundOverlap = true;
+      }
+    }
+  }
+
+  out.energy = kinetic + gravity + pullPotential + springs;
+  out.swirlPower = power;
+  // What the state can release: motion, springs, the pulls' potential, and gravity down to the
+  // lowest body (the heights above it), at least Σ M |g| r_max.
+  double drop = 0.0;
+  for (std::size_t k = 0; k < nb; ++k)
+    drop += w.bodyMass[k] * (-(double(g.x) * s.px[k] + double(g.y) * s.py[k] + double(g.z) * s.pz[k]) - lowest);
+  double totalMass = 0.0;
+  for (float m : w.bodyMass) totalMass += m;
+  out.available = kinetic + springs + pullPotential + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
+  if (!(out.available > 0.0)) out.available = 1e-12;
+  return out;
+}
+
+GuardTrip RunGuard::trip(GuardTrip::Kind kind, std::uint32_t body, const Pipeline& pipeline,
+                         const std::string& what) const {
+  GuardTrip t;
+  t.kind = kind;
+  t.step = pipeline.stats().steps;
+  t.body = body;
+  t.suggestedDt = suggestedDt();
+  t.message = "step " + std::to_string(t.step) + format(" (t = %.6g s): ", pipeline.time()) + what +
+              "; the integration is unstable or too coarse: " + dtAdvice(m_world);
+  return t;
+}
+
+std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
+  const std::uint32_t mask = pipeline.pulls();
+  Snapshot s = measure(pipeline, mask);
+  if (s.nonFiniteBody >= 0) {
+    return trip(GuardTrip::Kind::NonFinite, static_cast<std::uint32_t>(s.nonFiniteBody), pipeline,
+                "body " + std::to_string(s.nonFiniteBody) + " has a non-finite position, velocity or orientation");
+  }
+  const double t = pipeline.time();
+  if (mask != m_mask) {
+    // The pulls changed: their potentials and power change with them. Start the energy budget
+    // afresh from the present state (the pulls' potential now counts as available energy).
+    m_mask = mask;
+    m_reference = s.energy;
+    m_work = 0.0;
+    m_scale = std::max(m_scale, s.available);
+  } else {
+    m_work += 0.5 * (m_lastPower + s.swirlPower) * (t - m_lastTime);
+  }
+  m_lastPower = s.swirlPower;
+  m_lastTime = t;
+  m_lastEnergy = s.energy;
+  m_lastOverlap = s.maxOverlap;
+
+  const double gained = s.energy - m_reference - m_work;
+  if (gained > m_params.energyGrowth * m_scale) {
+    return trip(GuardTrip::Kind::Energy, s.hottestBody, pipeline,
+                format("the energy grew by %.3g J, more than %.0f%% of the %.3g J the scene can release", gained,
+                       100.0 * m_params.energyGrowth, m_scale) +
+                    " (body " + std::to_string(s.hottestBody) + " moves fastest)");
+  }
+  const double limit = std::max(m_params.maxOverlap, m_initialOverlap + 0.05);
+  if (s.maxOverlap > limit) {
+    const std::string who = s.groundOverlap ? "body " + std::to_string(s.overlapBody) + " sinks into the ground"
+                                            : "bodies " + std::to_string(s.overlapBody) + " and " +
+                                                  std::to_string(s.overlapOther) + " overlap";
+    return trip(GuardTrip::Kind::Overlap, s.overlapBody, pipeline,
+                who + format(" by %.0f%% of the smaller radius (limit %.0f%%)", 100.0 * s.maxOverlap, 100.0 * limit));
+  }
+  return std::nullopt;
+}
+
+}  // namespace tumble
