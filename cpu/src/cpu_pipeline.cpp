@@ -173,7 +173,7 @@ class CpuPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles();
     const ParticleStaticView st = staticView();
     const ParticleStateView ps = stateView();
-    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data()};
+    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data(), m_omega.data()};
     const ContactListView cl{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
                              m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
     const ForceParams fp = makeForceParams(m_world.params, m_pulls);
@@ -189,7 +189,7 @@ class CpuPipeline final : public Pipeline {
   void integrate() {
     const BodiesView bv = bodiesView();
     const ParticleStateView ps = stateView();
-    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data()};
+    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data(), m_omega.data()};
     const float dt = m_world.params.dt;
     const RotationScheme scheme = m_world.params.integrator.rotation;
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, m_world.numBodies(), kGrain), [&](const auto& rg) {

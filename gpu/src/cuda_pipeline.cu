@@ -261,7 +261,7 @@ class CudaPipeline final : public Pipeline {
     const ForceParams fp = makeForceParams(p, m_pulls);
     const ContactList cl{m_bp.recFirst.data(), m_bp.inv.data(),  m_bp.nbrOffsets.data(),
                          m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
-    const Couples couples{m_cx.data(), m_cy.data(), m_cz.data()};
+    const Couples couples{m_cx.data(), m_cy.data(), m_cz.data(), m_omega.data()};
     DebugForces dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}};
     if (m_debug) {
       for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].grow(3 * std::size_t(n));

@@ -19,15 +19,16 @@ __global__ void kernelsCheckKernel(SweepFrame f, const float* x, float* out, std
   keys[i] = sweepKey(cellNumber(f, cr.a0, cr.b0), pr.z) + numRecords(cr) +
             (ownsPair(cr.a0, cr.b0, cr.a0, cr.b0, cr.a1, cr.b1) ? 1u : 0u);
   const bool ov = spheresOverlap(p.x, p.y, p.z, 0.5f, 0.0f, 0.0f, 0.0f, 0.5f);
-  const ContactForces cf = contactForces(p, p, 0.5f, Vec3f{0, 0, 0}, p, 0.5f, ov, ContactCoeffs{1, 1, 1});
+  const ContactForces cf = contactForces(p, p, p, 0.5f, Vec3f{0, 0, 0}, p, p, 0.5f, ov, ContactCoeffs{1, 1, 1});
   float tx = 0.0f, ty = 0.0f;
-  const GroundForces gf = groundForces(p, p, 0.5f, 1.0f, GroundCoeffs{0, 1, 1, 0.5f}, 1e-3f, &tx, &ty);
+  const GroundForces gf = groundForces(p, p, p, 0.5f, 1.0f, GroundCoeffs{0, 1, 1, 0.5f}, 1e-3f, &tx, &ty);
   const Vec3f ext = externalForce(p, 1.0f, Vec3f{0, 0, -9.81f}, 1, 1, 1, 7u);
   Vec3f X = p, V = p, L = p, xo, vo;
   Quatf q{1, 0, 0, 0};
   const Sym3f inv{1, 1, 1, 0, 0, 0};
   integrateTranslation(total(cf), 1.0f, 1e-3f, &X, &V);
-  const Vec3f om = integrateRotation(gf.normal + gf.friction + ext, inv, 1e-3f, &L, &q);
+  const Vec3f om = integrateRotation(gf.normal + gf.friction + ext, inv, 1e-3f, &L, &q) +
+                   integrateRotationSplitting(gf.lever, inv, 1e-3f, &L, &q);
   particleFromBody(X, V, q, om, p, &xo, &vo);
   out[i] = xo.x + vo.y + fromOrderedBits(orderedBits(q.w));
 }

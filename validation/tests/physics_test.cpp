@@ -219,6 +219,65 @@ TEST_P(PhysicsTest, BodyOnSlopeAboveFrictionAngleSlides) {
   EXPECT_NEAR(a, expected, 0.02 * expected);
 }
 
+// A ball that can rotate (a sphere with a tiny sphere at its centre, so that the body is a clump;
+// I ≈ 2/5 m r²) on a slope: below tan θ = 3.5 μ it rolls without slipping, a = (5/7) g sin θ and
+// ω r = v; above, it slides with g(sin θ − μ cos θ) while friction spins it up at
+// dω/dt = (5/2) μ g cos θ / r. The friction's slip velocity is the contact point's (model.md).
+namespace {
+struct RollRun {
+  double a, spinRatio, alpha;
+};
+RollRun rollOnSlope(Backend backend, double thetaDeg) {
+  const double th = thetaDeg * 3.14159265358979 / 180.0;
+  const float r = 0.05f, m = 0.1f;
+  Scene s;
+  s.gravity = {static_cast<float>(9.81 * std::sin(th)), 0.0f, static_cast<float>(-9.81 * std::cos(th))};
+  s.ground.enabled = true;
+  s.ground.stiffness = 1.0e5f;
+  s.ground.friction = 0.5f;
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, r, m, 0.3f}, SphereDef{{0, 0, 0}, 1e-3f * r, 1e-6f * m, 0.3f}}}};
+  s.dt = 2.0e-5f;
+  BodyDef b;
+  b.position = {0, 0, static_cast<float>(r - m * 9.81 * std::cos(th) / 1.0e5)};
+  s.bodies = {b};
+  const World w = World::fromScene(s);
+  auto p = makePipeline(backend);
+  p->load(w);
+  BodyState st;
+  p->step(static_cast<std::uint64_t>(0.2 / s.dt));
+  p->readState(st);
+  const double v1 = st.vx[0], w1 = st.ly[0] / w.inertia[0].yy;
+  p->step(static_cast<std::uint64_t>(0.5 / s.dt));
+  p->readState(st);
+  const double v2 = st.vx[0], w2 = st.ly[0] / w.inertia[0].yy;
+  return {(v2 - v1) / 0.5, w2 * r / v2, (w2 - w1) / 0.5};
+}
+}  // namespace
+
+TEST_P(PhysicsTest, BallRollsBelowThreeAndAHalfMuAndSlidesAbove) {
+  const double g = 9.81, mu = 0.5, r = 0.05;
+  {
+    const double th = 30.0 * 3.14159265358979 / 180.0;  // tan 30° = 0.58 < 3.5 μ = 1.75
+    const RollRun k = rollOnSlope(GetParam(), 30.0);
+    const double expected = 5.0 / 7.0 * g * std::sin(th);
+    std::printf("ball on 30 deg: a %.5f m/s^2 vs (5/7) g sin = %.5f (error %.3f %%), omega r / v = %.5f\n", k.a,
+                expected, 100.0 * (k.a - expected) / expected, k.spinRatio);
+    EXPECT_NEAR(k.a, expected, 0.01 * expected) << "rolling without slipping";
+    EXPECT_NEAR(k.spinRatio, 1.0, 0.01) << "no slip: omega r = v";
+  }
+  {
+    const double th = 65.0 * 3.14159265358979 / 180.0;  // tan 65° = 2.14 > 1.75
+    const RollRun k = rollOnSlope(GetParam(), 65.0);
+    const double expected = g * (std::sin(th) - mu * std::cos(th));
+    const double alpha = 2.5 * mu * g * std::cos(th) / r;
+    std::printf("ball on 65 deg: a %.5f vs g(sin - mu cos) = %.5f, dw/dt %.2f vs %.2f rad/s^2\n", k.a, expected,
+                k.alpha, alpha);
+    EXPECT_NEAR(k.a, expected, 0.01 * expected) << "sliding";
+    EXPECT_NEAR(k.alpha, alpha, 0.01 * alpha) << "friction spins it up";
+    EXPECT_LT(k.spinRatio, 0.95) << "still slipping";
+  }
+}
+
 // Coincident particle centres of two bodies: no NaN, and the bodies are pushed apart.
 TEST_P(PhysicsTest, CoincidentCentresNeverProduceNaN) {
   Scene s;

@@ -3,9 +3,15 @@
 /// Contact, ground and external forces of one particle (SPEC §2.3–2.5).
 ///
 /// Antisymmetry: contactForces(i, j) is the exact negation of contactForces(j, i), bit for bit,
-/// because every operation sees negated inputs (d = x_i − x_j, w = v_j − v_i) and IEEE + − * /
+/// because every operation sees negated inputs (d = x_i − x_j, w = u_j − u_i) and IEEE + − * /
 /// commute with negation. Summing each particle's forces in a fixed order therefore conserves
 /// momentum to rounding, with no atomics.
+///
+/// Velocities at the contact point: the damping, shear and friction forces act at the contact
+/// point, so they are computed from the velocity of the material there, u = v + Ω × (c − x),
+/// not from the particle centre's v. With the centre's velocity, the couple of a friction force
+/// could do positive work (a clump held by friction spun up without limit), and nothing could
+/// roll. Single-sphere bodies do not rotate (Ω = 0), so for them u = v.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -31,8 +37,11 @@ struct ContactForces {
 /// Forces on particle i from an overlapping particle j (SPEC §2.3). `iBeforeJ` breaks the tie
 /// for coincident centres: the normal is then +z for the lower index and −z for the other, so
 /// the pair still separates and no NaN appears.
-TUMBLE_HD_INLINE ContactForces contactForces(Vec3f xi, Vec3f vi, float ri, Vec3f xj, Vec3f vj, float rj,
-                                             bool iBeforeJ, const ContactCoeffs& c) {
+///
+/// wi, wj: the angular velocities of the particles' bodies (the contact-point velocities use
+/// them; pass zero for bodies that do not rotate).
+TUMBLE_HD_INLINE ContactForces contactForces(Vec3f xi, Vec3f vi, Vec3f wi, float ri, Vec3f xj, Vec3f vj, Vec3f wj,
+                                             float rj, bool iBeforeJ, const ContactCoeffs& c) {
   const Vec3f d = xi - xj;
   const float dist = std::sqrt(dot(d, d));
   Vec3f n;
@@ -42,13 +51,19 @@ TUMBLE_HD_INLINE ContactForces contactForces(Vec3f xi, Vec3f vi, float ri, Vec3f
     n = Vec3f{0.0f, 0.0f, iBeforeJ ? 1.0f : -1.0f};
   }
   const float delta = (ri + rj) - dist;
-  const Vec3f w = vj - vi;
+  // Levers from each centre to the contact point. Seen from j, n is negated, so both levers
+  // (and the contact-point velocities) come out with the same bits: w is negated exactly.
+  const Vec3f leverI = -(ri - 0.5f * delta) * n;
+  const Vec3f leverJ = (rj - 0.5f * delta) * n;
+  const Vec3f ui = vi + cross(wi, leverI);
+  const Vec3f uj = vj + cross(wj, leverJ);
+  const Vec3f w = uj - ui;
   const float wn = dot(w, n);
   ContactForces f;
   f.repulsion = (c.stiffness * delta) * n;
   f.damping = c.damping * w;
   f.shear = c.shear * (w - wn * n);
-  f.lever = -(ri - 0.5f * delta) * n;
+  f.lever = leverI;
   return f;
 }
 
@@ -71,6 +86,7 @@ struct GroundCoeffs {
 /// Normal and friction force of the ground on one particle.
 struct GroundForces {
   Vec3f normal, friction;
+  Vec3f lever;  ///< contact point − x: the bottom of the overlap, where the friction acts
 };
 
 /// Ground contact of a particle (SPEC §2.4): linear spring-dashpot along +z,
@@ -79,15 +95,22 @@ struct GroundForces {
 /// (in/out: *tx, *ty) grows with the slip velocity, the trial force −k_t ξ − c v_t is capped at
 /// μ max(f_n, 0), and ξ is rewound to match when the cap applies. A body below the friction
 /// angle therefore sticks elastically instead of creeping. Out of contact, ξ is reset to zero.
-TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, Vec3f v, float r, float c, const GroundCoeffs& g, float dt,
-                                           float* tx, float* ty) {
-  GroundForces out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
+///
+/// omega: the body's angular velocity. Friction acts at the bottom of the overlap,
+/// lever (0, 0, −(r − δ/2)), and its slip velocity is that point's: v + Ω × lever. The normal
+/// component is unaffected (the lever is vertical).
+TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, Vec3f vCentre, Vec3f omega, float r, float c,
+                                           const GroundCoeffs& g, float dt, float* tx, float* ty) {
+  GroundForces out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
   const float delta = r - (x.z - g.height);
   if (!(delta > 0.0f)) {
     *tx = 0.0f;
     *ty = 0.0f;
     return out;
   }
+  out.lever = Vec3f{0.0f, 0.0f, -(r - 0.5f * delta)};
+  const Vec3f spin = cross(omega, out.lever);
+  const Vec3f v{vCentre.x + spin.x, vCentre.y + spin.y, vCentre.z};
   const float fn = g.stiffness * delta - c * v.z;
   out.normal = Vec3f{0.0f, 0.0f, fn};
   float ex = *tx + v.x * dt;

@@ -29,11 +29,14 @@ struct ContactListView {
   const std::uint32_t* back;
 };
 
-/// Per-particle couples of the forces acting at contact points (clumps only).
+/// Clump data of the force stage (clump scenes only): per-particle couples of the forces
+/// acting at contact points (out), and each body's angular velocity Ω (in), for the velocities
+/// at the contact points.
 struct CouplesView {
   float* x;
   float* y;
   float* z;
+  const Vec3f* omega;
 };
 
 /// Scene constants of the force stage.
@@ -88,10 +91,12 @@ struct ForceSums {
 };
 
 template <bool kDebug, bool kClumps>
-TUMBLE_HD_INLINE void addContact(ForceSums& s, std::uint32_t i, Vec3f xi, Vec3f vi, float ri, std::uint32_t j,
-                                 const ParticleStaticView& st, const ParticleStateView& ps, const ForceParams& fp) {
-  const ContactForces cf = contactForces(xi, vi, ri, Vec3f{ps.x[j], ps.y[j], ps.z[j]},
-                                         Vec3f{ps.vx[j], ps.vy[j], ps.vz[j]}, st.radius[j], i < j, fp.contact);
+TUMBLE_HD_INLINE void addContact(ForceSums& s, std::uint32_t i, Vec3f xi, Vec3f vi, Vec3f wi, float ri, std::uint32_t j,
+                                 const ParticleStaticView& st, const ParticleStateView& ps, const CouplesView& couples,
+                                 const ForceParams& fp) {
+  const Vec3f wj = kClumps ? couples.omega[st.body[j]] : Vec3f{0.0f, 0.0f, 0.0f};
+  const ContactForces cf = contactForces(xi, vi, wi, ri, Vec3f{ps.x[j], ps.y[j], ps.z[j]},
+                                         Vec3f{ps.vx[j], ps.vy[j], ps.vz[j]}, wj, st.radius[j], i < j, fp.contact);
   const Vec3f fc = total(cf);
   s.f += fc;
   if (kClumps) s.tau += cross(cf.lever, fc);
@@ -114,25 +119,23 @@ TUMBLE_HD_INLINE void particleForces(const ParticleStaticView& st, const Particl
   const Vec3f xi{ps.x[i], ps.y[i], ps.z[i]};
   const Vec3f vi{ps.vx[i], ps.vy[i], ps.vz[i]};
   const float ri = st.radius[i];
+  const Vec3f wi = kClumps ? couples.omega[st.body[i]] : Vec3f{0.0f, 0.0f, 0.0f};
   detail::ForceSums s;
   for (std::uint32_t r = cl.recFirst[i]; r < cl.recFirst[i + 1]; ++r) {
     const std::uint32_t sp = cl.inv[r];
     for (std::uint32_t e = cl.nbrOffsets[sp]; e < cl.nbrOffsets[sp + 1]; ++e)
-      detail::addContact<kDebug, kClumps>(s, i, xi, vi, ri, cl.nbr[e], st, ps, fp);
+      detail::addContact<kDebug, kClumps>(s, i, xi, vi, wi, ri, cl.nbr[e], st, ps, couples, fp);
   }
   for (std::uint32_t e = cl.backOffsets[i]; e < cl.backOffsets[i + 1]; ++e)
-    detail::addContact<kDebug, kClumps>(s, i, xi, vi, ri, cl.back[e], st, ps, fp);
-  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
+    detail::addContact<kDebug, kClumps>(s, i, xi, vi, wi, ri, cl.back[e], st, ps, couples, fp);
+  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
   if (fp.hasGround) {
     float tx = ps.tx[i], ty = ps.ty[i];
-    gf = groundForces(xi, vi, ri, st.groundDamping[i], fp.ground, fp.dt, &tx, &ty);
+    gf = groundForces(xi, vi, wi, ri, st.groundDamping[i], fp.ground, fp.dt, &tx, &ty);
     ps.tx[i] = tx;
     ps.ty[i] = ty;
     s.f += gf.normal + gf.friction;
-    if (kClumps) {
-      const float dg = ri - (xi.z - fp.ground.height);
-      s.tau += cross(Vec3f{0.0f, 0.0f, -(ri - 0.5f * dg)}, gf.friction);  // friction acts at the bottom
-    }
+    if (kClumps) s.tau += cross(gf.lever, gf.friction);  // friction acts at the bottom
   }
   s.f += externalForce(xi, st.mass[i], fp.gravity, fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls);
   ps.fx[i] = s.f.x;
