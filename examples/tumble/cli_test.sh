@@ -105,5 +105,23 @@ grep -q "validate: PASSED" out.txt && ok "validate passed" || bad "validate outp
 expect_status "validate cuda without cuda" 2 "$bin" validate --pipelines cpu,cuda --random 0 --steps 1
 expect_msg "validate cuda without cuda" "no CUDA"
 
+# The validation study: case list, a quick run of two cases into a folder, bad case ids.
+expect_status "validate --list" 0 "$bin" validate --list
+grep -q "^ground_restitution$" out.txt && ok "validate --list names the cases" || bad "validate --list: $(cat out.txt)"
+expect_status "validate --quick --out" 0 "$bin" validate --random 0 --steps 2 --quick --cases free_fall,ground_restitution --out study/q
+[ -s study/q/report.md ] && ok "study report.md written" || bad "no study/q/report.md"
+head -1 study/q/summary.csv | grep -q "^case,backend,check,measured,expected,error,tolerance,unit,pass" \
+  && ok "study summary.csv header" || bad "summary.csv header: $(head -1 study/q/summary.csv)"
+[ -s study/q/cpu/ground_restitution_sweep.csv ] && ok "study sweep CSV written" || bad "no sweep CSV"
+if command -v gnuplot >/dev/null; then
+  [ -s study/q/cpu/ground_restitution_speed.png ] && ok "study plot drawn" || bad "no speed plot: $(cat study/q/plots.log)"
+else
+  grep -q "plots skipped" study/q/report.md && ok "study says plots skipped" || bad "report does not say why plots are missing"
+fi
+grep -q "validate: PASSED" out.txt && ok "study passed" || bad "study output: $(tail -5 out.txt)"
+expect_status "validate unknown case" 2 "$bin" validate --random 0 --steps 1 --cases nope --out study/bad
+expect_msg "validate unknown case" "unknown case \"nope\""
+[ -e study/bad/report.md ] && bad "unknown case wrote a report" || ok "unknown case wrote no report"
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

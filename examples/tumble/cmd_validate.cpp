@@ -3,13 +3,19 @@
 // brute-force oracle on every hard case of SPEC §3 and on random clouds; then two pipelines
 // stepped side by side from the same scene and compared after every step. With one pipeline,
 // it is compared with itself at 1 thread against all threads (must be bitwise identical).
+// With --out DIR (or --quick, --cases), it also runs the validation study (docs/validation.md):
+// analytic physics and stability cases for every pipeline, written as report.md + CSV + PNG.
+#include <algorithm>
+#include <filesystem>
 #include <memory>
+#include <sstream>
 
 #include "commands.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"
+#include "tumble/validation/study.hpp"
 
 namespace tumble::cli {
 namespace {
@@ -21,9 +27,55 @@ struct ValidateOptions {
   std::uint64_t seed = 20261122;
   int random = 20;
   validation::TrajectoryTolerance tol;
+  // The study.
+  std::string out;
+  bool quick = false;
+  bool list = false;
+  std::vector<std::string> cases;
+  std::string commandLine;
+  bool study() const { return !out.empty() || quick || !cases.empty(); }
 };
 
+/// Runs the study (physics and stability catalogue) on `backends`; true when every check passes.
+bool runStudy(const ValidateOptions& o, const std::vector<Backend>& backends) {
+  namespace st = validation::study;
+  st::StudyOptions so;
+  so.depth = o.quick ? st::Depth::Quick : st::Depth::Full;
+  so.outDir = o.out;
+  so.caseIds = o.cases;
+  so.seed = o.seed;
+  so.progress = true;
+  so.command = o.commandLine;
+  st::StudyReport rep = st::runStudy(st::allCases(), backends, so);
+  std::printf("\n## Validation study (%s, %zu cases, %.1f s)\n\n", o.quick ? "quick" : "full",
+              rep.runs.size() / std::max<std::size_t>(1, backends.size()), rep.seconds);
+  st::printSummary(rep, stdout);
+  std::printf("\n- %zu of %zu checks within tolerance\n", rep.totalChecks() - rep.failedChecks(), rep.totalChecks());
+  if (!o.out.empty()) {
+    std::printf("- report: %s/report.md (CSV: summary.csv, <pipeline>/<case>_<table>.csv)\n", o.out.c_str());
+    std::printf("- plots: %s\n", rep.plotsDrawn ? ("drawn by " + rep.plotNote).c_str() : rep.plotNote.c_str());
+  }
+  return rep.pass();
+}
+
 void validate(const ValidateOptions& o) {
+  if (o.list) {
+    for (const auto& c : validation::study::allCases()) std::printf("%s\n", c.id.c_str());
+    return;
+  }
+  // Bad study input fails before any work: unknown case ids, an output folder that cannot be made.
+  if (o.study()) {
+    const auto all = validation::study::allCases();
+    for (const auto& id : o.cases)
+      if (std::none_of(all.begin(), all.end(), [&](const auto& c) { return c.id == id; }))
+        throw Error("--cases: unknown case \"" + id + "\"; `tumble validate --list` lists them");
+    if (!o.out.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(o.out, ec);
+      if (ec || !std::filesystem::is_directory(o.out))
+        throw Error("--out: cannot create folder " + o.out + (ec ? ": " + ec.message() : std::string()));
+    }
+  }
   std::vector<Backend> backends;
   for (const auto& p : o.pipelines) {
     const Backend b = backendFromString(p);
@@ -82,6 +134,7 @@ void validate(const ValidateOptions& o) {
   // The same pipeline must be bitwise deterministic; different pipelines must stay in tolerance.
   const bool sameKind = backends.size() < 2 || backends[0] == backends[1];
   ok = ok && r.pairsIdentical && (sameKind ? r.bitwiseIdentical : r.withinTolerance());
+  if (o.study()) ok = runStudy(o, backends) && ok;
   std::printf("\nvalidate: %s\n", ok ? "PASSED" : "FAILED");
   if (!ok) throw Exit{1};
 }
@@ -90,7 +143,11 @@ void validate(const ValidateOptions& o) {
 
 void addValidate(CLI::App& app) {
   auto o = std::make_shared<ValidateOptions>();
-  CLI::App* c = app.add_subcommand("validate", "Cross-validate the pipelines: pair sets against brute force, trajectories side by side");
+  CLI::App* c = app.add_subcommand(
+      "validate",
+      "Cross-validate the pipelines (pair sets against brute force, trajectories side by side) and, with --out, "
+      "run the validation study (analytic physics, stability, speed against error) and write its report. "
+      "Exit status: 0 all checks passed, 1 a check failed, 2 bad input.");
   c->add_option("--pipelines", o->pipelines, "Pipelines to compare, e.g. cpu,cuda")->delimiter(',')
       ->check(CLI::IsMember({"cpu", "cuda"}));
   c->add_option("--scene", o->scene, "Scene for the side-by-side run (default scenes/molecules.toml)");
@@ -100,7 +157,26 @@ void addValidate(CLI::App& app) {
   c->add_option("--position-tol", o->tol.positionTol, "Position tolerance in units of the smallest radius");
   c->add_option("--orientation-tol", o->tol.orientationTol, "Orientation tolerance |dq|");
   c->add_option("--horizon", o->tol.horizon, "Steps over which the tolerance must hold");
-  c->callback([o] { validate(*o); });
+  c->add_option("--out", o->out,
+                 "Run the validation study and write DIR/report.md, DIR/summary.csv, DIR/<pipeline>/*.csv and *.png "
+                 "(the folder is created)");
+  c->add_flag("--quick", o->quick, "Study at quick depth (the ctest version: few dt values, short horizons)");
+  c->add_option("--cases", o->cases, "Run only these study cases, e.g. ground_restitution,slope (see --list)")
+      ->delimiter(',');
+  c->add_flag("--list", o->list, "List the study's case ids and exit");
+  c->callback([o] {
+    std::ostringstream cmd;
+    cmd << "tumble validate --pipelines ";
+    for (std::size_t k = 0; k < o->pipelines.size(); ++k) cmd << (k ? "," : "") << o->pipelines[k];
+    if (o->quick) cmd << " --quick";
+    if (!o->cases.empty()) {
+      cmd << " --cases ";
+      for (std::size_t k = 0; k < o->cases.size(); ++k) cmd << (k ? "," : "") << o->cases[k];
+    }
+    if (!o->out.empty()) cmd << " --out " << o->out;
+    o->commandLine = cmd.str();
+    validate(*o);
+  });
 }
 
 }  // namespace tumble::cli

@@ -10,6 +10,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -75,5 +76,54 @@ struct Case {
   std::string id;
   std::function<CaseResult(const CaseContext&)> run;
 };
+
+/// The analytic physics cases (validation/src/study_physics.cpp): restitution, contact
+/// duration, momentum, free fall, resting penetration, sliding, slopes, torque-free rotation,
+/// Chung & Ooi impacts; each with a dt × integrator sweep (speed against error).
+std::vector<Case> physicsCases();
+/// The stability cases (validation/src/study_stability.cpp).
+std::vector<Case> stabilityCases();
+/// physicsCases() followed by stabilityCases().
+std::vector<Case> allCases();
+
+/// What runStudy() does.
+struct StudyOptions {
+  Depth depth = Depth::Full;
+  std::string outDir;                 ///< report folder (created); empty = write nothing
+  std::vector<std::string> caseIds;   ///< run only these ids (empty = all); unknown ids throw tumble::Error
+  std::uint64_t seed = 20261122;
+  bool progress = true;               ///< one line per case on stderr (case, backend, elapsed)
+  std::string command;                ///< the command line, quoted in report.md
+};
+
+/// One case run on one backend.
+struct CaseRun {
+  Backend backend = Backend::Cpu;
+  double seconds = 0.0;  ///< wall time of the case
+  CaseResult result;
+};
+
+/// Everything runStudy() measured.
+struct StudyReport {
+  std::vector<CaseRun> runs;
+  double seconds = 0.0;
+  bool plotsDrawn = false;
+  std::string plotNote;          ///< why plots were skipped, or the gnuplot version used
+  bool pass() const;             ///< every check of every run passes
+  std::size_t failedChecks() const;
+  std::size_t totalChecks() const;
+};
+
+/// Runs `cases` (filtered by options.caseIds) on every backend and, when options.outDir is set,
+/// writes report.md, summary.csv, one CSV per table and one PNG per plot (gnuplot; skipped with
+/// a note in report.md when gnuplot is missing). A case that throws becomes a failed check.
+StudyReport runStudy(const std::vector<Case>& cases, const std::vector<Backend>& backends,
+                     const StudyOptions& options);
+
+/// Writes the report folder of a finished study (runStudy() calls it when outDir is set).
+void writeReport(StudyReport& report, const StudyOptions& options);
+
+/// Markdown table of every check of a report (also the body of summary.csv): used for stdout.
+void printSummary(const StudyReport& report, std::FILE* out);
 
 }  // namespace tumble::validation::study
