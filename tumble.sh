@@ -10,7 +10,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 build=${BUILD_DIR:-$here/build}
 jobs=${JOBS:-$(nproc)}
 packages=(g++ cmake ninja-build pkg-config libtbb-dev libeigen3-dev libtomlplusplus-dev libcli11-dev
-          libgtest-dev libgmock-dev libbenchmark-dev)
+          libgtest-dev libgmock-dev libbenchmark-dev
+          libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev libpng-dev
+          ffmpeg xvfb xauth xdotool gnuplot-nox fonts-dejavu-core)
 
 install_packages() {
   local missing=()

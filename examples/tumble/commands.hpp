@@ -16,6 +16,13 @@ void addRun(CLI::App& app);
 void addPairs(CLI::App& app);
 void addBench(CLI::App& app);
 void addValidate(CLI::App& app);
+void addView(CLI::App& app);
+void addPlay(CLI::App& app);
+void addRender(CLI::App& app);
+
+/// Debian packages the viewer (view, play, render) needs at build time.
+inline constexpr const char* kViewerPackages =
+    "libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev libpng-dev";
 
 /// Writes a file atomically: `write` fills `path + ".part"`, which is then renamed to `path`.
 /// On any failure the partial file is removed and tumble::Error is thrown.
@@ -26,6 +33,13 @@ void writeAtomically(const std::string& path, F&& write);
 struct Exit {
   int status;
 };
+
+/// For view, play and render in a build without the viewer: prints how to get it and ends
+/// with status 2.
+[[noreturn]] void viewerMissing(const char* command);
+
+/// Parses "WxH" (each 16 to 8192); throws tumble::Error naming `option` otherwise.
+void parseSize(const std::string& text, const char* option, int& outW, int& outH);
 
 }  // namespace tumble::cli
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// tumble: simulate rigid bodies made of spheres, find contact pairs, benchmark the pipelines.
+// tumble: simulate rigid bodies made of spheres, find contact pairs, benchmark the pipelines,
+// and show, play back or render the animation.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
@@ -16,6 +17,9 @@ int main(int argc, char** argv) {
   tumble::cli::addPairs(app);
   tumble::cli::addBench(app);
   tumble::cli::addValidate(app);
+  tumble::cli::addView(app);
+  tumble::cli::addPlay(app);
+  tumble::cli::addRender(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+// `tumble play FILE`: the player (SPEC §6, the report's playback program). The keys are those
+// of the report: left/right play continuously while held, up/down step, left shift cycles the
+// speed, W A S D Q Z move and E R turn the camera, 0 cycles the colouring and, with a debug
+// recording, 1-5 toggle the force lines. The key logic is viewer::PlaybackControls.
+#include <memory>
+#include <optional>
+
+#include "commands.hpp"
+#include "tumble/error.hpp"
+
+#if TUMBLE_HAS_VIEWER
+#include <imgui.h>
+
+#include <algorithm>
+
+#include "tumble/recording.hpp"
+#include "tumble/viewer/controls.hpp"
+#include "tumble/viewer/draw_data.hpp"
+#include "tumble/viewer/renderer.hpp"
+#include "tumble/viewer/window.hpp"
+#endif
+
+namespace tumble::cli {
+namespace {
+
+struct PlayOptions {
+  std::string file = "record.bin";
+  std::string size = "1280x720";
+  std::string script;
+  std::optional<std::uint64_t> frames;
+  std::string screenshot;
+};
+
+#if TUMBLE_HAS_VIEWER
+using namespace tumble::viewer;
+
+void play(const PlayOptions& o) {
+  int w = 0, h = 0;
+  parseSize(o.size, "--size", w, h);
+  const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
+  // Recording::read names the file, the byte offset and the problem for a corrupt or
+  // truncated file; main() prints it and ends with status 2.
+  const Recording rec = Recording::read(o.file);
+  if (rec.frames.empty()) throw InputError(o.file, 0, "the recording holds no frames");
+
+  Window window("tumble play: " + o.file, w, h);
+  Renderer renderer;
+  const ParticleTable table = ParticleTable::from(rec);
+  Keyboard kb;
+  PlaybackControls controls(rec.frames.size(), rec.info.debug);
+  window.setKeyHandler([&](Key k, bool pressed) {
+    if (kb.event(k, pressed)) controls.keyEvent(k, pressed);
+  });
+  Camera cam = Camera::framing(recordingBounds(rec, table));
+  window.setCamera(&cam);
+  DrawData d;
+  d.groundEnabled = rec.info.groundEnabled;
+  d.groundHeight = rec.info.groundHeight;
+  ColorMode color = controls.colorMode();
+  d.colors = particleColors(table, color);
+  const auto massRange = std::minmax_element(rec.mass.begin(), rec.mass.end());
+  const auto elasticityRange = std::minmax_element(rec.elasticity.begin(), rec.elasticity.end());
+
+  std::uint64_t frame = 0;
+  std::size_t nextEvent = 0;
+  bool quit = false;
+  double lastTime = window.time();
+  while (!quit) {
+    while (nextEvent < script.size() && script[nextEvent].frame <= frame) {
+      const ScriptEvent& e = script[nextEvent++];
+      if (e.kind == ScriptEvent::Kind::Quit) quit = true;
+      else if (kb.event(e.key, e.kind == ScriptEvent::Kind::Press)) controls.keyEvent(e.key, e.kind == ScriptEvent::Kind::Press);
+    }
+    window.beginFrame();
+    if (window.shouldClose() || controls.quit() || (o.frames && frame >= *o.frames)) quit = true;
+    const double now = window.time();
+    // With a script every window frame counts as 1/60 s, so scripted runs are reproducible.
+    const double dt = script.empty() ? std::min(0.1, now - lastTime) : 1.0 / 60.0;
+    lastTime = now;
+    if (!quit) controls.advance(kb, dt, rec.info.fps);
+    const CameraMotion cm = cameraMotionFromKeys(kb);
+    if (cm.any()) cam.move(cm.forward, cm.right, cm.up, cm.turn, static_cast<float>(dt));
+
+    const RecordedFrame& f = rec.frames[controls.frame()];
+    if (controls.colorMode() != color) {
+      color = controls.colorMode();
+      d.colors = particleColors(table, color);
+    }
+    particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
+                    d.spheres);
+    d.pulls = f.pulls;
+    bool show[kNumForces];
+    for (int k = 0; k < kNumForces; ++k) show[k] = controls.forceShown(k);
+    if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);
+    int fw = 0, fh = 0;
+    window.framebufferSize(fw, fh);
+    renderer.draw(d, cam, fw, fh);
+    if (quit && !o.screenshot.empty()) writeImage(o.screenshot, window.readBack());
+
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGui::Begin("tumble play", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
+    ImGui::Text("%s (%s): %u particles, %u bodies", o.file.c_str(), rec.info.sceneName.c_str(), rec.info.numParticles,
+                rec.info.numBodies);
+    ImGui::Text("frame %zu / %zu   step %llu   t = %.4f s", controls.frame(), rec.frames.size() - 1,
+                static_cast<unsigned long long>(f.step), f.time);
+    ImGui::Text("speed %gx   pulls %s", controls.speed(), pullsToString(f.pulls).c_str());
+    if (color == ColorMode::Mass)
+      ImGui::Text("colouring: mass %.3g (light) to %.3g kg (dark)", *massRange.first, *massRange.second);
+    else if (color == ColorMode::Elasticity)
+      ImGui::Text("colouring: elasticity %.3g (light) to %.3g (dark)", *elasticityRange.first, *elasticityRange.second);
+    else
+      ImGui::Text("colouring: plain (one colour per body)");
+    if (rec.info.debug) {
+      for (int k = 0; k < kNumForces; ++k) {
+        const Rgb c = forceColor(k);
+        ImGui::TextColored(ImVec4(c.r, c.g, c.b, 1.0f), "%d %s %s", k + 1, forceName(k), show[k] ? "on" : "off");
+      }
+      ImGui::Text("%zu contacts", f.debug.contacts.size());
+    } else {
+      ImGui::TextUnformatted("no debug data (record with --debug-record for force lines)");
+    }
+    ImGui::End();
+    if (controls.helpShown()) helpOverlay(playKeyHelp(rec.info.debug));
+    window.endFrame();
+    ++frame;
+  }
+  std::printf("tumble play: %s\n", controls.describe().c_str());
+}
+#endif
+
+}  // namespace
+
+void addPlay(CLI::App& app) {
+  auto o = std::make_shared<PlayOptions>();
+  CLI::App* c = app.add_subcommand("play", "Play a recording in a window, with the report's playback keys");
+  c->add_option("file", o->file, "Recording (default record.bin)");
+  c->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
+  c->add_option("--script", o->script,
+                "Key script: lines 'FRAME press|release|tap KEY' or 'FRAME quit' (docs/animation.md); each frame "
+                "then counts as 1/60 s");
+  c->add_option("--frames", o->frames, "Quit after N window frames");
+  c->add_option("--screenshot", o->screenshot, "When quitting, save the last frame without the overlay (.png or .ppm)");
+  c->callback([o] {
+#if TUMBLE_HAS_VIEWER
+    play(*o);
+#else
+    viewerMissing("play");
+#endif
+  });
+}
+
+}  // namespace tumble::cli

@@ -1,0 +1,322 @@
+// SPDX-License-Identifier: MIT
+// `tumble render FILE -o out.mp4`: draw every frame of a recording off-screen (EGL, no X server
+// needed) and pipe the frames to ffmpeg as raw RGB; `--still N` writes one frame as PNG/PPM.
+// The output appears only when complete: ffmpeg writes OUT.part, renamed on success and
+// deleted on any failure (ffmpeg error, our error, Ctrl-C).
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "commands.hpp"
+#include "tumble/error.hpp"
+
+#if TUMBLE_HAS_VIEWER
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "tumble/recording.hpp"
+#include "tumble/viewer/draw_data.hpp"
+#include "tumble/viewer/offscreen.hpp"
+#include "tumble/viewer/renderer.hpp"
+#endif
+
+namespace tumble::cli {
+
+[[noreturn]] void viewerMissing(const char* command) {
+  std::fprintf(stderr,
+               "tumble %s: this tumble was built without the viewer; install %s and rebuild "
+               "(cmake -DTUMBLE_VIEWER=ON reports anything still missing)\n",
+               command, kViewerPackages);
+  throw Exit{kExitBadInput};
+}
+
+void parseSize(const std::string& text, const char* option, int& outW, int& outH) {
+  const auto x = text.find_first_of("xX");
+  const auto num = [&](const std::string& s, int& out) {
+    char* end = nullptr;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (s.empty() || *end != '\0' || v < 16 || v > 8192) return false;
+    out = static_cast<int>(v);
+    return true;
+  };
+  if (x == std::string::npos || !num(text.substr(0, x), outW) || !num(text.substr(x + 1), outH))
+    throw Error(std::string(option) + " " + text + ": expected WIDTHxHEIGHT, each from 16 to 8192 (e.g. 1280x720)");
+}
+
+namespace {
+
+struct RenderOptions {
+  std::string file;
+  std::string out;
+  std::string size = "1280x720";
+  std::optional<double> fps;
+  std::string color = "plain";
+  std::optional<long> still;
+  std::string forces;
+  std::optional<double> yaw, pitch;
+  double zoom = 1.0;
+  bool quiet = false;
+};
+
+#if TUMBLE_HAS_VIEWER
+using namespace tumble::viewer;
+
+volatile std::sig_atomic_t g_interrupted = 0;
+
+bool endsWith(const std::string& s, const char* suffix) {
+  const std::size_t n = std::strlen(suffix);
+  return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
+}
+
+// The ffmpeg on PATH (or $TUMBLE_FFMPEG), empty when there is none.
+std::string findFfmpeg() {
+  if (const char* e = std::getenv("TUMBLE_FFMPEG"); e && *e) return access(e, X_OK) == 0 ? e : "";
+  const char* path = std::getenv("PATH");
+  std::istringstream dirs(path ? path : "");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const std::string p = (dir.empty() ? "." : dir) + "/ffmpeg";
+    struct stat st {};
+    if (stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && access(p.c_str(), X_OK) == 0) return p;
+  }
+  return "";
+}
+
+// ffmpeg reading raw RGB frames from a pipe; the child's stdout and stderr stay ours, so its
+// own errors reach the user.
+class FfmpegPipe {
+ public:
+  FfmpegPipe(const std::string& exe, const std::vector<std::string>& args) {
+    int fds[2];
+    if (pipe(fds) != 0) throw Error(std::string("cannot create a pipe to ffmpeg: ") + std::strerror(errno));
+    m_pid = fork();
+    if (m_pid < 0) throw Error(std::string("cannot start ffmpeg: ") + std::strerror(errno));
+    if (m_pid == 0) {
+      dup2(fds[0], 0);
+      close(fds[0]);
+      close(fds[1]);
+      std::vector<char*> argv;
+      argv.push_back(const_cast<char*>(exe.c_str()));
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(exe.c_str(), argv.data());
+      std::fprintf(stderr, "tumble render: cannot run %s: %s\n", exe.c_str(), std::strerror(errno));
+      _exit(127);
+    }
+    close(fds[0]);
+    m_fd = fds[1];
+  }
+  ~FfmpegPipe() {
+    if (m_pid > 0) {
+      kill(m_pid, SIGTERM);
+      finish();
+    }
+  }
+  bool write(const std::uint8_t* data, std::size_t n) {
+    while (n > 0) {
+      const ssize_t w = ::write(m_fd, data, n);
+      if (w < 0 && errno == EINTR && !g_interrupted) continue;
+      if (w <= 0) return false;
+      data += w;
+      n -= static_cast<std::size_t>(w);
+    }
+    return true;
+  }
+  /// Closes the pipe and waits; returns ffmpeg's exit status (−signal when killed).
+  int finish() {
+    if (m_fd >= 0) close(m_fd);
+    m_fd = -1;
+    int status = 0;
+    while (waitpid(m_pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    m_pid = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  }
+
+ private:
+  pid_t m_pid = -1;
+  int m_fd = -1;
+};
+
+void render(const RenderOptions& o) {
+  int w = 0, h = 0;
+  parseSize(o.size, "--size", w, h);
+  const auto mode = colorModeFromString(o.color);
+  if (!mode) throw Error("--color " + o.color + ": expected plain, mass or elasticity");
+  if (o.fps && !(*o.fps > 0.0 && *o.fps <= 1000.0)) throw Error("--fps must be in (0, 1000]");
+  if (!(o.zoom > 0.0)) throw Error("--zoom must be positive");
+  bool show[kNumForces] = {};
+  for (char c : o.forces) {
+    if (c == ',' || c == ' ') continue;
+    if (c < '1' || c > '5') throw Error("--forces " + o.forces + ": expected digits 1-5 (1 repulsion, 2 damping, 3 shear, 4 ground, 5 friction)");
+    show[c - '1'] = true;
+  }
+
+  // Decide everything about the output before any expensive work.
+  std::string muxer, codec;
+  if (!o.still) {
+    if (endsWith(o.out, ".mp4")) muxer = "mp4", codec = "libx264";
+    else if (endsWith(o.out, ".mkv")) muxer = "matroska", codec = "libx264";
+    else if (endsWith(o.out, ".mov")) muxer = "mov", codec = "libx264";
+    else if (endsWith(o.out, ".webm")) muxer = "webm", codec = "libvpx-vp9";
+    else throw Error("-o " + o.out + ": expected a video name ending in .mp4, .mkv, .mov or .webm (use --still N for one image)");
+    if (w % 2 || h % 2) throw Error("--size " + o.size + ": a video needs an even width and height");
+  }
+  const std::string ffmpeg = o.still ? std::string() : findFfmpeg();
+  if (!o.still && ffmpeg.empty()) {
+    std::fprintf(stderr, "tumble render: ffmpeg was not found on PATH; install it (Debian: apt-get install ffmpeg) "
+                         "or write single frames with --still N -o FRAME.png\n");
+    throw Exit{kExitBadInput};
+  }
+
+  const Recording rec = Recording::read(o.file);
+  if (rec.frames.empty()) throw InputError(o.file, 0, "the recording holds no frames");
+  if (!o.forces.empty() && !rec.info.debug)
+    throw Error("--forces needs a debug recording (tumble run --debug-record); " + o.file + " is not one");
+  const std::size_t numFrames = rec.frames.size();
+  std::size_t first = 0, last = numFrames - 1;
+  if (o.still) {
+    const long i = *o.still < 0 ? static_cast<long>(numFrames) + *o.still : *o.still;
+    if (i < 0 || i >= static_cast<long>(numFrames))
+      throw Error("--still " + std::to_string(*o.still) + ": " + o.file + " has frames 0 to " +
+                  std::to_string(numFrames - 1) + " (negative counts from the end)");
+    first = last = static_cast<std::size_t>(i);
+  }
+
+  OffscreenContext ctx;
+  Renderer renderer;
+  Framebuffer fb(w, h);
+  const ParticleTable table = ParticleTable::from(rec);
+  Camera cam = Camera::framing(recordingBounds(rec, table));
+  if (o.yaw) cam.yaw = static_cast<float>(*o.yaw * 3.14159265358979 / 180.0);
+  if (o.pitch) cam.pitch = static_cast<float>(std::max(-85.0, std::min(85.0, *o.pitch)) * 3.14159265358979 / 180.0);
+  cam.distance /= static_cast<float>(o.zoom);
+  DrawData d;
+  d.groundEnabled = rec.info.groundEnabled;
+  d.groundHeight = rec.info.groundHeight;
+  d.colors = particleColors(table, *mode);
+
+  const auto drawFrame = [&](std::size_t i) {
+    const RecordedFrame& f = rec.frames[i];
+    particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
+                    d.spheres);
+    d.pulls = f.pulls;
+    if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);
+    fb.bind();
+    renderer.draw(d, cam, w, h);
+    return fb.read();
+  };
+
+  if (o.still) {
+    writeImage(o.out, drawFrame(first));
+    if (!o.quiet)
+      std::fprintf(stderr, "tumble render: frame %zu (step %llu, t = %.4f s) of %s, %dx%d, %s, to %s\n", first,
+                   static_cast<unsigned long long>(rec.frames[first].step), rec.frames[first].time, o.file.c_str(), w,
+                   h, toString(*mode), o.out.c_str());
+    return;
+  }
+
+  const double fps = o.fps ? *o.fps : rec.info.fps;
+  const std::string part = o.out + ".part";
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g", fps);
+  std::vector<std::string> args = {"-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24",
+                                   "-s", std::to_string(w) + "x" + std::to_string(h), "-r", rate, "-i", "pipe:0",
+                                   "-an", "-c:v", codec, "-pix_fmt", "yuv420p"};
+  if (codec == "libx264") args.insert(args.end(), {"-crf", "20", "-preset", "medium"});
+  if (muxer == "mp4" || muxer == "mov") args.insert(args.end(), {"-movflags", "+faststart"});
+  args.insert(args.end(), {"-f", muxer, part});
+
+  // A dead ffmpeg must give a write error, not kill us; Ctrl-C must clean up the .part file.
+  std::signal(SIGPIPE, SIG_IGN);
+  const auto oldInt = std::signal(SIGINT, [](int) { g_interrupted = 1; });
+  const auto oldTerm = std::signal(SIGTERM, [](int) { g_interrupted = 1; });
+  const auto restore = [&] {
+    std::signal(SIGINT, oldInt);
+    std::signal(SIGTERM, oldTerm);
+  };
+  const bool tty = isatty(fileno(stderr)) && !o.quiet;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto lastPrint = t0;
+  std::string failure;
+  int status = 0;
+  {
+    FfmpegPipe pipe(ffmpeg, args);
+    for (std::size_t i = first; i <= last && failure.empty(); ++i) {
+      if (g_interrupted) {
+        failure = "interrupted";
+        break;
+      }
+      const Image img = drawFrame(i);
+      if (!pipe.write(img.rgb.data(), img.rgb.size())) failure = "ffmpeg stopped reading frames";
+      const auto now = std::chrono::steady_clock::now();
+      if (tty && (now - lastPrint > std::chrono::milliseconds(200) || i == last)) {
+        lastPrint = now;
+        const double el = std::chrono::duration<double>(now - t0).count();
+        const double done = double(i - first + 1), total = double(last - first + 1);
+        std::fprintf(stderr, "\r  frame %zu/%zu (%5.1f%%)  %.1f frames/s  eta %.1f s   ", i - first + 1,
+                     last - first + 1, 100.0 * done / total, done / el, el / done * (total - done));
+      }
+    }
+    if (tty) std::fprintf(stderr, "\n");
+    status = pipe.finish();
+  }
+  restore();
+  if (g_interrupted) failure = "interrupted";
+  if (failure.empty() && status != 0) failure = "ffmpeg failed (exit status " + std::to_string(status) + ")";
+  if (failure.empty() && std::rename(part.c_str(), o.out.c_str()) != 0)
+    failure = std::string("cannot rename ") + part + ": " + std::strerror(errno);
+  if (!failure.empty()) {
+    std::remove(part.c_str());
+    if (failure == "interrupted") {
+      std::fprintf(stderr, "tumble render: interrupted; %s not written\n", o.out.c_str());
+      throw Exit{130};
+    }
+    throw Error(o.out + ": " + failure + "; nothing written");
+  }
+  if (!o.quiet) {
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "tumble render: %zu frames of %s (%dx%d, %g frames/s, %s) to %s in %.1f s (%s, EGL %s)\n",
+                 last - first + 1, o.file.c_str(), w, h, fps, toString(*mode), o.out.c_str(), el,
+                 Renderer::glRenderer().c_str(), ctx.platform().c_str());
+  }
+}
+#endif
+
+}  // namespace
+
+void addRender(CLI::App& app) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* c = app.add_subcommand(
+      "render", "Render a recording to a video (through ffmpeg) or one frame to an image, off-screen: no X server needed");
+  c->add_option("file", o->file, "Recording (tumble run --record, docs/recording.md)")->required();
+  c->add_option("-o,--output", o->out, "Output: OUT.mp4 / .mkv / .mov / .webm, or with --still an image .png / .ppm")
+      ->required();
+  c->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720; even for a video)");
+  c->add_option("--fps", o->fps, "Video frames per second (default: the recording's, 60)");
+  c->add_option("--color", o->color, "Colouring: plain (one colour per body), mass or elasticity")
+      ->check(CLI::IsMember({"plain", "mass", "elasticity"}));
+  c->add_option("--still", o->still, "Write only frame N as an image (negative counts from the end: -1 = last)");
+  c->add_option("--forces", o->forces,
+                "Debug recordings: draw force lines, digits 1-5 (1 repulsion, 2 damping, 3 shear, 4 ground, 5 friction)");
+  c->add_option("--yaw", o->yaw, "Camera direction about the vertical, degrees (default -57)");
+  c->add_option("--pitch", o->pitch, "Camera elevation, degrees (default 26)");
+  c->add_option("--zoom", o->zoom, "Zoom factor (default 1: the whole recording fits)");
+  c->add_flag("-q,--quiet", o->quiet, "No progress and no summary");
+  c->callback([o] {
+#if TUMBLE_HAS_VIEWER
+    render(*o);
+#else
+    viewerMissing("render");
+#endif
+  });
+}
+
+}  // namespace tumble::cli

@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: MIT
+// `tumble view SCENE.toml`: the live window (SPEC §6). The simulation runs 10 steps (the
+// scene's steps per frame) per drawn frame; with vsync that is 60 frames/s where the machine
+// keeps up, otherwise as fast as it can. Held arrow-left / arrow-up / space switch the x, y and
+// swirl pulls on (they add) and tint the ground. `--script` feeds key events at given frames
+// through the same handler as the keyboard, so tests can drive the window under Xvfb.
+#include <algorithm>
+#include <memory>
+#include <optional>
+
+#include "commands.hpp"
+#include "tumble/error.hpp"
+
+#if TUMBLE_HAS_VIEWER
+#include <imgui.h>
+
+#include <chrono>
+
+#include "tumble/pipeline.hpp"
+#include "tumble/recording.hpp"
+#include "tumble/scene_io.hpp"
+#include "tumble/viewer/controls.hpp"
+#include "tumble/viewer/draw_data.hpp"
+#include "tumble/viewer/renderer.hpp"
+#include "tumble/viewer/window.hpp"
+#endif
+
+namespace tumble::cli {
+namespace {
+
+struct ViewOptions {
+  std::string scene;
+  std::string pipeline = "cpu";
+  int threads = 0;
+  std::string record;
+  bool recordOn = false;
+  bool debug = false;
+  std::string size = "1280x720";
+  std::string color = "plain";
+  bool paused = false;
+  std::string script;
+  std::optional<std::uint64_t> frames;
+  std::string screenshot;
+};
+
+#if TUMBLE_HAS_VIEWER
+using namespace tumble::viewer;
+
+// FILE, FILE-2.ext, FILE-3.ext, …: a new file each time recording is switched on.
+std::string numbered(const std::string& path, int n) {
+  if (n <= 1) return path;
+  const auto slash = path.find_last_of('/');
+  const auto dot = path.find_last_of('.');
+  const bool hasExt = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  return hasExt ? path.substr(0, dot) + "-" + std::to_string(n) + path.substr(dot)
+                : path + "-" + std::to_string(n);
+}
+
+void view(const ViewOptions& o) {
+  int w = 0, h = 0;
+  parseSize(o.size, "--size", w, h);
+  const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
+  const Scene scene = readSceneFile(o.scene);
+  const World world = World::fromScene(scene);
+  if (const std::string warn = timeStepWarning(world); !warn.empty())
+    std::fprintf(stderr, "tumble view: warning: %s: %s\n", o.scene.c_str(), warn.c_str());
+  PipelineOptions po;
+  po.threads = o.threads;
+  auto pipeline = makePipeline(backendFromString(o.pipeline), po);
+  pipeline->load(world);
+  const bool debug = o.debug || scene.recordDebug;
+  pipeline->setDebugCapture(debug);
+  const std::uint32_t basePulls = scene.pulls.active;  // the scene's `on` pulls stay on; keys add
+  const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
+  // Not the scene's [output] file: a live session must not overwrite what `tumble run` wrote.
+  const std::string recordPath = o.record.empty() ? "view.bin" : o.record;
+
+  Window window("tumble view: " + scene.name, w, h);
+  Renderer renderer;
+  const ParticleTable table = ParticleTable::from(world);
+  Keyboard kb;
+  LiveControls controls;
+  controls.setPaused(o.paused);
+  controls.setRecording(o.recordOn || !o.record.empty());
+  ColorMode color = *colorModeFromString(o.color);
+  for (ColorMode m = ColorMode::Plain; m != color; m = nextColorMode(m)) controls.keyEvent(Key::Num0, true);
+  window.setKeyHandler([&](Key k, bool pressed) {
+    if (kb.event(k, pressed)) controls.keyEvent(k, pressed);
+  });
+
+  BodyState state;
+  ParticleDebug dbg;
+  pipeline->readState(state);
+  DrawData d;
+  d.groundEnabled = world.params.ground.enabled;
+  d.groundHeight = world.params.ground.height;
+  particleSpheres(table, state.px.data(), state.py.data(), state.pz.data(), state.qw.data(), state.qx.data(),
+                  state.qy.data(), state.qz.data(), d.spheres);
+  Camera cam = Camera::framing(sphereBounds(d.spheres));
+  if (d.groundEnabled) {
+    cam.target.z = std::max(cam.target.z, d.groundHeight);
+  }
+  window.setCamera(&cam);
+  d.colors = particleColors(table, controls.colorMode());
+  color = controls.colorMode();
+
+  std::unique_ptr<RecordingWriter> rec;
+  int recordings = 0;
+  std::uint64_t steps = 0, frame = 0;
+  std::size_t nextEvent = 0;
+  bool quit = false;
+  // Per-phase times per step, refreshed every half second from Pipeline::stats().
+  StepStats lastStats = pipeline->stats();
+  double phaseMs[kNumPhases] = {}, stepMs = 0.0, fpsShown = 0.0;
+  double lastStatsTime = window.time(), lastFrameTime = window.time();
+  std::uint64_t framesSinceStats = 0;
+
+  while (!quit) {
+    // Scripted keys for this frame, then the real ones.
+    while (nextEvent < script.size() && script[nextEvent].frame <= frame) {
+      const ScriptEvent& e = script[nextEvent++];
+      if (e.kind == ScriptEvent::Kind::Quit) quit = true;
+      else if (kb.event(e.key, e.kind == ScriptEvent::Kind::Press)) controls.keyEvent(e.key, e.kind == ScriptEvent::Kind::Press);
+    }
+    window.beginFrame();
+    if (window.shouldClose() || controls.quit() || (o.frames && frame >= *o.frames)) quit = true;
+    const double now = window.time();
+    // With a script every frame counts as 1/60 s, so scripted runs are reproducible.
+    const double dt = script.empty() ? std::min(0.1, now - lastFrameTime) : 1.0 / 60.0;
+    lastFrameTime = now;
+
+    const std::uint32_t pulls = pullMaskFromKeys(kb) | basePulls;
+    pipeline->setPulls(pulls);
+    const CameraMotion cm = cameraMotionFromKeys(kb);
+    if (cm.any()) cam.move(cm.forward, cm.right, cm.up, cm.turn, static_cast<float>(dt));
+
+    if (controls.recording() && !rec) {
+      rec = std::make_unique<RecordingWriter>(numbered(recordPath, ++recordings), world, debug,
+                                              static_cast<int>(perFrame));
+      if (!debug) {
+        pipeline->readState(state);
+        rec->writeFrame(steps, pipeline->time(), pulls, state);
+      }
+    } else if (!controls.recording() && rec) {
+      rec->close();
+      std::fprintf(stderr, "tumble view: recorded %llu frames to %s\n",
+                   static_cast<unsigned long long>(rec->numFrames()), rec->path().c_str());
+      rec.reset();
+    }
+
+    if (!quit && (!controls.paused() || controls.takeStep())) {
+      pipeline->step(perFrame);
+      steps += perFrame;
+      pipeline->readState(state);
+      if (rec) {
+        if (debug) pipeline->readDebug(dbg);
+        rec->writeFrame(steps, pipeline->time(), pulls, state, debug ? &dbg : nullptr);
+      }
+    }
+
+    if (controls.colorMode() != color) {
+      color = controls.colorMode();
+      d.colors = particleColors(table, color);
+    }
+    particleSpheres(table, state.px.data(), state.py.data(), state.pz.data(), state.qw.data(), state.qx.data(),
+                    state.qy.data(), state.qz.data(), d.spheres);
+    d.pulls = pulls;
+    int fw = 0, fh = 0;
+    window.framebufferSize(fw, fh);
+    renderer.draw(d, cam, fw, fh);
+    if (quit && !o.screenshot.empty()) writeImage(o.screenshot, window.readBack());
+
+    ++framesSinceStats;
+    if (now - lastStatsTime >= 0.5) {
+      const StepStats& st = pipeline->stats();
+      const double n = double(st.steps - lastStats.steps);
+      stepMs = 0.0;
+      for (int p = 0; p < kNumPhases; ++p) {
+        phaseMs[p] = n > 0 ? 1e3 * (st.seconds[p] - lastStats.seconds[p]) / n : 0.0;
+        stepMs += phaseMs[p];
+      }
+      fpsShown = double(framesSinceStats) / (now - lastStatsTime);
+      lastStats = st;
+      lastStatsTime = now;
+      framesSinceStats = 0;
+    }
+
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGui::Begin("tumble view", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
+    ImGui::Text("%s: %u particles, %u bodies", scene.name.c_str(), world.numParticles(), world.numBodies());
+    ImGui::Text("pipeline %s, %llu steps per frame", toString(pipeline->backend()),
+                static_cast<unsigned long long>(perFrame));
+    ImGui::Text("t = %.4f s (step %llu)%s", pipeline->time(), static_cast<unsigned long long>(steps),
+                controls.paused() ? "  PAUSED" : "");
+    ImGui::Text("%.1f frames/s, %.3f ms per step", fpsShown, stepMs);
+    if (ImGui::BeginTable("phases", 2)) {
+      for (int p = 0; p < kNumPhases; ++p) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(toString(static_cast<Phase>(p)));
+        ImGui::TableNextColumn();
+        ImGui::Text("%8.3f ms", phaseMs[p]);
+      }
+      ImGui::EndTable();
+    }
+    ImGui::Text("pulls: %s", pullsToString(pulls).c_str());
+    ImGui::Text("colouring: %s", toString(color));
+    bool recOn = controls.recording();
+    if (ImGui::Checkbox("record (C)", &recOn)) controls.setRecording(recOn);
+    if (rec) ImGui::Text("%s: %llu frames", rec->path().c_str(), static_cast<unsigned long long>(rec->numFrames()));
+    bool pausedBox = controls.paused();
+    if (ImGui::Checkbox("pause (P)", &pausedBox)) controls.setPaused(pausedBox);
+    ImGui::End();
+    if (controls.helpShown()) helpOverlay(liveKeyHelp());
+    window.endFrame();
+    ++frame;
+  }
+  if (rec) {
+    rec->close();
+    std::fprintf(stderr, "tumble view: recorded %llu frames to %s\n", static_cast<unsigned long long>(rec->numFrames()),
+                 rec->path().c_str());
+  }
+  const double wall = window.time();
+  std::printf("tumble view: %llu frames, %llu steps, t = %.4f s, pulls %s, %.1f frames/s\n",
+              static_cast<unsigned long long>(frame), static_cast<unsigned long long>(steps), pipeline->time(),
+              pullsToString(pipeline->pulls()).c_str(), wall > 0 ? double(frame) / wall : 0.0);
+}
+#endif
+
+}  // namespace
+
+void addView(CLI::App& app) {
+  auto o = std::make_shared<ViewOptions>();
+  CLI::App* c = app.add_subcommand("view", "Live window: simulate a scene and draw it, with the pulls on the keys");
+  c->add_option("scene", o->scene, "Scene file, e.g. scenes/molecules.toml")->required();
+  c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--threads", o->threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
+  c->add_option("--record", o->record,
+                "Record from the start into FILE (C switches recording on and off; default file view.bin; each "
+                "new start writes FILE-2, FILE-3, ...)");
+  c->add_flag("--record-on", o->recordOn, "Start with recording on (into view.bin)");
+  c->add_flag("--debug-record", o->debug, "Recordings include velocities, the five forces and the contacts");
+  c->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
+  c->add_option("--color", o->color, "Initial colouring: plain, mass or elasticity (0 cycles)")
+      ->check(CLI::IsMember({"plain", "mass", "elasticity"}));
+  c->add_flag("--paused", o->paused, "Start paused (P runs, N steps)");
+  c->add_option("--script", o->script,
+                "Key script: lines 'FRAME press|release|tap KEY' or 'FRAME quit' (docs/animation.md); each frame "
+                "then counts as 1/60 s");
+  c->add_option("--frames", o->frames, "Quit after N frames");
+  c->add_option("--screenshot", o->screenshot, "When quitting, save the last frame without the overlay (.png or .ppm)");
+  c->callback([o] {
+#if TUMBLE_HAS_VIEWER
+    view(*o);
+#else
+    viewerMissing("view");
+#endif
+  });
+}
+
+}  // namespace tumble::cli

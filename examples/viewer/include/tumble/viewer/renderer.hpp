@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+/// @file renderer.hpp
+/// OpenGL 3.3 core renderer: instanced lit spheres, the ground plane coloured by the pulls, and
+/// force lines. Needs a current OpenGL context (a GLFW window or an OffscreenContext); every
+/// call must come from the thread that owns it.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tumble/viewer/camera.hpp"
+#include "tumble/viewer/draw_data.hpp"
+
+namespace tumble::viewer {
+
+/// Background (sky) colour of every image.
+inline constexpr Rgb kSkyColor{0.13f, 0.15f, 0.19f};
+
+class Renderer {
+ public:
+  /// Compiles the shaders and creates the buffers; throws tumble::Error with the compiler log
+  /// when a shader does not compile.
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Draws `d` into the currently bound framebuffer of size w × h (clears it first).
+  void draw(const DrawData& d, const Camera& camera, int w, int h);
+
+  /// The OpenGL renderer string (e.g. "llvmpipe (LLVM 15.0.6, 256 bits)").
+  static std::string glRenderer();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m;
+};
+
+/// An RGB image, 8 bits per channel, top row first.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+  const std::uint8_t* at(int x, int y) const {
+    return &rgb[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x))];
+  }
+};
+
+/// Reads the currently bound read framebuffer (w × h) into an image, flipping it so that the
+/// top row comes first.
+Image readPixels(int w, int h);
+
+/// Writes an image as PNG (name ending in .png) or binary PPM (anything else), through
+/// `path + ".part"` renamed into place, so no half-written file is left. Throws tumble::Error.
+void writeImage(const std::string& path, const Image& img);
+/// Reads a binary PPM (P6, maxval 255) as written by writeImage; throws tumble::Error.
+Image readPpm(const std::string& path);
+
+}  // namespace tumble::viewer

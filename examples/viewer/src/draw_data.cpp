@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+// Building the renderer's input on the CPU: particle centres, colours and force lines.
+#include "tumble/viewer/draw_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tumble::viewer {
+namespace {
+
+// Twelve well-separated body colours (plain mode), medium brightness so lighting reads well.
+constexpr Rgb kPalette[] = {{0.90f, 0.45f, 0.35f}, {0.35f, 0.65f, 0.90f}, {0.95f, 0.75f, 0.30f},
+                            {0.45f, 0.80f, 0.45f}, {0.75f, 0.50f, 0.85f}, {0.30f, 0.80f, 0.80f},
+                            {0.95f, 0.55f, 0.70f}, {0.70f, 0.70f, 0.35f}, {0.55f, 0.55f, 0.95f},
+                            {0.90f, 0.60f, 0.20f}, {0.50f, 0.85f, 0.65f}, {0.85f, 0.40f, 0.55f}};
+
+Rgb lerp(Rgb a, Rgb b, float t) { return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t}; }
+
+// Normalised value in [0, 1] over the column's range (0.5 when every value is equal).
+std::vector<float> normalised(const std::vector<float>& v) {
+  std::vector<float> t(v.size(), 0.5f);
+  if (v.empty()) return t;
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  if (*hi > *lo)
+    for (std::size_t i = 0; i < v.size(); ++i) t[i] = (v[i] - *lo) / (*hi - *lo);
+  return t;
+}
+
+}  // namespace
+
+ParticleTable ParticleTable::from(const Recording& rec) {
+  return {rec.radius, rec.mass, rec.elasticity, rec.body, rec.ux, rec.uy, rec.uz};
+}
+
+ParticleTable ParticleTable::from(const World& w) { return {w.radius, w.mass, w.elasticity, w.body, w.ux, w.uy, w.uz}; }
+
+float ParticleTable::maxRadius() const {
+  return radius.empty() ? 0.0f : *std::max_element(radius.begin(), radius.end());
+}
+
+std::vector<float> particleColors(const ParticleTable& table, ColorMode mode) {
+  const std::size_t n = table.size();
+  std::vector<float> out(3 * n);
+  std::vector<float> t;
+  if (mode == ColorMode::Mass) t = normalised(table.mass);
+  if (mode == ColorMode::Elasticity) t = normalised(table.elasticity);
+  for (std::size_t i = 0; i < n; ++i) {
+    Rgb c;
+    switch (mode) {
+      case ColorMode::Plain: c = kPalette[(table.body[i] * 7u + 3u) % std::size(kPalette)]; break;
+      case ColorMode::Mass: c = lerp({1.0f, 0.93f, 0.70f}, {0.55f, 0.05f, 0.05f}, t[i]); break;       // cream → dark red
+      case ColorMode::Elasticity: c = lerp({0.80f, 0.95f, 1.0f}, {0.05f, 0.15f, 0.55f}, t[i]); break;  // ice → navy
+    }
+    out[3 * i] = c.r;
+    out[3 * i + 1] = c.g;
+    out[3 * i + 2] = c.b;
+  }
+  return out;
+}
+
+void particleSpheres(const ParticleTable& table, const float* px, const float* py, const float* pz,
+                     const float* qw, const float* qx, const float* qy, const float* qz, std::vector<float>& out) {
+  const std::size_t n = table.size();
+  out.resize(4 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t k = table.body[i];
+    const Vec3f x = Vec3f{px[k], py[k], pz[k]} +
+                    rotate(Quatf{qw[k], qx[k], qy[k], qz[k]}, Vec3f{table.ux[i], table.uy[i], table.uz[i]});
+    out[4 * i] = x.x;
+    out[4 * i + 1] = x.y;
+    out[4 * i + 2] = x.z;
+    out[4 * i + 3] = table.radius[i];
+  }
+}
+
+void forceLines(const ParticleTable& table, const std::vector<float>& spheres, const ParticleDebug& debug,
+                const bool show[kNumForces], std::vector<float>& outLines) {
+  outLines.clear();
+  const std::size_t n = table.size();
+  // A robust scale: the 90th percentile of the non-zero magnitudes (over the shown kinds) is
+  // drawn 2.5 largest radii long, and no line is longer than 6 radii. Scaling by the maximum
+  // would let one hard impact shrink every other line inside its sphere.
+  std::vector<float> mags;
+  for (int k = 0; k < kNumForces; ++k) {
+    if (!show[k] || debug.force[k].size() != 3 * n) continue;
+    const auto& f = debug.force[k];
+    for (std::size_t i = 0; i < n; ++i) {
+      const float m = norm(Vec3f{f[3 * i], f[3 * i + 1], f[3 * i + 2]});
+      if (m > 0.0f) mags.push_back(m);
+    }
+  }
+  if (mags.empty()) return;
+  const auto p90 = mags.begin() + static_cast<std::ptrdiff_t>(mags.size() * 9 / 10);
+  std::nth_element(mags.begin(), p90, mags.end());
+  const float rMax = table.maxRadius();
+  const float scale = 2.5f * rMax / *p90, maxLen = 6.0f * rMax;
+  for (int k = 0; k < kNumForces; ++k) {
+    if (!show[k] || debug.force[k].size() != 3 * n) continue;
+    const auto& f = debug.force[k];
+    const Rgb c = forceColor(k);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (f[3 * i] == 0.0f && f[3 * i + 1] == 0.0f && f[3 * i + 2] == 0.0f) continue;
+      const float x = spheres[4 * i], y = spheres[4 * i + 1], z = spheres[4 * i + 2];
+      const Vec3f fv{f[3 * i], f[3 * i + 1], f[3 * i + 2]};
+      const float len = std::min(maxLen, scale * norm(fv));
+      const Vec3f e = (len / norm(fv)) * fv;
+      outLines.insert(outLines.end(), {x, y, z, c.r, c.g, c.b, x + e.x, y + e.y, z + e.z, c.r, c.g, c.b});
+    }
+  }
+}
+
+Bounds sphereBounds(const std::vector<float>& spheres) {
+  Bounds b;
+  for (std::size_t i = 0; i + 3 < spheres.size(); i += 4)
+    b.add(Vec3f{spheres[i], spheres[i + 1], spheres[i + 2]}, spheres[i + 3]);
+  return b;
+}
+
+Bounds recordingBounds(const Recording& rec, const ParticleTable& table) {
+  Bounds b;
+  std::vector<float> s;
+  for (const RecordedFrame& f : rec.frames) {
+    particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(), s);
+    const Bounds fb = sphereBounds(s);
+    if (!fb.empty) {
+      b.add(fb.lo, 0.0f);
+      b.add(fb.hi, 0.0f);
+    }
+  }
+  if (rec.info.groundEnabled && !b.empty) b.lo.z = std::max(b.lo.z, rec.info.groundHeight);
+  return b;
+}
+
+}  // namespace tumble::viewer

@@ -1,0 +1,679 @@
+// SPDX-License-Identifier: MIT
+// Tests of the viewer (label `viewer`): the key logic without a window; images rendered
+// off-screen through EGL and checked pixel by pixel; and the tumble commands end to end:
+// `render --still` images, `render` videos checked with ffprobe, and `view` / `play` driven by
+// key scripts under Xvfb. Tests that need ffmpeg or xvfb-run skip when those are missing.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "tumble/error.hpp"
+#include "tumble/recording.hpp"
+#include "tumble/scene.hpp"
+#include "tumble/viewer/camera.hpp"
+#include "tumble/viewer/controls.hpp"
+#include "tumble/viewer/draw_data.hpp"
+#include "tumble/viewer/offscreen.hpp"
+#include "tumble/viewer/renderer.hpp"
+
+namespace tumble::viewer {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Key logic
+
+TEST(Controls, PullMaskFollowsHeldKeysAndAdds) {
+  Keyboard kb;
+  EXPECT_EQ(pullMaskFromKeys(kb), 0u);
+  kb.event(Key::Left, true);
+  EXPECT_EQ(pullMaskFromKeys(kb), kPullX);
+  kb.event(Key::Up, true);
+  EXPECT_EQ(pullMaskFromKeys(kb), kPullX | kPullY);
+  kb.event(Key::Space, true);
+  EXPECT_EQ(pullMaskFromKeys(kb), kPullX | kPullY | kPullSwirl);
+  kb.event(Key::Left, false);
+  EXPECT_EQ(pullMaskFromKeys(kb), kPullY | kPullSwirl);
+  kb.event(Key::Right, true);  // not a pull
+  kb.event(Key::Down, true);
+  EXPECT_EQ(pullMaskFromKeys(kb), kPullY | kPullSwirl);
+  EXPECT_FALSE(kb.event(Key::Up, true)) << "a repeated press changes nothing";
+  kb.clear();
+  EXPECT_EQ(pullMaskFromKeys(kb), 0u);
+  EXPECT_EQ(pullsToString(kPullX | kPullSwirl), "x+swirl");
+  EXPECT_EQ(pullsToString(0), "none");
+}
+
+TEST(Controls, EveryPullCombinationHasItsOwnGroundColour) {
+  for (std::uint32_t a = 0; a < 8; ++a)
+    for (std::uint32_t b = a + 1; b < 8; ++b) {
+      const Rgb ca = groundColor(a), cb = groundColor(b);
+      const float diff = std::fabs(ca.r - cb.r) + std::fabs(ca.g - cb.g) + std::fabs(ca.b - cb.b);
+      EXPECT_GT(diff, 0.1f) << "masks " << a << " and " << b;
+    }
+  EXPECT_GT(groundColor(kPullX).r, groundColor(kPullX).g + 0.2f);
+  EXPECT_GT(groundColor(kPullY).g, groundColor(kPullY).r + 0.2f);
+  EXPECT_GT(groundColor(kPullSwirl).b, groundColor(kPullSwirl).r + 0.2f);
+}
+
+TEST(Controls, KeyNamesRoundTrip) {
+  for (int i = 0; i < kNumKeys; ++i) {
+    const Key k = static_cast<Key>(i);
+    ASSERT_TRUE(keyFromString(toString(k)).has_value()) << toString(k);
+    EXPECT_EQ(*keyFromString(toString(k)), k);
+  }
+  EXPECT_EQ(keyFromString("LEFT"), Key::Left);
+  EXPECT_FALSE(keyFromString("f13").has_value());
+}
+
+TEST(Controls, PlaybackStepsAndPlaysContinuously) {
+  Keyboard kb;
+  PlaybackControls p(10, false);
+  const auto key = [&](Key k, bool down) {
+    if (kb.event(k, down)) p.keyEvent(k, down);
+  };
+  EXPECT_EQ(p.frame(), 0u);
+  key(Key::Down, true);
+  key(Key::Down, false);
+  EXPECT_EQ(p.frame(), 0u) << "stops at the first frame";
+  key(Key::Up, true);
+  key(Key::Up, false);
+  key(Key::Up, true);
+  key(Key::Up, false);
+  EXPECT_EQ(p.frame(), 2u);
+  key(Key::Right, true);
+  p.advance(kb, 3.0 / 60.0, 60.0);  // 3 frames at 1x
+  EXPECT_EQ(p.frame(), 5u);
+  p.advance(kb, 100.0, 60.0);
+  EXPECT_EQ(p.frame(), 9u) << "stops at the last frame";
+  key(Key::Right, false);
+  p.advance(kb, 1.0, 60.0);
+  EXPECT_EQ(p.frame(), 9u) << "nothing moves without a held key";
+  key(Key::LeftShift, true);  // 2x
+  key(Key::LeftShift, false);
+  EXPECT_EQ(p.speed(), 2.0);
+  key(Key::Left, true);
+  p.advance(kb, 2.0 / 60.0, 60.0);  // 4 frames back at 2x
+  EXPECT_EQ(p.frame(), 5u);
+  key(Key::Left, false);
+  for (int i = 0; i < 5; ++i) {
+    key(Key::LeftShift, true);
+    key(Key::LeftShift, false);
+  }
+  EXPECT_EQ(p.speed(), 1.0) << "the speeds cycle";
+}
+
+TEST(Controls, ColouringAndForceLines) {
+  PlaybackControls plain(5, false);
+  EXPECT_EQ(plain.colorMode(), ColorMode::Plain);
+  plain.keyEvent(Key::Num0, true);
+  EXPECT_EQ(plain.colorMode(), ColorMode::Mass);
+  plain.keyEvent(Key::Num0, true);
+  EXPECT_EQ(plain.colorMode(), ColorMode::Elasticity);
+  plain.keyEvent(Key::Num0, true);
+  EXPECT_EQ(plain.colorMode(), ColorMode::Plain);
+  plain.keyEvent(Key::Num1, true);
+  EXPECT_FALSE(plain.forceShown(0)) << "no force lines without a debug recording";
+
+  PlaybackControls debug(5, true);
+  debug.keyEvent(Key::Num1, true);
+  debug.keyEvent(Key::Num4, true);
+  debug.keyEvent(Key::Num5, true);
+  debug.keyEvent(Key::Num5, true);
+  EXPECT_TRUE(debug.forceShown(0));
+  EXPECT_FALSE(debug.forceShown(1));
+  EXPECT_TRUE(debug.forceShown(3));
+  EXPECT_FALSE(debug.forceShown(4));
+  EXPECT_EQ(debug.describe(), "frame 0/4 speed 1x colour plain forces 1,4");
+  EXPECT_EQ(playKeyHelp(true).size(), playKeyHelp(false).size() + 1);
+}
+
+TEST(Controls, LivePauseStepRecord) {
+  LiveControls c;
+  EXPECT_FALSE(c.paused());
+  c.keyEvent(Key::N, true);
+  EXPECT_FALSE(c.takeStep()) << "N steps only while paused";
+  c.keyEvent(Key::P, true);
+  EXPECT_TRUE(c.paused());
+  c.keyEvent(Key::N, true);
+  c.keyEvent(Key::N, false);
+  c.keyEvent(Key::N, true);
+  EXPECT_TRUE(c.takeStep());
+  EXPECT_TRUE(c.takeStep());
+  EXPECT_FALSE(c.takeStep());
+  c.keyEvent(Key::C, true);
+  EXPECT_TRUE(c.recording());
+  c.keyEvent(Key::C, true);
+  EXPECT_FALSE(c.recording());
+  c.keyEvent(Key::Escape, true);
+  EXPECT_TRUE(c.quit());
+}
+
+TEST(Controls, CameraKeys) {
+  Keyboard kb;
+  kb.event(Key::W, true);
+  kb.event(Key::A, true);
+  kb.event(Key::Q, true);
+  kb.event(Key::R, true);
+  const CameraMotion m = cameraMotionFromKeys(kb);
+  EXPECT_EQ(m.forward, 1.0f);
+  EXPECT_EQ(m.right, -1.0f);
+  EXPECT_EQ(m.up, 1.0f);
+  EXPECT_EQ(m.turn, 1.0f);
+  Camera cam;
+  const Vec3f eye = cam.eye();
+  cam.move(0, 0, 0, 1, 0.5f);
+  const Vec3f eye2 = cam.eye();
+  EXPECT_NEAR(norm(eye2 - eye), 0.0f, 1e-4f) << "turning keeps the eye in place";
+  Camera c2;
+  const Vec3f e0 = c2.eye(), look = c2.target - e0;
+  c2.move(1, 0, 0, 0, 0.5f);  // forward: along the view direction, in the ground plane
+  const Vec3f step = c2.eye() - e0;
+  EXPECT_GT(dot(step, Vec3f{look.x, look.y, 0.0f}), 0.1f);
+  EXPECT_NEAR(step.z, 0.0f, 1e-5f);
+  Camera c3;
+  const Vec3f e3 = c3.eye();
+  c3.move(0, 0, 1, 0, 0.5f);  // Q: up
+  EXPECT_GT(c3.eye().z, e3.z + 0.1f);
+}
+
+TEST(Controls, ScriptParsing) {
+  const auto ev = parseScript("# comment\n5 press left\n2 tap SPACE  # note\n\n9 quit\n", "s.txt");
+  ASSERT_EQ(ev.size(), 4u);
+  EXPECT_EQ(ev[0].frame, 2u);
+  EXPECT_EQ(ev[0].key, Key::Space);
+  EXPECT_EQ(ev[0].kind, ScriptEvent::Kind::Press);
+  EXPECT_EQ(ev[1].frame, 3u);
+  EXPECT_EQ(ev[1].kind, ScriptEvent::Kind::Release);
+  EXPECT_EQ(ev[2].frame, 5u);
+  EXPECT_EQ(ev[3].kind, ScriptEvent::Kind::Quit);
+  try {
+    parseScript("1 press left\n2 hold left\n", "s.txt");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find("s.txt:2"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parseScript("x press left\n", "s"), InputError);
+  EXPECT_THROW(parseScript("1 press f13\n", "s"), InputError);
+  EXPECT_THROW(parseScript("1 press left right\n", "s"), InputError);
+}
+
+TEST(Camera, ProjectsTheTargetToTheImageCentre) {
+  Camera c;
+  c.target = {1, 2, 3};
+  float x = 0, y = 0;
+  ASSERT_TRUE(c.project(c.target, 200, 100, x, y));
+  EXPECT_NEAR(x, 100.0f, 0.01f);
+  EXPECT_NEAR(y, 50.0f, 0.01f);
+  ASSERT_TRUE(c.project(c.target + Vec3f{0, 0, 1}, 200, 100, x, y));
+  EXPECT_LT(y, 50.0f) << "up is up in the image";
+  EXPECT_FALSE(c.project(c.eye() + (c.eye() - c.target), 200, 100, x, y)) << "behind the camera";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Off-screen rendering, checked by pixel
+
+struct Px {
+  int r, g, b;
+};
+Px pixel(const Image& img, int x, int y) {
+  const std::uint8_t* p = img.at(x, y);
+  return {p[0], p[1], p[2]};
+}
+std::ostream& operator<<(std::ostream& os, const Px& p) { return os << "(" << p.r << "," << p.g << "," << p.b << ")"; }
+bool nearColor(Px p, Rgb c, int tol) {
+  return std::abs(p.r - int(255 * c.r)) <= tol && std::abs(p.g - int(255 * c.g)) <= tol &&
+         std::abs(p.b - int(255 * c.b)) <= tol;
+}
+
+class Offscreen : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    try {
+      s_ctx = std::make_unique<OffscreenContext>();
+      s_renderer = std::make_unique<Renderer>();
+    } catch (const std::exception& e) {
+      s_error = e.what();
+    }
+  }
+  static void TearDownTestSuite() {
+    s_renderer.reset();
+    s_ctx.reset();
+  }
+  void SetUp() override { ASSERT_TRUE(s_ctx) << "no off-screen OpenGL context: " << s_error; }
+
+  // Two spheres on the ground: a heavy bouncy one at the origin and a light dull one at x = 2.
+  static ParticleTable table() {
+    ParticleTable t;
+    t.radius = {0.5f, 0.5f};
+    t.mass = {3.0f, 1.0f};
+    t.elasticity = {0.9f, 0.2f};
+    t.body = {0, 1};
+    t.ux = t.uy = t.uz = {0.0f, 0.0f};
+    return t;
+  }
+  static DrawData data(ColorMode mode, std::uint32_t pulls) {
+    DrawData d;
+    d.spheres = {0.0f, 0.0f, 0.5f, 0.5f, 2.0f, 0.0f, 0.5f, 0.5f};
+    d.colors = particleColors(table(), mode);
+    d.groundEnabled = true;
+    d.groundHeight = 0.0f;
+    d.pulls = pulls;
+    return d;
+  }
+  static Camera camera() {
+    Camera c;
+    c.target = {1.0f, 0.0f, 0.5f};
+    c.yaw = -1.2f;
+    c.pitch = 0.5f;
+    c.distance = 7.0f;
+    return c;
+  }
+  static Image render(const DrawData& d, int w = 320, int h = 240) {
+    Framebuffer fb(w, h);
+    fb.bind();
+    s_renderer->draw(d, camera(), w, h);
+    return fb.read();
+  }
+
+  static std::unique_ptr<OffscreenContext> s_ctx;
+  static std::unique_ptr<Renderer> s_renderer;
+  static std::string s_error;
+};
+std::unique_ptr<OffscreenContext> Offscreen::s_ctx;
+std::unique_ptr<Renderer> Offscreen::s_renderer;
+std::string Offscreen::s_error;
+
+TEST_F(Offscreen, GroundSpheresAndSkyWhereTheyProject) {
+  const Image img = render(data(ColorMode::Plain, 0));
+  ASSERT_EQ(img.width, 320);
+  ASSERT_EQ(img.height, 240);
+  const Camera cam = camera();
+  const Rgb c0{particleColors(table(), ColorMode::Plain)[0], particleColors(table(), ColorMode::Plain)[1],
+               particleColors(table(), ColorMode::Plain)[2]};
+  float x = 0, y = 0;
+  // Sphere 0: its centre pixel has its hue (lit, so only roughly its colour).
+  ASSERT_TRUE(cam.project({0.0f, 0.0f, 0.5f}, 320, 240, x, y));
+  const Px s0 = pixel(img, int(x), int(y));
+  EXPECT_TRUE(nearColor(s0, c0, 90)) << "sphere pixel " << s0 << " at " << x << "," << y;
+  // The ground in front of the spheres (toward the camera, lower part of the image).
+  const Vec3f front = Vec3f{1.0f, 0.0f, 0.0f} + 2.5f * Vec3f{std::cos(cam.yaw), std::sin(cam.yaw), 0.0f};
+  ASSERT_TRUE(cam.project(front, 320, 240, x, y));
+  EXPECT_GT(y, 120.0f) << "the ground in front is in the lower half";
+  const Px g = pixel(img, int(x), int(y));
+  EXPECT_TRUE(nearColor(g, groundColor(0), 60)) << "ground pixel " << g;
+  EXPECT_LT(std::abs(g.r - g.b), 25) << "no pull: a grey ground " << g;
+  // The sky: the top row is the background colour.
+  EXPECT_TRUE(nearColor(pixel(img, 160, 0), kSkyColor, 3)) << pixel(img, 160, 0);
+  // Between the two spheres at their height there is no sphere: ground or sky, never a sphere.
+  ASSERT_TRUE(cam.project({1.0f, 0.0f, 1.4f}, 320, 240, x, y));
+  const Px gap = pixel(img, int(x), int(y));
+  EXPECT_FALSE(nearColor(gap, c0, 40)) << gap;
+}
+
+TEST_F(Offscreen, ColourModesGiveDifferentPixels) {
+  const Image plain = render(data(ColorMode::Plain, 0));
+  const Image mass = render(data(ColorMode::Mass, 0));
+  const Image elast = render(data(ColorMode::Elasticity, 0));
+  float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  ASSERT_TRUE(camera().project({0.0f, 0.0f, 0.5f}, 320, 240, x0, y0));
+  ASSERT_TRUE(camera().project({2.0f, 0.0f, 0.5f}, 320, 240, x1, y1));
+  const auto dist = [](Px a, Px b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); };
+  EXPECT_GT(dist(pixel(plain, int(x0), int(y0)), pixel(mass, int(x0), int(y0))), 60);
+  EXPECT_GT(dist(pixel(mass, int(x0), int(y0)), pixel(elast, int(x0), int(y0))), 60);
+  // By mass, the heavy sphere (0) is darker than the light one (1): dark = large.
+  const Px heavy = pixel(mass, int(x0), int(y0)), light = pixel(mass, int(x1), int(y1));
+  EXPECT_LT(heavy.r + heavy.g + heavy.b, light.r + light.g + light.b) << heavy << " vs " << light;
+  // By elasticity, the bouncy sphere (0) is darker than the dull one (1).
+  const Px bouncy = pixel(elast, int(x0), int(y0)), dull = pixel(elast, int(x1), int(y1));
+  EXPECT_LT(bouncy.r + bouncy.g + bouncy.b, dull.r + dull.g + dull.b) << bouncy << " vs " << dull;
+}
+
+TEST_F(Offscreen, GroundColourShowsThePulls) {
+  const Camera cam = camera();
+  float x = 0, y = 0;
+  const Vec3f front = Vec3f{1.0f, 0.0f, 0.0f} + 2.5f * Vec3f{std::cos(cam.yaw), std::sin(cam.yaw), 0.0f};
+  ASSERT_TRUE(cam.project(front, 320, 240, x, y));
+  const Px none = pixel(render(data(ColorMode::Plain, 0)), int(x), int(y));
+  const Px px = pixel(render(data(ColorMode::Plain, kPullX)), int(x), int(y));
+  const Px py = pixel(render(data(ColorMode::Plain, kPullY)), int(x), int(y));
+  const Px ps = pixel(render(data(ColorMode::Plain, kPullSwirl)), int(x), int(y));
+  const Px all = pixel(render(data(ColorMode::Plain, kPullX | kPullY | kPullSwirl)), int(x), int(y));
+  EXPECT_GT(px.r, px.g + 40) << "x pull: red ground " << px;
+  EXPECT_GT(py.g, py.r + 40) << "y pull: green ground " << py;
+  EXPECT_GT(ps.b, ps.r + 40) << "swirl: blue ground " << ps;
+  EXPECT_NE(all.r + 256 * all.g + 65536 * all.b, none.r + 256 * none.g + 65536 * none.b) << all << none;
+}
+
+TEST_F(Offscreen, ForceLinesAreDrawn) {
+  DrawData d = data(ColorMode::Plain, 0);
+  d.groundEnabled = false;
+  ParticleDebug dbg;
+  for (auto& f : dbg.force) f.assign(6, 0.0f);
+  dbg.force[3] = {0.0f, 0.0f, 50.0f, 0.0f, 0.0f, 0.0f};  // a "ground" force straight up on sphere 0
+  bool show[kNumForces] = {false, false, false, true, false};
+  forceLines(table(), d.spheres, dbg, show, d.lines);
+  ASSERT_EQ(d.lines.size(), 12u) << "one line, two ends";
+  const Image img = render(d);
+  float x = 0, y = 0;
+  ASSERT_TRUE(camera().project({0.0f, 0.0f, 1.5f}, 320, 240, x, y));  // 2.5 radii long from the centre
+  int found = 0;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx)
+      if (nearColor(pixel(img, int(x) + dx, int(y) + dy), forceColor(3), 60)) ++found;
+  EXPECT_GT(found, 0) << "a ground-force line above sphere 0";
+}
+
+// ---------------------------------------------------------------------------------------------
+// The tumble command, end to end
+
+#ifdef TUMBLE_EXE
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/tumble_viewer_test.XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    m_dir = tmpl;
+  }
+  void TearDown() override {
+    if (!HasFailure()) std::system(("rm -rf '" + m_dir + "'").c_str());
+    else std::fprintf(stderr, "kept %s\n", m_dir.c_str());
+  }
+  std::string path(const std::string& name) const { return m_dir + "/" + name; }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
+  static std::string slurp(const std::string& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  }
+  Result run(const std::string& args, const std::string& prefix = "") const {
+    const std::string cmd = "cd '" + m_dir + "' && " + prefix + " '" + TUMBLE_EXE + "' " + args + " >out.txt 2>err.txt";
+    const int rc = std::system(cmd.c_str());
+    return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(path("out.txt")), slurp(path("err.txt"))};
+  }
+  // xvfb-run -a searches for a free display from 99 on; two tests started at once (ctest -j)
+  // can race for the same one, so each process starts its search somewhere else.
+  static std::string xvfbRun() {
+    return "xvfb-run -a -n " + std::to_string(100 + getpid() % 20000) + " -s '-screen 0 640x480x24'";
+  }
+  static bool have(const char* tool) {
+    return std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) == 0;
+  }
+  // A small scene: a 4 × 4 × 2 lattice of balls over the ground; `extra` is appended.
+  void scene(const std::string& name, const std::string& extra = "") const {
+    write(name, R"([scene]
+name = "small"
+dt = 1e-4
+steps = 200
+[ground]
+height = 0.0
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+offset = [0.0, 0.0, 0.0]
+radius = 0.1
+mass = 1.0
+elasticity = 0.5
+[[shape]]
+name = "heavy"
+[[shape.sphere]]
+offset = [0.0, 0.0, 0.0]
+radius = 0.1
+mass = 4.0
+elasticity = 0.9
+[[group]]
+shape = "ball"
+count = [4, 4, 1]
+spacing = 0.25
+origin = [-0.375, -0.375, 0.15]
+[[group]]
+shape = "heavy"
+count = [4, 4, 1]
+spacing = 0.25
+origin = [-0.375, -0.375, 0.45]
+)" + extra);
+  }
+  std::string m_dir;
+};
+
+// Bottom-centre of an image: the ground in front of the pile (the camera looks down on it).
+Px groundPixel(const Image& img) { return pixel(img, img.width / 2, img.height - 4); }
+
+TEST_F(Cli, RenderStillShowsGroundAndSpheres) {
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0) << slurp(path("err.txt"));
+  const Result r = run("render rec.bin --still 0 -o still.ppm --size 320x240");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Image img = readPpm(path("still.ppm"));
+  ASSERT_EQ(img.width, 320);
+  ASSERT_EQ(img.height, 240);
+  EXPECT_TRUE(nearColor(groundPixel(img), groundColor(0), 60)) << groundPixel(img);
+  EXPECT_TRUE(nearColor(pixel(img, 2, 2), kSkyColor, 3)) << "sky in the corner " << pixel(img, 2, 2);
+  // The recording is framed: the centre of the image shows spheres, which are neither ground
+  // nor sky coloured.
+  int sphere = 0;
+  for (int y = 80; y < 160; ++y)
+    for (int x = 110; x < 210; ++x) {
+      const Px p = pixel(img, x, y);
+      if (!nearColor(p, groundColor(0), 45) && !nearColor(p, kSkyColor, 20)) ++sphere;
+    }
+  EXPECT_GT(sphere, 80 * 100 / 4) << "sphere pixels in the middle of the image";
+  // PNG too, and no .part file is left.
+  ASSERT_EQ(run("render rec.bin --still -1 -o last.png --size 320x240").status, 0);
+  EXPECT_EQ(slurp(path("last.png")).substr(1, 3), "PNG");
+  EXPECT_NE(access(path("last.png.part").c_str(), F_OK), 0);
+}
+
+TEST_F(Cli, RenderColourModesAndPulls) {
+  scene("small.toml");
+  scene("pulled.toml", "[pulls]\non = [\"x\"]\n");
+  ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0);
+  ASSERT_EQ(run("run pulled.toml --record pulled.bin -q").status, 0);
+  for (const char* c : {"plain", "mass", "elasticity"})
+    ASSERT_EQ(run(std::string("render rec.bin --still 0 --size 320x240 -o ") + c + ".ppm --color " + c).status, 0);
+  ASSERT_EQ(run("render pulled.bin --still 0 --size 320x240 -o pulled.ppm").status, 0);
+  const Image plain = readPpm(path("plain.ppm")), mass = readPpm(path("mass.ppm")),
+              elast = readPpm(path("elasticity.ppm")), pulled = readPpm(path("pulled.ppm"));
+  const auto differing = [](const Image& a, const Image& b) {
+    int n = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); i += 3)
+      if (std::abs(a.rgb[i] - b.rgb[i]) + std::abs(a.rgb[i + 1] - b.rgb[i + 1]) + std::abs(a.rgb[i + 2] - b.rgb[i + 2]) > 30)
+        ++n;
+    return n;
+  };
+  EXPECT_GT(differing(plain, mass), 1000);
+  EXPECT_GT(differing(mass, elast), 1000);
+  EXPECT_GT(differing(plain, elast), 1000);
+  // The recording stores the pulls per frame; the x pull turns the ground red.
+  const Recording rec = Recording::read(path("pulled.bin"));
+  EXPECT_EQ(rec.frames.front().pulls, kPullX);
+  const Px g0 = groundPixel(plain), g1 = groundPixel(pulled);
+  EXPECT_LT(std::abs(g0.r - g0.g), 20) << g0;
+  EXPECT_GT(g1.r, g1.g + 40) << "x pull: red ground " << g1;
+}
+
+TEST_F(Cli, CorruptOrTruncatedRecordingGivesAClearMessage) {
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0);
+  const std::string bytes = slurp(path("rec.bin"));
+  write("cut.bin", bytes.substr(0, bytes.size() - 7));
+  std::string bad = bytes;
+  bad[100] = static_cast<char>(bad[100] ^ 0x40);
+  write("bad.bin", bad);
+  for (const char* cmd : {"render cut.bin --still 0 -o x.png", "render bad.bin -o x.mp4", "play cut.bin", "play bad.bin",
+                          "play missing.bin"}) {
+    const Result r = run(cmd);
+    EXPECT_EQ(r.status, 2) << cmd << ": " << r.err;
+    const std::string file = std::string(cmd).substr(std::string(cmd).find(' ') + 1, 7);
+    EXPECT_NE(r.err.find(file.substr(0, file.find('.'))), std::string::npos) << cmd << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+    EXPECT_NE(access(path("x.png").c_str(), F_OK), 0);
+    EXPECT_NE(access(path("x.mp4").c_str(), F_OK), 0);
+  }
+}
+
+TEST_F(Cli, RenderVideoHasTheFramesAndSize) {
+  if (!have("ffmpeg") || !have("ffprobe")) GTEST_SKIP() << "ffmpeg/ffprobe not installed";
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0);
+  const std::size_t frames = Recording::read(path("rec.bin")).frames.size();
+  ASSERT_EQ(frames, 21u);
+  const Result r = run("render rec.bin -o movie.mp4 --size 160x120 --fps 30 --color mass");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("21 frames"), std::string::npos) << r.err;
+  EXPECT_NE(access(path("movie.mp4.part").c_str(), F_OK), 0) << "no .part left";
+  const std::string probe =
+      "cd '" + m_dir + "' && ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+      "stream=width,height,nb_read_frames,codec_name,r_frame_rate -of default=noprint_wrappers=1 movie.mp4 > probe.txt";
+  ASSERT_EQ(std::system(probe.c_str()), 0);
+  const std::string p = slurp(path("probe.txt"));
+  EXPECT_NE(p.find("width=160"), std::string::npos) << p;
+  EXPECT_NE(p.find("height=120"), std::string::npos) << p;
+  EXPECT_NE(p.find("nb_read_frames=21"), std::string::npos) << p;
+  EXPECT_NE(p.find("r_frame_rate=30/1"), std::string::npos) << p;
+  EXPECT_NE(p.find("codec_name=h264"), std::string::npos) << p;
+}
+
+TEST_F(Cli, RenderWithoutFfmpegSaysSoAndWritesNothing) {
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0);
+  const Result r = run("render rec.bin -o movie.mp4", "PATH=/nonexistent TUMBLE_FFMPEG=");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("ffmpeg was not found"), std::string::npos) << r.err;
+  EXPECT_NE(access(path("movie.mp4").c_str(), F_OK), 0);
+  EXPECT_NE(access(path("movie.mp4.part").c_str(), F_OK), 0);
+  // A failing ffmpeg leaves nothing behind either.
+  write("fake-ffmpeg", "#!/bin/sh\ncat >/dev/null\nexit 1\n");
+  ASSERT_EQ(std::system(("chmod +x '" + path("fake-ffmpeg") + "'").c_str()), 0);
+  const Result f = run("render rec.bin -o movie.mp4 --size 64x48", "TUMBLE_FFMPEG=./fake-ffmpeg");
+  EXPECT_EQ(f.status, 2) << f.err;
+  EXPECT_NE(f.err.find("ffmpeg failed"), std::string::npos) << f.err;
+  EXPECT_NE(access(path("movie.mp4").c_str(), F_OK), 0);
+  EXPECT_NE(access(path("movie.mp4.part").c_str(), F_OK), 0);
+}
+
+// Under Xvfb: a key script drives the live window. Arrow-left is held for frames 2-21 (x pull),
+// then arrow-up from frame 22 to the end (y pull); the run is recorded. The recording must show
+// the pulls per frame, the bodies must have moved toward the origin along x while the x pull
+// was on, and the final screenshot's ground must be green (y pull).
+TEST_F(Cli, ViewUnderXvfbFollowsScriptedKeys) {
+  if (!have("xvfb-run") || !have("xauth")) GTEST_SKIP() << "xvfb-run/xauth not installed";
+  write("float.toml", R"([scene]
+name = "float"
+dt = 1e-3
+steps = 100000
+gravity = [0.0, 0.0, 0.0]
+[ground]
+height = 0.0
+[pulls]
+x = 50.0
+y = 50.0
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+offset = [0.0, 0.0, 0.0]
+radius = 0.1
+mass = 1.0
+elasticity = 0.5
+[[group]]
+shape = "ball"
+count = [4, 4, 1]
+spacing = 0.5
+origin = [-0.75, -0.75, 1.0]
+)");
+  write("keys.txt", "2 press left\n22 release left\n22 press up\n30 tap 0\n40 quit\n");
+  const Result r = run("view float.toml --script keys.txt --record view.bin --screenshot view.ppm --size 320x240",
+                       xvfbRun());
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("41 frames, 400 steps"), std::string::npos) << r.out;
+  const Recording rec = Recording::read(path("view.bin"));
+  ASSERT_EQ(rec.frames.size(), 41u) << "the initial state and one frame per drawn frame";
+  // Frame k holds the state after window frame k − 1 stepped with the pulls of that frame.
+  EXPECT_EQ(rec.frames[2].pulls, 0u);
+  EXPECT_EQ(rec.frames[3].pulls, kPullX);
+  EXPECT_EQ(rec.frames[22].pulls, kPullX);
+  EXPECT_EQ(rec.frames[23].pulls, kPullY);
+  EXPECT_EQ(rec.frames[40].pulls, kPullY);
+  const auto spread = [&](const RecordedFrame& f, const std::vector<float> RecordedFrame::*col) {
+    double s = 0;
+    for (float v : f.*col) s += std::fabs(v);
+    return s / double((f.*col).size());
+  };
+  EXPECT_LT(spread(rec.frames[22], &RecordedFrame::px), 0.8 * spread(rec.frames[2], &RecordedFrame::px))
+      << "the x pull gathers the bodies along x";
+  EXPECT_NEAR(spread(rec.frames[22], &RecordedFrame::py), spread(rec.frames[2], &RecordedFrame::py), 1e-4)
+      << "and leaves y alone";
+  EXPECT_LT(spread(rec.frames[40], &RecordedFrame::py), 0.9 * spread(rec.frames[22], &RecordedFrame::py))
+      << "the y pull gathers them along y";
+  const Image shot = readPpm(path("view.ppm"));
+  EXPECT_EQ(shot.width, 320);
+  const Px g = groundPixel(shot);
+  EXPECT_GT(g.g, g.r + 40) << "y pull on at the end: green ground " << g;
+}
+
+// Under Xvfb, with real X key events (xdotool): the GLFW key callback path. Arrow-left is held
+// for about a second, then Escape closes the window; the recording must show the x pull on some
+// frames and off before it, and the run must have ended by Escape, not by --frames.
+TEST_F(Cli, ViewUnderXvfbTakesRealKeyEvents) {
+  if (!have("xvfb-run") || !have("xauth") || !have("xdotool")) GTEST_SKIP() << "xvfb-run/xauth/xdotool not installed";
+  scene("small.toml");
+  write("keys.sh", R"(#!/bin/sh
+"$1" view small.toml --size 320x240 --record xdo.bin --frames 100000 >view.out 2>view.err &
+pid=$!
+wid=""
+for i in $(seq 1 100); do wid=$(xdotool search --name "tumble view" 2>/dev/null | head -n 1); [ -n "$wid" ] && break; sleep 0.1; done
+[ -n "$wid" ] || { kill $pid; exit 5; }
+xdotool mousemove --window "$wid" 100 100
+sleep 0.5
+xdotool keydown Left
+sleep 1
+xdotool keyup Left
+sleep 0.3
+xdotool key Escape
+wait $pid
+)");
+  const std::string cmd = "cd '" + m_dir + "' && " + xvfbRun() + " sh keys.sh '" + TUMBLE_EXE + "' >out.txt 2>err.txt";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(path("err.txt")) << slurp(path("view.err"));
+  const std::string out = slurp(path("view.out"));
+  EXPECT_EQ(out.find("100000 frames"), std::string::npos) << "ended by Escape: " << out;
+  const Recording rec = Recording::read(path("xdo.bin"));
+  std::size_t pulled = 0;
+  for (const RecordedFrame& f : rec.frames) pulled += f.pulls == kPullX;
+  EXPECT_EQ(rec.frames.front().pulls, 0u);
+  EXPECT_GT(pulled, 0u) << "arrow-left pressed through X switched the x pull on";
+  EXPECT_LT(pulled, rec.frames.size());
+}
+
+// Under Xvfb: a key script drives the player: 0 (colour by mass), up twice, right held for 10
+// window frames (10 recorded frames at 1x), left shift (2x), 1 and 4 (force lines).
+TEST_F(Cli, PlayUnderXvfbFollowsScriptedKeys) {
+  if (!have("xvfb-run") || !have("xauth")) GTEST_SKIP() << "xvfb-run/xauth not installed";
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --steps 400 --record rec.bin --debug-record -q").status, 0);
+  write("keys.txt", "1 tap 0\n3 tap up\n5 tap up\n7 press right\n17 release right\n18 tap lshift\n"
+                    "19 tap 1\n20 tap 4\n22 quit\n");
+  const Result r = run("play rec.bin --script keys.txt --size 320x240 --screenshot play.ppm",
+                       xvfbRun());
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("tumble play: frame 12/39 speed 2x colour mass forces 1,4"), std::string::npos) << r.out;
+  const Image shot = readPpm(path("play.ppm"));
+  EXPECT_EQ(shot.height, 240);
+}
+#endif
+
+}  // namespace
+}  // namespace tumble::viewer
