@@ -80,6 +80,14 @@ sed 's/^dt = 1e-4/dt = 2e-2/' small.toml > bigdt.toml
 expect_status "large dt runs" 0 "$bin" run bigdt.toml --steps 2 -q
 expect_msg "large dt warns" "warning: bigdt.toml: dt = 0.02 s .*use dt <="
 
+# Guards: the same scene run long enough diverges; the run stops with status 3, a message naming
+# the step, a body and the dt to use, and keeps the frames recorded before (all finite).
+expect_status "diverging run stops" 3 "$bin" run bigdt.toml --steps 2000 --record div.bin -q
+expect_msg "diverging run stops" "step [0-9]+ \(t = .*\): .*(energy grew|overlap|sinks).*body [0-9]+.*use dt <= "
+grep -q "non-finite" err.txt && bad "the guard should stop the run before anything is non-finite" || ok "guard trips before NaN"
+[ -s div.bin ] && [ ! -e div.bin.part ] && ok "frames before the trip kept" || bad "no recording kept after the trip"
+expect_status "no guard" 0 "$bin" run bigdt.toml --steps 2 --no-guard -q
+
 expect_status "debug recording" 0 "$bin" run small.toml --debug-record --record dbg.bin --record-steps 30 -q
 [ -s dbg.bin ] && ok "debug recording written" || bad "no debug recording"
 

@@ -16,6 +16,7 @@
 
 #include <chrono>
 
+#include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/recording.hpp"
 #include "tumble/scene_io.hpp"
@@ -104,6 +105,11 @@ void view(const ViewOptions& o) {
   d.colors = particleColors(table, controls.colorMode());
   color = controls.colorMode();
 
+  // Guards (docs/model.md#guards), checked after every frame's steps, before anything is drawn
+  // or recorded from them. A trip stops the simulation; the window stays open with the message.
+  RunGuard guard(world, *pipeline);
+  std::string stopped;
+
   std::unique_ptr<RecordingWriter> rec;
   int recordings = 0;
   std::uint64_t steps = 0, frame = 0;
@@ -134,7 +140,7 @@ void view(const ViewOptions& o) {
     const CameraMotion cm = cameraMotionFromKeys(kb);
     if (cm.any()) cam.move(cm.forward, cm.right, cm.up, cm.turn, static_cast<float>(dt));
 
-    if (controls.recording() && !rec) {
+    if (controls.recording() && !rec && stopped.empty()) {
       rec = std::make_unique<RecordingWriter>(numbered(recordPath, ++recordings), world, debug,
                                               static_cast<int>(perFrame));
       if (!debug) {
@@ -148,13 +154,30 @@ void view(const ViewOptions& o) {
       rec.reset();
     }
 
-    if (!quit && (!controls.paused() || controls.takeStep())) {
-      pipeline->step(perFrame);
-      steps += perFrame;
-      pipeline->readState(state);
-      if (rec) {
-        if (debug) pipeline->readDebug(dbg);
-        rec->writeFrame(steps, pipeline->time(), pulls, state, debug ? &dbg : nullptr);
+    if (!quit && stopped.empty() && (!controls.paused() || controls.takeStep())) {
+      try {
+        pipeline->step(perFrame);
+        if (const auto trip = guard.check(*pipeline)) stopped = trip->message;
+      } catch (const SimulationError& e) {
+        stopped = e.what();
+      }
+      if (stopped.empty()) {
+        steps += perFrame;
+        pipeline->readState(state);
+        if (rec) {
+          if (debug) pipeline->readDebug(dbg);
+          rec->writeFrame(steps, pipeline->time(), pulls, state, debug ? &dbg : nullptr);
+        }
+      } else {
+        // The last good state stays on screen; nothing from the bad one is recorded.
+        std::fprintf(stderr, "tumble view: stopped: %s\n", stopped.c_str());
+        if (rec) {
+          rec->close();
+          std::fprintf(stderr, "tumble view: kept %llu frames in %s\n",
+                       static_cast<unsigned long long>(rec->numFrames()), rec->path().c_str());
+          rec.reset();
+          controls.setRecording(false);
+        }
       }
     }
 
@@ -204,6 +227,11 @@ void view(const ViewOptions& o) {
       }
       ImGui::EndTable();
     }
+    if (!stopped.empty()) {
+      ImGui::PushTextWrapPos(560.0f);
+      ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "STOPPED: %s", stopped.c_str());
+      ImGui::PopTextWrapPos();
+    }
     ImGui::Text("pulls: %s", pullsToString(pulls).c_str());
     ImGui::Text("colouring: %s", toString(color));
     bool recOn = controls.recording();
@@ -225,6 +253,7 @@ void view(const ViewOptions& o) {
   std::printf("tumble view: %llu frames, %llu steps, t = %.4f s, pulls %s, %.1f frames/s\n",
               static_cast<unsigned long long>(frame), static_cast<unsigned long long>(steps), pipeline->time(),
               pullsToString(pipeline->pulls()).c_str(), wall > 0 ? double(frame) / wall : 0.0);
+  if (!stopped.empty()) throw Exit{kExitDiverged};
 }
 #endif
 

@@ -625,6 +625,43 @@ origin = [-0.75, -0.75, 1.0]
   EXPECT_GT(g.g, g.r + 40) << "y pull on at the end: green ground " << g;
 }
 
+// Under Xvfb: a scene whose dt is far beyond the contact's stability limit (ω dt ≈ 2.8). The
+// guard stops the simulation, the window shows the message, the recording keeps only good frames
+// and the exit status is 3 (diverged).
+TEST_F(Cli, ViewStopsADivergingRunAndKeepsTheGoodFrames) {
+  if (!have("xvfb-run") || !have("xauth")) GTEST_SKIP() << "xvfb-run/xauth not installed";
+  write("stiff.toml", R"([scene]
+name = "stiff"
+dt = 2e-2
+steps = 100000
+[contact]
+stiffness = 2e4
+[ground]
+stiffness = 2e4
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.5
+mass = 1.0
+elasticity = 0.5
+[[group]]
+shape = "ball"
+count = [3, 3, 2]
+spacing = 1.05
+origin = [-1.0, -1.0, 0.6]
+velocity_jitter = 0.1
+)");
+  const Result r = run("view stiff.toml --record stiff.bin --frames 200 --size 160x120", xvfbRun());
+  EXPECT_EQ(r.status, 3) << r.err << r.out;
+  EXPECT_NE(r.err.find("tumble view: stopped: step "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("use dt <= "), std::string::npos) << r.err;
+  const Recording rec = Recording::read(path("stiff.bin"));  // complete and finite, or it throws
+  EXPECT_GE(rec.frames.size(), 1u);
+  EXPECT_LT(rec.frames.size(), 200u) << "stopped before the end";
+  for (const RecordedFrame& f : rec.frames)
+    for (float z : f.pz) ASSERT_TRUE(std::isfinite(z));
+}
+
 // Under Xvfb, with real X key events (xdotool): the GLFW key callback path. Arrow-left is held
 // for about a second, then Escape closes the window; the recording must show the x pull on some
 // frames and off before it, and the run must have ended by Escape, not by --frames.
