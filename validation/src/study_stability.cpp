@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The stability cases of the validation study (docs/validation-stability.md): stiff contacts at
-// the stability limit, mass ratio 1:1000, a tower of 50 clumps, tunnelling, fast spin,
-// coincident centres, and a scene translated far from the origin.
+// The stability cases of the validation study (docs/validation.md, "Stability on hard cases"):
+// stiff contacts at the stability limit (with the run-time guard), mass ratio 1:1000, a tower of
+// 50 clumps, tunnelling, fast spin, coincident centres, and a scene translated far from the origin.
 //
 // Every criterion is derived from the scheme as implemented (leapfrog kick-drift with forces
 // and dashpots from the start-of-step state, core/include/tumble/kernels/integrate.hpp) and
@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/validation/study.hpp"
@@ -280,6 +281,78 @@ double bounceEnergyRatio(double h, double phase, Backend backend) {
   return kNaN;
 }
 
+/// The run-time guard (core/include/tumble/guard.hpp) on the perturbed resting contact at dt.
+struct GuardRunResult {
+  bool tripped = false;
+  bool threw = false;            ///< the pipeline itself stopped (SimulationError) before a trip
+  GuardTrip::Kind kind = GuardTrip::Kind::NonFinite;
+  std::uint64_t step = 0;        ///< the trip's step (steps since load), or the steps run
+  double suggestedDt = 0;        ///< the trip's dt advice (or the guard's, when quiet)
+  double maxOverlap = 0;         ///< largest overlap seen by the checks (fraction of r)
+  double maxRise = 0;            ///< largest E − E0 seen by the checks (J)
+  std::string message;
+};
+
+/// Steps the perturbed resting contact of `c` at dt, the guard checking after every step (the
+/// strictest interval; `tumble run` checks every frame), until it trips or n steps have run.
+GuardRunResult guardRun(const StiffConfig& c, double dt, std::uint64_t n, Backend backend) {
+  StiffSetup s = stiffSetup(c);
+  placeStiff(s, c, s.deltaEq - s.deltaEq / 100.0);
+  s.scene.dt = float(dt);
+  const World world = World::fromScene(s.scene);
+  std::unique_ptr<Pipeline> pipe = makePipeline(backend);
+  pipe->load(world);
+  RunGuard guard(world, *pipe);
+  const double e0 = guard.energy();
+  GuardRunResult g;
+  g.suggestedDt = guard.suggestedDt();
+  for (std::uint64_t i = 0; i < n; ++i) {
+    try {
+      pipe->step(1);
+    } catch (const Error& e) {
+      g.threw = true;
+      g.step = i + 1;
+      g.message = e.what();
+      return g;
+    }
+    const std::optional<GuardTrip> t = guard.check(*pipe);
+    if (t) {
+      g.tripped = true;
+      g.kind = t->kind;
+      g.step = t->step;
+      g.suggestedDt = t->suggestedDt;
+      g.message = t->message;
+      return g;
+    }
+    g.maxOverlap = std::max(g.maxOverlap, guard.maxOverlap());
+    g.maxRise = std::max(g.maxRise, guard.energy() - e0);
+  }
+  g.step = n;
+  return g;
+}
+
+/// Steps for ρ(h)^(2m) ≥ ratio: when a perturbation of energy E_p that grows by ρ per step
+/// reaches ratio × E_p (linear theory; the energy goes as the amplitude squared).
+double growthSteps(double h, double zeta, double ratio) {
+  return std::log(ratio) / (2.0 * std::log(spectralRadius(h, zeta)));
+}
+
+const char* kindName(const GuardRunResult& g) {
+  if (g.threw) return "pipeline error";
+  if (!g.tripped) return "quiet";
+  switch (g.kind) {
+    case GuardTrip::Kind::NonFinite: return "non-finite";
+    case GuardTrip::Kind::Energy: return "energy";
+    case GuardTrip::Kind::Overlap: return "overlap";
+  }
+  return "?";
+}
+double kindCode(const GuardRunResult& g) {
+  if (g.threw) return -1;
+  if (!g.tripped) return 0;
+  return g.kind == GuardTrip::Kind::NonFinite ? 1 : g.kind == GuardTrip::Kind::Energy ? 2 : 3;
+}
+
 CaseResult stiffContactCase(const CaseContext& ctx) {
   const bool full = ctx.depth == Depth::Full;
   CaseResult res;
@@ -370,7 +443,63 @@ CaseResult stiffContactCase(const CaseContext& ctx) {
   res.checks.push_back(zeroCheck("undamped bounce energy within the leapfrog bounds",
                                  "1 - h^2/4 <= (v_out/v_in)^2 <= 1/(1 - h^2/4) for h < 2 (rel. 1e-5 rounding)",
                                  violations));
-  res.tables = {scan, limits, bounce};
+  // The run-time guard (tumble run's RunGuard) on the same perturbed resting contacts: it must
+  // trip (energy or overlap, before anything is non-finite) within a bounded number of steps at
+  // 1.1 dt_c, and stay quiet for the whole run at 0.9 dt_c and at the dt its trip message suggests.
+  Table guardTable{"guard",
+                   {"config", "dt_over_dtc", "dt", "outcome", "step", "predicted_steps", "step_bound", "max_overlap",
+                    "energy_rise"},
+                   {}};
+  const std::uint64_t guardMax = 1000;  // steps allowed for a trip at 1.1 dt_c
+  int loudAt09 = 0, loudAtSuggested = 0;
+  std::string guardDetails;
+  for (std::size_t ci = 0; ci < std::size(configs); ++ci) {
+    const StiffConfig& c = configs[ci];
+    const StiffSetup s = stiffSetup(c);
+    const double hc = criticalH(s.zeta), dtc = hc / s.omega;
+    // Energy the guard allows to appear: energyGrowth (0.5) × S, S = springs + pulls' potential
+    // + Σ M|g| r_max of the initial state (at rest, nothing to drop). Perturbation energy
+    // E_p = ½ m_eff ω² δ0² (m_eff = m on the ground, m/2 for the pair).
+    const double r = 0.1, m = 1.0, k = 1.0e3, d0 = s.deltaEq / 100.0, d = s.deltaEq - d0;
+    const double meff = c.pair ? 0.5 * m : m;
+    const double S = c.pair ? 0.5 * k * d * d + 2.0 * 0.5 * m * 100.0 * (r - 0.5 * d) * (r - 0.5 * d)
+                            : 0.5 * k * d * d + m * double(float(kG)) * r;
+    const double ep = 0.5 * meff * s.omega * s.omega * d0 * d0;
+    const double hTrip = 1.1 * hc;
+    const double predicted = growthSteps(hTrip, s.zeta, (ep + 0.5 * S) / ep);
+    // Bound: twice the linear prediction (the initial state projects onto the growing mode with
+    // a factor ≤ 4 in energy, and the contact opens — the ground sphere is thrown up — once the
+    // amplitude passes δ_eq, after which growth continues bounce by bounce) plus 20 steps.
+    const double bound = std::ceil(2.0 * predicted) + 20.0;
+    const GuardRunResult a = guardRun(c, 1.1 * dtc, guardMax, ctx.backend);
+    const GuardRunResult b = guardRun(c, 0.9 * dtc, n, ctx.backend);
+    const double dtSuggested = a.tripped ? a.suggestedDt : 0.05 * kPi * std::sqrt(meff / k);
+    const GuardRunResult q = guardRun(c, dtSuggested, n, ctx.backend);
+    const bool kindOk = a.tripped && !a.threw && a.kind != GuardTrip::Kind::NonFinite;
+    res.checks.push_back(mkCheck(fmt("guard trips at 1.1 dt_c, %s", c.id),
+                                 "RunGuard::check after every step: trips by energy or overlap (not non-finite) "
+                                 "within 2 n_lin + 20 steps, n_lin = ln((E_p + S/2)/E_p) / (2 ln rho(1.1 h_c))",
+                                 double(a.step), predicted, kindOk ? double(a.step) : kNaN, bound, "steps"));
+    if (b.tripped || b.threw) ++loudAt09;
+    if (q.tripped || q.threw) ++loudAtSuggested;
+    for (const auto* g : {&a, &b, &q}) {
+      const double ratio = g == &a ? 1.1 : g == &b ? 0.9 : dtSuggested / dtc;
+      guardTable.rows.push_back({double(ci), ratio, ratio * dtc, kindCode(*g), double(g->step),
+                                 g == &a ? predicted : kNaN, g == &a ? bound : kNaN, g->maxOverlap, g->maxRise});
+    }
+    guardDetails += fmt("| %s | %s at step %llu | %.1f | %.0f | %s, %llu steps (max overlap %.3g r) | %.4f dt_c: %s, %llu steps |\n",
+                        c.id, kindName(a), static_cast<unsigned long long>(a.step), predicted, bound, kindName(b),
+                        static_cast<unsigned long long>(b.step), b.maxOverlap, dtSuggested / dtc, kindName(q),
+                        static_cast<unsigned long long>(q.step));
+    if (!kindOk || b.tripped || b.threw || q.tripped || q.threw)
+      guardDetails += fmt("\n(%s: %s / %s / %s)\n\n", c.id, a.message.c_str(), b.message.c_str(), q.message.c_str());
+  }
+  res.checks.push_back(zeroCheck("guard quiet at 0.9 dt_c", "RunGuard::check after every step of n steps at 0.9 dt_c: "
+                                 "number of configs where it trips (or the pipeline stops)", loudAt09));
+  res.checks.push_back(zeroCheck("guard quiet at its suggested dt",
+                                 "n steps at the trip message's dt (t_c/20 of the contact): number of configs where it "
+                                 "trips", loudAtSuggested));
+  res.tables = {scan, limits, bounce, guardTable};
   res.plots.push_back(Plot{"amplification", "Growth of a 1 % perturbation of a resting contact vs dt/dt_c",
                            "amplification", "dt_over_dtc", "dt / dt_c (analytic)", "max |δ−δ_eq| / δ0 (capped at 50)",
                            {"amplification"}, false, true, "config"});
@@ -399,7 +528,16 @@ CaseResult stiffContactCase(const CaseContext& ctx) {
       "| config | ω [1/s] | ζ | h_c | dt_c [s] | measured [s] | rel. error | tolerance |\n|---|---|---|---|---|---|---|---|\n" +
       details + fmt("\nn = %llu steps per trial; config index in the CSV: 0 ground_undamped, 1 ground_damped, "
                     "2 pair_undamped, 3 pair_damped.",
-                    static_cast<unsigned long long>(n));
+                    static_cast<unsigned long long>(n)) +
+      "\n\n**The run-time guard** (`RunGuard`, core/include/tumble/guard.hpp, as in `tumble run`) watches the "
+      "same perturbed contacts, checking after every step. At 1.1 dt_c it must trip by energy (E − E₀ beyond "
+      "half of what the initial state can release, S) or overlap, before the state is non-finite, within "
+      "2 n_lin + 20 steps, where n_lin = ln((E_p + S/2)/E_p) / (2 ln ρ) is when the linear growth ρ(h) per "
+      "step brings the perturbation energy E_p = ½ m_eff ω² δ0² to S/2 (margin: projection on the growing mode, "
+      "and the contact opening — the ground sphere is thrown up — once the amplitude passes δ_eq). At 0.9 dt_c "
+      "and at the dt the trip message suggests (t_c/20) it must stay quiet for all n steps.\n\n"
+      "| config | 1.1 dt_c | n_lin | bound | 0.9 dt_c | suggested dt |\n|---|---|---|---|---|---|\n" +
+      guardDetails + "\nOutcome codes in guard.csv: 0 quiet, 1 non-finite, 2 energy, 3 overlap, −1 pipeline error.";
   return res;
 }
 
