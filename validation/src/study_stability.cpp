@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -22,76 +21,15 @@
 #include "tumble/scene.hpp"
 #include "tumble/validation/study.hpp"
 #include "tumble/world.hpp"
+#include "study_util.hpp"
 
 namespace tumble::validation::study {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kG = 9.81;
+using namespace detail;  // the helpers shared with study_physics.cpp (study_util.hpp)
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-std::string fmt(const char* f, ...) {
-  char buf[4096];
-  va_list ap;
-  va_start(ap, f);
-  std::vsnprintf(buf, sizeof buf, f, ap);
-  va_end(ap);
-  return buf;
-}
-
-/// A check whose `error` is compared with `tolerance` (pass: finite and error ≤ tolerance).
-Check mkCheck(std::string name, std::string formula, double measured, double expected, double error,
-              double tolerance, std::string unit) {
-  Check c;
-  c.name = std::move(name);
-  c.formula = std::move(formula);
-  c.measured = measured;
-  c.expected = expected;
-  c.error = error;
-  c.tolerance = tolerance;
-  c.unit = std::move(unit);
-  c.pass = std::isfinite(error) && error <= tolerance;
-  return c;
-}
-/// |measured − expected| / |expected| ≤ tol.
-Check relCheck(std::string name, std::string formula, double measured, double expected, double tol) {
-  return mkCheck(std::move(name), std::move(formula), measured, expected,
-                 std::abs(measured - expected) / std::abs(expected), tol, "relative");
-}
-/// measured ≤ bound.
-Check boundCheck(std::string name, std::string formula, double measured, double bound, std::string unit) {
-  return mkCheck(std::move(name), std::move(formula), measured, kNaN, measured, bound, std::move(unit));
-}
-/// A count of violations that must be zero.
-Check zeroCheck(std::string name, std::string formula, double count) {
-  return mkCheck(std::move(name), std::move(formula), count, 0.0, count, 0.0, "count");
-}
-
-/// The spacing of floats at |x| (ulp).
-double ulpf(double x) {
-  const float f = std::abs(static_cast<float>(x));
-  return double(std::nextafter(f, std::numeric_limits<float>::infinity())) - double(f);
-}
-
-ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
-
-// An asymmetric clump (distinct principal moments), as in physics_test.cpp.
-ShapeDef oddShape() {
-  return ShapeDef{"odd",
-                  {SphereDef{{0, 0, 0}, 0.3f, 2.0f, 0.5f}, SphereDef{{0.5f, 0, 0}, 0.2f, 1.0f, 0.5f},
-                   SphereDef{{0, 0.35f, 0.1f}, 0.15f, 0.5f, 0.5f}, SphereDef{{-0.2f, -0.1f, 0.4f}, 0.25f, 1.5f, 0.5f}}};
-}
-
-BodyDef bodyAt(std::uint32_t shape, double x, double y, double z, double vx = 0, double vy = 0, double vz = 0) {
-  BodyDef b;
-  b.shape = shape;
-  b.position = {float(x), float(y), float(z)};
-  b.velocity = {float(vx), float(vy), float(vz)};
-  return b;
-}
 
 bool finiteState(const BodyState& s) {
   for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz})
@@ -124,8 +62,6 @@ struct Sim {
     return ok;
   }
 };
-
-std::uint64_t stepsFor(double seconds, double dt) { return static_cast<std::uint64_t>(std::llround(seconds / dt)); }
 
 // ---------------------------------------------------------------------------------------------
 // Linear algebra of the discrete scheme.
@@ -262,14 +198,9 @@ double bounceEnergyRatio(double h, double phase, Backend backend) {
   const float r = 0.1f, m = 1.0f, k = 1.0e5f;
   const double omega = std::sqrt(double(k) / double(m));
   const double dt = h / omega, v = 1.0;
-  Scene sc;
-  sc.gravity = {0, 0, 0};
-  sc.ground.enabled = true;
-  sc.ground.stiffness = k;
+  Scene sc = groundScene({0, 0, 0}, k, sphereShape(r, m, 1.0f), dt);
   sc.ground.friction = 0.0f;
-  sc.shapes = {sphereShape(r, m, 1.0f)};
   sc.bodies = {bodyAt(0, 0, 0, r + (1.0 - phase) * v * dt + 1e-6, 0, 0, -v)};
-  sc.dt = float(dt);
   Sim sim(sc, backend);
   for (int i = 0; i < 100000; ++i) {
     if (!sim.step()) return std::numeric_limits<double>::infinity();
@@ -968,14 +899,9 @@ CaseResult tunnellingCase(const CaseContext& ctx) {
   for (double h : {hGuard, 1.0, 1.9})
     for (double s : {0.1, 0.5, 1.0, 2.0, 5.0}) {
       const double omega = std::sqrt(double(k) / m), dt = h / omega, v = s * r / dt;
-      Scene sc;
-      sc.gravity = {0, 0, 0};
-      sc.ground.enabled = true;
-      sc.ground.stiffness = k;
+      Scene sc = groundScene({0, 0, 0}, k, sphereShape(r, m, 1.0f), dt);
       sc.ground.friction = 0;
-      sc.shapes = {sphereShape(r, m, 1.0f)};
       sc.bodies = {bodyAt(0, 0, 0, r + 0.37 * v * dt, 0, 0, -v)};
-      sc.dt = float(dt);
       Sim sim(sc, ctx.backend);
       double maxOv = 0;
       bool back = false;
@@ -1073,28 +999,7 @@ void jacobiEigen(const double A0[3][3], double evals[3], double V[3][3]) {
       A[i][j] = A0[i][j];
       V[i][j] = i == j ? 1 : 0;
     }
-  for (int sweep = 0; sweep < 50; ++sweep)
-    for (int p = 0; p < 2; ++p)
-      for (int q = p + 1; q < 3; ++q) {
-        if (std::abs(A[p][q]) < 1e-300) continue;
-        const double th = 0.5 * std::atan2(2 * A[p][q], A[q][q] - A[p][p]);
-        const double c = std::cos(th), s = std::sin(th);
-        for (int k = 0; k < 3; ++k) {
-          const double akp = A[k][p], akq = A[k][q];
-          A[k][p] = c * akp - s * akq;
-          A[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; ++k) {
-          const double apk = A[p][k], aqk = A[q][k];
-          A[p][k] = c * apk - s * aqk;
-          A[q][k] = s * apk + c * aqk;
-        }
-        for (int k = 0; k < 3; ++k) {
-          const double vkp = V[k][p], vkq = V[k][q];
-          V[k][p] = c * vkp - s * vkq;
-          V[k][q] = s * vkp + c * vkq;
-        }
-      }
+  for (int sweep = 0; sweep < 50; ++sweep) jacobiSweep(A, V);
   for (int i = 0; i < 3; ++i) evals[i] = A[i][i];
 }
 
@@ -1172,9 +1077,7 @@ SpinRun runSpin(RotationScheme scheme, const double omega0[3], double dt, std::u
   SpinRun r;
   r.steps = n;
   const double e0 = kineticEnergy(sim.world, sim.st);
-  auto lnorm = [](const BodyState& s) {
-    return std::sqrt(double(s.lx[0]) * s.lx[0] + double(s.ly[0]) * s.ly[0] + double(s.lz[0]) * s.lz[0]);
-  };
+  auto lnorm = [](const BodyState& s) { return angularMomentumNorm(s, 0); };
   const double l0 = lnorm(sim.st);
   // Reference: RK4 in the shape frame, from the float L the pipeline starts with.
   double I[3][3];
