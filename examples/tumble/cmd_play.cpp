@@ -67,17 +67,10 @@ void play(const PlayOptions& o) {
   bool quit = false;
   double lastTime = window.time();
   while (!quit) {
-    while (nextEvent < script.size() && script[nextEvent].frame <= frame) {
-      const ScriptEvent& e = script[nextEvent++];
-      if (e.kind == ScriptEvent::Kind::Quit) quit = true;
-      else if (kb.event(e.key, e.kind == ScriptEvent::Kind::Press)) controls.keyEvent(e.key, e.kind == ScriptEvent::Kind::Press);
-    }
+    if (applyScriptEvents(script, frame, nextEvent, kb, controls)) quit = true;
     window.beginFrame();
     if (window.shouldClose() || controls.quit() || (o.frames && frame >= *o.frames)) quit = true;
-    const double now = window.time();
-    // With a script every window frame counts as 1/60 s, so scripted runs are reproducible.
-    const double dt = script.empty() ? std::min(0.1, now - lastTime) : 1.0 / 60.0;
-    lastTime = now;
+    const double dt = frameSeconds(!script.empty(), window.time(), lastTime);
     if (!quit) controls.advance(kb, dt, rec.info.fps);
     const CameraMotion cm = cameraMotionFromKeys(kb);
     if (cm.any()) cam.move(cm.forward, cm.right, cm.up, cm.turn, static_cast<float>(dt));

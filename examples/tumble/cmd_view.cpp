@@ -123,17 +123,11 @@ void view(const ViewOptions& o) {
 
   while (!quit) {
     // Scripted keys for this frame, then the real ones.
-    while (nextEvent < script.size() && script[nextEvent].frame <= frame) {
-      const ScriptEvent& e = script[nextEvent++];
-      if (e.kind == ScriptEvent::Kind::Quit) quit = true;
-      else if (kb.event(e.key, e.kind == ScriptEvent::Kind::Press)) controls.keyEvent(e.key, e.kind == ScriptEvent::Kind::Press);
-    }
+    if (applyScriptEvents(script, frame, nextEvent, kb, controls)) quit = true;
     window.beginFrame();
     if (window.shouldClose() || controls.quit() || (o.frames && frame >= *o.frames)) quit = true;
     const double now = window.time();
-    // With a script every frame counts as 1/60 s, so scripted runs are reproducible.
-    const double dt = script.empty() ? std::min(0.1, now - lastFrameTime) : 1.0 / 60.0;
-    lastFrameTime = now;
+    const double dt = frameSeconds(!script.empty(), now, lastFrameTime);
 
     const std::uint32_t pulls = pullMaskFromKeys(kb) | basePulls;
     pipeline->setPulls(pulls);

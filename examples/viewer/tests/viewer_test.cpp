@@ -413,39 +413,24 @@ class Cli : public ::testing::Test {
   static bool have(const char* tool) {
     return std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) == 0;
   }
+  // Scene-file text of a shape made of one sphere at its centre (numbers as written).
+  static std::string sphereShapeToml(const std::string& name, const std::string& radius, const std::string& mass,
+                                     const std::string& elasticity) {
+    return "[[shape]]\nname = \"" + name + "\"\n[[shape.sphere]]\noffset = [0.0, 0.0, 0.0]\nradius = " + radius +
+           "\nmass = " + mass + "\nelasticity = " + elasticity + "\n";
+  }
+  // Scene-file text of a lattice group of `shape`: count, spacing and origin as written.
+  static std::string groupToml(const std::string& shape, const std::string& count, const std::string& spacing,
+                               const std::string& origin) {
+    return "[[group]]\nshape = \"" + shape + "\"\ncount = " + count + "\nspacing = " + spacing + "\norigin = " +
+           origin + "\n";
+  }
   // A small scene: a 4 × 4 × 2 lattice of balls over the ground; `extra` is appended.
   void scene(const std::string& name, const std::string& extra = "") const {
-    write(name, R"([scene]
-name = "small"
-dt = 1e-4
-steps = 200
-[ground]
-height = 0.0
-[[shape]]
-name = "ball"
-[[shape.sphere]]
-offset = [0.0, 0.0, 0.0]
-radius = 0.1
-mass = 1.0
-elasticity = 0.5
-[[shape]]
-name = "heavy"
-[[shape.sphere]]
-offset = [0.0, 0.0, 0.0]
-radius = 0.1
-mass = 4.0
-elasticity = 0.9
-[[group]]
-shape = "ball"
-count = [4, 4, 1]
-spacing = 0.25
-origin = [-0.375, -0.375, 0.15]
-[[group]]
-shape = "heavy"
-count = [4, 4, 1]
-spacing = 0.25
-origin = [-0.375, -0.375, 0.45]
-)" + extra);
+    write(name, "[scene]\nname = \"small\"\ndt = 1e-4\nsteps = 200\n[ground]\nheight = 0.0\n" +
+                    sphereShapeToml("ball", "0.1", "1.0", "0.5") + sphereShapeToml("heavy", "0.1", "4.0", "0.9") +
+                    groupToml("ball", "[4, 4, 1]", "0.25", "[-0.375, -0.375, 0.15]") +
+                    groupToml("heavy", "[4, 4, 1]", "0.25", "[-0.375, -0.375, 0.45]") + extra);
   }
   std::string m_dir;
 };
@@ -582,19 +567,8 @@ height = 0.0
 [pulls]
 x = 50.0
 y = 50.0
-[[shape]]
-name = "ball"
-[[shape.sphere]]
-offset = [0.0, 0.0, 0.0]
-radius = 0.1
-mass = 1.0
-elasticity = 0.5
-[[group]]
-shape = "ball"
-count = [4, 4, 1]
-spacing = 0.5
-origin = [-0.75, -0.75, 1.0]
-)");
+)" + sphereShapeToml("ball", "0.1", "1.0", "0.5") +
+                          groupToml("ball", "[4, 4, 1]", "0.5", "[-0.75, -0.75, 1.0]"));
   write("keys.txt", "2 press left\n22 release left\n22 press up\n30 tap 0\n40 quit\n");
   const Result r = run("view float.toml --script keys.txt --record view.bin --screenshot view.ppm --size 320x240",
                        xvfbRun());
@@ -638,19 +612,8 @@ steps = 100000
 stiffness = 2e4
 [ground]
 stiffness = 2e4
-[[shape]]
-name = "ball"
-[[shape.sphere]]
-radius = 0.5
-mass = 1.0
-elasticity = 0.5
-[[group]]
-shape = "ball"
-count = [3, 3, 2]
-spacing = 1.05
-origin = [-1.0, -1.0, 0.6]
-velocity_jitter = 0.1
-)");
+)" + sphereShapeToml("ball", "0.5", "1.0", "0.5") +
+                          groupToml("ball", "[3, 3, 2]", "1.05", "[-1.0, -1.0, 0.6]") + "velocity_jitter = 0.1\n");
   const Result r = run("view stiff.toml --record stiff.bin --frames 200 --size 160x120", xvfbRun());
   EXPECT_EQ(r.status, 3) << r.err << r.out;
   EXPECT_NE(r.err.find("tumble view: stopped: step "), std::string::npos) << r.err;

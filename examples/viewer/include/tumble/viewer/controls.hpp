@@ -4,6 +4,7 @@
 /// (`tumble play`), as plain C++ without a window, so that it can be unit-tested. The GLFW key
 /// callback and the scripted input (`--script`) both feed the same Keyboard.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -168,5 +169,29 @@ struct ScriptEvent {
 std::vector<ScriptEvent> parseScript(const std::string& text, const std::string& fileName);
 /// Reads and parses a script file; throws tumble::InputError.
 std::vector<ScriptEvent> readScript(const std::string& path);
+
+/// Feeds the script events due at the start of window frame `frame`, from `ioNext` on, to `kb`
+/// and, where they change it, to `controls` (PlaybackControls or LiveControls), as the key
+/// callback does. Returns true when one of them is a quit.
+template <class Controls>
+bool applyScriptEvents(const std::vector<ScriptEvent>& script, std::uint64_t frame, std::size_t& ioNext, Keyboard& kb,
+                       Controls& controls) {
+  bool quit = false;
+  while (ioNext < script.size() && script[ioNext].frame <= frame) {
+    const ScriptEvent& e = script[ioNext++];
+    if (e.kind == ScriptEvent::Kind::Quit) quit = true;
+    else if (kb.event(e.key, e.kind == ScriptEvent::Kind::Press)) controls.keyEvent(e.key, e.kind == ScriptEvent::Kind::Press);
+  }
+  return quit;
+}
+
+/// Seconds of wall time a window frame stands for: the time since the last frame (at most
+/// 0.1 s) or, with a script, exactly 1/60 s, so that scripted runs are reproducible. Sets
+/// `ioLast` to `now`.
+inline double frameSeconds(bool scripted, double now, double& ioLast) {
+  const double dt = scripted ? 1.0 / 60.0 : std::min(0.1, now - ioLast);
+  ioLast = now;
+  return dt;
+}
 
 }  // namespace tumble::viewer
