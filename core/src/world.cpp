@@ -18,6 +18,47 @@ void BodyState::resize(std::size_t n) {
   for (auto* c : {&px, &py, &pz, &vx, &vy, &vz, &qw, &qx, &qy, &qz, &lx, &ly, &lz}) c->resize(n);
 }
 
+LocalFrame LocalFrame::of(const World& w) {
+  const BodyState& s = w.state;
+  if (s.size() == 0) return {};
+  double lo[3], hi[3];
+  const std::vector<float>* col[3] = {&s.px, &s.py, &s.pz};
+  for (int a = 0; a < 3; ++a) {
+    const auto mm = std::minmax_element(col[a]->begin(), col[a]->end());
+    lo[a] = *mm.first;
+    hi[a] = *mm.second;
+  }
+  double extent = 2.0 * w.maxRadius;
+  for (int a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a]);
+  // Per axis: only the coordinates that are far from the origin move.
+  double o[3];
+  for (int a = 0; a < 3; ++a) {
+    const double c = 0.5 * (lo[a] + hi[a]);
+    o[a] = std::abs(c) > 4.0 * extent ? double(static_cast<float>(c)) : 0.0;
+  }
+  return LocalFrame{o[0], o[1], o[2]};
+}
+
+World toLocal(const World& world, const LocalFrame& f) {
+  World w = world;
+  if (!f.active()) return w;
+  const double o[3] = {f.x, f.y, f.z};
+  std::vector<float>* col[3] = {&w.state.px, &w.state.py, &w.state.pz};
+  for (int a = 0; a < 3; ++a)
+    for (float& v : *col[a]) v = static_cast<float>(double(v) - o[a]);
+  w.params.ground.height = static_cast<float>(double(w.params.ground.height) - f.z);
+  w.params.pulls.centre = Vec3f{static_cast<float>(-f.x), static_cast<float>(-f.y), static_cast<float>(-f.z)};
+  return w;
+}
+
+void toWorld(BodyState& s, const LocalFrame& f) {
+  if (!f.active()) return;
+  const double o[3] = {f.x, f.y, f.z};
+  std::vector<float>* col[3] = {&s.px, &s.py, &s.pz};
+  for (int a = 0; a < 3; ++a)
+    for (float& v : *col[a]) v = static_cast<float>(double(v) + o[a]);
+}
+
 Quatf shapeOrientation(const World& world, const BodyState& s, std::size_t k) {
   const Quatf f = world.bodyToShape[k];
   if (f.w == 1.0f && f.x == 0.0f && f.y == 0.0f && f.z == 0.0f) return Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};

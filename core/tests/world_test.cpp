@@ -82,3 +82,41 @@ TEST(World, TimeStepWarning) {
   const std::string w = timeStepWarning(World::fromScene(s));
   EXPECT_NE(w.find("use dt <="), std::string::npos) << w;
 }
+
+// The local frame (docs/model.md#precision): a scene near the origin keeps its coordinates; a
+// compact scene far away is moved, per axis, to its bounding-box centre, with the ground and
+// the pull centre; toWorld undoes it.
+TEST(World, LocalFrameMovesOnlyFarAxes) {
+  Scene s;
+  s.ground.enabled = true;
+  s.ground.height = 1.0e5f;
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}}}};
+  BodyDef a, b;
+  a.position = {1.0f, 2.0f, 3.0f};
+  b.position = {4.0f, -2.0f, 1.0f};
+  s.bodies = {a, b};
+  const World near = World::fromScene(s);
+  EXPECT_FALSE(LocalFrame::of(near).active()) << "within 4 × the extent of the origin";
+  const World same = toLocal(near, LocalFrame::of(near));
+  EXPECT_EQ(same.state.px, near.state.px);
+  EXPECT_EQ(same.params.ground.height, near.params.ground.height);
+
+  s.bodies[0].position = {100000.0f, 2.0f, 100000.5f};
+  s.bodies[1].position = {100004.0f, -2.0f, 100001.5f};
+  const World far = World::fromScene(s);
+  const LocalFrame f = LocalFrame::of(far);
+  EXPECT_EQ(f.x, 100002.0);
+  EXPECT_EQ(f.y, 0.0) << "y is near the origin: that axis stays";
+  EXPECT_EQ(f.z, 100001.0);
+  const World local = toLocal(far, f);
+  EXPECT_EQ(local.state.px[0], -2.0f);
+  EXPECT_EQ(local.state.py[0], 2.0f);
+  EXPECT_EQ(local.state.pz[1], 0.5f);
+  EXPECT_EQ(local.params.ground.height, -1.0f);
+  EXPECT_EQ(local.params.pulls.centre.x, -100002.0f);
+  EXPECT_EQ(local.params.pulls.centre.y, 0.0f);
+  BodyState back = local.state;
+  toWorld(back, f);
+  EXPECT_EQ(back.px, far.state.px);
+  EXPECT_EQ(back.pz, far.state.pz);
+}

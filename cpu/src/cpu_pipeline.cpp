@@ -43,8 +43,9 @@ class CpuPipeline final : public Pipeline {
 
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
-    m_world = world;
-    m_state = world.state;
+    m_frame = LocalFrame::of(world);  // far from the origin: integrate in a local frame
+    m_world = toLocal(world, m_frame);
+    m_state = m_world.state;
     const std::uint32_t n = world.numParticles();
     m_clumps = world.hasClumps;
     for (auto* c : {&m_x, &m_y, &m_z, &m_vx, &m_vy, &m_vz, &m_rx, &m_ry, &m_rz}) c->assign(m_clumps ? n : 0, 0.0f);
@@ -66,7 +67,10 @@ class CpuPipeline final : public Pipeline {
     });
   }
 
-  void readState(BodyState& out) const override { out = m_state; }
+  void readState(BodyState& out) const override {
+    out = m_state;
+    toWorld(out, m_frame);
+  }
 
   std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles()); }
 
@@ -232,6 +236,7 @@ class CpuPipeline final : public Pipeline {
   std::vector<float> m_fx, m_fy, m_fz, m_tx, m_ty;
   std::vector<float> m_cx, m_cy, m_cz;  // per-particle couples (clumps only)
   std::vector<Vec3f> m_omega;
+  LocalFrame m_frame;
   std::vector<float> m_dbg[5];
   cpu::detail::Broadphase m_bp;
   StepStats m_stats;

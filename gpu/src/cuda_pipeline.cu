@@ -84,12 +84,13 @@ class CudaPipeline final : public Pipeline {
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
     m_loaded = false;
-    m_world = world;
+    m_frame = LocalFrame::of(world);  // far from the origin: integrate in a local frame
+    m_world = toLocal(world, m_frame);
     const std::uint32_t n = world.numParticles();
     const cudaStream_t s = m_ctx.stream();
     m_clumps = world.hasClumps;
 
-    const BodyState& st = world.state;
+    const BodyState& st = m_world.state;
     m_state.px.upload(st.px, s); m_state.py.upload(st.py, s); m_state.pz.upload(st.pz, s);
     m_state.vx.upload(st.vx, s); m_state.vy.upload(st.vy, s); m_state.vz.upload(st.vz, s);
     m_state.qw.upload(st.qw, s); m_state.qx.upload(st.qx, s); m_state.qy.upload(st.qy, s);
@@ -145,6 +146,7 @@ class CudaPipeline final : public Pipeline {
     m_state.lx.download(out.lx.data(), nb, s); m_state.ly.download(out.ly.data(), nb, s);
     m_state.lz.download(out.lz.data(), nb, s);
     m_ctx.synchronize();
+    toWorld(out, m_frame);
   }
 
   std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles(), m_ctx.stream()); }
@@ -306,6 +308,7 @@ class CudaPipeline final : public Pipeline {
   DeviceBuffer<Sym3f> m_invInertia;
   DeviceBuffer<std::uint32_t> m_first, m_numOf;
   DeviceBuffer<Vec3f> m_omega;
+  LocalFrame m_frame;
   // Static particle table.
   DeviceBuffer<float> m_radius, m_mass, m_elasticity, m_groundDamping, m_ux, m_uy, m_uz;
   DeviceBuffer<std::uint32_t> m_body;

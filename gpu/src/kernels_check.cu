@@ -22,7 +22,7 @@ __global__ void kernelsCheckKernel(SweepFrame f, const float* x, float* out, std
   const ContactForces cf = contactForces(p, p, p, 0.5f, Vec3f{0, 0, 0}, p, p, 0.5f, ov, ContactCoeffs{1, 1, 1});
   float tx = 0.0f, ty = 0.0f;
   const GroundForces gf = groundForces(p, p, p, 0.5f, 1.0f, GroundCoeffs{0, 1, 1, 0.5f}, 1e-3f, &tx, &ty);
-  const Vec3f ext = externalForce(p, 1.0f, Vec3f{0, 0, -9.81f}, 1, 1, 1, 7u);
+  const Vec3f ext = externalForce(p, 1.0f, Vec3f{0, 0, -9.81f}, 1, 1, 1, 7u, p);
   Vec3f X = p, V = p, L = p, xo, vo;
   Quatf q{1, 0, 0, 0};
   const Sym3f inv{1, 1, 1, 0, 0, 0};

@@ -31,12 +31,16 @@ struct GroundParams {
 enum PullBits : std::uint32_t { kPullX = 1u, kPullY = 2u, kPullSwirl = 4u };
 
 /// The report's user forces (SPEC §2.5), per particle, proportional to its mass:
-/// x: f = −m κx x ex; y: f = −m κy y ey; swirl: f = m κs (−y, x, 0). They add.
+/// x: f = −m κx x ex; y: f = −m κy y ey; swirl: f = m κs (−y, x, 0), with x, y measured from the
+/// world origin. They add.
 struct PullParams {
   float x = 2.0f;        ///< κx [1/s²]
   float y = 2.0f;        ///< κy [1/s²]
   float swirl = 2.0f;    ///< κs [1/s²]
   std::uint32_t active = 0;  ///< PullBits that are on
+  /// Where the pulls pull to, in the coordinates the pipeline integrates in: the world origin,
+  /// i.e. (0, 0, 0), except in a local frame (LocalFrame, set by toLocal(); not in scene files).
+  Vec3f centre{0.0f, 0.0f, 0.0f};
 };
 
 /// One sphere of a shape, in the shape's own frame.

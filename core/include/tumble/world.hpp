@@ -57,6 +57,27 @@ struct World {
   static World fromScene(const Scene& scene);
 };
 
+/// The frame a pipeline integrates in (docs/model.md#precision). Positions are float, and far
+/// from the origin their spacing swallows small motions (ulp(10⁵ m) = 7.8 mm: a body moving
+/// 1 m/s with dt = 10⁻⁴ s would not move at all). A scene lying far from the origin compared with
+/// its own size is therefore moved, at load, into a local frame centred on its bodies' bounding
+/// box; the pipelines give positions back in the world frame (rounded to float there).
+struct LocalFrame {
+  double x = 0.0, y = 0.0, z = 0.0;  ///< the local origin in world coordinates (a float value)
+  bool active() const { return x != 0.0 || y != 0.0 || z != 0.0; }
+
+  /// Per axis a: c_a, the centre of the bodies' bounding box rounded to float, when
+  /// |c_a| > 4 × max(largest extent of the box, 2 × largest radius); otherwise 0 (that axis stays).
+  static LocalFrame of(const World& world);
+};
+
+/// The world expressed in frame f: body positions X − o, the ground height h − o_z and the pull
+/// centre −o (params.pulls.centre). Identity when f is not active.
+World toLocal(const World& world, const LocalFrame& f);
+
+/// Body positions from frame f back to the world frame: X + o, rounded to float.
+void toWorld(BodyState& s, const LocalFrame& f);
+
 /// Orientation of body k's shape frame (as written in the scene file): q_k ⊗ bodyToShape[k]⁻¹.
 Quatf shapeOrientation(const World& world, const BodyState& state, std::size_t k);
 

@@ -136,14 +136,17 @@ TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, Vec3f vCentre, Vec3f omega, 
 }
 
 /// Gravity and the user pulls on a particle of mass m at x (SPEC §2.5); pulls are PullBits.
+/// `centre` is the world origin in the integration frame ((0, 0, 0) unless the pipeline runs in
+/// a local frame, LocalFrame); x − centre is exact for the default centre.
 TUMBLE_HD_INLINE Vec3f externalForce(Vec3f x, float m, Vec3f gravity, float kx, float ky, float ks,
-                                     std::uint32_t pulls) {
+                                     std::uint32_t pulls, Vec3f centre) {
   Vec3f a = gravity;
-  if (pulls & 1u) a.x -= kx * x.x;
-  if (pulls & 2u) a.y -= ky * x.y;
+  const float rx = x.x - centre.x, ry = x.y - centre.y;
+  if (pulls & 1u) a.x -= kx * rx;
+  if (pulls & 2u) a.y -= ky * ry;
   if (pulls & 4u) {
-    a.x -= ks * x.y;
-    a.y += ks * x.x;
+    a.x -= ks * ry;
+    a.y += ks * rx;
   }
   return m * a;
 }

@@ -45,6 +45,7 @@ struct ForceParams {
   GroundCoeffs ground;
   Vec3f gravity;
   float pullX, pullY, pullSwirl;
+  Vec3f pullCentre;
   float dt;
   std::uint32_t pulls;
   bool hasGround;
@@ -59,6 +60,7 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                      p.pulls.x,
                      p.pulls.y,
                      p.pulls.swirl,
+                     p.pulls.centre,
                      p.dt,
                      pulls,
                      p.ground.enabled};
@@ -137,7 +139,7 @@ TUMBLE_HD_INLINE void particleForces(const ParticleStaticView& st, const Particl
     s.f += gf.normal + gf.friction;
     if (kClumps) s.tau += cross(gf.lever, gf.friction);  // friction acts at the bottom
   }
-  s.f += externalForce(xi, st.mass[i], fp.gravity, fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls);
+  s.f += externalForce(xi, st.mass[i], fp.gravity, fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls, fp.pullCentre);
   ps.fx[i] = s.f.x;
   ps.fy[i] = s.f.y;
   ps.fz[i] = s.f.z;
