@@ -33,6 +33,13 @@ std::string dtAdvice(const World& w) {
   return format("dt = %g s already resolves the shortest contact (%.3g s); try dt = %.3g s", w.params.dt, tc, use);
 }
 
+/// The rounding of a float coordinate of magnitude |v|: ½ ulp, and as much again for the particle
+/// position computed from it (x = X + R u in float).
+double roundingOf(double v) {
+  const float a = std::abs(static_cast<float>(v));
+  return std::nextafter(a, std::numeric_limits<float>::infinity()) - a;
+}
+
 bool finiteRow(const BodyState& s, std::size_t k) {
   for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz})
     if (!std::isfinite((*c)[k])) return false;
@@ -51,6 +58,7 @@ RunGuard::RunGuard(const World& world, Pipeline& pipeline, GuardParams params) :
   m_mask = pipeline.pulls();
   const Snapshot s = measure(pipeline, m_mask, pipeline.stats().steps == 0 ? &pipeline : nullptr);
   m_reference = s.energy;
+  m_referenceSlack = s.slack;
   m_lastEnergy = s.energy;
   m_lastPower = s.swirlPower;
   m_lastTime = pipeline.time();
@@ -77,6 +85,11 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // Particle positions and velocities from the bodies (double from here on).
   const std::uint32_t np = w.numParticles();
   std::vector<double> x(3 * std::size_t(np));
+  // Far from the origin the positions handed out are rounded (pipelines may integrate in a local
+  // frame, LocalFrame): every energy term computed from them carries that rounding, which is
+  // added to the allowance (slack) instead of counting as growth.
+  std::vector<double> err(np);
+  double slack = 0.0;
   double kinetic = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
   double lowest = std::numeric_limits<double>::infinity();
   const Vec3f g = sc.gravity;
@@ -96,6 +109,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     }
     const double h = -(double(g.x) * X.x + double(g.y) * X.y + double(g.z) * X.z);
     gravity += m * h;
+    const double eX = roundingOf(std::max({std::abs(X.x), std::abs(X.y), std::abs(X.z)}));
+    slack += m * gNorm * 1.8 * eX;
     lowest = std::min(lowest, h);
     for (std::uint32_t i = w.first[k], e1 = i + w.numParticlesOf[k]; i < e1; ++i) {
       Vec3f xi = X, vi = V;
@@ -103,9 +118,16 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       x[3 * std::size_t(i)] = xi.x;
       x[3 * std::size_t(i) + 1] = xi.y;
       x[3 * std::size_t(i) + 2] = xi.z;
+      err[i] = eX;
       const double mi = w.mass[i];
-      if (mask & kPullX) pullPotential += 0.5 * mi * sc.pulls.x * double(xi.x) * xi.x;
-      if (mask & kPullY) pullPotential += 0.5 * mi * sc.pulls.y * double(xi.y) * xi.y;
+      if (mask & kPullX) {
+        pullPotential += 0.5 * mi * sc.pulls.x * double(xi.x) * xi.x;
+        slack += mi * std::abs(sc.pulls.x) * (std::abs(xi.x) + eX) * eX;
+      }
+      if (mask & kPullY) {
+        pullPotential += 0.5 * mi * sc.pulls.y * double(xi.y) * xi.y;
+        slack += mi * std::abs(sc.pulls.y) * (std::abs(xi.y) + eX) * eX;
+      }
       if (mask & kPullSwirl) power += mi * sc.pulls.swirl * (-double(xi.y) * vi.x + double(xi.x) * vi.y);
     }
   }
@@ -134,6 +156,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     const double delta = double(w.radius[p.i]) + w.radius[p.j] - std::sqrt(dx * dx + dy * dy + dz * dz);
     if (delta <= 0.0) continue;
     springs += 0.5 * sc.contact.stiffness * delta * delta;
+    const double e = 1.8 * (err[p.i] + err[p.j]);
+    slack += sc.contact.stiffness * e * (delta + e);
     const double frac = delta / std::min(w.radius[p.i], w.radius[p.j]);
     if (frac > out.maxOverlap) {
       out.maxOverlap = frac;
@@ -147,6 +171,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       const double delta = double(sc.ground.height) - (x[3 * std::size_t(i) + 2] - w.radius[i]);
       if (delta <= 0.0) continue;
       springs += 0.5 * sc.ground.stiffness * delta * delta;
+      const double e = err[i] + roundingOf(sc.ground.height);
+      slack += sc.ground.stiffness * e * (delta + e);
       const double frac = delta / w.radius[i];
       if (frac > out.maxOverlap) {
         out.maxOverlap = frac;
@@ -157,6 +183,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }
 
   out.energy = kinetic + gravity + pullPotential + springs;
+  out.slack = slack;
   out.swirlPower = power;
   // What the state can release: motion, springs, the pulls' potential, and gravity down to the
   // lowest body (the heights above it), at least Σ M |g| r_max.
@@ -195,6 +222,7 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
     // afresh from the present state (the pulls' potential now counts as available energy).
     m_mask = mask;
     m_reference = s.energy;
+    m_referenceSlack = s.slack;
     m_work = 0.0;
     m_scale = std::max(m_scale, s.available);
   } else {
@@ -206,7 +234,7 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
   m_lastOverlap = s.maxOverlap;
 
   const double gained = s.energy - m_reference - m_work;
-  if (gained > m_params.energyGrowth * m_scale) {
+  if (gained > m_params.energyGrowth * m_scale + m_referenceSlack + s.slack) {
     return trip(GuardTrip::Kind::Energy, s.hottestBody, pipeline,
                 format("the energy grew by %.3g J, more than %.0f%% of the %.3g J the scene can release", gained,
                        100.0 * m_params.energyGrowth, m_scale) +

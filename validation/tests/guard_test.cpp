@@ -153,6 +153,36 @@ TEST_P(GuardTest, InitialOverlapIsNotATrip) {
   EXPECT_FALSE(t.has_value()) << t->message;
 }
 
+// Far from the origin the positions a pipeline hands out are rounded to ulp(|X|) (7.8 mm at
+// 10⁵ m); on a stiff ground (k = 10⁶ N/m) that is joules of apparent spring energy. The guard
+// must count it as rounding, not growth, and still catch a real divergence there.
+TEST_P(GuardTest, FarFromTheOriginRoundingIsNotGrowth) {
+  for (const float dt : {2e-5f, 2e-3f}) {
+    Scene s;
+    s.dt = dt;
+    s.ground.enabled = true;
+    s.ground.height = 1.0e5f;
+    s.ground.stiffness = 1.0e6f;
+    s.contact.stiffness = 1.0e6f;
+    s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.2f, 1.0f, 0.5f}}}};
+    for (int i = 0; i < 3; ++i) {
+      BodyDef b;
+      b.position = {0.5f * float(i), 0.0f, 1.0e5f + 0.2f + 0.40625f * float(i)};
+      s.bodies.push_back(b);
+    }
+    const World w = World::fromScene(s);
+    auto p = makePipeline(GetParam());
+    p->load(w);
+    const auto t = runGuarded(*p, w, dt < 1e-4f ? 20000 : 2000, 10);
+    if (dt < 1e-4f) {
+      EXPECT_FALSE(t.has_value()) << "stable run (dt = t_c/110) at 1e5 m: " << t->message;
+    } else {
+      ASSERT_TRUE(t.has_value()) << "dt = 2e-3 s (ω dt = 2.8) must be caught at 1e5 m too";
+      EXPECT_NE(t->kind, GuardTrip::Kind::NonFinite);
+    }
+  }
+}
+
 namespace {
 
 // A pipeline whose state is whatever the test puts in it.

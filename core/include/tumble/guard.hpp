@@ -47,7 +47,9 @@ struct GuardTrip {
 /// pull, E can only fall (damping, friction); the swirl's work W = ∫ Σ f·v dt is added to the
 /// budget (trapezoid rule between checks). The guard trips when E − E₀ − W exceeds
 /// energyGrowth × S, with S the energy the initial state can release (kinetic + contact springs
-/// + gravity down to the ground or the lowest body) and at least Σ M |g| r_max.
+/// + gravity down to the ground or the lowest body) and at least Σ M |g| r_max, plus the error
+/// that float-rounded positions put into E₀ and E (negligible near the origin; far from it the
+/// positions handed out are rounded to ulp(|X|), which a stiff contact turns into joules).
 class RunGuard {
  public:
   /// Measures the initial state; its contacts come from pipeline.findPairs() when the pipeline
@@ -71,6 +73,7 @@ class RunGuard {
  private:
   struct Snapshot {
     double energy = 0.0, swirlPower = 0.0, maxOverlap = 0.0, available = 0.0;
+    double slack = 0.0;  ///< bound of the energy's error from rounded positions
     std::uint32_t overlapBody = 0, overlapOther = 0;
     bool groundOverlap = false;
     std::uint32_t hottestBody = 0;  ///< largest kinetic energy
@@ -83,6 +86,7 @@ class RunGuard {
   GuardParams m_params;
   BodyState m_state;
   double m_reference = 0.0;   ///< E₀ (rebased when the pull mask changes)
+  double m_referenceSlack = 0.0;
   double m_scale = 0.0;       ///< S
   double m_work = 0.0;        ///< W
   double m_lastPower = 0.0, m_lastTime = 0.0, m_lastEnergy = 0.0;
