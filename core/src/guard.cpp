@@ -70,9 +70,15 @@ double RunGuard::suggestedDt() const { return dtToUse(m_world); }
 
 RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mask, Pipeline* findPairsWith) {
   const World& w = m_world;
-  pipeline.readState(m_state);
+  // The state as the pipeline integrates it: far from the origin that is a local frame
+  // (LocalFrame), whose positions are not rounded to the world's float spacing.
+  const LocalFrame frame = pipeline.frame();
+  pipeline.readLocalState(m_state);
   const BodyState& s = m_state;
   const Scene& sc = w.params;
+  // The ground height as the pipeline uses it (toLocal rounds h − o_z to float).
+  const double groundZ =
+      frame.active() ? double(static_cast<float>(double(sc.ground.height) - frame.z)) : double(sc.ground.height);
   Snapshot out;
   const std::size_t nb = s.size();
   for (std::size_t k = 0; k < nb; ++k) {
@@ -120,15 +126,17 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       x[3 * std::size_t(i) + 2] = xi.z;
       err[i] = eX;
       const double mi = w.mass[i];
+      // The pulls act about the world origin: world coordinates (double) for them.
+      const double wx = double(xi.x) + frame.x, wy = double(xi.y) + frame.y;
       if (mask & kPullX) {
-        pullPotential += 0.5 * mi * sc.pulls.x * double(xi.x) * xi.x;
-        slack += mi * std::abs(sc.pulls.x) * (std::abs(xi.x) + eX) * eX;
+        pullPotential += 0.5 * mi * sc.pulls.x * wx * wx;
+        slack += mi * std::abs(sc.pulls.x) * (std::abs(wx) + eX) * eX;
       }
       if (mask & kPullY) {
-        pullPotential += 0.5 * mi * sc.pulls.y * double(xi.y) * xi.y;
-        slack += mi * std::abs(sc.pulls.y) * (std::abs(xi.y) + eX) * eX;
+        pullPotential += 0.5 * mi * sc.pulls.y * wy * wy;
+        slack += mi * std::abs(sc.pulls.y) * (std::abs(wy) + eX) * eX;
       }
-      if (mask & kPullSwirl) power += mi * sc.pulls.swirl * (-double(xi.y) * vi.x + double(xi.x) * vi.y);
+      if (mask & kPullSwirl) power += mi * sc.pulls.swirl * (-wy * vi.x + wx * vi.y);
     }
   }
 
@@ -168,10 +176,10 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }
   if (sc.ground.enabled) {
     for (std::uint32_t i = 0; i < np; ++i) {
-      const double delta = double(sc.ground.height) - (x[3 * std::size_t(i) + 2] - w.radius[i]);
+      const double delta = groundZ - (x[3 * std::size_t(i) + 2] - w.radius[i]);
       if (delta <= 0.0) continue;
       springs += 0.5 * sc.ground.stiffness * delta * delta;
-      const double e = err[i] + roundingOf(sc.ground.height);
+      const double e = err[i] + roundingOf(groundZ);
       slack += sc.ground.stiffness * e * (delta + e);
       const double frac = delta / w.radius[i];
       if (frac > out.maxOverlap) {
@@ -183,13 +191,18 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }
 
   out.energy = kinetic + gravity + pullPotential + springs;
+  out.motion = kinetic + springs;
   out.slack = slack;
   out.swirlPower = power;
   // What the state can release: motion, springs, the pulls' potential, and gravity down to the
-  // lowest body (the heights above it), at least Σ M |g| r_max.
+  // lowest body or, with a ground below, down to the ground (the heights above it), at least
+  // Σ M |g| r_max.
   double drop = 0.0;
-  for (std::size_t k = 0; k < nb; ++k)
-    drop += w.bodyMass[k] * (-(double(g.x) * s.px[k] + double(g.y) * s.py[k] + double(g.z) * s.pz[k]) - lowest);
+  for (std::size_t k = 0; k < nb; ++k) {
+    double hk = -(double(g.x) * s.px[k] + double(g.y) * s.py[k] + double(g.z) * s.pz[k]) - lowest;
+    if (sc.ground.enabled && g.z < 0.0f) hk = std::max(hk, -double(g.z) * (double(s.pz[k]) - groundZ));
+    drop += w.bodyMass[k] * std::max(0.0, hk);
+  }
   double totalMass = 0.0;
   for (float m : w.bodyMass) totalMass += m;
   out.available = kinetic + springs + pullPotential + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
@@ -204,8 +217,19 @@ GuardTrip RunGuard::trip(GuardTrip::Kind kind, std::uint32_t body, const Pipelin
   t.step = pipeline.stats().steps;
   t.body = body;
   t.suggestedDt = suggestedDt();
-  t.message = "step " + std::to_string(t.step) + format(" (t = %.6g s): ", pipeline.time()) + what +
-              "; the integration is unstable or too coarse: " + dtAdvice(m_world);
+  const double tc = shortestContactTime(m_world), dt = m_world.params.dt;
+  const bool dtResolves = !(std::isfinite(tc) && tc / 20.0 < dt);
+  std::string advice;
+  if (kind == GuardTrip::Kind::Overlap && dtResolves) {
+    // A deep overlap at a well-resolved dt is physics, not numerics: halving dt will not help.
+    advice = format("; dt = %g s already resolves the shortest contact (%.3g s) with %.0f steps, so the depth is "
+                    "physical: the contacts are too soft for this impact (a linear contact sinks to about "
+                    "v sqrt(m/k)); make them stiffer or the impact slower",
+                    dt, tc, tc / dt);
+  } else {
+    advice = "; the integration is unstable or too coarse: " + dtAdvice(m_world);
+  }
+  t.message = "step " + std::to_string(t.step) + format(" (t = %.6g s): ", pipeline.time()) + what + advice;
   return t;
 }
 
@@ -240,6 +264,10 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
                        100.0 * m_params.energyGrowth, m_scale) +
                     " (body " + std::to_string(s.hottestBody) + " moves fastest)");
   }
+  // The allowance follows the largest motion seen (kinetic + spring energy): the energy error of
+  // a well-resolved explicit step is a fraction of the energy in motion, and the swirl may add
+  // motion the initial state did not have. A divergence still outgrows it within a few steps.
+  m_scale = std::max(m_scale, s.motion);
   const double limit = std::max(m_params.maxOverlap, m_initialOverlap + 0.05);
   if (s.maxOverlap > limit) {
     const std::string who = s.groundOverlap ? "body " + std::to_string(s.overlapBody) + " sinks into the ground"

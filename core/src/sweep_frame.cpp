@@ -109,7 +109,8 @@ std::vector<Vec3f> initialOmega(const World& world) {
   const BodyState& s = world.state;
   std::vector<Vec3f> omega(world.numBodies(), Vec3f{0, 0, 0});
   for (std::uint32_t k = 0; k < world.numBodies(); ++k)
-    omega[k] = angularVelocity(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, world.invInertia[k],
+    if (world.numParticlesOf[k] > 1)  // single-sphere bodies do not rotate: Ω stays 0 for them
+      omega[k] = angularVelocity(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, world.invInertia[k],
                                Vec3f{s.lx[k], s.ly[k], s.lz[k]});
   return omega;
 }

@@ -71,6 +71,8 @@ class CpuPipeline final : public Pipeline {
     out = m_state;
     toWorld(out, m_frame);
   }
+  LocalFrame frame() const override { return m_frame; }
+  void readLocalState(BodyState& out) const override { out = m_state; }
 
   std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles()); }
 

@@ -118,7 +118,7 @@ void run(RunOptions o) {
   std::optional<RunGuard> guard;
   if (!o.noGuard) guard.emplace(world, *pipeline);
   const std::uint64_t guardEvery = o.guardEvery ? *o.guardEvery : perFrame;
-  if (guardEvery == 0) throw Error("--guard-every must be >= 1");
+  if (guard && guardEvery == 0) throw Error("--guard-every must be >= 1");
 
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;

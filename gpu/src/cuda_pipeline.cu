@@ -130,6 +130,12 @@ class CudaPipeline final : public Pipeline {
   }
 
   void readState(BodyState& out) const override {
+    readLocalState(out);
+    toWorld(out, m_frame);
+  }
+  LocalFrame frame() const override { return m_frame; }
+
+  void readLocalState(BodyState& out) const override {
     if (!m_loaded) {
       out = BodyState{};  // as the CPU pipeline's empty state before load()
       return;
@@ -146,7 +152,6 @@ class CudaPipeline final : public Pipeline {
     m_state.lx.download(out.lx.data(), nb, s); m_state.ly.download(out.ly.data(), nb, s);
     m_state.lz.download(out.lz.data(), nb, s);
     m_ctx.synchronize();
-    toWorld(out, m_frame);
   }
 
   std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles(), m_ctx.stream()); }

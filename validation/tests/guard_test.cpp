@@ -183,6 +183,73 @@ TEST_P(GuardTest, FarFromTheOriginRoundingIsNotGrowth) {
   }
 }
 
+// One sphere dropped from 10 m onto a stiff ground (k = 10⁶ N/m, e = 1, dt = t_c/31): a clean,
+// well-resolved bounce. Its energy comes from the fall to the ground, which the budget must count
+// (not only the fall to the lowest body, which here is itself).
+TEST_P(GuardTest, QuietForAWellResolvedDropOntoTheGround) {
+  Scene s;
+  s.dt = 1e-4f;
+  s.ground.enabled = true;
+  s.ground.stiffness = 1.0e6f;
+  s.ground.friction = 0.0f;
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 1.0f, 1.0f}}}};
+  BodyDef b;
+  b.position = {0, 0, 10.0f};
+  s.bodies = {b};
+  const World w = World::fromScene(s);
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  const auto t = runGuarded(*p, w, 40000, 10);
+  EXPECT_FALSE(t.has_value()) << t->message;
+}
+
+// Two small spheres colliding head-on 10⁵ m from the origin: the pipeline integrates them in a
+// local frame; the guard must judge them there too, not from world positions rounded to 7.8 mm
+// (coarser than their 5 mm radius).
+TEST_P(GuardTest, QuietForACollisionFarFromTheOrigin) {
+  Scene s;
+  s.dt = 1e-5f;
+  s.gravity = {0, 0, 0};
+  s.contact = {1.0e3f, 0.0f, 0.0f};
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.005f, 0.001f, 1.0f}}}};
+  BodyDef a, b;
+  a.position = {100000.0f, 0, 0};
+  a.velocity = {0.5f, 0, 0};
+  b.position = {100000.03125f, 0, 0};
+  s.bodies = {a, b};
+  const World w = World::fromScene(s);
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  ASSERT_TRUE(p->frame().active());
+  const auto t = runGuarded(*p, w, 20000, 10);
+  EXPECT_FALSE(t.has_value()) << t->message;
+  BodyState st;
+  p->readState(st);
+  EXPECT_NEAR(st.vx[1], 0.5f, 1e-4f) << "the collision happened and passed the momentum on";
+}
+
+// A deep overlap at a dt that resolves the contact is physics, not numerics: the message must
+// not send the user halving dt.
+TEST_P(GuardTest, DeepOverlapAtAGoodTimeStepBlamesTheStiffness) {
+  Scene s;
+  s.dt = 1e-4f;  // t_c = 31 ms: 314 steps per contact
+  s.ground.enabled = true;
+  s.ground.stiffness = 1.0e4f;
+  s.ground.friction = 0.0f;
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 1.0f, 1.0f}}}};
+  BodyDef b;
+  b.position = {0, 0, 10.0f};
+  s.bodies = {b};
+  const World w = World::fromScene(s);
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  const auto t = runGuarded(*p, w, 40000, 10);
+  ASSERT_TRUE(t.has_value()) << "v = 14 m/s on k = 1e4: sinks v sqrt(m/k) = 0.14 m, radius 0.05 m";
+  EXPECT_EQ(t->kind, GuardTrip::Kind::Overlap);
+  EXPECT_NE(t->message.find("the depth is physical"), std::string::npos) << t->message;
+  EXPECT_EQ(t->message.find("use dt"), std::string::npos) << t->message;
+}
+
 namespace {
 
 // A pipeline whose state is whatever the test puts in it.

@@ -32,13 +32,16 @@ struct GuardParams {
 struct GuardTrip {
   enum class Kind { NonFinite, Energy, Overlap };
   Kind kind = Kind::NonFinite;
-  std::uint64_t step = 0;    ///< steps since load()
+  std::uint64_t step = 0;    ///< the pipeline's stats().steps: steps since load() or resetStats()
   std::uint32_t body = 0;    ///< the body named in the message
   double suggestedDt = 0.0;  ///< s
   std::string message;       ///< one line: step, time, body, what, dt to use
 };
 
-/// Checks a pipeline's state against the guards. Construct after load() (it records the
+/// Checks a pipeline's state against the guards. It reads the state in the pipeline's own frame
+/// (Pipeline::readLocalState), so a scene far from the origin is judged as precisely as one at
+/// it. Contacts come from pipeline.pairs(), the detection at the start of the last step: a
+/// contact that formed during that step is seen at the next check. Construct after load() (it records the
 /// initial energy and overlaps); call check() whenever the caller is about to use the state
 /// (each recorded frame, or every few steps).
 ///
@@ -47,7 +50,8 @@ struct GuardTrip {
 /// pull, E can only fall (damping, friction); the swirl's work W = ∫ Σ f·v dt is added to the
 /// budget (trapezoid rule between checks). The guard trips when E − E₀ − W exceeds
 /// energyGrowth × S, with S the energy the initial state can release (kinetic + contact springs
-/// + gravity down to the ground or the lowest body) and at least Σ M |g| r_max, plus the error
+/// + gravity down to the ground or the lowest body, at least Σ M |g| r_max), raised to the
+/// largest kinetic + spring energy seen at a check, plus the error
 /// that float-rounded positions put into E₀ and E (negligible near the origin; far from it the
 /// positions handed out are rounded to ulp(|X|), which a stiff contact turns into joules).
 class RunGuard {
@@ -73,7 +77,8 @@ class RunGuard {
  private:
   struct Snapshot {
     double energy = 0.0, swirlPower = 0.0, maxOverlap = 0.0, available = 0.0;
-    double slack = 0.0;  ///< bound of the energy's error from rounded positions
+    double slack = 0.0;   ///< bound of the energy's error from rounded positions
+    double motion = 0.0;  ///< kinetic + contact-spring energy
     std::uint32_t overlapBody = 0, overlapOther = 0;
     bool groundOverlap = false;
     std::uint32_t hottestBody = 0;  ///< largest kinetic energy

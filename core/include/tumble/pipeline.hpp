@@ -86,8 +86,14 @@ class Pipeline {
   /// Advances n steps of world.params.dt. Throws tumble::SimulationError when a particle
   /// position becomes non-finite (the state then holds the last step's result).
   virtual void step(std::uint64_t n = 1) = 0;
-  /// Copies the current body state out.
+  /// Copies the current body state out, positions in the world frame (rounded to float there).
   virtual void readState(BodyState& out) const = 0;
+  /// The frame the pipeline integrates in (LocalFrame::of the loaded world; inactive near the
+  /// origin, and before load()).
+  virtual LocalFrame frame() const { return {}; }
+  /// The body state in that frame: positions X − frame origin, as integrated (no rounding to the
+  /// world frame). The same as readState() when the frame is inactive.
+  virtual void readLocalState(BodyState& out) const { readState(out); }
   /// The pairs found by the last step's detection, sorted by (i, j).
   virtual std::vector<Pair> pairs() const = 0;
   /// Broadphase alone on a particle cloud: every pair i < j of different bodies with

@@ -74,7 +74,8 @@ Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std
 int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame);
 
-/// Ω = R I0⁻¹ Rᵀ L of every body (the CPU pipeline's load()).
+/// Ω = R I0⁻¹ Rᵀ L of every clump, and 0 for single-sphere bodies (they do not rotate; their L
+/// is kept but never used). The pipelines' load().
 std::vector<Vec3f> initialOmega(const World& world);
 
 /// Pairs (i < j), sorted, from the forward half of the CSR contact list (the CPU's
