@@ -94,20 +94,32 @@ std::string findFfmpeg() {
 class FfmpegPipe {
  public:
   FfmpegPipe(const std::string& exe, const std::vector<std::string>& args) {
+    // Everything the child needs is built before fork: the process has other threads (oneTBB,
+    // llvmpipe), so between fork and exec only async-signal-safe calls are allowed (no malloc,
+    // no stdio).
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(exe.c_str()));
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const std::string execFailed = "tumble render: cannot run " + exe + "\n";
     int fds[2];
     if (pipe(fds) != 0) throw Error(std::string("cannot create a pipe to ffmpeg: ") + std::strerror(errno));
     m_pid = fork();
-    if (m_pid < 0) throw Error(std::string("cannot start ffmpeg: ") + std::strerror(errno));
+    if (m_pid < 0) {
+      const int err = errno;
+      close(fds[0]);
+      close(fds[1]);
+      throw Error(std::string("cannot start ffmpeg: ") + std::strerror(err));
+    }
     if (m_pid == 0) {
+      // We ignore SIGPIPE; an ignored signal stays ignored across exec, so give ffmpeg the default.
+      signal(SIGPIPE, SIG_DFL);
       dup2(fds[0], 0);
       close(fds[0]);
       close(fds[1]);
-      std::vector<char*> argv;
-      argv.push_back(const_cast<char*>(exe.c_str()));
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
       execv(exe.c_str(), argv.data());
-      std::fprintf(stderr, "tumble render: cannot run %s: %s\n", exe.c_str(), std::strerror(errno));
+      const ssize_t ignored = ::write(2, execFailed.data(), execFailed.size());
+      (void)ignored;
       _exit(127);
     }
     close(fds[0]);
@@ -235,10 +247,12 @@ void render(const RenderOptions& o) {
   args.insert(args.end(), {"-f", muxer, part});
 
   // A dead ffmpeg must give a write error, not kill us; Ctrl-C must clean up the .part file.
-  std::signal(SIGPIPE, SIG_IGN);
+  // The previous dispositions come back however this function ends.
+  const auto oldPipe = std::signal(SIGPIPE, SIG_IGN);
   const auto oldInt = std::signal(SIGINT, [](int) { g_interrupted = 1; });
   const auto oldTerm = std::signal(SIGTERM, [](int) { g_interrupted = 1; });
   const auto restore = [&] {
+    std::signal(SIGPIPE, oldPipe);
     std::signal(SIGINT, oldInt);
     std::signal(SIGTERM, oldTerm);
   };
@@ -247,7 +261,7 @@ void render(const RenderOptions& o) {
   auto lastPrint = t0;
   std::string failure;
   int status = 0;
-  {
+  try {
     FfmpegPipe pipe(ffmpeg, args);
     for (std::size_t i = first; i <= last && failure.empty(); ++i) {
       if (g_interrupted) {
@@ -267,6 +281,13 @@ void render(const RenderOptions& o) {
     }
     if (tty) std::fprintf(stderr, "\n");
     status = pipe.finish();
+  } catch (...) {
+    // Our own failure (a read-back error, bad_alloc, ...): ~FfmpegPipe has already stopped and
+    // reaped ffmpeg, so its half-written output can go.
+    if (tty) std::fprintf(stderr, "\n");
+    std::remove(part.c_str());
+    restore();
+    throw;
   }
   restore();
   if (g_interrupted) failure = "interrupted";

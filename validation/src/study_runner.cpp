@@ -14,6 +14,10 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <sys/wait.h>
 
 #include "tumble/error.hpp"
 #include "tumble/scene.hpp"
@@ -155,12 +159,36 @@ std::string groupLabel(const std::string& column, double v) {
 }
 
 std::string gpString(const std::string& s) {
-  std::string o = "\"";
+  // Single quotes: gnuplot does no backquote substitution and no escapes inside them; a ' is
+  // written ''. (In double quotes a path with a backquote would run a command.)
+  std::string o = "'";
   for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
+    if (c == '\'') o += '\'';
     o += c;
   }
-  return o + "\"";
+  return o + "'";
+}
+
+/// `s` as one sh word: in single quotes, with each ' written as '\'' ($, ` and \ stay literal).
+std::string shQuote(const std::string& s) {
+  std::string o = "'";
+  for (char c : s) {
+    if (c == '\'') o += "'\\''";
+    else o += c;
+  }
+  return o + "'";
+}
+
+/// What a std::system wait status means, for the report: "" for exit status 0.
+std::string systemStatus(int status) {
+  if (status == -1) return "the shell could not be started";
+  if (WIFEXITED(status)) {
+    const int code = WEXITSTATUS(status);
+    if (code == 0) return "";
+    return "exit status " + std::to_string(code) + (code == 127 ? ", gnuplot not found" : "");
+  }
+  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
+  return "wait status " + std::to_string(status);
 }
 
 /// The gnuplot commands of one plot: datablocks per (y column, group), then the plot command.
@@ -372,14 +400,25 @@ void writeReport(StudyReport& report, const StudyOptions& o) {
       }
     const fs::path gp = dir / "plots.gp";
     writeFile(gp, script);
-    const std::string cmd = "gnuplot " + gpString(gp.string()) + " > " + gpString((dir / "plots.log").string()) + " 2>&1";
-    const int rc = std::system(cmd.c_str());
+    // A PNG counts as drawn only if this gnuplot run wrote it: remove any left by an earlier
+    // report in the same folder.
+    std::vector<std::string> fresh;
+    for (const auto& rel : wanted) {
+      fs::remove(dir / rel, ec);
+      if (ec) plotProblems[rel] = "cannot remove the old " + rel + ": " + ec.message();
+      else fresh.push_back(rel);
+    }
+    wanted = std::move(fresh);
+    // The paths are quoted for sh (they may hold $, ` or quotes); exec lets the wait status be
+    // gnuplot's own, so a signal that kills gnuplot is reported as such.
+    const std::string cmd =
+        "exec gnuplot " + shQuote(gp.string()) + " > " + shQuote((dir / "plots.log").string()) + " 2>&1";
+    const std::string status = systemStatus(std::system(cmd.c_str()));
     for (const auto& rel : wanted)
-      if (fs::exists(dir / rel) && fs::file_size(dir / rel, ec) > 0) drawn.insert(rel);
+      if (fs::exists(dir / rel, ec) && fs::file_size(dir / rel, ec) > 0 && !ec) drawn.insert(rel);
       else plotProblems[rel] = "gnuplot did not write it (see plots.log)";
     report.plotsDrawn = !drawn.empty();
-    report.plotNote = version + (rc == 0 ? "" : " (exit status " + std::to_string(rc) + ", see plots.log)") +
-                      "; script plots.gp";
+    report.plotNote = version + (status.empty() ? "" : " (" + status + ", see plots.log)") + "; script plots.gp";
   }
 
   // report.md

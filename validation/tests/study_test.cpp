@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -104,5 +106,95 @@ TEST(StudyTest, RunnerWritesReportFolder) {
   } else {
     EXPECT_NE(md.find("plots skipped"), std::string::npos) << "report must say why plots are missing";
   }
+  std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+bool haveGnuplot() { return std::system("gnuplot --version >/dev/null 2>&1") == 0; }
+
+// Sets an environment variable for one scope and puts the old value back.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : m_name(name) {
+    if (const char* old = std::getenv(name)) m_old = old;
+    ::setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() {
+    if (m_old) ::setenv(m_name, m_old->c_str(), 1);
+    else ::unsetenv(m_name);
+  }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* m_name;
+  std::optional<std::string> m_old;
+};
+
+}  // namespace
+
+// The report folder's name reaches the shell that runs gnuplot: $, ` and quotes must stay
+// literal, and the PNGs must land in the folder asked for.
+TEST(StudyTest, PlotsLandInAFolderWhoseNameHasShellCharacters) {
+  if (!haveGnuplot()) GTEST_SKIP() << "gnuplot not installed";
+  const auto base = std::filesystem::temp_directory_path() / ("tumble_study_quote_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(base);
+  const auto dir = base / "it's $HOME and $(echo x) and `echo y`";
+  StudyOptions o;
+  o.depth = Depth::Quick;
+  o.progress = false;
+  o.outDir = dir.string();
+  o.caseIds = {"free_fall"};
+  StudyReport rep = runStudy(physicsCases(), {Backend::Cpu}, o);
+  EXPECT_TRUE(rep.plotsDrawn) << rep.plotNote << "\n" << slurp(dir / "plots.log");
+  EXPECT_TRUE(std::filesystem::exists(dir / "cpu" / "free_fall_speed.png"));
+  EXPECT_EQ(rep.plotNote.find("exit status"), std::string::npos) << rep.plotNote;
+  EXPECT_NE(slurp(dir / "report.md").find("](cpu/free_fall_speed.png)"), std::string::npos);
+  // Nothing went to a folder named after an expansion.
+  std::size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(base)) {
+    ++entries;
+    EXPECT_EQ(e.path().filename(), dir.filename());
+  }
+  EXPECT_EQ(entries, 1u);
+  std::filesystem::remove_all(base);
+}
+
+// A PNG left in the folder by an earlier report is not shown as this report's plot when gnuplot
+// fails, and the note gives gnuplot's exit status (1), not the raw wait status (256).
+TEST(StudyTest, StalePlotIsNotReportedWhenGnuplotFails) {
+  const auto dir = std::filesystem::temp_directory_path() / ("tumble_study_stale_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "bin");
+  std::filesystem::create_directories(dir / "out" / "cpu");
+  // A gnuplot that answers --version and fails at everything else; the runner finds it on PATH.
+  {
+    std::ofstream f(dir / "bin" / "gnuplot");
+    f << "#!/bin/sh\nif [ \"$1\" = --version ]; then echo 'gnuplot 0.0 (fake)'; exit 0; fi\necho fake failure >&2\n"
+         "exit 1\n";
+  }
+  std::filesystem::permissions(dir / "bin" / "gnuplot", std::filesystem::perms::owner_all);
+  const auto png = dir / "out" / "cpu" / "free_fall_speed.png";
+  std::ofstream(png) << "stale image from an earlier report";
+  StudyOptions o;
+  o.depth = Depth::Quick;
+  o.progress = false;
+  o.outDir = (dir / "out").string();
+  o.caseIds = {"free_fall"};
+  StudyReport rep;
+  {
+    const ScopedEnv path("PATH", (dir / "bin").string());
+    rep = runStudy(physicsCases(), {Backend::Cpu}, o);
+  }
+  EXPECT_FALSE(rep.plotsDrawn);
+  EXPECT_FALSE(std::filesystem::exists(png)) << "the stale PNG must be removed";
+  EXPECT_NE(rep.plotNote.find("gnuplot 0.0 (fake)"), std::string::npos) << rep.plotNote;
+  EXPECT_NE(rep.plotNote.find("exit status 1,"), std::string::npos) << rep.plotNote;
+  EXPECT_EQ(rep.plotNote.find("256"), std::string::npos) << rep.plotNote;
+  const std::string md = slurp(dir / "out" / "report.md");
+  EXPECT_EQ(md.find("!["), std::string::npos) << "no plot may be linked:\n" << md;
+  EXPECT_NE(md.find("plot `speed` not drawn: gnuplot did not write it"), std::string::npos) << md;
+  EXPECT_NE(slurp(dir / "out" / "plots.log").find("fake failure"), std::string::npos);
   std::filesystem::remove_all(dir);
 }

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "tumble/error.hpp"
@@ -39,6 +40,29 @@ std::string eglErrorString(EGLint e) {
     case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
     default: return "EGL error " + std::to_string(e);
   }
+}
+
+std::string glErrorName(GLenum e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    default: return "OpenGL error " + std::to_string(e);
+  }
+}
+
+// Deletes the framebuffer's objects (zero names are ignored by OpenGL) and zeroes the names.
+void deleteObjects(unsigned& msFbo, unsigned& fbo, unsigned& msColor, unsigned& msDepth, unsigned& color) {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindRenderbuffer(GL_RENDERBUFFER, 0);
+  glDeleteFramebuffers(1, &msFbo);
+  glDeleteFramebuffers(1, &fbo);
+  glDeleteRenderbuffers(1, &msColor);
+  glDeleteRenderbuffers(1, &msDepth);
+  glDeleteRenderbuffers(1, &color);
+  msFbo = fbo = msColor = msDepth = color = 0;
 }
 
 }  // namespace
@@ -113,6 +137,10 @@ OffscreenContext::~OffscreenContext() {
 const std::string& OffscreenContext::platform() const { return m->platform; }
 
 Framebuffer::Framebuffer(int w, int h, int samples) : m_w(w), m_h(h) {
+  const std::string size = std::to_string(w) + "x" + std::to_string(h);
+  // Clear errors left over from earlier calls, so that they are not blamed on this framebuffer.
+  GLenum pending = glGetError();
+  for (int i = 0; pending != GL_NO_ERROR && i < 16; ++i) pending = glGetError();
   GLint maxSamples = 0;
   glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
   samples = std::max(0, std::min(samples, static_cast<int>(maxSamples)));
@@ -134,18 +162,17 @@ Framebuffer::Framebuffer(int w, int h, int samples) : m_w(w), m_h(h) {
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color);
   const GLenum resolve = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-  if (ms != GL_FRAMEBUFFER_COMPLETE || resolve != GL_FRAMEBUFFER_COMPLETE)
-    throw Error("cannot create a " + std::to_string(w) + "x" + std::to_string(h) + " off-screen framebuffer");
+  const GLenum err = glGetError();
+  if (ms != GL_FRAMEBUFFER_COMPLETE || resolve != GL_FRAMEBUFFER_COMPLETE || err != GL_NO_ERROR) {
+    // The destructor does not run for a constructor that throws: free the objects here.
+    deleteObjects(m_msFbo, m_fbo, m_msColor, m_msDepth, m_color);
+    throw Error("cannot create a " + size + " off-screen framebuffer" +
+                (err != GL_NO_ERROR ? " (" + glErrorName(err) + ")" : std::string()) +
+                (err == GL_OUT_OF_MEMORY ? "; try a smaller --size" : ""));
+  }
 }
 
-Framebuffer::~Framebuffer() {
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDeleteFramebuffers(1, &m_msFbo);
-  glDeleteFramebuffers(1, &m_fbo);
-  glDeleteRenderbuffers(1, &m_msColor);
-  glDeleteRenderbuffers(1, &m_msDepth);
-  glDeleteRenderbuffers(1, &m_color);
-}
+Framebuffer::~Framebuffer() { deleteObjects(m_msFbo, m_fbo, m_msColor, m_msDepth, m_color); }
 
 void Framebuffer::bind() { glBindFramebuffer(GL_FRAMEBUFFER, m_msFbo); }
 
@@ -154,7 +181,7 @@ Image Framebuffer::read() {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_fbo);
   glBlitFramebuffer(0, 0, m_w, m_h, 0, 0, m_w, m_h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, m_fbo);
-  Image img = readPixels(m_w, m_h);
+  Image img = readPixels(m_w, m_h);  // throws on any OpenGL error since the last read-back
   glBindFramebuffer(GL_FRAMEBUFFER, m_msFbo);
   return img;
 }

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <string>
 #include <utility>
 
 #include "tumble/error.hpp"
@@ -210,6 +211,17 @@ struct SphereMesh {
   }
 };
 
+std::string glErrorName(GLenum e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    default: return "OpenGL error " + std::to_string(e);
+  }
+}
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -354,6 +366,18 @@ Image readPixels(int w, int h) {
   std::vector<std::uint8_t> raw(row * static_cast<std::size_t>(h));
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, raw.data());
+  // A draw or read-back that failed (GL_OUT_OF_MEMORY at a large size, say) leaves an error
+  // flag and an undefined (typically black) image: report it instead of returning that image.
+  // OpenGL keeps one flag per kind of error; collect them all, which also clears them.
+  std::string errors;
+  for (int i = 0; i < 8; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    errors += (errors.empty() ? "" : ", ") + glErrorName(e);
+  }
+  if (!errors.empty())
+    throw Error("OpenGL failed to draw or read back a " + std::to_string(w) + "x" + std::to_string(h) + " image (" +
+                errors + ")" + (errors.find("GL_OUT_OF_MEMORY") != std::string::npos ? "; try a smaller --size" : ""));
   img.rgb.resize(raw.size());
   // OpenGL's first row is the bottom one.
   for (int y = 0; y < h; ++y)

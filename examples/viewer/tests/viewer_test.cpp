@@ -3,11 +3,13 @@
 // off-screen through EGL and checked pixel by pixel; and the tumble commands end to end:
 // `render --still` images, `render` videos checked with ffprobe, and `view` / `play` driven by
 // key scripts under Xvfb. Tests that need ffmpeg or xvfb-run skip when those are missing.
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -372,6 +374,51 @@ TEST_F(Offscreen, ForceLinesAreDrawn) {
   EXPECT_GT(found, 0) << "a ground-force line above sphere 0";
 }
 
+// A draw or read-back that fails leaves an OpenGL error flag and an undefined image; read()
+// reports it (named, with the size) instead of returning a black frame, and clears it.
+TEST_F(Offscreen, ReadBackReportsOpenGlErrors) {
+  {
+    Framebuffer fb(64, 48);
+    fb.bind();
+    s_renderer->draw(data(ColorMode::Plain, 0), camera(), 64, 48);
+    glEnable(0x7fff);  // not a capability: GL_INVALID_ENUM, as a failed draw would leave a flag
+    try {
+      (void)fb.read();
+      ADD_FAILURE() << "read() returned an image despite an OpenGL error";
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("GL_INVALID_ENUM"), std::string::npos) << what;
+      EXPECT_NE(what.find("64x48"), std::string::npos) << what;
+    }
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR)) << "the flags are cleared";
+  }
+  const Image img = render(data(ColorMode::Plain, 0));  // and the next frame is fine
+  EXPECT_TRUE(nearColor(pixel(img, 2, 2), kSkyColor, 3)) << pixel(img, 2, 2);
+}
+
+// A framebuffer that cannot be made throws and frees the OpenGL objects it had created.
+TEST_F(Offscreen, FailedFramebufferThrowsAndLeaksNothing) {
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
+  ASSERT_GT(maxSize, 0);
+  const int tooWide = maxSize + 1;
+  try {
+    Framebuffer fb(tooWide, 16);
+    ADD_FAILURE() << "a " << tooWide << "x16 framebuffer was created";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(std::to_string(tooWide) + "x16"), std::string::npos) << what;
+  }
+  // No Framebuffer is alive here, so no framebuffer or renderbuffer name may be in use.
+  for (GLuint name = 1; name < 512; ++name) {
+    EXPECT_FALSE(glIsFramebuffer(name)) << "framebuffer " << name << " leaked";
+    EXPECT_FALSE(glIsRenderbuffer(name)) << "renderbuffer " << name << " leaked";
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  const Image img = render(data(ColorMode::Plain, 0));
+  EXPECT_EQ(img.width, 320);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The tumble command, end to end
 
@@ -549,6 +596,22 @@ TEST_F(Cli, RenderWithoutFfmpegSaysSoAndWritesNothing) {
   EXPECT_NE(f.err.find("ffmpeg failed"), std::string::npos) << f.err;
   EXPECT_NE(access(path("movie.mp4").c_str(), F_OK), 0);
   EXPECT_NE(access(path("movie.mp4.part").c_str(), F_OK), 0);
+}
+
+// tumble ignores SIGPIPE while it writes frames, but ffmpeg must get the default disposition
+// (an ignored signal would stay ignored across exec); and a failed ffmpeg leaves no .part.
+TEST_F(Cli, FfmpegStartsWithDefaultSigpipe) {
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0);
+  write("fake-ffmpeg", "#!/bin/sh\ngrep '^SigIgn:' /proc/$$/status > sigign.txt\ncat >/dev/null\nexit 1\n");
+  ASSERT_EQ(std::system(("chmod +x '" + path("fake-ffmpeg") + "'").c_str()), 0);
+  const Result f = run("render rec.bin -o movie.mp4 --size 64x48", "TUMBLE_FFMPEG=./fake-ffmpeg");
+  EXPECT_EQ(f.status, 2) << f.err;
+  EXPECT_NE(access(path("movie.mp4.part").c_str(), F_OK), 0);
+  const std::string line = slurp(path("sigign.txt"));
+  if (line.empty()) GTEST_SKIP() << "no /proc/PID/status SigIgn line";
+  const unsigned long long ignored = std::stoull(line.substr(line.find(':') + 1), nullptr, 16);
+  EXPECT_EQ(ignored & (1ull << (SIGPIPE - 1)), 0u) << "SIGPIPE ignored in ffmpeg: " << line;
 }
 
 // Under Xvfb: a key script drives the live window. Arrow-left is held for frames 2-21 (x pull),
