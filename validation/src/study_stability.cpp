@@ -389,12 +389,13 @@ CaseResult stiffContactCase(const CaseContext& ctx) {
     const StiffSetup s = stiffSetup(c);
     const double hc = criticalH(s.zeta), dtc = hc / s.omega;
     // Energy the guard allows to appear: energyGrowth (0.5) × S, S = springs + pulls' potential
-    // + Σ M|g| r_max of the initial state (at rest, nothing to drop). Perturbation energy
+    // + Σ M|g| r_max of the initial state + the fall of the ground sphere's centre to the ground
+    // plane, m g (r − d) (the pair, without gravity, has nothing to drop). Perturbation energy
     // E_p = ½ m_eff ω² δ0² (m_eff = m on the ground, m/2 for the pair).
     const double r = 0.1, m = 1.0, k = 1.0e3, d0 = s.deltaEq / 100.0, d = s.deltaEq - d0;
     const double meff = c.pair ? 0.5 * m : m;
     const double S = c.pair ? 0.5 * k * d * d + 2.0 * 0.5 * m * 100.0 * (r - 0.5 * d) * (r - 0.5 * d)
-                            : 0.5 * k * d * d + m * double(float(kG)) * r;
+                            : 0.5 * k * d * d + m * double(float(kG)) * r + m * double(float(kG)) * (r - d);
     const double ep = 0.5 * meff * s.omega * s.omega * d0 * d0;
     const double hTrip = 1.1 * hc;
     const double predicted = growthSteps(hTrip, s.zeta, (ep + 0.5 * S) / ep);
