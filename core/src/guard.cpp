@@ -12,6 +12,8 @@ namespace tumble {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
   char buf[256];
   std::snprintf(buf, sizeof buf, fmt, a, b, c);
@@ -28,6 +30,14 @@ double dtToUse(const World& w) {
 std::string dtAdvice(const World& w) {
   const double tc = shortestContactTime(w);
   const double use = dtToUse(w);
+  if (!std::isfinite(tc)) {
+    // No contact can form: what is left to go wrong is the integration of free motion.
+    std::string a = format("the scene has no contacts to resolve; try dt = %.3g s", use);
+    if (w.hasClumps && w.params.integrator.rotation == RotationScheme::Report)
+      a += ", or [integrator] rotation = \"splitting\" (the report's rotation scheme gains energy on fast-spinning "
+           "clumps; the splitting keeps it bounded)";
+    return a;
+  }
   if (std::isfinite(tc) && tc / 20.0 < w.params.dt)
     return format("the shortest contact lasts %.3g s; use dt <= %.3g s (t_c / 20, now %g s)", tc, use, w.params.dt);
   return format("dt = %g s already resolves the shortest contact (%.3g s); try dt = %.3g s", w.params.dt, tc, use);
@@ -94,7 +104,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // Far from the origin the positions handed out are rounded (pipelines may integrate in a local
   // frame, LocalFrame): every energy term computed from them carries that rounding, which is
   // added to the allowance (slack) instead of counting as growth.
-  std::vector<double> err(np);
+  std::vector<double> err(np), errZ(np);
   double slack = 0.0;
   double kinetic = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
   double lowest = std::numeric_limits<double>::infinity();
@@ -125,6 +135,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       x[3 * std::size_t(i) + 1] = xi.y;
       x[3 * std::size_t(i) + 2] = xi.z;
       err[i] = eX;
+      errZ[i] = roundingOf(X.z);
       const double mi = w.mass[i];
       // The pulls act about the world origin: world coordinates (double) for them.
       const double wx = double(xi.x) + frame.x, wy = double(xi.y) + frame.y;
@@ -172,6 +183,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       out.overlapBody = w.body[p.i];
       out.overlapOther = w.body[p.j];
       out.groundOverlap = false;
+      const double mi = w.mass[p.i], mj = w.mass[p.j];
+      out.overlapContactTime = kPi * std::sqrt(mi * mj / (mi + mj) / double(sc.contact.stiffness));
     }
   }
   if (sc.ground.enabled) {
@@ -179,19 +192,19 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       const double delta = groundZ - (x[3 * std::size_t(i) + 2] - w.radius[i]);
       if (delta <= 0.0) continue;
       springs += 0.5 * sc.ground.stiffness * delta * delta;
-      const double e = err[i] + roundingOf(groundZ);
+      const double e = errZ[i] + roundingOf(groundZ);
       slack += sc.ground.stiffness * e * (delta + e);
       const double frac = delta / w.radius[i];
       if (frac > out.maxOverlap) {
         out.maxOverlap = frac;
         out.overlapBody = w.body[i];
         out.groundOverlap = true;
+        out.overlapContactTime = kPi * std::sqrt(double(w.mass[i]) / double(sc.ground.stiffness));
       }
     }
   }
 
   out.energy = kinetic + gravity + pullPotential + springs;
-  out.motion = kinetic + springs;
   out.slack = slack;
   out.swirlPower = power;
   // What the state can release: motion, springs, the pulls' potential, and gravity down to the
@@ -205,27 +218,29 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }
   double totalMass = 0.0;
   for (float m : w.bodyMass) totalMass += m;
-  out.available = kinetic + springs + pullPotential + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
+  // |pull potential|: an outward pull (κ < 0) has a negative potential, whose size is still the
+  // energy scale of the motion it drives.
+  out.available = kinetic + springs + std::abs(pullPotential) + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
   if (!(out.available > 0.0)) out.available = 1e-12;
   return out;
 }
 
 GuardTrip RunGuard::trip(GuardTrip::Kind kind, std::uint32_t body, const Pipeline& pipeline,
-                         const std::string& what) const {
+                         const std::string& what, double contactTime) const {
   GuardTrip t;
   t.kind = kind;
   t.step = pipeline.stats().steps;
   t.body = body;
   t.suggestedDt = suggestedDt();
-  const double tc = shortestContactTime(m_world), dt = m_world.params.dt;
-  const bool dtResolves = !(std::isfinite(tc) && tc / 20.0 < dt);
+  const double dt = m_world.params.dt;
   std::string advice;
-  if (kind == GuardTrip::Kind::Overlap && dtResolves) {
-    // A deep overlap at a well-resolved dt is physics, not numerics: halving dt will not help.
-    advice = format("; dt = %g s already resolves the shortest contact (%.3g s) with %.0f steps, so the depth is "
-                    "physical: the contacts are too soft for this impact (a linear contact sinks to about "
-                    "v sqrt(m/k)); make them stiffer or the impact slower",
-                    dt, tc, tc / dt);
+  if (kind == GuardTrip::Kind::Overlap && std::isfinite(contactTime) && contactTime / 20.0 >= dt) {
+    // A deep overlap at a dt that resolves this very contact is physics, not numerics: halving
+    // dt will not help.
+    advice = format("; dt = %g s already resolves this contact (t_c = %.3g s) with %.0f steps, so the depth is "
+                    "physical: the contact is too soft for this impact (a linear contact sinks to about "
+                    "v sqrt(m/k)); make it stiffer or the impact slower",
+                    dt, contactTime, contactTime / dt);
   } else {
     advice = "; the integration is unstable or too coarse: " + dtAdvice(m_world);
   }
@@ -258,23 +273,22 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
   m_lastOverlap = s.maxOverlap;
 
   const double gained = s.energy - m_reference - m_work;
-  if (gained > m_params.energyGrowth * m_scale + m_referenceSlack + s.slack) {
+  // The swirl's work is motion the initial state did not have: it widens the scale as well.
+  const double scale = m_scale + std::max(0.0, m_work);
+  if (gained > m_params.energyGrowth * scale + m_referenceSlack + s.slack) {
     return trip(GuardTrip::Kind::Energy, s.hottestBody, pipeline,
                 format("the energy grew by %.3g J, more than %.0f%% of the %.3g J the scene can release", gained,
-                       100.0 * m_params.energyGrowth, m_scale) +
+                       100.0 * m_params.energyGrowth, scale) +
                     " (body " + std::to_string(s.hottestBody) + " moves fastest)");
   }
-  // The allowance follows the largest motion seen (kinetic + spring energy): the energy error of
-  // a well-resolved explicit step is a fraction of the energy in motion, and the swirl may add
-  // motion the initial state did not have. A divergence still outgrows it within a few steps.
-  m_scale = std::max(m_scale, s.motion);
   const double limit = std::max(m_params.maxOverlap, m_initialOverlap + 0.05);
   if (s.maxOverlap > limit) {
     const std::string who = s.groundOverlap ? "body " + std::to_string(s.overlapBody) + " sinks into the ground"
                                             : "bodies " + std::to_string(s.overlapBody) + " and " +
                                                   std::to_string(s.overlapOther) + " overlap";
     return trip(GuardTrip::Kind::Overlap, s.overlapBody, pipeline,
-                who + format(" by %.0f%% of the smaller radius (limit %.0f%%)", 100.0 * s.maxOverlap, 100.0 * limit));
+                who + format(" by %.0f%% of the smaller radius (limit %.0f%%)", 100.0 * s.maxOverlap, 100.0 * limit),
+                s.overlapContactTime);
   }
   return std::nullopt;
 }

@@ -28,6 +28,19 @@ LocalFrame LocalFrame::of(const World& w) {
     lo[a] = *mm.first;
     hi[a] = *mm.second;
   }
+  // What the bodies will move towards belongs to the box too: the ground (a dropped body lands
+  // on it) and, on the axes of the pulls that are on, the world origin (they pull there).
+  const Scene& p = w.params;
+  if (p.ground.enabled) {
+    lo[2] = std::min(lo[2], double(p.ground.height));
+    hi[2] = std::max(hi[2], double(p.ground.height));
+  }
+  const bool pullX = (p.pulls.active & (kPullX | kPullSwirl)) != 0, pullY = (p.pulls.active & (kPullY | kPullSwirl)) != 0;
+  for (int a = 0; a < 2; ++a)
+    if (a == 0 ? pullX : pullY) {
+      lo[a] = std::min(lo[a], 0.0);
+      hi[a] = std::max(hi[a], 0.0);
+    }
   double extent = 2.0 * w.maxRadius;
   for (int a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a]);
   // Per axis: only the coordinates that are far from the origin move.

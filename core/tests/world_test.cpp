@@ -107,16 +107,40 @@ TEST(World, LocalFrameMovesOnlyFarAxes) {
   const LocalFrame f = LocalFrame::of(far);
   EXPECT_EQ(f.x, 100002.0);
   EXPECT_EQ(f.y, 0.0) << "y is near the origin: that axis stays";
-  EXPECT_EQ(f.z, 100001.0);
+  EXPECT_EQ(f.z, 100000.75) << "the ground (1e5) is part of the z range";
   const World local = toLocal(far, f);
   EXPECT_EQ(local.state.px[0], -2.0f);
   EXPECT_EQ(local.state.py[0], 2.0f);
-  EXPECT_EQ(local.state.pz[1], 0.5f);
-  EXPECT_EQ(local.params.ground.height, -1.0f);
+  EXPECT_EQ(local.state.pz[1], 0.75f);
+  EXPECT_EQ(local.params.ground.height, -0.75f);
   EXPECT_EQ(local.params.pulls.centre.x, -100002.0f);
   EXPECT_EQ(local.params.pulls.centre.y, 0.0f);
   BodyState back = local.state;
   toWorld(back, f);
   EXPECT_EQ(back.px, far.state.px);
   EXPECT_EQ(back.pz, far.state.pz);
+}
+
+// What the bodies move towards is part of the frame's box: a ball dropped from 20 m onto the
+// ground lands near the origin, where float resolves best, so no frame; likewise an axis on
+// which a pull (towards the origin) is on at load.
+TEST(World, LocalFrameKeepsTheGroundAndThePullCentreInTheBox) {
+  Scene s;
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.01f, 0.001f, 0.5f}}}};
+  BodyDef b;
+  b.position = {0, 0, 20.0f};
+  s.bodies = {b};
+  EXPECT_EQ(LocalFrame::of(World::fromScene(s)).z, 20.0) << "no ground: the ball is far from everything";
+  s.ground.enabled = true;
+  EXPECT_FALSE(LocalFrame::of(World::fromScene(s)).active()) << "it will land on the ground at z = 0";
+
+  s.ground.enabled = false;
+  s.bodies[0].position = {100.0f, 100.0f, 0.0f};
+  const LocalFrame free = LocalFrame::of(World::fromScene(s));
+  EXPECT_EQ(free.x, 100.0);
+  EXPECT_EQ(free.y, 100.0);
+  s.pulls.active = kPullX;
+  const LocalFrame pulled = LocalFrame::of(World::fromScene(s));
+  EXPECT_EQ(pulled.x, 0.0) << "the x pull draws it to x = 0";
+  EXPECT_EQ(pulled.y, 0.0) << "the box now spans 100 m, so y = 100 m is no longer far either";
 }

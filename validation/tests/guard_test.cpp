@@ -237,9 +237,13 @@ TEST_P(GuardTest, DeepOverlapAtAGoodTimeStepBlamesTheStiffness) {
   s.ground.stiffness = 1.0e4f;
   s.ground.friction = 0.0f;
   s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 1.0f, 1.0f}}}};
-  BodyDef b;
+  BodyDef b, spectator;
   b.position = {0, 0, 10.0f};
-  s.bodies = {b};
+  // A second body far away: the scene's shortest contact is now a (never happening) pair
+  // contact with the default k_s, much shorter than the ground contact that trips. The advice
+  // must be about the contact that tripped.
+  spectator.position = {30.0f, 0, 0.05f};
+  s.bodies = {b, spectator};
   const World w = World::fromScene(s);
   auto p = makePipeline(GetParam());
   p->load(w);
@@ -248,6 +252,58 @@ TEST_P(GuardTest, DeepOverlapAtAGoodTimeStepBlamesTheStiffness) {
   EXPECT_EQ(t->kind, GuardTrip::Kind::Overlap);
   EXPECT_NE(t->message.find("the depth is physical"), std::string::npos) << t->message;
   EXPECT_EQ(t->message.find("use dt"), std::string::npos) << t->message;
+}
+
+// An outward pull (κ < 0) has a negative potential; the budget must use its size, not clamp the
+// scale to nothing (which tripped a clean bounce at the first check).
+TEST_P(GuardTest, QuietWithAnOutwardPull) {
+  Scene s;
+  s.dt = 1e-4f;
+  s.ground.enabled = true;
+  s.ground.stiffness = 1.0e5f;
+  s.ground.friction = 0.0f;
+  s.pulls.x = -2.0f;
+  s.pulls.active = kPullX;
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.1f, 1.0f, 1.0f}}}};
+  BodyDef b;
+  b.position = {3.0f, 0, 0.0995f};
+  b.velocity = {0, 0, -1.0f};
+  s.bodies = {b};
+  const World w = World::fromScene(s);
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  const auto t = runGuarded(*p, w, 2000, 10);
+  EXPECT_FALSE(t.has_value()) << t->message;
+}
+
+// With no contacts at all, a trip cannot be about resolving one: the message must say so, and
+// point a clump on the report's rotation scheme to the splitting scheme.
+TEST_P(GuardTest, NoContactsMessagePointsToTheRotationScheme) {
+  Scene s;
+  s.dt = 1e-3f;
+  s.gravity = {0, 0, 0};
+  s.shapes = {ShapeDef{"tri",
+                       {SphereDef{{0.3f, 0, 0}, 0.05f, 0.2f, 0.5f}, SphereDef{{0, 0.15f, 0}, 0.05f, 0.3f, 0.5f},
+                        SphereDef{{0, 0, 0.05f}, 0.05f, 0.4f, 0.5f}}}};
+  BodyDef b;
+  b.position = {0, 0, 1};
+  b.angularVelocity = {0.3f, 20.0f, 0.2f};
+  s.bodies = {b};
+  for (const RotationScheme scheme : {RotationScheme::Report, RotationScheme::Splitting}) {
+    s.integrator.rotation = scheme;
+    const World w = World::fromScene(s);
+    auto p = makePipeline(GetParam());
+    p->load(w);
+    const auto t = runGuarded(*p, w, 20000, 10);
+    if (scheme == RotationScheme::Report) {
+      ASSERT_TRUE(t.has_value()) << "the report's scheme more than doubles this spin's energy";
+      EXPECT_NE(t->message.find("no contacts"), std::string::npos) << t->message;
+      EXPECT_NE(t->message.find("splitting"), std::string::npos) << t->message;
+      EXPECT_EQ(t->message.find("inf"), std::string::npos) << t->message;
+    } else {
+      EXPECT_FALSE(t.has_value()) << t->message;
+    }
+  }
 }
 
 namespace {

@@ -7,6 +7,7 @@
 /// step, the body and a dt to use.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -50,8 +51,8 @@ struct GuardTrip {
 /// pull, E can only fall (damping, friction); the swirl's work W = ∫ Σ f·v dt is added to the
 /// budget (trapezoid rule between checks). The guard trips when E − E₀ − W exceeds
 /// energyGrowth × S, with S the energy the initial state can release (kinetic + contact springs
-/// + gravity down to the ground or the lowest body, at least Σ M |g| r_max), raised to the
-/// largest kinetic + spring energy seen at a check, plus the error
+/// + |pull potential| + gravity down to the ground or the lowest body, at least Σ M |g| r_max)
+/// plus the swirl's work W, plus the error
 /// that float-rounded positions put into E₀ and E (negligible near the origin; far from it the
 /// positions handed out are rounded to ulp(|X|), which a stiff contact turns into joules).
 class RunGuard {
@@ -78,14 +79,15 @@ class RunGuard {
   struct Snapshot {
     double energy = 0.0, swirlPower = 0.0, maxOverlap = 0.0, available = 0.0;
     double slack = 0.0;   ///< bound of the energy's error from rounded positions
-    double motion = 0.0;  ///< kinetic + contact-spring energy
     std::uint32_t overlapBody = 0, overlapOther = 0;
     bool groundOverlap = false;
+    double overlapContactTime = 0.0;  ///< t_c of the deepest contact (its own masses and stiffness)
     std::uint32_t hottestBody = 0;  ///< largest kinetic energy
     std::int64_t nonFiniteBody = -1;
   };
   Snapshot measure(const Pipeline& pipeline, std::uint32_t pullMask, Pipeline* findPairsWith = nullptr);
-  GuardTrip trip(GuardTrip::Kind kind, std::uint32_t body, const Pipeline& pipeline, const std::string& what) const;
+  GuardTrip trip(GuardTrip::Kind kind, std::uint32_t body, const Pipeline& pipeline, const std::string& what,
+                 double contactTime = std::numeric_limits<double>::quiet_NaN()) const;
 
   const World& m_world;
   GuardParams m_params;

@@ -68,6 +68,8 @@ struct LocalFrame {
 
   /// Per axis a: c_a, the centre of the bodies' bounding box rounded to float, when
   /// |c_a| > 4 × max(largest extent of the box, 2 × largest radius); otherwise 0 (that axis stays).
+  /// The box also holds what the bodies move towards: the ground height (z), when the ground is
+  /// on, and the world origin on the axes of the pulls that are on at load.
   static LocalFrame of(const World& world);
 };
 
