@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/viewer/renderer.hpp"
 
 namespace tumble::viewer {
 namespace {
@@ -39,17 +40,6 @@ std::string eglErrorString(EGLint e) {
     case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
     case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
     default: return "EGL error " + std::to_string(e);
-  }
-}
-
-std::string glErrorName(GLenum e) {
-  switch (e) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    default: return "OpenGL error " + std::to_string(e);
   }
 }
 

@@ -211,17 +211,6 @@ struct SphereMesh {
   }
 };
 
-std::string glErrorName(GLenum e) {
-  switch (e) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    default: return "OpenGL error " + std::to_string(e);
-  }
-}
-
 }  // namespace
 
 struct Renderer::Impl {
@@ -356,6 +345,17 @@ void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
   }
   glBindVertexArray(0);
   glUseProgram(0);
+}
+
+std::string glErrorName(unsigned e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    default: return "OpenGL error " + std::to_string(e);
+  }
 }
 
 Image readPixels(int w, int h) {

@@ -46,6 +46,9 @@ struct Image {
   }
 };
 
+/// The name of an OpenGL error code (GLenum), e.g. "GL_OUT_OF_MEMORY".
+std::string glErrorName(unsigned error);
+
 /// Reads the currently bound read framebuffer (w × h) into an image, flipping it so that the
 /// top row comes first.
 Image readPixels(int w, int h);
