@@ -100,11 +100,15 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
 
   // Particle positions and velocities from the bodies (double from here on).
   const std::uint32_t np = w.numParticles();
-  std::vector<double> x(3 * std::size_t(np));
+  std::vector<double>& x = m_x;  // buffers kept between checks: no allocation per check
+  x.resize(3 * std::size_t(np));
   // Far from the origin the positions handed out are rounded (pipelines may integrate in a local
   // frame, LocalFrame): every energy term computed from them carries that rounding, which is
   // added to the allowance (slack) instead of counting as growth.
-  std::vector<double> err(np), errZ(np);
+  std::vector<double>& err = m_err;
+  std::vector<double>& errZ = m_errZ;
+  err.resize(np);
+  errZ.resize(np);
   double slack = 0.0;
   double kinetic = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
   double lowest = std::numeric_limits<double>::infinity();

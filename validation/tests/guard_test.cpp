@@ -60,6 +60,39 @@ std::optional<GuardTrip> runGuarded(Pipeline& p, const World& w, std::uint64_t s
   return std::nullopt;
 }
 
+// A ball (r = 0.05 m, 1 kg, e = 1) dropped from 10 m onto a frictionless ground of stiffness k,
+// dt = 1e-4 s.
+Scene ballDrop(float k) {
+  Scene s;
+  s.dt = 1e-4f;
+  s.ground.enabled = true;
+  s.ground.stiffness = k;
+  s.ground.friction = 0.0f;
+  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 1.0f, 1.0f}}}};
+  BodyDef b;
+  b.position = {0, 0, 10.0f};
+  s.bodies = {b};
+  return s;
+}
+
+struct GuardedRun {
+  std::optional<GuardTrip> trip;
+  BodyState state;          ///< at the end (or at the trip)
+  bool localFrame = false;  ///< the pipeline integrated in a local frame
+};
+
+// Loads a scene into a fresh pipeline and runs it under the guard.
+GuardedRun runScene(const Scene& s, Backend backend, std::uint64_t steps, std::uint64_t every) {
+  const World w = World::fromScene(s);
+  auto p = makePipeline(backend);
+  p->load(w);
+  GuardedRun r;
+  r.localFrame = p->frame().active();
+  r.trip = runGuarded(*p, w, steps, every);
+  p->readState(r.state);
+  return r;
+}
+
 }  // namespace
 
 TEST_P(GuardTest, QuietOnAStableRun) {
@@ -125,10 +158,7 @@ TEST_P(GuardTest, TripsWhenABodyIsDrivenThroughTheGround) {
   fast.position = {0, 0, 0.5f};
   fast.velocity = {0, 0, -60.0f};
   s.bodies = {still, fast};
-  const World w = World::fromScene(s);
-  auto p = makePipeline(GetParam());
-  p->load(w);
-  const auto t = runGuarded(*p, w, 100, 1);
+  const auto t = runScene(s, GetParam(), 100, 1).trip;
   ASSERT_TRUE(t.has_value());
   std::printf("%s\n", t->message.c_str());
   EXPECT_EQ(t->kind, GuardTrip::Kind::Overlap);
@@ -146,10 +176,7 @@ TEST_P(GuardTest, InitialOverlapIsNotATrip) {
   BodyDef a, b;
   b.position = {1e-3f, 0, 0};
   s.bodies = {a, b};
-  const World w = World::fromScene(s);
-  auto p = makePipeline(GetParam());
-  p->load(w);
-  const auto t = runGuarded(*p, w, 2000, 10);
+  const auto t = runScene(s, GetParam(), 2000, 10).trip;
   EXPECT_FALSE(t.has_value()) << t->message;
 }
 
@@ -170,10 +197,7 @@ TEST_P(GuardTest, FarFromTheOriginRoundingIsNotGrowth) {
       b.position = {0.5f * float(i), 0.0f, 1.0e5f + 0.2f + 0.40625f * float(i)};
       s.bodies.push_back(b);
     }
-    const World w = World::fromScene(s);
-    auto p = makePipeline(GetParam());
-    p->load(w);
-    const auto t = runGuarded(*p, w, dt < 1e-4f ? 20000 : 2000, 10);
+    const auto t = runScene(s, GetParam(), dt < 1e-4f ? 20000 : 2000, 10).trip;
     if (dt < 1e-4f) {
       EXPECT_FALSE(t.has_value()) << "stable run (dt = t_c/110) at 1e5 m: " << t->message;
     } else {
@@ -187,19 +211,8 @@ TEST_P(GuardTest, FarFromTheOriginRoundingIsNotGrowth) {
 // well-resolved bounce. Its energy comes from the fall to the ground, which the budget must count
 // (not only the fall to the lowest body, which here is itself).
 TEST_P(GuardTest, QuietForAWellResolvedDropOntoTheGround) {
-  Scene s;
-  s.dt = 1e-4f;
-  s.ground.enabled = true;
-  s.ground.stiffness = 1.0e6f;
-  s.ground.friction = 0.0f;
-  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 1.0f, 1.0f}}}};
-  BodyDef b;
-  b.position = {0, 0, 10.0f};
-  s.bodies = {b};
-  const World w = World::fromScene(s);
-  auto p = makePipeline(GetParam());
-  p->load(w);
-  const auto t = runGuarded(*p, w, 40000, 10);
+  const Scene s = ballDrop(1.0e6f);
+  const auto t = runScene(s, GetParam(), 40000, 10).trip;
   EXPECT_FALSE(t.has_value()) << t->message;
 }
 
@@ -217,37 +230,23 @@ TEST_P(GuardTest, QuietForACollisionFarFromTheOrigin) {
   a.velocity = {0.5f, 0, 0};
   b.position = {100000.03125f, 0, 0};
   s.bodies = {a, b};
-  const World w = World::fromScene(s);
-  auto p = makePipeline(GetParam());
-  p->load(w);
-  ASSERT_TRUE(p->frame().active());
-  const auto t = runGuarded(*p, w, 20000, 10);
-  EXPECT_FALSE(t.has_value()) << t->message;
-  BodyState st;
-  p->readState(st);
-  EXPECT_NEAR(st.vx[1], 0.5f, 1e-4f) << "the collision happened and passed the momentum on";
+  const GuardedRun r = runScene(s, GetParam(), 20000, 10);
+  ASSERT_TRUE(r.localFrame);
+  EXPECT_FALSE(r.trip.has_value()) << r.trip->message;
+  EXPECT_NEAR(r.state.vx[1], 0.5f, 1e-4f) << "the collision happened and passed the momentum on";
 }
 
 // A deep overlap at a dt that resolves the contact is physics, not numerics: the message must
 // not send the user halving dt.
 TEST_P(GuardTest, DeepOverlapAtAGoodTimeStepBlamesTheStiffness) {
-  Scene s;
-  s.dt = 1e-4f;  // t_c = 31 ms: 314 steps per contact
-  s.ground.enabled = true;
-  s.ground.stiffness = 1.0e4f;
-  s.ground.friction = 0.0f;
-  s.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 1.0f, 1.0f}}}};
-  BodyDef b, spectator;
-  b.position = {0, 0, 10.0f};
+  Scene s = ballDrop(1.0e4f);  // t_c = 31 ms: 314 steps per contact
+  BodyDef spectator;
   // A second body far away: the scene's shortest contact is now a (never happening) pair
   // contact with the default k_s, much shorter than the ground contact that trips. The advice
   // must be about the contact that tripped.
   spectator.position = {30.0f, 0, 0.05f};
-  s.bodies = {b, spectator};
-  const World w = World::fromScene(s);
-  auto p = makePipeline(GetParam());
-  p->load(w);
-  const auto t = runGuarded(*p, w, 40000, 10);
+  s.bodies.push_back(spectator);
+  const auto t = runScene(s, GetParam(), 40000, 10).trip;
   ASSERT_TRUE(t.has_value()) << "v = 14 m/s on k = 1e4: sinks v sqrt(m/k) = 0.14 m, radius 0.05 m";
   EXPECT_EQ(t->kind, GuardTrip::Kind::Overlap);
   EXPECT_NE(t->message.find("the depth is physical"), std::string::npos) << t->message;
@@ -269,10 +268,7 @@ TEST_P(GuardTest, QuietWithAnOutwardPull) {
   b.position = {3.0f, 0, 0.0995f};
   b.velocity = {0, 0, -1.0f};
   s.bodies = {b};
-  const World w = World::fromScene(s);
-  auto p = makePipeline(GetParam());
-  p->load(w);
-  const auto t = runGuarded(*p, w, 2000, 10);
+  const auto t = runScene(s, GetParam(), 2000, 10).trip;
   EXPECT_FALSE(t.has_value()) << t->message;
 }
 
@@ -291,10 +287,7 @@ TEST_P(GuardTest, NoContactsMessagePointsToTheRotationScheme) {
   s.bodies = {b};
   for (const RotationScheme scheme : {RotationScheme::Report, RotationScheme::Splitting}) {
     s.integrator.rotation = scheme;
-    const World w = World::fromScene(s);
-    auto p = makePipeline(GetParam());
-    p->load(w);
-    const auto t = runGuarded(*p, w, 20000, 10);
+    const auto t = runScene(s, GetParam(), 20000, 10).trip;
     if (scheme == RotationScheme::Report) {
       ASSERT_TRUE(t.has_value()) << "the report's scheme more than doubles this spin's energy";
       EXPECT_NE(t->message.find("no contacts"), std::string::npos) << t->message;

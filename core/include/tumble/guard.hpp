@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "tumble/pipeline.hpp"
 #include "tumble/world.hpp"
@@ -92,6 +93,7 @@ class RunGuard {
   const World& m_world;
   GuardParams m_params;
   BodyState m_state;
+  std::vector<double> m_x, m_err, m_errZ;  ///< particle positions and their rounding, per check
   double m_reference = 0.0;   ///< E₀ (rebased when the pull mask changes)
   double m_referenceSlack = 0.0;
   double m_scale = 0.0;       ///< S
