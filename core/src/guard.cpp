@@ -132,9 +132,11 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     const double eX = roundingOf(std::max({std::abs(X.x), std::abs(X.y), std::abs(X.z)}));
     slack += m * gNorm * 1.8 * eX;
     lowest = std::min(lowest, h);
+    const Mat3f R = rotationMatrix(q);
     for (std::uint32_t i = w.first[k], e1 = i + w.numParticlesOf[k]; i < e1; ++i) {
-      Vec3f xi = X, vi = V;
-      if (rotates) particleFromBody(X, V, q, omega, Vec3f{w.ux[i], w.uy[i], w.uz[i]}, &xi, &vi);
+      // The pipelines' positions (particlePosition), so that the pairs they report apply.
+      const Vec3f xi = w.hasClumps ? particlePosition(X, R, Vec3f{w.ux[i], w.uy[i], w.uz[i]}) : X;
+      const Vec3f vi = rotates ? pointVelocity(V, omega, xi - X) : V;
       x[3 * std::size_t(i)] = xi.x;
       x[3 * std::size_t(i) + 1] = xi.y;
       x[3 * std::size_t(i) + 2] = xi.z;

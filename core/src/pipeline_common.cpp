@@ -18,11 +18,13 @@ Backend backendFromString(const std::string& s) {
 
 const char* toString(Phase p) {
   switch (p) {
+    case Phase::Reorder: return "reorder";
     case Phase::State: return "state";
     case Phase::Axis: return "axis";
     case Phase::Keys: return "keys";
     case Phase::Sort: return "sort";
     case Phase::Sweep: return "sweep";
+    case Phase::List: return "list";
     case Phase::Forces: return "forces";
     case Phase::Integrate: return "integrate";
     default: return "?";
@@ -41,6 +43,11 @@ float checkCloud(const ParticleCloud& cloud) {
     maxR = std::max(maxR, cloud.r[i]);
   }
   return maxR;
+}
+
+float effectiveSkin(const World& world) {
+  const float s = world.params.broadphase.skin;
+  return s >= 0.0f ? s : kAutoSkinPerRadius * world.maxRadius;
 }
 
 double StepStats::totalSeconds() const {

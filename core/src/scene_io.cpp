@@ -448,9 +448,10 @@ class SceneParser {
   void readBroadphase(Scene& scene) {
     const toml::table* t = sectionOf(m_file, m_root, "broadphase");
     if (t == nullptr) return;
-    const TableReader r(m_file, *t, "[broadphase]", {"cell_size", "pca_every"});
+    const TableReader r(m_file, *t, "[broadphase]", {"cell_size", "pca_every", "skin"});
     BroadphaseParams& b = scene.broadphase;
     b.cellSize = r.single("cell_size", b.cellSize, Rule::NonNegative);
+    b.skin = r.single("skin", b.skin, Rule::NonNegative);  // absent: automatic (negative)
     const std::int64_t every = r.integer("pca_every", b.pcaEvery, 1);
     if (every > std::numeric_limits<int>::max()) {
       r.fail(lineOf(*r.find("pca_every")), "pca_every is too large (got " + std::to_string(every) + ")");

@@ -104,6 +104,16 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const Broa
   return cells > 1 ? static_cast<int>(std::bit_width(cells - 1)) : 0;
 }
 
+MortonGrid mortonGridOf(const BoundsPartial& b) {
+  float lo[3], extent = 0.0f;
+  for (int a = 0; a < 3; ++a) {
+    const bool any = b.lo[a] <= b.hi[a];  // false when no centre is finite
+    lo[a] = any ? b.lo[a] : 0.0f;
+    if (any) extent = std::max(extent, b.hi[a] - b.lo[a]);
+  }
+  return MortonGrid{Vec3f{lo[0], lo[1], lo[2]}, extent > 0.0f ? 1023.0f / extent : 0.0f};
+}
+
 // Twin: cpu/src/cpu_pipeline.cpp CpuPipeline::load(), the m_omega loop.
 std::vector<Vec3f> initialOmega(const World& world) {
   const BodyState& s = world.state;

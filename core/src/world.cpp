@@ -52,6 +52,16 @@ LocalFrame LocalFrame::of(const World& w) {
   return LocalFrame{o[0], o[1], o[2]};
 }
 
+namespace {
+
+// The frame's shift of everything but the body positions: the ground height and the pull centre.
+void shiftParams(World& w, const LocalFrame& f) {
+  w.params.ground.height = static_cast<float>(double(w.params.ground.height) - f.z);
+  w.params.pulls.centre = Vec3f{static_cast<float>(-f.x), static_cast<float>(-f.y), static_cast<float>(-f.z)};
+}
+
+}  // namespace
+
 World toLocal(const World& world, const LocalFrame& f) {
   World w = world;
   if (!f.active()) return w;
@@ -59,8 +69,30 @@ World toLocal(const World& world, const LocalFrame& f) {
   std::vector<float>* col[3] = {&w.state.px, &w.state.py, &w.state.pz};
   for (int a = 0; a < 3; ++a)
     for (float& v : *col[a]) v = static_cast<float>(double(v) - o[a]);
-  w.params.ground.height = static_cast<float>(double(w.params.ground.height) - f.z);
-  w.params.pulls.centre = Vec3f{static_cast<float>(-f.x), static_cast<float>(-f.y), static_cast<float>(-f.z)};
+  shiftParams(w, f);
+  return w;
+}
+
+World localWorld(const World& world, LocalFrame* outFrame) {
+  const std::size_t nb = world.numBodies(), np = world.numParticles();
+  const BodyState& s = world.state;
+  for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz})
+    if (c->size() != nb) throw Error("the state has " + std::to_string(c->size()) + " rows for " + std::to_string(nb) + " bodies");
+  for (const auto* c : {&s.groundSpringX, &s.groundSpringY})
+    if (!c->empty() && c->size() != np)
+      throw Error("the ground springs have " + std::to_string(c->size()) + " rows for " + std::to_string(np) + " particles");
+  World w;
+  if (world.frame) {
+    *outFrame = *world.frame;
+    w = world;
+    if (outFrame->active()) shiftParams(w, *outFrame);
+  } else {
+    *outFrame = LocalFrame::of(world);
+    w = toLocal(world, *outFrame);
+  }
+  w.frame.reset();
+  for (auto* c : {&w.state.groundSpringX, &w.state.groundSpringY})
+    if (c->empty()) c->assign(w.params.ground.enabled ? np : 0, 0.0f);
   return w;
 }
 

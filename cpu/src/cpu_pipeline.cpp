@@ -1,29 +1,46 @@
 // SPDX-License-Identifier: MIT
 // The CPU reference pipeline (SPEC §2–§4) on oneTBB.
 //
-// Determinism: every output element has one writer and every floating-point sum runs in a
-// fixed order that does not depend on the thread count: a particle sums its contacts in CSR
-// order (its records in cell order, each record's neighbours in sweep order), then ground,
-// then gravity and pulls; a body sums its particles in index order. No float atomics, no
-// parallel_reduce on floats that feed the state.
-//
-// A scene pays only for what it uses: single-sphere scenes skip the particle-from-body pass
-// (particles alias the body columns), torques and rotation; scenes without ground skip the
-// ground test; pulls cost nothing while off.
+// Design notes
+// - Contacts as state. Detection runs only at a rebuild of the candidate list (a Verlet list,
+//   kernels/contact_list.hpp): on radii grown by skin/2, then turned into one row per particle
+//   sorted by the partners' scene indices. Every step the exact predicate filters the rows, so
+//   the contacts, and the order in which a particle sums them, are the same for any detection
+//   setting, skin or thread count. A rebuild is due when some particle has moved skin/2 (less a
+//   rounding margin) since the last one; with skin 0, every step.
+// - Locality. At each rebuild the bodies are renumbered in Morton order of their centres and
+//   particles follow their bodies (a body's particles stay contiguous and in scene order), so a
+//   row's candidates are near it in memory. Every output and every sum is by scene index, so
+//   the numbering changes no bit; PipelineOptions::reorder turns it off (for tests).
+// - One pass per step. For each body: its particles' forces (contacts, ground, gravity,
+//   pulls), the body totals in particle order, the integration, the particles' rows of the
+//   next state (double-buffered: the neighbours still read this step's rows) and the skin
+//   test's displacement. The CUDA pipeline runs the same functions as separate kernels.
+// - Determinism: every output element has one writer and every floating-point sum runs in a
+//   fixed order. The only reductions across bodies are a max and an integer count, exact in
+//   any order. No float atomics, no parallel_reduce on floats that feed the state.
+// - A scene pays only for what it uses: single-sphere scenes skip the rotations, torques and
+//   couples (kClumps false); scenes without ground skip the ground test; pulls cost nothing
+//   while off. Nothing is allocated in a step once the sizes have settled.
 #include "tumble/cpu/cpu_pipeline.hpp"
-#include "tumble/guard.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cfloat>
 #include <string>
 
 #include "broadphase.hpp"
 #include "grow.hpp"
+#include "tumble/cpu/radix_sort.hpp"
+#include "tumble/cpu/scan.hpp"
 #include "tumble/error.hpp"
+#include "tumble/guard.hpp"
+#include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/step.hpp"
 #include "tumble/sweep_frame.hpp"
 
@@ -32,28 +49,68 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-constexpr std::uint32_t kGrain = 2048;
+constexpr std::uint32_t kGrain = 2048;      // particles per task
+constexpr std::uint32_t kBodyGrain = 256;   // bodies per task of the step pass
+
+template <class F>
+void forEach(std::uint32_t n, std::uint32_t grain, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, grain), [&](const auto& rg) {
+    for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) f(i);
+  });
+}
+
+/// The per-step reduction: largest squared displacement (skin test) and touching contacts.
+struct StepTotals {
+  float maxDisplacement2 = 0.0f;
+  std::uint64_t contacts = 0;
+};
 
 class CpuPipeline final : public Pipeline {
  public:
   explicit CpuPipeline(const PipelineOptions& o)
-      : m_arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic) {}
+      : m_arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic), m_reorder(o.reorder) {}
 
   Backend backend() const override { return Backend::Cpu; }
 
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
-    m_frame = LocalFrame::of(world);  // far from the origin: integrate in a local frame
-    m_world = toLocal(world, m_frame);
-    m_state = m_world.state;
-    const std::uint32_t n = world.numParticles();
-    m_clumps = world.hasClumps;
-    for (auto* c : {&m_x, &m_y, &m_z, &m_vx, &m_vy, &m_vz, &m_rx, &m_ry, &m_rz}) c->assign(m_clumps ? n : 0, 0.0f);
-    for (auto* c : {&m_fx, &m_fy, &m_fz, &m_tx, &m_ty}) c->assign(n, 0.0f);
-    for (auto* c : {&m_cx, &m_cy, &m_cz}) c->assign(m_clumps ? n : 0, 0.0f);
-    m_omega = tumble::detail::initialOmega(world);
-    m_pulls = world.params.pulls.active;
-    m_time = 0.0;
+    m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
+    const World& w = m_world;
+    const std::uint32_t n = w.numParticles(), nb = w.numBodies();
+    m_clumps = w.hasClumps;
+    m_ground = w.params.ground.enabled;
+    const std::vector<Vec3f> omega = tumble::detail::initialOmega(w);
+    m_bodies.resize(nb);
+    m_bodiesNext.resize(nb);
+    m_bodyStatic.resize(nb);
+    const BodyState& s = w.state;
+    for (std::uint32_t k = 0; k < nb; ++k) {
+      const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
+      m_bodies[k] = BodyRow{Vec3f{s.px[k], s.py[k], s.pz[k]}, w.first[k], Vec3f{s.vx[k], s.vy[k], s.vz[k]},
+                            w.numParticlesOf[k], omega[k], k, rotationMatrix(q), w.invMass[k], q,
+                            Vec3f{s.lx[k], s.ly[k], s.lz[k]}};
+      m_bodyStatic[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], 0.0f};
+    }
+    m_own.resize(n);
+    m_radius = w.radius;
+    m_mass = w.mass;
+    m_orig.resize(n);
+    m_bodyOf = w.body;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      m_own[i] = OwnRow{Vec3f{w.ux[i], w.uy[i], w.uz[i]}, w.groundDamping[i]};
+      m_orig[i] = i;
+    }
+    m_gtx = m_ground ? s.groundSpringX : std::vector<float>{};
+    m_gty = m_ground ? s.groundSpringY : std::vector<float>{};
+    for (auto& c : m_pos) c.assign(n, PosRow{});
+    m_buildPos.assign(n, PosRow{});
+    m_candOffsets.assign(std::size_t(n) + 1, 0u);
+    m_cur = 0;
+    m_skin = effectiveSkin(w);
+    m_trigger2 = skinTrigger2(m_skin, w.maxRadius);
+    m_needRebuild = true;
+    m_pulls = w.params.pulls.active;
+    m_time = w.time;
     m_steps = 0;
     m_bp = cpu::detail::Broadphase{};
     resetStats();
@@ -61,20 +118,64 @@ class CpuPipeline final : public Pipeline {
   }
 
   void step(std::uint64_t n) override {
-    if (m_world.numParticles() == 0) throw Error("step() before load()");
+    if (m_bodies.empty()) throw Error("step() before load()");
     m_arena.execute([&] {
       for (std::uint64_t s = 0; s < n; ++s) stepOnce();
     });
   }
 
   void readState(BodyState& out) const override {
-    out = m_state;
+    readLocalState(out);
     toWorld(out, m_frame);
   }
   LocalFrame frame() const override { return m_frame; }
-  void readLocalState(BodyState& out) const override { out = m_state; }
 
-  std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles()); }
+  void readLocalState(BodyState& out) const override {
+    const std::uint32_t nb = static_cast<std::uint32_t>(m_bodies.size());
+    out.resize(nb);
+    for (std::uint32_t k = 0; k < nb; ++k) {
+      const BodyRow& b = m_bodies[k];
+      const std::uint32_t o = b.orig;
+      out.px[o] = b.x.x; out.py[o] = b.x.y; out.pz[o] = b.x.z;
+      out.vx[o] = b.v.x; out.vy[o] = b.v.y; out.vz[o] = b.v.z;
+      out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
+      out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
+    }
+    const std::size_t ng = m_gtx.size();
+    out.groundSpringX.resize(ng);
+    out.groundSpringY.resize(ng);
+    for (std::size_t i = 0; i < ng; ++i) {
+      out.groundSpringX[m_orig[i]] = m_gtx[i];
+      out.groundSpringY[m_orig[i]] = m_gty[i];
+    }
+  }
+
+  std::vector<Pair> pairs() const override {
+    if (m_steps == 0) return {};
+    const std::uint32_t n = m_world.numParticles();
+    const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
+    const std::uint32_t* orig = m_orig.data();
+    const CandidateListView list{m_candOffsets.data(), m_cand.data()};
+    // Counts by scene index, a scan, then each particle writes its pairs at its own offset: the
+    // output comes out sorted by (i, j) without a sort.
+    std::vector<std::uint32_t> count(std::size_t(n) + 1, 0u), at(std::size_t(n) + 1);
+    std::vector<std::uint32_t> outI, outJ;
+    m_arena.execute([&] {
+      forEach(n, kGrain, [&](std::uint32_t i) { count[orig[i]] = contactsAbove(pos, orig, list, i); });
+      std::size_t bytes = 0;
+      exclusiveSum<std::uint32_t>(nullptr, bytes, count.data(), at.data(), std::size_t(n) + 1);
+      std::vector<std::byte> temp(bytes);
+      exclusiveSum<std::uint32_t>(temp.data(), bytes, count.data(), at.data(), std::size_t(n) + 1);
+      outI.resize(at[n]);
+      outJ.resize(at[n]);
+      forEach(n, kGrain, [&](std::uint32_t i) {
+        emitContactsAbove(pos, orig, list, i, at[orig[i]], outI.data(), outJ.data());
+      });
+    });
+    std::vector<Pair> out(outI.size());
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = Pair{outI[k], outJ[k]};
+    return out;
+  }
 
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
     const float maxR = checkCloud(cloud);
@@ -82,8 +183,8 @@ class CpuPipeline final : public Pipeline {
     cpu::detail::Broadphase b;
     double sec[kNumPhases] = {};
     const BroadphaseInput in{cloud.x.data(), cloud.y.data(),    cloud.z.data(),
-                                          cloud.r.data(), cloud.body.data(), static_cast<std::uint32_t>(n),
-                                          maxR};
+                             cloud.r.data(), cloud.body.data(), static_cast<std::uint32_t>(n),
+                             maxR};
     std::vector<Pair> out;
     m_arena.execute([&] {
       b.run(in, bp, sec);
@@ -98,149 +199,278 @@ class CpuPipeline final : public Pipeline {
     if (!m_hasDebug) throw Error("readDebug(): enable setDebugCapture(true) and run a step first");
     const std::uint32_t n = m_world.numParticles();
     out.v.resize(3 * std::size_t(n));
+    for (auto& f : out.force) f.resize(3 * std::size_t(n));
     for (std::uint32_t i = 0; i < n; ++i) {
-      out.v[3 * i] = vx()[i];
-      out.v[3 * i + 1] = vy()[i];
-      out.v[3 * i + 2] = vz()[i];
+      const std::size_t o = 3 * std::size_t(m_orig[i]), s = 3 * std::size_t(i);
+      for (int c = 0; c < 3; ++c) out.v[o + c] = m_dbgVel[s + c];
+      for (int k = 0; k < 5; ++k)
+        for (int c = 0; c < 3; ++c) out.force[k][o + c] = m_dbg[k][s + c];
     }
-    for (int k = 0; k < 5; ++k) out.force[k].assign(m_dbg[k].begin(), m_dbg[k].begin() + 3 * std::size_t(n));
     out.contacts = pairs();
   }
 
   void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u; }
   std::uint32_t pulls() const override { return m_pulls; }
   const StepStats& stats() const override { return m_stats; }
-  void resetStats() override { m_stats = StepStats{}; }
+  void resetStats() override {
+    m_stats = StepStats{};
+    m_stats.skin = m_skin;
+  }
   double time() const override { return m_time; }
 
  private:
-  // Particle columns: with single-sphere bodies, particle i is body i.
-  const float* x() const { return m_clumps ? m_x.data() : m_state.px.data(); }
-  const float* y() const { return m_clumps ? m_y.data() : m_state.py.data(); }
-  const float* z() const { return m_clumps ? m_z.data() : m_state.pz.data(); }
-  const float* vx() const { return m_clumps ? m_vx.data() : m_state.vx.data(); }
-  const float* vy() const { return m_clumps ? m_vy.data() : m_state.vy.data(); }
-  const float* vz() const { return m_clumps ? m_vz.data() : m_state.vz.data(); }
-
   void stepOnce() {
-    const std::uint32_t n = m_world.numParticles();
     double* sec = m_stats.seconds;
+    if (m_needRebuild) rebuild();
 
-    // 1. Particle state from body state.
-    auto t0 = Clock::now();
-    if (m_clumps) {
-      const BodiesView bv = bodiesView();
-      const ParticleStaticView st = staticView();
-      const ParticleStateView ps = stateView();
-      tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kGrain), [&](const auto& rg) {
-        for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) particleStateOf(bv, m_omega.data(), st, ps, i);
-      });
-    }
-    sec[int(Phase::State)] += since(t0);
-
-    // 2. Collision detection → CSR contact list.
-    const BroadphaseInput in{x(), y(), z(), m_world.radius.data(), m_world.body.data(), n,
-                                          m_world.maxRadius};
-    try {
-      m_bp.run(in, m_world.params.broadphase, sec);
-    } catch (const SimulationError& e) {
-      if (e.particle() < 0) throw;
-      throw SimulationError(divergenceMessage(m_world, m_steps, static_cast<std::uint32_t>(e.particle())),
-                            e.particle());
-    }
-
-    // 3–5. Per-particle forces: contacts (CSR order), ground, gravity and pulls.
-    t0 = Clock::now();
+    const auto t0 = Clock::now();
+    StepTotals tot;
     if (m_debug) {
-      for (auto& d : m_dbg) tumble::detail::grow(d, 3 * std::size_t(n));
-      if (m_clumps) forces<true, true>(); else forces<true, false>();
+      for (auto& d : m_dbg) tumble::detail::grow(d, 3 * std::size_t(m_world.numParticles()));
+      tumble::detail::grow(m_dbgVel, 3 * std::size_t(m_world.numParticles()));
+      tot = m_clumps ? advance<true, true>() : advance<true, false>();
       m_hasDebug = true;
     } else {
-      if (m_clumps) forces<false, true>(); else forces<false, false>();
+      tot = m_clumps ? advance<false, true>() : advance<false, false>();
     }
+    m_cur = 1 - m_cur;
+    m_bodies.swap(m_bodiesNext);
+    m_needRebuild = !(tot.maxDisplacement2 < m_trigger2);
     sec[int(Phase::Forces)] += since(t0);
-
-    // 6–7. Body totals and integration.
-    t0 = Clock::now();
-    integrate();
-    sec[int(Phase::Integrate)] += since(t0);
 
     ++m_steps;
     m_time += m_world.params.dt;
     ++m_stats.steps;
-    m_stats.numPairs = m_bp.numPairs();
+    m_stats.numPairs = tot.contacts / 2;  // each contact is seen from both sides
+  }
+
+  // Stages 3–7 and the next step's stage 1, one pass over the bodies (see the design notes).
+  template <bool kDebug, bool kClumps>
+  StepTotals advance() {
+    const StepView v = stepView();
+    const ForceParams fp = makeForceParams(m_world.params, m_pulls);
+    DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr};
+    if constexpr (kDebug) {
+      for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].data();
+      dbg.v = m_dbgVel.data();
+    }
+    const float dt = m_world.params.dt;
+    const Vec3f g = m_world.params.gravity;
+    const RotationScheme scheme = m_world.params.integrator.rotation;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::uint32_t>(0, v.numBodies, kBodyGrain), StepTotals{},
+        [&](const auto& rg, StepTotals acc) {
+          for (std::uint32_t k = rg.begin(); k != rg.end(); ++k) {
+            const BodyRow& self = v.bodies[k];
+            Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
+            for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
+              const ParticleForce pf = particleForce<kDebug, kClumps>(v, fp, dbg, self, i);
+              addToBody<kClumps>(F, T, pf);
+              acc.contacts += pf.contacts;
+            }
+            acc.maxDisplacement2 = std::max(acc.maxDisplacement2, finishBody<kClumps>(v, F, T, g, dt, scheme, k));
+          }
+          return acc;
+        },
+        [](StepTotals x, const StepTotals& y) {
+          x.maxDisplacement2 = std::max(x.maxDisplacement2, y.maxDisplacement2);
+          x.contacts += y.contacts;
+          return x;
+        });
+  }
+
+  // A new candidate list: reorder, particle positions, detection on grown radii, rows sorted by
+  // scene index, build positions.
+  void rebuild() {
+    double* sec = m_stats.seconds;
+    const std::uint32_t n = m_world.numParticles();
+    auto t0 = Clock::now();
+    if (m_reorder) reorder();
+    sec[int(Phase::Reorder)] += since(t0);
+
+    t0 = Clock::now();
+    PosRow* pos = m_pos[m_cur].data();
+    forEach(static_cast<std::uint32_t>(m_bodies.size()), kBodyGrain, [&](std::uint32_t k) {
+      if (m_clumps)
+        bodyParticles<true>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
+      else
+        bodyParticles<false>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
+    });
+    // Detection input: the positions and the radii grown by skin/2.
+    const float h = 0.5f * m_skin;
+    float* bx = tumble::detail::grow(m_bx, n);
+    float* by = tumble::detail::grow(m_by, n);
+    float* bz = tumble::detail::grow(m_bz, n);
+    float* br = tumble::detail::grow(m_br, n);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      bx[i] = pos[i].x;
+      by[i] = pos[i].y;
+      bz[i] = pos[i].z;
+      br[i] = pos[i].r + h;
+      m_buildPos[i] = pos[i];
+    });
+    sec[int(Phase::State)] += since(t0);
+
+    const BroadphaseInput in{bx, by, bz, br, m_bodyOf.data(), n, m_world.maxRadius + h};
+    try {
+      m_bp.run(in, m_world.params.broadphase, sec);
+    } catch (const SimulationError& e) {
+      if (e.particle() < 0) throw;
+      const std::uint32_t o = m_orig[static_cast<std::uint32_t>(e.particle())];
+      throw SimulationError(divergenceMessage(m_world, m_world.step + m_steps, o), o);
+    }
+
+    t0 = Clock::now();
+    buildList();
+    sec[int(Phase::List)] += since(t0);
+    m_needRebuild = false;
+    ++m_stats.numRebuilds;
+    m_stats.numCandidates = m_cand.size() / 2;
     m_stats.numRecords = m_bp.numRecords();
     m_stats.numCells = m_bp.numCells();
     m_stats.cellSize = m_bp.frame().cellSize;
   }
 
-  template <bool kDebug, bool kClumps>
-  void forces() {
+  // The sweep's forward and backward lists → one row per particle, sorted by scene index.
+  void buildList() {
     const std::uint32_t n = m_world.numParticles();
-    const ParticleStaticView st = staticView();
-    const ParticleStateView ps = stateView();
-    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data(), m_omega.data()};
-    const ContactListView cl{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
-                             m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
-    const ForceParams fp = makeForceParams(m_world.params, m_pulls);
-    DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}};
-    if constexpr (kDebug)
-      for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].data();
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, kGrain), [&](const auto& rg) {
-      for (std::uint32_t i = rg.begin(); i != rg.end(); ++i)
-        particleForces<kDebug, kClumps>(st, ps, couples, cl, fp, dbg, i);
+    const SweepListView s{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
+                          m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
+    std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
+    forEach(n, kGrain, [&](std::uint32_t i) { count[i] = candidateCount(s, i); });
+    count[n] = 0;
+    std::size_t bytes = 0;
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_candOffsets.data(), std::size_t(n) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_candOffsets.data(),
+                                std::size_t(n) + 1);
+    const std::uint32_t total = m_candOffsets[n];
+    m_cand.resize(total);  // keeps its capacity: no allocation once the size has settled
+    std::uint32_t* key = tumble::detail::grow(m_candKey, total);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      fillCandidates(s, m_orig.data(), m_candOffsets.data(), m_cand.data(), key, i);
     });
   }
 
-  void integrate() {
-    const BodiesView bv = bodiesView();
-    const ParticleStateView ps = stateView();
-    const CouplesView couples{m_cx.data(), m_cy.data(), m_cz.data(), m_omega.data()};
-    const float dt = m_world.params.dt;
-    const RotationScheme scheme = m_world.params.integrator.rotation;
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, m_world.numBodies(), kGrain), [&](const auto& rg) {
-      for (std::uint32_t k = rg.begin(); k != rg.end(); ++k)
-        integrateBody(bv, ps, couples, m_omega.data(), dt, m_clumps, scheme, k);
+  // Renumbers the bodies in Morton order of their centres; particles follow their bodies.
+  void reorder() {
+    const std::uint32_t nb = static_cast<std::uint32_t>(m_bodies.size());
+    if (nb < 2) return;
+    // Bounding box of the finite body centres (min and max: exact in any order).
+    tumble::detail::BoundsPartial box = tumble::detail::emptyBounds();
+    for (std::uint32_t k = 0; k < nb; ++k)
+      tumble::detail::addParticle(box, k, m_bodies[k].x.x, m_bodies[k].x.y, m_bodies[k].x.z, 1.0f);
+    const MortonGrid g = tumble::detail::mortonGridOf(box);
+    std::uint32_t* keys = tumble::detail::grow(m_mKeys, nb);
+    std::uint32_t* vals = tumble::detail::grow(m_mVals, nb);
+    std::uint32_t* skeys = tumble::detail::grow(m_mSortedKeys, nb);
+    std::uint32_t* perm = tumble::detail::grow(m_perm, nb);
+    forEach(nb, kGrain, [&](std::uint32_t k) {
+      keys[k] = mortonKey(g, m_bodies[k].x);
+      vals[k] = k;
     });
+    std::size_t bytes = 0;
+    radixSortPairs<std::uint32_t, std::uint32_t>(nullptr, bytes, keys, skeys, vals, perm, nb, 0, 30);
+    radixSortPairs<std::uint32_t, std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, keys, skeys, vals, perm,
+                                                 nb, 0, 30);
+    // New first particles: a scan of the counts in the new order.
+    std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(nb) + 1);
+    std::uint32_t* first = tumble::detail::grow(m_first, std::size_t(nb) + 1);
+    forEach(nb, kGrain, [&](std::uint32_t k) { count[k] = m_bodies[perm[k]].count; });
+    count[nb] = 0;
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, first, std::size_t(nb) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, first, std::size_t(nb) + 1);
+    const std::uint32_t n = m_world.numParticles();
+    m_bodiesNext.resize(nb);  // scratch between steps
+    m_bodyStaticTmp.resize(nb);
+    m_ownTmp.resize(n);
+    m_radiusTmp.resize(n);
+    m_massTmp.resize(n);
+    m_origTmp.resize(n);
+    m_bodyOfTmp.resize(n);
+    m_gtxTmp.resize(m_gtx.size());
+    m_gtyTmp.resize(m_gty.size());
+    forEach(nb, kBodyGrain, [&](std::uint32_t k) {
+      const BodyRow& b = m_bodies[perm[k]];
+      m_bodiesNext[k] = b;
+      m_bodiesNext[k].first = first[k];
+      m_bodyStaticTmp[k] = m_bodyStatic[perm[k]];
+      for (std::uint32_t t = 0; t < b.count; ++t) {
+        const std::uint32_t from = b.first + t, to = first[k] + t;
+        m_ownTmp[to] = m_own[from];
+        m_radiusTmp[to] = m_radius[from];
+        m_massTmp[to] = m_mass[from];
+        m_origTmp[to] = m_orig[from];
+        m_bodyOfTmp[to] = k;
+        if (m_ground) {
+          m_gtxTmp[to] = m_gtx[from];
+          m_gtyTmp[to] = m_gty[from];
+        }
+      }
+    });
+    m_bodies.swap(m_bodiesNext);
+    m_bodyStatic.swap(m_bodyStaticTmp);
+    m_own.swap(m_ownTmp);
+    m_radius.swap(m_radiusTmp);
+    m_mass.swap(m_massTmp);
+    m_orig.swap(m_origTmp);
+    m_bodyOf.swap(m_bodyOfTmp);
+    m_gtx.swap(m_gtxTmp);
+    m_gty.swap(m_gtyTmp);
   }
 
-  // Views of the columns (the layout the shared stage bodies read). With single-sphere bodies
-  // the particle position and velocity columns are the body columns.
-  ParticleStaticView staticView() const {
-    const World& w = m_world;
-    return {w.radius.data(), w.mass.data(), w.elasticity.data(), w.groundDamping.data(), w.body.data(),
-            w.ux.data(),     w.uy.data(),   w.uz.data(),         w.numParticles()};
-  }
-  ParticleStateView stateView() {
-    auto& s = m_state;
-    float* px = m_clumps ? m_x.data() : s.px.data();
-    float* py = m_clumps ? m_y.data() : s.py.data();
-    float* pz = m_clumps ? m_z.data() : s.pz.data();
-    float* pvx = m_clumps ? m_vx.data() : s.vx.data();
-    float* pvy = m_clumps ? m_vy.data() : s.vy.data();
-    float* pvz = m_clumps ? m_vz.data() : s.vz.data();
-    return {px, py, pz, pvx, pvy, pvz, m_rx.data(), m_ry.data(), m_rz.data(), m_fx.data(), m_fy.data(),
-            m_fz.data(), m_tx.data(), m_ty.data(), m_world.numParticles()};
-  }
-  BodiesView bodiesView() {
-    auto& s = m_state;
-    return {m_world.invMass.data(), m_world.invInertia.data(), m_world.first.data(), m_world.numParticlesOf.data(),
-            s.px.data(), s.py.data(), s.pz.data(), s.vx.data(), s.vy.data(), s.vz.data(),
-            s.qw.data(), s.qx.data(), s.qy.data(), s.qz.data(), s.lx.data(), s.ly.data(), s.lz.data(),
-            m_world.numBodies()};
+  StepView stepView() {
+    const int c = m_cur;
+    return StepView{m_bodies.data(),
+                    m_bodiesNext.data(),
+                    m_bodyStatic.data(),
+                    static_cast<std::uint32_t>(m_bodies.size()),
+                    m_pos[c].data(),
+                    m_pos[1 - c].data(),
+                    m_own.data(),
+                    m_radius.data(),
+                    m_mass.data(),
+                    m_bodyOf.data(),
+                    m_orig.data(),
+                    GroundSpringView{m_gtx.data(), m_gty.data()},
+                    m_buildPos.data(),
+                    CandidateListView{m_candOffsets.data(), m_cand.data()},
+                    m_world.numParticles()};
   }
 
-  tbb::task_arena m_arena;
-  World m_world;
-  BodyState m_state;
-  bool m_clumps = false;
-  std::vector<float> m_x, m_y, m_z, m_vx, m_vy, m_vz, m_rx, m_ry, m_rz;
-  std::vector<float> m_fx, m_fy, m_fz, m_tx, m_ty;
-  std::vector<float> m_cx, m_cy, m_cz;  // per-particle couples (clumps only)
-  std::vector<Vec3f> m_omega;
+  mutable tbb::task_arena m_arena;
+  bool m_reorder = true;
+  World m_world;  // in the integration frame; static tables in scene order
   LocalFrame m_frame;
-  std::vector<float> m_dbg[5];
+  bool m_clumps = false;
+  bool m_ground = false;
+
+  // Internal numbering (see the design notes).
+  std::vector<BodyRow> m_bodies, m_bodiesNext;  // double-buffered: neighbours read this step's
+  std::vector<BodyStatic> m_bodyStatic;
+  std::vector<OwnRow> m_own;
+  std::vector<float> m_radius, m_mass;
+  std::vector<std::uint32_t> m_orig;   // scene index of each particle
+  std::vector<std::uint32_t> m_bodyOf; // body of each particle (the sweep skips same-body pairs)
+  std::vector<float> m_gtx, m_gty;     // ground springs (empty without ground)
+  std::vector<PosRow> m_pos[2];        // particle rows, double-buffered: [m_cur] is this step's
+  int m_cur = 0;
+  std::vector<PosRow> m_buildPos;
+  std::vector<std::uint32_t> m_candOffsets, m_cand;
+  float m_skin = 0.0f, m_trigger2 = 0.0f;
+  bool m_needRebuild = true;
+
   cpu::detail::Broadphase m_bp;
+  // Scratch (grow-only).
+  std::vector<float> m_bx, m_by, m_bz, m_br;
+  std::vector<std::uint32_t> m_count, m_candKey, m_first;
+  std::vector<std::uint32_t> m_mKeys, m_mVals, m_mSortedKeys, m_perm;
+  std::vector<std::byte> m_temp;
+  std::vector<BodyStatic> m_bodyStaticTmp;
+  std::vector<OwnRow> m_ownTmp;
+  std::vector<float> m_radiusTmp, m_massTmp, m_gtxTmp, m_gtyTmp;
+  std::vector<std::uint32_t> m_origTmp, m_bodyOfTmp;
+  std::vector<float> m_dbg[5], m_dbgVel;
+
   StepStats m_stats;
   std::uint32_t m_pulls = 0;
   double m_time = 0.0;
@@ -256,4 +486,3 @@ std::unique_ptr<Pipeline> makeCpuPipeline(const PipelineOptions& options) {
 }
 
 }  // namespace tumble::cpu
-

@@ -28,6 +28,7 @@ struct RunOptions {
   std::string stateOut;
   std::optional<float> cellSize;
   std::optional<int> pcaEvery;
+  std::optional<float> skin;
   bool quiet = false;
   bool noGuard = false;
   std::optional<std::uint64_t> guardEvery;
@@ -83,6 +84,10 @@ void run(RunOptions o) {
   if (o.pcaEvery) {
     if (*o.pcaEvery < 1) throw Error("--pca-every must be >= 1");
     scene.broadphase.pcaEvery = *o.pcaEvery;
+  }
+  if (o.skin) {
+    if (!(*o.skin >= 0.0f) || !std::isfinite(*o.skin)) throw Error("--skin must be a finite number >= 0 (0 = detect every step)");
+    scene.broadphase.skin = *o.skin;
   }
   if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;
   if (!o.recordSteps && scene.recordSteps > 0) o.recordSteps = scene.recordSteps;
@@ -172,9 +177,14 @@ void run(RunOptions o) {
   if (!o.stateOut.empty()) writeState(o.stateOut, world, state);
   if (!o.quiet) {
     const StepStats& st = pipeline->stats();
-    std::printf("%s: %llu steps, %u particles, %llu pairs in the last step, cell size %g (%llu cells)\n",
-                scene.name.c_str(), static_cast<unsigned long long>(st.steps), world.numParticles(),
-                static_cast<unsigned long long>(st.numPairs), st.cellSize, static_cast<unsigned long long>(st.numCells));
+    std::printf("%s: %llu steps, %u particles, %llu contacts in the last step\n", scene.name.c_str(),
+                static_cast<unsigned long long>(st.steps), world.numParticles(),
+                static_cast<unsigned long long>(st.numPairs));
+    std::printf("candidate list: skin %g, %llu rebuilds (%.1f per 1000 steps), %llu candidate pairs; "
+                "detection cell size %g (%llu cells)\n",
+                st.skin, static_cast<unsigned long long>(st.numRebuilds), st.rebuildsPer1000(),
+                static_cast<unsigned long long>(st.numCandidates), st.cellSize,
+                static_cast<unsigned long long>(st.numCells));
     printPhases(st, stdout);
   }
 }
@@ -194,7 +204,10 @@ void addRun(CLI::App& app) {
   c->add_flag("--debug-record", o->debug, "Add velocities, the five forces and the contacts to every frame");
   c->add_option("--state-out", o->stateOut, "Write the final body state as CSV (exact float round trip)");
   c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 x largest diameter)");
-  c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K steps");
+  c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K detections");
+  c->add_option("--skin", o->skin,
+                "Verlet skin: detect pairs within r_i + r_j + S and reuse them until a particle has moved S/2 "
+                "(0 = detect every step; default 0.2 x the largest radius)");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_option("--guard-every", o->guardEvery,
                 "Check the guards (finite state, energy, overlaps) every N steps (default: the steps per frame)");

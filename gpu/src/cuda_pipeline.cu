@@ -1,122 +1,255 @@
 // SPDX-License-Identifier: MIT
-// The CUDA pipeline (SPEC §2–§4): the twin of cpu/src/cpu_pipeline.cpp, stage by stage.
+// The CUDA pipeline (SPEC §2–§4): the CPU pipeline's stages (cpu/src/cpu_pipeline.cpp), one
+// kernel per stage.
 //
-// Determinism: as on the CPU, every output element has one writer and every floating-point sum
-// runs in a fixed order: a particle sums its contacts in CSR order (its records in cell order,
-// each record's neighbours in sweep order, then its backward list), then ground, then gravity and
-// pulls; a body sums its particles in index order. No float atomics, no float reductions in CUB.
-// Each kernel below is a thin wrapper around the shared TUMBLE_HD functions of core/, called
-// with the same arguments in the same order as the CPU's loop body, so with --fmad=false
-// (TUMBLE_STRICT_FP) the state is bit-identical to the CPU pipeline's after every step.
-//
-// A scene pays only for what it uses, as on the CPU: single-sphere scenes skip the
-// particle-from-body pass (particle columns alias the body columns), torques and rotation;
-// scenes without ground skip the ground test.
-//
-// Host synchronisation per step: after the bounds (the frame is computed on the host, as the
-// CPU does), after each of the two scans whose totals size the next buffers (records, entries),
-// and at the end of the step for the phase timers.
+// Design notes
+// - Same functions, same bits. Every per-element decision or force is a shared TUMBLE_HD
+//   function of core/ (kernels/step.hpp, kernels/contact_list.hpp), called with the same
+//   arguments as on the CPU; with --fmad=false (TUMBLE_STRICT_FP) the state is bit-identical to
+//   the CPU pipeline's after every step. The CPU fuses the force and integration stages into one
+//   pass over the bodies; here they are two kernels (particleForce per particle, then
+//   finishBody per body, which adds its particles' forces in their order): the same sums in the
+//   same order.
+// - Contacts as state. The candidate list is rebuilt only when the skin test asks (the largest
+//   displacement since the last rebuild, an integer atomicMax of non-negative float bits: exact
+//   in any order); the rows are sorted by scene index, so the contacts and their order do not
+//   depend on the sweep's output order, the skin or the internal numbering.
+// - Determinism of the GPU run itself: every output element has one writer, scans are integer
+//   scans, sorts are stable, and the only atomics are an integer max and an integer count.
+// - Host synchronisation: per step one small read-back (the skin test and the contact count);
+//   at a rebuild also the broadphase's (bounds, record and entry counts) and the list's total.
 #include <cuda_runtime_api.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "broadphase.cuh"
+#include "cub_primitives.cuh"
 #include "cuda_context.cuh"
 #include "device_buffer.cuh"
-#include "tumble/kernels/step.hpp"
-#include "tumble/sweep_frame.hpp"
 #include "tumble/error.hpp"
 #include "tumble/gpu/cuda_pipeline.hpp"
 #include "tumble/guard.hpp"
-#include "tumble/kernels/contact.hpp"
-#include "tumble/kernels/integrate.hpp"
+#include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/step.hpp"
+#include "tumble/sweep_frame.hpp"
 
 namespace tumble::gpu {
 namespace detail {
 namespace {
 
-using ContactList = ContactListView;
-using Couples = CouplesView;
-using DebugForces = DebugForcesView;
+// --- Kernels: two-line wrappers around the shared stage bodies -----------------------------
 
-// Two-line wrappers around the shared stage bodies (core/include/tumble/kernels/step.hpp);
-// the CPU pipeline calls the same functions from TBB loops.
-__global__ void stateKernel(BodiesView bodies, const Vec3f* omega, ParticleStaticView st, ParticleStateView ps) {
-  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < st.count) particleStateOf(bodies, omega, st, ps, i);
-}
-
-template <bool kDebug, bool kClumps>
-__global__ void forcesKernel(ParticleStaticView st, ParticleStateView ps, Couples couples, ContactList cl,
-                             ForceParams fp, DebugForces dbg) {
-  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < ps.count) particleForces<kDebug, kClumps>(st, ps, couples, cl, fp, dbg, i);
-}
-
-__global__ void integrateKernel(BodiesView b, ParticleStateView ps, Couples couples, Vec3f* omega, float dt,
-                                bool clumps, RotationScheme scheme) {
+// Stage 1 at a rebuild: particle positions from the bodies.
+template <bool kClumps>
+__global__ void stateKernel(const BodyRow* bodies, std::uint32_t numBodies, const OwnRow* own, const float* radius,
+                            PosRow* pos) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < b.count) integrateBody(b, ps, couples, omega, dt, clumps, scheme, k);
+  if (k < numBodies) bodyParticles<kClumps>(bodies[k], own, radius, nullptr, pos);
 }
 
-/// The integrated body state on the device, one column per BodyState column.
-struct BodyColumns {
-  DeviceBuffer<float> px, py, pz, vx, vy, vz, qw, qx, qy, qz, lx, ly, lz;
+// The detection's input columns (radii grown by skin/2) and the build positions.
+__global__ void detectionInputKernel(const PosRow* pos, std::uint32_t n, float halfSkin, float* x, float* y, float* z,
+                                     float* r, PosRow* buildPos) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const PosRow p = pos[i];
+  x[i] = p.x;
+  y[i] = p.y;
+  z[i] = p.z;
+  r[i] = p.r + halfSkin;
+  buildPos[i] = p;
+}
+
+__global__ void candidateCountKernel(SweepListView s, std::uint32_t n, std::uint32_t* counts) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) counts[i] = candidateCount(s, i);
+  if (i == n) counts[i] = 0;
+}
+
+__global__ void candidateFillKernel(SweepListView s, std::uint32_t n, const std::uint32_t* orig,
+                                    const std::uint32_t* offsets, std::uint32_t* cand, std::uint32_t* key) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) fillCandidates(s, orig, offsets, cand, key, i);
+}
+
+// The reordering: Morton keys of the body centres, then gathers in the sorted order.
+__global__ void mortonKeyKernel(const BodyRow* bodies, std::uint32_t numBodies, MortonGrid g, std::uint32_t* keys,
+                                std::uint32_t* vals) {
+  const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= numBodies) return;
+  keys[k] = mortonKey(g, bodies[k].x);
+  vals[k] = k;
+}
+
+__global__ void bodyBoundsKernel(const BodyRow* bodies, std::uint32_t numBodies, tumble::detail::BoundsPartial* out) {
+  __shared__ tumble::detail::BoundsPartial sh[kBlock];
+  const std::uint32_t t = threadIdx.x, k = blockIdx.x * blockDim.x + t;
+  tumble::detail::BoundsPartial b = tumble::detail::emptyBounds();
+  if (k < numBodies) tumble::detail::addParticle(b, k, bodies[k].x.x, bodies[k].x.y, bodies[k].x.z, 1.0f);
+  sh[t] = b;
+  __syncthreads();
+  for (std::uint32_t d = 1; d < kBlock; d <<= 1) {  // min and max: exact in any order
+    if ((t & (2 * d - 1)) == 0) tumble::detail::mergeBounds(sh[t], sh[t + d]);
+    __syncthreads();
+  }
+  if (t == 0) out[blockIdx.x] = sh[0];
+}
+
+__global__ void permutedCountKernel(const BodyRow* bodies, const std::uint32_t* perm, std::uint32_t numBodies,
+                                    std::uint32_t* counts) {
+  const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k < numBodies) counts[k] = bodies[perm[k]].count;
+  if (k == numBodies) counts[k] = 0;
+}
+
+/// One array of the permutation: the rows to move, per particle, and where they go.
+struct ParticleColumns {
+  OwnRow* own;
+  float* radius;
+  float* mass;
+  std::uint32_t* orig;
+  std::uint32_t* bodyOf;
+  float* tx;
+  float* ty;
 };
 
-/// Grows b to n elements and zeroes them.
-void zeros(DeviceBuffer<float>& b, std::size_t n, cudaStream_t stream) {
-  b.grow(n);
-  if (n > 0) TUMBLE_CUDA_CHECK(cudaMemsetAsync(b.data(), 0, n * sizeof(float), stream));
+__global__ void permuteKernel(const BodyRow* bodies, const BodyStatic* bodyStatic, const std::uint32_t* perm,
+                              const std::uint32_t* first, std::uint32_t numBodies, ParticleColumns from,
+                              BodyRow* outBodies, BodyStatic* outStatic, ParticleColumns to, bool ground) {
+  const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= numBodies) return;
+  BodyRow b = bodies[perm[k]];
+  outStatic[k] = bodyStatic[perm[k]];
+  for (std::uint32_t t = 0; t < b.count; ++t) {
+    const std::uint32_t a = b.first + t, c = first[k] + t;
+    to.own[c] = from.own[a];
+    to.radius[c] = from.radius[a];
+    to.mass[c] = from.mass[a];
+    to.orig[c] = from.orig[a];
+    to.bodyOf[c] = k;
+    if (ground) {
+      to.tx[c] = from.tx[a];
+      to.ty[c] = from.ty[a];
+    }
+  }
+  b.first = first[k];
+  outBodies[k] = b;
 }
+
+// Stages 3–5 per particle; its force and torque go to f, t (one writer each).
+template <bool kDebug, bool kClumps>
+__global__ void forcesKernel(StepView v, ForceParams fp, DebugForcesView dbg, Vec3f* f, Vec3f* t,
+                             unsigned long long* contacts) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= v.numParticles) return;
+  const ParticleForce pf = particleForce<kDebug, kClumps>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
+  f[i] = pf.f;
+  t[i] = pf.t;
+  if (pf.contacts != 0) atomicAdd(contacts, static_cast<unsigned long long>(pf.contacts));  // integer: exact
+}
+
+// Stages 6–7 and the next step's stage 1 per body; the skin test's max is an integer atomicMax
+// of non-negative float bits (order-preserving), exact in any order.
+template <bool kClumps>
+__global__ void integrateKernel(StepView v, const Vec3f* f, const Vec3f* t, Vec3f gravity, float dt,
+                                RotationScheme scheme, unsigned int* maxDisplacement2Bits) {
+  const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= v.numBodies) return;
+  const BodyRow& b = v.bodies[k];
+  Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
+  for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i)
+    addToBody<kClumps>(F, T, ParticleForce{f[i], t[i], 0u});
+  const float d2 = finishBody<kClumps>(v, F, T, gravity, dt, scheme, k);
+  unsigned int bits;
+  std::memcpy(&bits, &d2, sizeof bits);
+  atomicMax(maxDisplacement2Bits, bits);
+}
+
+// pairs(): per particle the contacts with a higher scene index, written at its scene index's
+// offset, so that the output comes out sorted by (i, j).
+__global__ void contactsAboveKernel(const PosRow* pos, const std::uint32_t* orig, CandidateListView list,
+                                    std::uint32_t n, std::uint32_t* countByOrig) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) countByOrig[orig[i]] = contactsAbove(pos, orig, list, i);
+  if (i == n) countByOrig[n] = 0;
+}
+
+__global__ void emitContactsKernel(const PosRow* pos, const std::uint32_t* orig, CandidateListView list,
+                                   std::uint32_t n, const std::uint32_t* at, std::uint32_t* outI, std::uint32_t* outJ) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ);
+}
+
+/// What each step reads back: the skin test and the contact count.
+struct StepReadback {
+  unsigned int maxDisplacement2Bits;
+  unsigned int pad;
+  unsigned long long contacts;
+};
 
 class CudaPipeline final : public Pipeline {
  public:
-  explicit CudaPipeline(const PipelineOptions& /*options: threads do not apply to the device*/) {}
+  explicit CudaPipeline(const PipelineOptions& options) : m_reorder(options.reorder) {}
 
   Backend backend() const override { return Backend::Cuda; }
 
-  // Twin: CpuPipeline::load.
+  // As CpuPipeline::load.
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
     m_loaded = false;
-    m_frame = LocalFrame::of(world);  // far from the origin: integrate in a local frame
-    m_world = toLocal(world, m_frame);
-    const std::uint32_t n = world.numParticles();
+    m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
+    const World& w = m_world;
+    const std::uint32_t n = w.numParticles(), nb = w.numBodies();
     const cudaStream_t s = m_ctx.stream();
-    m_clumps = world.hasClumps;
-
-    const BodyState& st = m_world.state;
-    m_state.px.upload(st.px, s); m_state.py.upload(st.py, s); m_state.pz.upload(st.pz, s);
-    m_state.vx.upload(st.vx, s); m_state.vy.upload(st.vy, s); m_state.vz.upload(st.vz, s);
-    m_state.qw.upload(st.qw, s); m_state.qx.upload(st.qx, s); m_state.qy.upload(st.qy, s);
-    m_state.qz.upload(st.qz, s);
-    m_state.lx.upload(st.lx, s); m_state.ly.upload(st.ly, s); m_state.lz.upload(st.lz, s);
-    m_invMass.upload(world.invMass, s);
-    m_invInertia.upload(world.invInertia, s);
-    m_first.upload(world.first, s);
-    m_numOf.upload(world.numParticlesOf, s);
-    const std::vector<Vec3f> omega = initialOmega(world);
-    m_omega.upload(omega, s);
-
-    m_radius.upload(world.radius, s);
-    m_mass.upload(world.mass, s);
-    m_elasticity.upload(world.elasticity, s);
-    m_groundDamping.upload(world.groundDamping, s);
-    m_body.upload(world.body, s);
-    m_ux.upload(world.ux, s); m_uy.upload(world.uy, s); m_uz.upload(world.uz, s);
-
-    const std::size_t nc = m_clumps ? n : 0;
-    for (auto* c : {&m_x, &m_y, &m_z, &m_vx, &m_vy, &m_vz, &m_rx, &m_ry, &m_rz, &m_cx, &m_cy, &m_cz}) zeros(*c, nc, s);
-    for (auto* c : {&m_fx, &m_fy, &m_fz, &m_tx, &m_ty}) zeros(*c, n, s);
+    m_clumps = w.hasClumps;
+    m_ground = w.params.ground.enabled;
+    const std::vector<Vec3f> omega = initialOmega(w);
+    std::vector<BodyRow> bodies(nb);
+    std::vector<BodyStatic> bodyStatic(nb);
+    const BodyState& st = w.state;
+    for (std::uint32_t k = 0; k < nb; ++k) {
+      const Quatf q{st.qw[k], st.qx[k], st.qy[k], st.qz[k]};
+      bodies[k] = BodyRow{Vec3f{st.px[k], st.py[k], st.pz[k]}, w.first[k], Vec3f{st.vx[k], st.vy[k], st.vz[k]},
+                          w.numParticlesOf[k], omega[k], k, rotationMatrix(q), w.invMass[k], q,
+                          Vec3f{st.lx[k], st.ly[k], st.lz[k]}};
+      bodyStatic[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], 0.0f};
+    }
+    std::vector<OwnRow> own(n);
+    std::vector<std::uint32_t> orig(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      own[i] = OwnRow{Vec3f{w.ux[i], w.uy[i], w.uz[i]}, w.groundDamping[i]};
+      orig[i] = i;
+    }
+    m_bodies.upload(bodies, s);
+    m_bodiesNext.grow(nb);
+    m_bodyStatic.upload(bodyStatic, s);
+    m_own.upload(own, s);
+    m_radius.upload(w.radius, s);
+    m_mass.upload(w.mass, s);
+    m_orig.upload(orig, s);
+    m_bodyOf.upload(w.body, s);
+    m_tx.upload(m_ground ? st.groundSpringX : std::vector<float>{}, s);
+    m_ty.upload(m_ground ? st.groundSpringY : std::vector<float>{}, s);
+    for (auto& p : m_pos) p.grow(n);
+    m_buildPos.grow(n);
+    m_f.grow(n);
+    m_t.grow(n);
+    m_candOffsets.grow(std::size_t(n) + 1);
+    m_readback.grow(1);
     m_ctx.synchronize();
-
-    m_pulls = world.params.pulls.active;
-    m_time = 0.0;
+    m_cur = 0;
+    m_numCand = 0;
+    m_skin = effectiveSkin(w);
+    m_trigger2 = skinTrigger2(m_skin, w.maxRadius);
+    m_needRebuild = true;
+    m_pulls = w.params.pulls.active;
+    m_time = w.time;
     m_steps = 0;
     m_bp.reset();
     resetStats();
@@ -140,23 +273,66 @@ class CudaPipeline final : public Pipeline {
       out = BodyState{};  // as the CPU pipeline's empty state before load()
       return;
     }
-    const std::size_t nb = m_world.numBodies();
+    const std::uint32_t nb = m_world.numBodies(), n = m_world.numParticles();
     const cudaStream_t s = m_ctx.stream();
-    out.resize(nb);
-    m_state.px.download(out.px.data(), nb, s); m_state.py.download(out.py.data(), nb, s);
-    m_state.pz.download(out.pz.data(), nb, s);
-    m_state.vx.download(out.vx.data(), nb, s); m_state.vy.download(out.vy.data(), nb, s);
-    m_state.vz.download(out.vz.data(), nb, s);
-    m_state.qw.download(out.qw.data(), nb, s); m_state.qx.download(out.qx.data(), nb, s);
-    m_state.qy.download(out.qy.data(), nb, s); m_state.qz.download(out.qz.data(), nb, s);
-    m_state.lx.download(out.lx.data(), nb, s); m_state.ly.download(out.ly.data(), nb, s);
-    m_state.lz.download(out.lz.data(), nb, s);
+    std::vector<BodyRow> bodies(nb);
+    std::vector<std::uint32_t> orig(n);
+    std::vector<float> tx(m_ground ? n : 0), ty(m_ground ? n : 0);
+    m_bodies.download(bodies.data(), nb, s);
+    m_orig.download(orig.data(), n, s);
+    m_tx.download(tx.data(), tx.size(), s);
+    m_ty.download(ty.data(), ty.size(), s);
     m_ctx.synchronize();
+    out.resize(nb);
+    for (const BodyRow& b : bodies) {
+      const std::uint32_t o = b.orig;
+      out.px[o] = b.x.x; out.py[o] = b.x.y; out.pz[o] = b.x.z;
+      out.vx[o] = b.v.x; out.vy[o] = b.v.y; out.vz[o] = b.v.z;
+      out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
+      out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
+    }
+    out.groundSpringX.resize(tx.size());
+    out.groundSpringY.resize(ty.size());
+    for (std::size_t i = 0; i < tx.size(); ++i) {
+      out.groundSpringX[orig[i]] = tx[i];
+      out.groundSpringY[orig[i]] = ty[i];
+    }
   }
 
-  std::vector<Pair> pairs() const override { return m_bp.sortedPairs(m_world.numParticles(), m_ctx.stream()); }
+  // As CpuPipeline::pairs.
+  std::vector<Pair> pairs() const override {
+    if (m_steps == 0) return {};
+    const std::uint32_t n = m_world.numParticles();
+    const cudaStream_t s = m_ctx.stream();
+    const CandidateListView list{m_candOffsets.data(), m_cand.data()};
+    const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
+    DeviceBuffer<std::uint32_t> count, at, outI, outJ;
+    DeviceBuffer<unsigned char> temp;
+    count.grow(std::size_t(n) + 1);
+    at.grow(std::size_t(n) + 1);
+    contactsAboveKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, s>>>(pos, m_orig.data(), list, n, count.data());
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "contactsAboveKernel");
+    std::size_t bytes = 0;
+    TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, bytes, count.data(), at.data(), n + 1, s));
+    TUMBLE_CUDA_CHECK(exclusiveSum(temp.grow(bytes), bytes, count.data(), at.data(), n + 1, s));
+    std::uint32_t total = 0;
+    TUMBLE_CUDA_CHECK(cudaMemcpyAsync(&total, at.data() + n, sizeof total, cudaMemcpyDeviceToHost, s));
+    m_ctx.synchronize();
+    std::vector<std::uint32_t> hi(total), hj(total);
+    if (total > 0) {
+      emitContactsKernel<<<blocksFor(n), kBlock, 0, s>>>(pos, m_orig.data(), list, n, at.data(), outI.grow(total),
+                                                          outJ.grow(total));
+      TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "emitContactsKernel");
+      outI.download(hi.data(), total, s);
+      outJ.download(hj.data(), total, s);
+      m_ctx.synchronize();
+    }
+    std::vector<Pair> out(total);
+    for (std::uint32_t k = 0; k < total; ++k) out[k] = Pair{hi[k], hj[k]};
+    return out;
+  }
 
-  // Twin: CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
+  // As CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
     const float maxR = checkCloud(cloud);
     const std::size_t n = cloud.size();
@@ -177,152 +353,251 @@ class CudaPipeline final : public Pipeline {
 
   void setDebugCapture(bool on) override { m_debug = on; }
 
-  // Twin: CpuPipeline::readDebug (velocities as the CPU's vx(): the particle columns for clumps,
-  // the body columns otherwise).
+  // As CpuPipeline::readDebug.
   void readDebug(ParticleDebug& out) const override {
     if (!m_hasDebug) throw Error("readDebug(): enable setDebugCapture(true) and run a step first");
     const std::uint32_t n = m_world.numParticles();
     const cudaStream_t s = m_ctx.stream();
-    std::vector<float> v[3];
-    const float* src[3] = {m_clumps ? m_vx.data() : m_state.vx.data(), m_clumps ? m_vy.data() : m_state.vy.data(),
-                           m_clumps ? m_vz.data() : m_state.vz.data()};
-    for (int c = 0; c < 3; ++c) {
-      v[c].resize(n);
-      if (n > 0) TUMBLE_CUDA_CHECK(cudaMemcpyAsync(v[c].data(), src[c], n * sizeof(float), cudaMemcpyDeviceToHost, s));
-    }
+    std::vector<float> v(3 * std::size_t(n)), f[5];
+    std::vector<std::uint32_t> orig(n);
+    m_dbgVel.download(v.data(), v.size(), s);
     for (int k = 0; k < 5; ++k) {
-      out.force[k].resize(3 * std::size_t(n));
-      m_dbg[k].download(out.force[k].data(), out.force[k].size(), s);
+      f[k].resize(3 * std::size_t(n));
+      m_dbg[k].download(f[k].data(), f[k].size(), s);
     }
+    m_orig.download(orig.data(), n, s);
     m_ctx.synchronize();
     out.v.resize(3 * std::size_t(n));
-    for (std::uint32_t i = 0; i < n; ++i) {
-      out.v[3 * std::size_t(i)] = v[0][i];
-      out.v[3 * std::size_t(i) + 1] = v[1][i];
-      out.v[3 * std::size_t(i) + 2] = v[2][i];
-    }
+    for (auto& c : out.force) c.resize(3 * std::size_t(n));
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t o = 3 * std::size_t(orig[i]) + c, a = 3 * std::size_t(i) + c;
+        out.v[o] = v[a];
+        for (int k = 0; k < 5; ++k) out.force[k][o] = f[k][a];
+      }
     out.contacts = pairs();
   }
 
   void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u; }
   std::uint32_t pulls() const override { return m_pulls; }
   const StepStats& stats() const override { return m_stats; }
-  void resetStats() override { m_stats = StepStats{}; }
+  void resetStats() override {
+    m_stats = StepStats{};
+    m_stats.skin = m_skin;
+  }
   double time() const override { return m_time; }
 
  private:
-  // Particle columns: with single-sphere bodies, particle i is body i (as the CPU's x() etc.).
-  float* x() { return m_clumps ? m_x.data() : m_state.px.data(); }
-  float* y() { return m_clumps ? m_y.data() : m_state.py.data(); }
-  float* z() { return m_clumps ? m_z.data() : m_state.pz.data(); }
-  float* vx() { return m_clumps ? m_vx.data() : m_state.vx.data(); }
-  float* vy() { return m_clumps ? m_vy.data() : m_state.vy.data(); }
-  float* vz() { return m_clumps ? m_vz.data() : m_state.vz.data(); }
-
-  BodiesView bodiesView() {
-    return BodiesView{m_invMass.data(), m_invInertia.data(), m_first.data(), m_numOf.data(),
-                      m_state.px.data(), m_state.py.data(), m_state.pz.data(),
-                      m_state.vx.data(), m_state.vy.data(), m_state.vz.data(),
-                      m_state.qw.data(), m_state.qx.data(), m_state.qy.data(), m_state.qz.data(),
-                      m_state.lx.data(), m_state.ly.data(), m_state.lz.data(), m_world.numBodies()};
-  }
-  ParticleStaticView staticView() const {
-    return ParticleStaticView{m_radius.data(), m_mass.data(), m_elasticity.data(), m_groundDamping.data(),
-                              m_body.data(),   m_ux.data(),   m_uy.data(),         m_uz.data(),
-                              m_world.numParticles()};
-  }
-  ParticleStateView stateView() {
-    const bool c = m_clumps;
-    return ParticleStateView{x(), y(), z(), vx(), vy(), vz(),
-                             c ? m_rx.data() : nullptr, c ? m_ry.data() : nullptr, c ? m_rz.data() : nullptr,
-                             m_fx.data(), m_fy.data(), m_fz.data(), m_tx.data(), m_ty.data(),
-                             m_world.numParticles()};
+  StepView stepView() {
+    const int c = m_cur;
+    return StepView{m_bodies.data(),
+                    m_bodiesNext.data(),
+                    m_bodyStatic.data(),
+                    m_world.numBodies(),
+                    m_pos[c].data(),
+                    m_pos[1 - c].data(),
+                    m_own.data(),
+                    m_radius.data(),
+                    m_mass.data(),
+                    m_bodyOf.data(),
+                    m_orig.data(),
+                    GroundSpringView{m_tx.data(), m_ty.data()},
+                    m_buildPos.data(),
+                    CandidateListView{m_candOffsets.data(), m_cand.data()},
+                    m_world.numParticles()};
   }
 
-  // Twin: CpuPipeline::stepOnce.
+  // As CpuPipeline::stepOnce.
   void stepOnce() {
-    const std::uint32_t n = m_world.numParticles();
-    const std::uint32_t nb = m_world.numBodies();
+    const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
     const cudaStream_t s = m_ctx.stream();
     const Scene& p = m_world.params;
-
-    // 1. Particle state from body state.
-    m_timer.mark(Phase::State, s);
-    if (m_clumps) {
-      stateKernel<<<blocksFor(n), kBlock, 0, s>>>(bodiesView(), m_omega.data(), staticView(), stateView());
-      TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "stateKernel");
+    if (m_needRebuild) {
+      rebuild();
+    } else {
+      for (Phase ph : {Phase::Reorder, Phase::State, Phase::Axis, Phase::Keys, Phase::Sort, Phase::Sweep, Phase::List})
+        m_timer.mark(ph, s);  // no rebuild this step: the phases take no time
     }
 
-    // 2. Collision detection → CSR contact list.
-    const BroadphaseInput in{x(), y(), z(), m_radius.data(), m_body.data(), n, m_world.maxRadius};
-    try {
-      m_bp.run(in, p.broadphase, m_ctx, &m_timer);
-    } catch (const SimulationError& e) {
-      if (e.particle() < 0) throw;
-      throw SimulationError(divergenceMessage(m_world, m_steps, static_cast<std::uint32_t>(e.particle())),
-                            e.particle());
-    }
-
-    // 3–5. Per-particle forces: contacts (CSR order), ground, gravity and pulls.
     m_timer.mark(Phase::Forces, s);
+    const StepView v = stepView();
     const ForceParams fp = makeForceParams(p, m_pulls);
-    const ContactList cl{m_bp.recFirst.data(), m_bp.inv.data(),  m_bp.nbrOffsets.data(),
-                         m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
-    const Couples couples{m_cx.data(), m_cy.data(), m_cz.data(), m_omega.data()};
-    DebugForces dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}};
+    DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr};
     if (m_debug) {
       for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].grow(3 * std::size_t(n));
-      if (m_clumps)
-        forcesKernel<true, true><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
-      else
-        forcesKernel<true, false><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
+      dbg.v = m_dbgVel.grow(3 * std::size_t(n));
+    }
+    StepReadback* rb = m_readback.data();
+    TUMBLE_CUDA_CHECK(cudaMemsetAsync(rb, 0, sizeof(StepReadback), s));
+    unsigned long long* contacts = &rb->contacts;
+    if (m_debug) {
+      if (m_clumps) forcesKernel<true, true><<<blocksFor(n), kBlock, 0, s>>>(v, fp, dbg, m_f.data(), m_t.data(), contacts);
+      else forcesKernel<true, false><<<blocksFor(n), kBlock, 0, s>>>(v, fp, dbg, m_f.data(), m_t.data(), contacts);
     } else {
-      if (m_clumps)
-        forcesKernel<false, true><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
-      else
-        forcesKernel<false, false><<<blocksFor(n), kBlock, 0, s>>>(staticView(), stateView(), couples, cl, fp, dbg);
+      if (m_clumps) forcesKernel<false, true><<<blocksFor(n), kBlock, 0, s>>>(v, fp, dbg, m_f.data(), m_t.data(), contacts);
+      else forcesKernel<false, false><<<blocksFor(n), kBlock, 0, s>>>(v, fp, dbg, m_f.data(), m_t.data(), contacts);
     }
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "forcesKernel");
     if (m_debug) m_hasDebug = true;
 
-    // 6–7. Body totals and integration.
     m_timer.mark(Phase::Integrate, s);
-    integrateKernel<<<blocksFor(nb), kBlock, 0, s>>>(bodiesView(), stateView(), couples, m_omega.data(), p.dt,
-                                                     m_clumps, p.integrator.rotation);
+    if (m_clumps)
+      integrateKernel<true><<<blocksFor(nb), kBlock, 0, s>>>(v, m_f.data(), m_t.data(), p.gravity, p.dt,
+                                                              p.integrator.rotation, &rb->maxDisplacement2Bits);
+    else
+      integrateKernel<false><<<blocksFor(nb), kBlock, 0, s>>>(v, m_f.data(), m_t.data(), p.gravity, p.dt,
+                                                               p.integrator.rotation, &rb->maxDisplacement2Bits);
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "integrateKernel");
+    StepReadback h{};
+    TUMBLE_CUDA_CHECK(cudaMemcpyAsync(&h, rb, sizeof h, cudaMemcpyDeviceToHost, s));
     m_timer.finish(s);
-    m_timer.accumulate(m_stats.seconds);  // waits for the step
+    m_timer.accumulate(m_stats.seconds);  // waits for the step (and the read-back)
+    float maxD2;
+    std::memcpy(&maxD2, &h.maxDisplacement2Bits, sizeof maxD2);
+    m_cur = 1 - m_cur;
+    std::swap(m_bodies, m_bodiesNext);
+    m_needRebuild = !(maxD2 < m_trigger2);
 
     ++m_steps;
     m_time += p.dt;
     ++m_stats.steps;
-    m_stats.numPairs = m_bp.numPairs();
+    m_stats.numPairs = h.contacts / 2;  // each contact is seen from both sides
+  }
+
+  // As CpuPipeline::rebuild.
+  void rebuild() {
+    const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
+    const cudaStream_t s = m_ctx.stream();
+    m_timer.mark(Phase::Reorder, s);
+    if (m_reorder) reorder();
+
+    m_timer.mark(Phase::State, s);
+    PosRow* pos = m_pos[m_cur].data();
+    if (m_clumps)
+      stateKernel<true><<<blocksFor(nb), kBlock, 0, s>>>(m_bodies.data(), nb, m_own.data(), m_radius.data(), pos);
+    else
+      stateKernel<false><<<blocksFor(nb), kBlock, 0, s>>>(m_bodies.data(), nb, m_own.data(), m_radius.data(), pos);
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "stateKernel");
+    const float h = 0.5f * m_skin;
+    detectionInputKernel<<<blocksFor(n), kBlock, 0, s>>>(pos, n, h, m_bx.grow(n), m_by.grow(n), m_bz.grow(n),
+                                                         m_br.grow(n), m_buildPos.data());
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "detectionInputKernel");
+
+    const BroadphaseInput in{m_bx.data(), m_by.data(), m_bz.data(), m_br.data(), m_bodyOf.data(), n,
+                             m_world.maxRadius + h};
+    try {
+      m_bp.run(in, m_world.params.broadphase, m_ctx, &m_timer);
+    } catch (const SimulationError& e) {
+      if (e.particle() < 0) throw;
+      std::uint32_t o = 0;
+      TUMBLE_CUDA_CHECK(cudaMemcpy(&o, m_orig.data() + e.particle(), sizeof o, cudaMemcpyDeviceToHost));
+      throw SimulationError(divergenceMessage(m_world, m_world.step + m_steps, o), o);
+    }
+
+    m_timer.mark(Phase::List, s);
+    const SweepListView sl{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
+                           m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
+    std::uint32_t* count = m_count.grow(std::size_t(n) + 1);
+    candidateCountKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, s>>>(sl, n, count);
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "candidateCountKernel");
+    std::size_t bytes = 0;
+    TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, bytes, count, m_candOffsets.data(), n + 1, s));
+    TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(bytes), bytes, count, m_candOffsets.data(), n + 1, s));
+    TUMBLE_CUDA_CHECK(
+        cudaMemcpyAsync(&m_numCand, m_candOffsets.data() + n, sizeof m_numCand, cudaMemcpyDeviceToHost, s));
+    m_ctx.synchronize();
+    candidateFillKernel<<<blocksFor(n), kBlock, 0, s>>>(sl, n, m_orig.data(), m_candOffsets.data(),
+                                                        m_cand.grow(m_numCand), m_candKey.grow(m_numCand));
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "candidateFillKernel");
+    m_needRebuild = false;
+    ++m_stats.numRebuilds;
+    m_stats.numCandidates = m_numCand / 2;
     m_stats.numRecords = m_bp.numRecords();
     m_stats.numCells = m_bp.numCells();
     m_stats.cellSize = m_bp.frame().cellSize;
   }
 
+  // As CpuPipeline::reorder.
+  void reorder() {
+    const std::uint32_t nb = m_world.numBodies(), n = m_world.numParticles();
+    if (nb < 2) return;
+    const cudaStream_t s = m_ctx.stream();
+    const std::uint32_t blocks = blocksFor(nb);
+    bodyBoundsKernel<<<blocks, kBlock, 0, s>>>(m_bodies.data(), nb, m_boundsPart.grow(blocks));
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "bodyBoundsKernel");
+    m_hostBounds.resize(blocks);
+    m_boundsPart.download(m_hostBounds.data(), blocks, s);
+    m_ctx.synchronize();
+    const MortonGrid g = mortonGridOf(combineBounds(m_hostBounds.data(), blocks));
+    std::uint32_t* keys = m_mKeys.grow(nb);
+    std::uint32_t* vals = m_mVals.grow(nb);
+    std::uint32_t* skeys = m_mSortedKeys.grow(nb);
+    std::uint32_t* perm = m_perm.grow(nb);
+    mortonKeyKernel<<<blocks, kBlock, 0, s>>>(m_bodies.data(), nb, g, keys, vals);
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "mortonKeyKernel");
+    std::size_t bytes = 0;
+    TUMBLE_CUDA_CHECK(radixSortPairs(nullptr, bytes, keys, skeys, vals, perm, nb, 0, 30, s));
+    TUMBLE_CUDA_CHECK(radixSortPairs(m_temp.grow(bytes), bytes, keys, skeys, vals, perm, nb, 0, 30, s));
+    std::uint32_t* count = m_count.grow(std::size_t(nb) + 1);
+    std::uint32_t* first = m_first.grow(std::size_t(nb) + 1);
+    permutedCountKernel<<<blocksFor(std::uint64_t(nb) + 1), kBlock, 0, s>>>(m_bodies.data(), perm, nb, count);
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "permutedCountKernel");
+    TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, bytes, count, first, nb + 1, s));
+    TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(bytes), bytes, count, first, nb + 1, s));
+    const ParticleColumns from{m_own.data(), m_radius.data(), m_mass.data(), m_orig.data(),
+                               m_bodyOf.data(), m_tx.data(), m_ty.data()};
+    const ParticleColumns to{m_ownTmp.grow(n), m_radiusTmp.grow(n), m_massTmp.grow(n), m_origTmp.grow(n),
+                             m_bodyOfTmp.grow(n), m_txTmp.grow(m_ground ? n : 0), m_tyTmp.grow(m_ground ? n : 0)};
+    permuteKernel<<<blocks, kBlock, 0, s>>>(m_bodies.data(), m_bodyStatic.data(), perm, first, nb, from,
+                                            m_bodiesNext.data(), m_bodyStaticTmp.grow(nb), to, m_ground);
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "permuteKernel");
+    std::swap(m_bodies, m_bodiesNext);
+    std::swap(m_bodyStatic, m_bodyStaticTmp);
+    std::swap(m_own, m_ownTmp);
+    std::swap(m_radius, m_radiusTmp);
+    std::swap(m_mass, m_massTmp);
+    std::swap(m_orig, m_origTmp);
+    std::swap(m_bodyOf, m_bodyOfTmp);
+    if (m_ground) {
+      std::swap(m_tx, m_txTmp);
+      std::swap(m_ty, m_tyTmp);
+    }
+  }
+
   StreamContext m_ctx;
   PhaseTimer m_timer;
+  bool m_reorder = true;
   World m_world;
+  LocalFrame m_frame;
   bool m_loaded = false;
   bool m_clumps = false;
-  // Bodies.
-  BodyColumns m_state;
-  DeviceBuffer<float> m_invMass;
-  DeviceBuffer<Sym3f> m_invInertia;
-  DeviceBuffer<std::uint32_t> m_first, m_numOf;
-  DeviceBuffer<Vec3f> m_omega;
-  LocalFrame m_frame;
-  // Static particle table.
-  DeviceBuffer<float> m_radius, m_mass, m_elasticity, m_groundDamping, m_ux, m_uy, m_uz;
-  DeviceBuffer<std::uint32_t> m_body;
-  // Per-step particle state; x … rz and the couples exist for clump scenes only.
-  DeviceBuffer<float> m_x, m_y, m_z, m_vx, m_vy, m_vz, m_rx, m_ry, m_rz;
-  DeviceBuffer<float> m_fx, m_fy, m_fz, m_tx, m_ty;
-  DeviceBuffer<float> m_cx, m_cy, m_cz;
-  DeviceBuffer<float> m_dbg[5];
+  bool m_ground = false;
+  // Internal numbering (see cpu/src/cpu_pipeline.cpp).
+  DeviceBuffer<BodyRow> m_bodies, m_bodiesNext;
+  DeviceBuffer<BodyStatic> m_bodyStatic;
+  DeviceBuffer<OwnRow> m_own;
+  DeviceBuffer<float> m_radius, m_mass, m_tx, m_ty;
+  DeviceBuffer<std::uint32_t> m_orig, m_bodyOf;
+  DeviceBuffer<PosRow> m_pos[2], m_buildPos;
+  int m_cur = 0;
+  DeviceBuffer<std::uint32_t> m_candOffsets, m_cand, m_candKey;
+  std::uint32_t m_numCand = 0;
+  float m_skin = 0.0f, m_trigger2 = 0.0f;
+  bool m_needRebuild = true;
+  DeviceBuffer<Vec3f> m_f, m_t;  // per-particle force and torque of the step
+  DeviceBuffer<StepReadback> m_readback;
   Broadphase m_bp;
+  // Scratch (grow-only).
+  DeviceBuffer<float> m_bx, m_by, m_bz, m_br;
+  DeviceBuffer<std::uint32_t> m_count, m_first, m_mKeys, m_mVals, m_mSortedKeys, m_perm;
+  DeviceBuffer<tumble::detail::BoundsPartial> m_boundsPart;
+  std::vector<tumble::detail::BoundsPartial> m_hostBounds;
+  DeviceBuffer<unsigned char> m_temp;
+  DeviceBuffer<BodyStatic> m_bodyStaticTmp;
+  DeviceBuffer<OwnRow> m_ownTmp;
+  DeviceBuffer<float> m_radiusTmp, m_massTmp, m_txTmp, m_tyTmp;
+  DeviceBuffer<std::uint32_t> m_origTmp, m_bodyOfTmp;
+  DeviceBuffer<float> m_dbg[5], m_dbgVel;
   StepStats m_stats;
   std::uint32_t m_pulls = 0;
   double m_time = 0.0;

@@ -3,6 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "tumble/kernels/integrate.hpp"
 #include "tumble/kernels/overlap.hpp"
 
 namespace tumble::validation {
@@ -28,10 +29,14 @@ ParticleCloud cloudOf(const World& w, const BodyState& s) {
   c.body = w.body;
   for (std::uint32_t i = 0; i < n; ++i) {
     const std::uint32_t k = w.body[i];
-    const Vec3f ru = rotate(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, Vec3f{w.ux[i], w.uy[i], w.uz[i]});
-    c.x[i] = s.px[k] + ru.x;
-    c.y[i] = s.py[k] + ru.y;
-    c.z[i] = s.pz[k] + ru.z;
+    const Vec3f X{s.px[k], s.py[k], s.pz[k]};
+    // The pipelines' expression (particlePosition), so that the oracle sees the same bits.
+    const Vec3f x = w.hasClumps ? particlePosition(X, rotationMatrix(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}),
+                                                   Vec3f{w.ux[i], w.uy[i], w.uz[i]})
+                                : X;
+    c.x[i] = x.x;
+    c.y[i] = x.y;
+    c.z[i] = x.z;
   }
   return c;
 }

@@ -174,7 +174,8 @@ std::uint64_t stateHash(const BodyState& s) {
       }
     }
   };
-  for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz})
+  for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz,
+                        &s.groundSpringX, &s.groundSpringY})
     mix(*c);
   return h;
 }

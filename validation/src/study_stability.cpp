@@ -714,7 +714,7 @@ CaseResult towerCase(const CaseContext& ctx) {
   for (int l = 0; l < layers; ++l) keDead += 0.5 * M * std::pow(ulpf(zA[l]) / (2.0 * dt), 2);
   const double keThresh = 1e-6 * dE + keDead;
   const double maxSeconds = full ? 12.0 : 6.0;
-  const double hold = full ? 1.0 : 0.3;  // stay settled this long before stopping
+  const double hold = full ? 1.0 : 0.5;  // stay settled this long before stopping
   Sim sim(sc, ctx.backend);
   Table ke{"kinetic_energy", {"t", "KE", "KE_over_dE"}, {}};
   const std::uint64_t chunk = std::max<std::uint64_t>(1, stepsFor(0.01, dt));

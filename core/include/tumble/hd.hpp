@@ -10,7 +10,7 @@
 #define TUMBLE_HD_INLINE __host__ __device__ __forceinline__
 #else
 #define TUMBLE_HD
-#define TUMBLE_HD_INLINE inline
+#define TUMBLE_HD_INLINE inline __attribute__((always_inline))
 #endif
 
 #if defined(NDEBUG)

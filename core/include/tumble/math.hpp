@@ -27,6 +27,11 @@ struct Sym3f {
   float xx, yy, zz, xy, xz, yz;
 };
 
+/// 3x3 matrix by rows (trivially copyable).
+struct Mat3f {
+  float xx, xy, xz, yx, yy, yz, zx, zy, zz;
+};
+
 TUMBLE_HD_INLINE Vec3f operator+(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 TUMBLE_HD_INLINE Vec3f operator-(Vec3f a, Vec3f b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 TUMBLE_HD_INLINE Vec3f operator-(Vec3f a) { return {-a.x, -a.y, -a.z}; }
@@ -76,6 +81,30 @@ TUMBLE_HD_INLINE Vec3f rotate(Quatf q, Vec3f v) {
 
 /// R(q)ᵀ v = R(q⁻¹) v for a unit quaternion q.
 TUMBLE_HD_INLINE Vec3f rotateInv(Quatf q, Vec3f v) { return rotate(Quatf{q.w, -q.x, -q.y, -q.z}, v); }
+
+/// The rotation matrix R(q) of a unit quaternion (the standard formula, one fixed sequence of
+/// operations): R v = rotate(q, v) to rounding, and cheaper when one q rotates many vectors.
+TUMBLE_HD_INLINE Mat3f rotationMatrix(Quatf q) {
+  const float x2 = q.x + q.x, y2 = q.y + q.y, z2 = q.z + q.z;
+  const float xx = q.x * x2, yy = q.y * y2, zz = q.z * z2;
+  const float xy = q.x * y2, xz = q.x * z2, yz = q.y * z2;
+  const float wx = q.w * x2, wy = q.w * y2, wz = q.w * z2;
+  return {1.0f - (yy + zz), xy - wz, xz + wy,
+          xy + wz, 1.0f - (xx + zz), yz - wx,
+          xz - wy, yz + wx, 1.0f - (xx + yy)};
+}
+
+/// M v.
+TUMBLE_HD_INLINE Vec3f mul(const Mat3f& m, Vec3f v) {
+  return {m.xx * v.x + m.xy * v.y + m.xz * v.z, m.yx * v.x + m.yy * v.y + m.yz * v.z,
+          m.zx * v.x + m.zy * v.y + m.zz * v.z};
+}
+
+/// Mᵀ v.
+TUMBLE_HD_INLINE Vec3f mulTransposed(const Mat3f& m, Vec3f v) {
+  return {m.xx * v.x + m.yx * v.y + m.zx * v.z, m.xy * v.x + m.yy * v.y + m.zy * v.z,
+          m.xz * v.x + m.yz * v.y + m.zz * v.z};
+}
 
 /// S v for a symmetric matrix S.
 TUMBLE_HD_INLINE Vec3f mul(const Sym3f& s, Vec3f v) {

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file pipeline.hpp
 /// The backend-neutral pipeline interface. Every backend runs the same stage list
-/// (SPEC §2–§4): state → axis → cell keys → sort → sweep (CSR contact list) → forces → integrate.
+/// (SPEC §2–§4). At a rebuild of the candidate list (when the skin test asks for one):
+/// reorder → state → axis → cell keys → sort → sweep → list. Every step: forces (contacts from
+/// the list, ground, pulls) → integrate (body totals, gravity, integration, the next particle
+/// positions and the skin test).
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -24,10 +27,17 @@ std::vector<Backend> compiledBackends();
 /// True when the CUDA module is compiled in and a device is present.
 bool cudaAvailable();
 
-/// Options that do not change results (threads) or change only speed (broadphase knobs).
+/// Options that do not change results: they change only speed.
 struct PipelineOptions {
-  int threads = 0;  ///< 0 = all cores (CPU pipeline)
+  int threads = 0;      ///< 0 = all cores (CPU pipeline)
+  bool reorder = true;  ///< renumber bodies in spatial order at each rebuild (locality)
 };
+
+/// The Verlet skin a world runs with: params.broadphase.skin, or when that is negative
+/// (automatic) kAutoSkinPerRadius × the largest radius.
+float effectiveSkin(const World& world);
+/// The automatic skin, in units of the largest radius (docs/performance.md measures it).
+inline constexpr float kAutoSkinPerRadius = 0.2f;
 
 /// A particle pair (i < j) in global particle indices.
 struct Pair {
@@ -36,11 +46,15 @@ struct Pair {
   friend bool operator<(const Pair& a, const Pair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
 };
 
-/// The named phases of one step, in order.
-/// state: particle x, v from the bodies; axis: bounds and PCA; keys: cell ranges and sort keys;
-/// sort: radix sort of the records; sweep: gather + sweep + CSR contact list; forces: contact,
-/// ground, gravity and pulls per particle; integrate: body totals and integration.
-enum class Phase : int { State, Axis, Keys, Sort, Sweep, Forces, Integrate, Count };
+/// The named phases of one step, in order. The first seven run only at a rebuild of the
+/// candidate list. reorder: spatial renumbering of the bodies; state: particle rows from the
+/// bodies; axis: bounds and PCA; keys: cell ranges and sort keys; sort: radix sort of the
+/// records; sweep: gather + sweep (pairs within the skin); list: the candidate list sorted by
+/// scene index. Every step: forces: per particle its contacts (the list filtered by the exact
+/// predicate), the ground and the pulls; integrate: per body the totals, gravity, the
+/// integration, the next step's particle positions and the skin test. The CPU pipeline runs
+/// the two as one fused pass over the bodies and books it under forces.
+enum class Phase : int { Reorder, State, Axis, Keys, Sort, Sweep, List, Forces, Integrate, Count };
 const char* toString(Phase p);
 constexpr int kNumPhases = static_cast<int>(Phase::Count);
 
@@ -48,11 +62,16 @@ constexpr int kNumPhases = static_cast<int>(Phase::Count);
 struct StepStats {
   std::uint64_t steps = 0;
   double seconds[kNumPhases] = {};  ///< wall time per phase, summed over steps
-  std::uint64_t numPairs = 0;       ///< pairs found in the last step
-  std::uint64_t numRecords = 0;     ///< sweep records (particle × overlapped cell), last step
-  std::uint64_t numCells = 0;       ///< cells in the last step's grid
-  float cellSize = 0.0f;            ///< cell side used in the last step
+  std::uint64_t numPairs = 0;       ///< contacts (touching pairs) in the last step
+  std::uint64_t numRebuilds = 0;    ///< rebuilds of the candidate list (detection runs)
+  std::uint64_t numCandidates = 0;  ///< candidate pairs in the list of the last rebuild
+  std::uint64_t numRecords = 0;     ///< sweep records (particle × overlapped cell), last rebuild
+  std::uint64_t numCells = 0;       ///< cells in the last rebuild's grid
+  float cellSize = 0.0f;            ///< cell side used at the last rebuild
+  float skin = 0.0f;                ///< the Verlet skin in use
   double totalSeconds() const;
+  /// Rebuilds per 1000 steps (0 before the first step).
+  double rebuildsPer1000() const { return steps ? 1000.0 * double(numRebuilds) / double(steps) : 0.0; }
 };
 
 /// Per-particle debug data for the debug recording: velocity and the five forces.
@@ -86,7 +105,8 @@ class Pipeline {
   /// Advances n steps of world.params.dt. Throws tumble::SimulationError when a particle
   /// position becomes non-finite (the state then holds the last step's result).
   virtual void step(std::uint64_t n = 1) = 0;
-  /// Copies the current body state out, positions in the world frame (rounded to float there).
+  /// Copies the current state out (bodies, and the per-particle contact history), in scene
+  /// order, positions in the world frame (rounded to float there).
   virtual void readState(BodyState& out) const = 0;
   /// The frame the pipeline integrates in (LocalFrame::of the loaded world; inactive near the
   /// origin, and before load()).
@@ -94,12 +114,15 @@ class Pipeline {
   /// The body state in that frame: positions X − frame origin, as integrated (no rounding to the
   /// world frame). The same as readState() when the frame is inactive.
   virtual void readLocalState(BodyState& out) const { readState(out); }
-  /// The pairs found by the last step's detection, sorted by (i, j).
+  /// The contacts of the last step (the particles that touched at its start), sorted by (i, j),
+  /// scene indices; {} before the first step. Exactly the brute-force pair set of that state,
+  /// whatever the detection settings and the skin.
   virtual std::vector<Pair> pairs() const = 0;
   /// Broadphase alone on a particle cloud: every pair i < j of different bodies with
   /// |x_i − x_j| < r_i + r_j, sorted. Throws tumble::Error on NaN/inf or radius ≤ 0.
   virtual std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) = 0;
-  /// Velocities and the five force kinds of the last step, per particle (debug recording).
+  /// Velocities (at the start of the last step) and the five force kinds of the last step, per
+  /// particle in scene order (debug recording).
   /// Requires setDebugCapture(true) before the step; throws tumble::Error otherwise.
   virtual void readDebug(ParticleDebug& out) const = 0;
   /// Keeps the per-particle force components of each step for readDebug() (costs 15 floats
@@ -110,7 +133,7 @@ class Pipeline {
   virtual std::uint32_t pulls() const = 0;
   virtual const StepStats& stats() const = 0;
   virtual void resetStats() = 0;
-  /// Simulated time since load().
+  /// Simulated time: world.time at load() plus the steps since.
   virtual double time() const = 0;
 };
 

@@ -66,10 +66,15 @@ struct BodyDef {
   Vec3f angularVelocity{0, 0, 0};  ///< world frame
 };
 
-/// Collision-detection knobs. They change speed only, never the pair set.
+/// Collision-detection knobs. They change speed only, never the contacts or a bit of the
+/// trajectory (the contact list is canonical, kernels/contact_list.hpp).
 struct BroadphaseParams {
   float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (3 × largest diameter)
-  int pcaEvery = 10;       ///< recompute the PCA axis every K steps (1 = every step)
+  int pcaEvery = 10;       ///< recompute the PCA axis every K detections (1 = every one)
+  /// Verlet skin s: detection finds the pairs within r_i + r_j + s and the list is kept until a
+  /// particle has moved s/2; 0 = detect every step (the report's method); negative = automatic
+  /// (effectiveSkin()).
+  float skin = -1.0f;
 };
 
 /// How body orientations advance (SPEC §2.7). Translation is always leapfrog (kick-drift).

@@ -1,8 +1,13 @@
 // SPDX-License-Identifier: MIT
 /// @file soa.hpp
-/// Views: trivially copyable structs of raw column pointers plus a count. Both the CPU
-/// pipeline (std::vector columns) and the CUDA pipeline (device buffers) hand kernels the
-/// same views, passed by value.
+/// The rows and views the step's kernels work on. Both pipelines own the same rows (std::vector
+/// on the CPU, device buffers on the GPU) and hand kernels the same views, passed by value.
+///
+/// Numbering. Inside a pipeline, bodies and particles are renumbered by their spatial order at
+/// every rebuild of the contact list (a body's particles stay contiguous and in scene order), so
+/// that neighbours are near each other in memory. Every row that must reach an output carries
+/// its scene index (`orig`), and everything a result depends on is ordered by scene indices, not
+/// by this internal numbering: the internal numbering changes speed only, never a bit.
 #pragma once
 #include <cstdint>
 
@@ -10,40 +15,72 @@
 
 namespace tumble {
 
-/// Static particle table (never changes during a run).
-struct ParticleStaticView {
-  const float* radius;
-  const float* mass;
-  const float* elasticity;     ///< coefficient of restitution of a lone sphere on the ground
-  const float* groundDamping;  ///< c_i of the ground spring-dashpot, derived from elasticity
-  const std::uint32_t* body;   ///< owning body of each particle
-  const float* ux;             ///< offset from the body's centre of mass, body frame
-  const float* uy;
-  const float* uz;
-  std::uint32_t count;
+/// One body: its integrated state and what the step reads with it (internal numbering). The
+/// first 84 bytes are what a touching neighbour reads: X, V, Ω and R.
+struct alignas(16) BodyRow {
+  Vec3f x;               ///< centre of mass X
+  std::uint32_t first;   ///< first particle (internal numbering); the body's particles are contiguous
+  Vec3f v;               ///< V
+  std::uint32_t count;   ///< number of particles
+  Vec3f omega;           ///< Ω = R I0⁻¹ Rᵀ L of this state (0 for single-sphere bodies)
+  std::uint32_t orig;    ///< scene index of the body
+  Mat3f rot;             ///< R = rotationMatrix(q): lever arms R u and positions X + R u
+  float invMass;
+  Quatf q;               ///< orientation Q (body frame → world)
+  Vec3f l;               ///< angular momentum L, world frame
 };
 
-/// Per-step particle state, rebuilt from the bodies at the start of each step.
-struct ParticleStateView {
-  float* x; float* y; float* z;     ///< world position
-  float* vx; float* vy; float* vz;  ///< world velocity
-  float* rx; float* ry; float* rz;  ///< R(Q) u: lever arm from the body centre
-  float* fx; float* fy; float* fz;  ///< total force of the step
-  float* tx; float* ty;             ///< ground tangential spring elongation (history)
-  std::uint32_t count;
+/// A body's static mass properties (internal numbering).
+struct alignas(16) BodyStatic {
+  Sym3f invInertia;  ///< body-frame I0⁻¹ about the centre of mass
+  float mass;        ///< M (the body's weight is M g)
+  float pad;
 };
 
-/// Body table: static mass properties plus the integrated state.
-struct BodiesView {
-  const float* invMass;
-  const Sym3f* invInertia;          ///< body-frame I0⁻¹ about the centre of mass
-  const std::uint32_t* first;       ///< first particle of each body (particles are contiguous)
-  const std::uint32_t* numParticles;
-  float* px; float* py; float* pz;  ///< centre of mass X
-  float* vx; float* vy; float* vz;  ///< V
-  float* qw; float* qx; float* qy; float* qz;  ///< orientation Q
-  float* lx; float* ly; float* lz;  ///< angular momentum L, world frame
-  std::uint32_t count;
+/// The hot row of a particle that its neighbours read: position (integration frame) and radius.
+struct alignas(16) PosRow {
+  float x, y, z, r;
+};
+
+/// What only the particle itself reads in a step.
+struct alignas(16) OwnRow {
+  Vec3f u;              ///< offset from the body's centre of mass, body frame
+  float groundDamping;  ///< c of the ground spring-dashpot (from the particle's elasticity)
+};
+
+/// The per-particle contact state that carries from step to step (internal numbering): the
+/// ground stick spring's elongation (Cundall–Strack), reset to zero out of contact.
+struct GroundSpringView {
+  float* tx;
+  float* ty;
+};
+
+/// The candidate list (a Verlet list): particle i's candidates are
+/// cand[offsets[i] .. offsets[i+1]), internal indices, in ascending *scene* index of the
+/// candidate. Every particle of another body within r_i + r_j + skin at the last rebuild is
+/// listed, in both directions.
+struct CandidateListView {
+  const std::uint32_t* offsets;
+  const std::uint32_t* cand;
+};
+
+/// Everything one step reads and writes (internal numbering).
+struct StepView {
+  const BodyRow* bodies;         ///< the body state at the start of the step (neighbours read it)
+  BodyRow* bodiesNext;           ///< written by the integration: the next step's
+  const BodyStatic* bodyStatic;
+  std::uint32_t numBodies;
+  const PosRow* pos;             ///< the particle positions at the start of the step
+  PosRow* posNext;               ///< written by the integration: the next step's positions
+  const OwnRow* own;
+  const float* radius;           ///< particle radii
+  const float* mass;             ///< particle masses (read by the pulls only)
+  const std::uint32_t* bodyOf;   ///< body of each particle
+  const std::uint32_t* orig;     ///< scene index of each particle
+  GroundSpringView ground;
+  const PosRow* buildPos;        ///< positions at the last rebuild (the skin test)
+  CandidateListView list;
+  std::uint32_t numParticles;
 };
 
 }  // namespace tumble

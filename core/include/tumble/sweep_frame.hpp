@@ -13,6 +13,7 @@
 
 #include "tumble/hd.hpp"
 #include "tumble/kernels/cell_key.hpp"
+#include "tumble/kernels/contact_list.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/world.hpp"
@@ -73,6 +74,11 @@ Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std
 /// cell size and cell counts. Returns the number of cell bits of the sort key.
 int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame);
+
+/// The reordering's Morton grid over the bounds of the body centres (kernels/contact_list.hpp):
+/// 1024 cells along the largest extent. Any grid gives correct results; this one only sets the
+/// memory order.
+MortonGrid mortonGridOf(const BoundsPartial& bodyCentres);
 
 /// Ω = R I0⁻¹ Rᵀ L of every clump, and 0 for single-sphere bodies (they do not rotate; their L
 /// is kept but never used). The pipelines' load().

@@ -4,6 +4,7 @@
 /// Pipelines copy it in at load() and write the body state back on demand.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,14 +14,37 @@
 
 namespace tumble {
 
-/// The integrated state of every body (one column per component).
+/// Everything that carries from one step to the next: the integrated state of every body (one
+/// column per component, scene order) and the contact history of every particle.
 struct BodyState {
   std::vector<float> px, py, pz;      ///< centre of mass X
   std::vector<float> vx, vy, vz;      ///< V
   std::vector<float> qw, qx, qy, qz;  ///< orientation Q
   std::vector<float> lx, ly, lz;      ///< angular momentum L (world frame)
+  /// Per particle (scene order): the ground stick spring's elongation ξ (x, y), zero out of
+  /// contact. Empty in a scene without ground, or (on input) for zero everywhere.
+  std::vector<float> groundSpringX, groundSpringY;
+  /// Resizes the body columns to n bodies (the particle columns are left alone).
   void resize(std::size_t n);
   std::size_t size() const { return px.size(); }
+};
+
+struct World;
+
+/// The frame a pipeline integrates in (docs/model.md#precision). Positions are float, and far
+/// from the origin their spacing swallows small motions (ulp(10⁵ m) = 7.8 mm: a body moving
+/// 1 m/s with dt = 10⁻⁴ s would not move at all). A scene lying far from the origin compared with
+/// its own size is therefore moved, at load, into a local frame centred on its bodies' bounding
+/// box; the pipelines give positions back in the world frame (rounded to float there).
+struct LocalFrame {
+  double x = 0.0, y = 0.0, z = 0.0;  ///< the local origin in world coordinates (a float value)
+  bool active() const { return x != 0.0 || y != 0.0 || z != 0.0; }
+
+  /// Per axis a: c_a, the centre of the bodies' bounding box rounded to float, when
+  /// |c_a| > 4 × max(largest extent of the box, 2 × largest radius); otherwise 0 (that axis stays).
+  /// The box also holds what the bodies move towards: the ground height (z), when the ground is
+  /// on, and the world origin on the axes of the pulls that are on at load.
+  static LocalFrame of(const World& world);
 };
 
 /// Bodies, particles and parameters of one run, on the host.
@@ -44,6 +68,12 @@ struct World {
   std::vector<Quatf> bodyToShape;
 
   BodyState state;
+  /// Step number and simulated time of `state`: 0 for a scene, the checkpoint's on a resume.
+  std::uint64_t step = 0;
+  double time = 0.0;
+  /// Set on a resume (Checkpoint): the frame the run integrates in, chosen at its start;
+  /// `state`'s positions are then already in it. Unset: load() chooses LocalFrame::of().
+  std::optional<LocalFrame> frame;
 
   bool hasClumps = false;  ///< some body has more than one particle
   float maxRadius = 0.0f;
@@ -57,25 +87,14 @@ struct World {
   static World fromScene(const Scene& scene);
 };
 
-/// The frame a pipeline integrates in (docs/model.md#precision). Positions are float, and far
-/// from the origin their spacing swallows small motions (ulp(10⁵ m) = 7.8 mm: a body moving
-/// 1 m/s with dt = 10⁻⁴ s would not move at all). A scene lying far from the origin compared with
-/// its own size is therefore moved, at load, into a local frame centred on its bodies' bounding
-/// box; the pipelines give positions back in the world frame (rounded to float there).
-struct LocalFrame {
-  double x = 0.0, y = 0.0, z = 0.0;  ///< the local origin in world coordinates (a float value)
-  bool active() const { return x != 0.0 || y != 0.0 || z != 0.0; }
-
-  /// Per axis a: c_a, the centre of the bodies' bounding box rounded to float, when
-  /// |c_a| > 4 × max(largest extent of the box, 2 × largest radius); otherwise 0 (that axis stays).
-  /// The box also holds what the bodies move towards: the ground height (z), when the ground is
-  /// on, and the world origin on the axes of the pulls that are on at load.
-  static LocalFrame of(const World& world);
-};
-
 /// The world expressed in frame f: body positions X − o, the ground height h − o_z and the pull
 /// centre −o (params.pulls.centre). Identity when f is not active.
 World toLocal(const World& world, const LocalFrame& f);
+
+/// What a pipeline's load() integrates: the world in its frame (world.frame when set, the
+/// positions already in it; otherwise LocalFrame::of(world)), with the particle columns of the
+/// contact history sized (zeros where absent). Throws tumble::Error on mismatched sizes.
+World localWorld(const World& world, LocalFrame* outFrame);
 
 /// Body positions from frame f back to the world frame: X + o, rounded to float.
 void toWorld(BodyState& s, const LocalFrame& f);

@@ -8,15 +8,16 @@
 /// momentum to rounding, with no atomics.
 ///
 /// Velocities at the contact point: the damping, shear and friction forces act at the contact
-/// point, so they are computed from the velocity of the material there, u = v + Ω × (c − x),
-/// not from the particle centre's v. With the centre's velocity, the couple of a friction force
+/// point, so they are computed from the velocity of the material there, u = V + Ω × (c − X),
+/// not from the particle centre's. With the centre's velocity, the couple of a friction force
 /// could do positive work (a clump held by friction spun up without limit), and nothing could
-/// roll. Single-sphere bodies do not rotate (Ω = 0), so for them u = v.
+/// roll. Single-sphere bodies do not rotate (Ω = 0), so for them u = V.
 #pragma once
 #include <cmath>
 #include <cstdint>
 
 #include "tumble/hd.hpp"
+#include "tumble/kernels/integrate.hpp"
 #include "tumble/math.hpp"
 
 namespace tumble {
@@ -31,22 +32,33 @@ struct ContactCoeffs {
 /// The three contact forces that particle i receives from j, and where they act.
 struct ContactForces {
   Vec3f repulsion, damping, shear;
-  Vec3f lever;  ///< contact point − x_i = −n (r_i − δ/2): the middle of the overlap, common to i and j
+  /// contact point − X_i (the centre of i's body): the arm of the forces' torque on that body.
+  /// The contact point is the middle of the overlap, x_i − n (r_i − δ/2), common to i and j.
+  Vec3f arm;
 };
 
-/// Forces on particle i from an overlapping particle j (SPEC §2.3). `iBeforeJ` breaks the tie
-/// for coincident centres: the normal is then +z for the lower index and −z for the other, so
-/// the pair still separates and no NaN appears.
+/// One side of a contact as the forces see it: the particle's offset from its body's centre
+/// (x − X, computed from the stored positions) and the body's velocity V and Ω.
+struct ContactSide {
+  Vec3f offset, v, omega;
+};
+
+/// Forces on particle i from an overlapping particle j (SPEC §2.3), given d = x_i − x_j and
+/// |d|² from the overlap test (spheresOverlap). `iBeforeJ` breaks the tie for coincident
+/// centres (|d| = 0): the normal is then +z for the lower scene index and −z for the other, so
+/// the pair still separates and no NaN appears; it is not read otherwise.
 ///
-/// wi, wj: the angular velocities of the particles' bodies (the contact-point velocities use
-/// them; pass zero for bodies that do not rotate).
-TUMBLE_HD_INLINE ContactForces contactForces(Vec3f xi, Vec3f vi, Vec3f wi, float ri, Vec3f xj, Vec3f vj, Vec3f wj,
-                                             float rj, bool iBeforeJ, const ContactCoeffs& c) {
-  const Vec3f d = xi - xj;
-  const float dist = std::sqrt(dot(d, d));
+/// The damping and shear use the relative velocity of the two bodies' material at the contact
+/// point, u = V + Ω × (c − X) on each side. kRotating false (single-sphere scenes): Ω = 0 and
+/// the offsets are 0, so u = V.
+template <bool kRotating>
+TUMBLE_HD_INLINE ContactForces contactForces(Vec3f d, float d2, float ri, float rj, const ContactSide& si,
+                                             const ContactSide& sj, bool iBeforeJ, const ContactCoeffs& c) {
+  const float dist = std::sqrt(d2);
   Vec3f n;
   if (dist > 0.0f) {
-    n = Vec3f{d.x / dist, d.y / dist, d.z / dist};
+    const float inv = 1.0f / dist;
+    n = d * inv;
   } else {
     n = Vec3f{0.0f, 0.0f, iBeforeJ ? 1.0f : -1.0f};
   }
@@ -55,15 +67,20 @@ TUMBLE_HD_INLINE ContactForces contactForces(Vec3f xi, Vec3f vi, Vec3f wi, float
   // (and the contact-point velocities) come out with the same bits: w is negated exactly.
   const Vec3f leverI = -(ri - 0.5f * delta) * n;
   const Vec3f leverJ = (rj - 0.5f * delta) * n;
-  const Vec3f ui = vi + cross(wi, leverI);
-  const Vec3f uj = vj + cross(wj, leverJ);
-  const Vec3f w = uj - ui;
-  const float wn = dot(w, n);
   ContactForces f;
+  Vec3f w;
+  if (kRotating) {
+    f.arm = si.offset + leverI;
+    const Vec3f armJ = sj.offset + leverJ;
+    w = pointVelocity(sj.v, sj.omega, armJ) - pointVelocity(si.v, si.omega, f.arm);
+  } else {
+    f.arm = leverI;
+    w = sj.v - si.v;
+  }
+  const float wn = dot(w, n);
   f.repulsion = (c.stiffness * delta) * n;
   f.damping = c.damping * w;
   f.shear = c.shear * (w - wn * n);
-  f.lever = leverI;
   return f;
 }
 
@@ -71,8 +88,8 @@ TUMBLE_HD_INLINE ContactForces contactForces(Vec3f xi, Vec3f vi, Vec3f wi, float
 ///
 /// Forces act at the contact point (the middle of the overlap), not at the particle centre:
 /// the damping and shear forces are not central, and applied at the centres they would create
-/// a spurious couple that breaks conservation of angular momentum. A clump particle therefore
-/// also passes the couple lever × f to its body (SPEC §2.6 refined: T = Σ R u_i × f_i + Σ τ_i).
+/// a spurious couple that breaks conservation of angular momentum. Their torque on the body is
+/// arm × f with arm = contact point − X.
 TUMBLE_HD_INLINE Vec3f total(const ContactForces& f) { return (f.repulsion + f.damping) + f.shear; }
 
 /// Ground coefficients as the kernels see them.
@@ -83,34 +100,42 @@ struct GroundCoeffs {
   float friction;              ///< μ
 };
 
+/// Depth δ = r − (z − h) of a particle below the ground's surface: in contact when δ > 0.
+TUMBLE_HD_INLINE float groundDepth(Vec3f x, float r, const GroundCoeffs& g) { return r - (x.z - g.height); }
+
 /// Normal and friction force of the ground on one particle.
 struct GroundForces {
   Vec3f normal, friction;
-  Vec3f lever;  ///< contact point − x: the bottom of the overlap, where the friction acts
+  Vec3f arm;  ///< contact point − X: the bottom of the overlap, where both act
 };
 
 /// Ground contact of a particle (SPEC §2.4): linear spring-dashpot along +z,
-/// f_n = k_g δ − c v_z (c from the particle's elasticity, not clamped at zero), and Coulomb
+/// f_n = k_g δ − c u_z (c from the particle's elasticity, not clamped at zero), and Coulomb
 /// friction regularised by a tangential stick spring (Cundall–Strack): the elongation ξ
-/// (in/out: *tx, *ty) grows with the slip velocity, the trial force −k_t ξ − c v_t is capped at
+/// (in/out: *tx, *ty) grows with the slip velocity, the trial force −k_t ξ − c u_t is capped at
 /// μ max(f_n, 0), and ξ is rewound to match when the cap applies. A body below the friction
 /// angle therefore sticks elastically instead of creeping. Out of contact, ξ is reset to zero.
 ///
-/// omega: the body's angular velocity. Friction acts at the bottom of the overlap,
-/// lever (0, 0, −(r − δ/2)), and its slip velocity is that point's: v + Ω × lever. The normal
-/// component is unaffected (the lever is vertical).
-TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, Vec3f vCentre, Vec3f omega, float r, float c,
-                                           const GroundCoeffs& g, float dt, float* tx, float* ty) {
+/// side: the particle's offset from its body's centre and the body's V and Ω. The forces act
+/// at the bottom of the overlap, lever (0, 0, −(r − δ/2)) from the centre, and u is the
+/// velocity of the material there. kRotating false: u = V.
+///
+/// Called only for a particle in contact, groundDepth(x, r, g) > 0; out of contact the caller
+/// resets ξ to zero.
+template <bool kRotating>
+TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& side, float c, const GroundCoeffs& g,
+                                           float dt, float* tx, float* ty) {
   GroundForces out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
-  const float delta = r - (x.z - g.height);
-  if (!(delta > 0.0f)) {
-    *tx = 0.0f;
-    *ty = 0.0f;
-    return out;
+  const float delta = groundDepth(x, r, g);
+  const Vec3f lever{0.0f, 0.0f, -(r - 0.5f * delta)};
+  Vec3f v;
+  if (kRotating) {
+    out.arm = side.offset + lever;
+    v = pointVelocity(side.v, side.omega, out.arm);
+  } else {
+    out.arm = lever;
+    v = side.v;
   }
-  out.lever = Vec3f{0.0f, 0.0f, -(r - 0.5f * delta)};
-  const Vec3f spin = cross(omega, out.lever);
-  const Vec3f v{vCentre.x + spin.x, vCentre.y + spin.y, vCentre.z};
   const float fn = g.stiffness * delta - c * v.z;
   out.normal = Vec3f{0.0f, 0.0f, fn};
   float ex = *tx + v.x * dt;
@@ -135,12 +160,13 @@ TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, Vec3f vCentre, Vec3f omega, 
   return out;
 }
 
-/// Gravity and the user pulls on a particle of mass m at x (SPEC §2.5); pulls are PullBits.
-/// `centre` is the world origin in the integration frame ((0, 0, 0) unless the pipeline runs in
-/// a local frame, LocalFrame); x − centre is exact for the default centre.
-TUMBLE_HD_INLINE Vec3f externalForce(Vec3f x, float m, Vec3f gravity, float kx, float ky, float ks,
-                                     std::uint32_t pulls, Vec3f centre) {
-  Vec3f a = gravity;
+/// The user pulls on a particle of mass m at x (SPEC §2.5); pulls are PullBits (0: none, and
+/// the caller skips the call). `centre` is the world origin in the integration frame
+/// ((0, 0, 0) unless the pipeline runs in a local frame, LocalFrame); x − centre is exact for
+/// the default centre. Gravity is not a pull: it acts on each body as M g, at its centre of
+/// mass (no torque), which is what Σ m_i g over the particles is without its rounding.
+TUMBLE_HD_INLINE Vec3f pullForce(Vec3f x, float m, float kx, float ky, float ks, std::uint32_t pulls, Vec3f centre) {
+  Vec3f a{0.0f, 0.0f, 0.0f};
   const float rx = x.x - centre.x, ry = x.y - centre.y;
   if (pulls & 1u) a.x -= kx * rx;
   if (pulls & 2u) a.y -= ky * ry;

@@ -9,19 +9,21 @@
 
 namespace tumble {
 
-/// World angular velocity Ω = R I0⁻¹ Rᵀ L (the report writes A; it is Ω).
+/// World angular velocity Ω = R I0⁻¹ Rᵀ L (the report writes A; it is Ω), R = rotationMatrix(Q).
+TUMBLE_HD_INLINE Vec3f angularVelocity(const Mat3f& R, const Sym3f& invInertia, Vec3f L) {
+  return mul(R, mul(invInertia, mulTransposed(R, L)));
+}
 TUMBLE_HD_INLINE Vec3f angularVelocity(Quatf q, const Sym3f& invInertia, Vec3f L) {
-  return rotate(q, mul(invInertia, rotateInv(q, L)));
+  return angularVelocity(rotationMatrix(q), invInertia, L);
 }
 
-/// Particle position and velocity from its body: x = X + R u, v = V + Ω × R u. Returns R u.
-TUMBLE_HD_INLINE Vec3f particleFromBody(Vec3f X, Vec3f V, Quatf q, Vec3f omega, Vec3f u, Vec3f* outX,
-                                        Vec3f* outV) {
-  const Vec3f ru = rotate(q, u);
-  *outX = X + ru;
-  *outV = V + cross(omega, ru);
-  return ru;
-}
+/// Position of a particle with body-frame offset u on a body at X with rotation matrix R
+/// (rotationMatrix(Q)): x = X + R u. Every pipeline, the oracle and the guards compute particle
+/// positions with this one expression, so they agree to the bit.
+TUMBLE_HD_INLINE Vec3f particlePosition(Vec3f X, const Mat3f& R, Vec3f u) { return X + mul(R, u); }
+
+/// Velocity of the body's material at `arm` from its centre: V + Ω × arm.
+TUMBLE_HD_INLINE Vec3f pointVelocity(Vec3f V, Vec3f omega, Vec3f arm) { return V + cross(omega, arm); }
 
 /// Translation, leapfrog ("kick-drift") form of Störmer–Verlet: V ← V + (F/M) dt, X ← X + V dt.
 /// Velocities used by the forces are those at the start of the step.
@@ -33,8 +35,10 @@ TUMBLE_HD_INLINE void integrateTranslation(Vec3f F, float invMass, float dt, Vec
 
 /// Rotation as in the report: L ← L + T dt (forward Euler), then the exponential map
 /// Q ← [cos(|Ω|dt/2), Ω/|Ω| sin(|Ω|dt/2)] ⊗ Q with Ω from the new L, renormalised.
-/// Returns Ω of the new state (for the next step's particle velocities).
-TUMBLE_HD_INLINE Vec3f integrateRotation(Vec3f T, const Sym3f& invInertia, float dt, Vec3f* ioL, Quatf* ioQ) {
+/// Returns Ω of the new state (for the next step's contact-point velocities); *outR receives
+/// rotationMatrix() of the new Q (for the particle positions).
+TUMBLE_HD_INLINE Vec3f integrateRotation(Vec3f T, const Sym3f& invInertia, float dt, Vec3f* ioL, Quatf* ioQ,
+                                         Mat3f* outR) {
   *ioL = *ioL + dt * T;
   const Vec3f omega = angularVelocity(*ioQ, invInertia, *ioL);
   const float w = std::sqrt(dot(omega, omega));
@@ -45,7 +49,8 @@ TUMBLE_HD_INLINE Vec3f integrateRotation(Vec3f T, const Sym3f& invInertia, float
     const Quatf dq{c, omega.x * k, omega.y * k, omega.z * k};
     *ioQ = normalized(mul(dq, *ioQ));
   }
-  return angularVelocity(*ioQ, invInertia, *ioL);
+  *outR = rotationMatrix(*ioQ);
+  return angularVelocity(*outR, invInertia, *ioL);
 }
 
 namespace detail {
@@ -85,7 +90,7 @@ TUMBLE_HD_INLINE void freeRotationAbout(float theta, Vec3f* pi, Quatf* q) {
 /// scheme is chosen). L is not touched by the drift, so |L| is conserved exactly in free flight;
 /// the method is symplectic and time-reversible, so the kinetic energy stays bounded (no drift).
 TUMBLE_HD_INLINE Vec3f integrateRotationSplitting(Vec3f T, const Sym3f& invInertia, float dt, Vec3f* ioL,
-                                                  Quatf* ioQ) {
+                                                  Quatf* ioQ, Mat3f* outR) {
   *ioL = *ioL + dt * T;
   Vec3f pi = rotateInv(*ioQ, *ioL);
   Quatf q = *ioQ;
@@ -96,7 +101,8 @@ TUMBLE_HD_INLINE Vec3f integrateRotationSplitting(Vec3f T, const Sym3f& invInert
   detail::freeRotationAbout<1>(h * pi.y * invInertia.yy, &pi, &q);
   detail::freeRotationAbout<0>(h * pi.x * invInertia.xx, &pi, &q);
   *ioQ = normalized(q);
-  return angularVelocity(*ioQ, invInertia, *ioL);
+  *outR = rotationMatrix(*ioQ);
+  return angularVelocity(*outR, invInertia, *ioL);
 }
 
 }  // namespace tumble

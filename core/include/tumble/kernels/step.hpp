@@ -1,43 +1,28 @@
 // SPDX-License-Identifier: MIT
 /// @file step.hpp
 /// The per-element bodies of the step's stages (SPEC §2), written once for both pipelines:
-/// the CPU calls them from TBB loops, the CUDA pipeline from two-line __global__ wrappers.
-/// Each function writes only element i's (or body k's) outputs and sums in a fixed order, so
-/// the results do not depend on the scheduling.
+/// the CPU calls them from TBB loops (fused into one pass per body), the CUDA pipeline from
+/// two-line __global__ wrappers (one kernel per stage: particleForce per particle, then
+/// finishBody per body). Each function writes only element i's
+/// (or body k's) outputs and sums in a fixed order that belongs to the physics, not to how
+/// contacts were found: a particle sums its contacts in ascending scene index of the partner
+/// (the candidate list's order), then the ground, then gravity and pulls; a body sums its
+/// particles in their order within the body. So the results do not depend on the scheduling,
+/// the detection settings, the skin or the internal numbering.
 #pragma once
+#include <cfloat>
 #include <cstddef>
 #include <cstdint>
 
 #include "tumble/hd.hpp"
 #include "tumble/kernels/contact.hpp"
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/kernels/overlap.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/soa.hpp"
 
 namespace tumble {
-
-/// The CSR contact list of the broadphase: particle i's records recFirst[i]..recFirst[i+1]
-/// (sorted position inv[r]) list forward neighbours nbr[nbrOffsets[s]..nbrOffsets[s+1]); the
-/// backward neighbours are back[backOffsets[i]..backOffsets[i+1]].
-struct ContactListView {
-  const std::uint32_t* recFirst;
-  const std::uint32_t* inv;
-  const std::uint32_t* nbrOffsets;
-  const std::uint32_t* nbr;
-  const std::uint32_t* backOffsets;
-  const std::uint32_t* back;
-};
-
-/// Clump data of the force stage (clump scenes only): per-particle couples of the forces
-/// acting at contact points (out), and each body's angular velocity Ω (in), for the velocities
-/// at the contact points.
-struct CouplesView {
-  float* x;
-  float* y;
-  float* z;
-  const Vec3f* omega;
-};
 
 /// Scene constants of the force stage.
 struct ForceParams {
@@ -66,126 +51,150 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                      p.ground.enabled};
 }
 
-/// Debug capture: repulsion, damping, shear, ground, friction; 3 floats per particle each.
+/// Debug capture (internal numbering, 3 floats per particle each): the five forces
+/// (repulsion, damping, shear, ground, friction) and the velocity of the particle's centre at
+/// the start of the step.
 struct DebugForcesView {
   float* f[5];
+  float* v;
 };
 
-/// Stage 1: particle i's x, v and R u from its body (clump scenes only).
-TUMBLE_HD_INLINE void particleStateOf(const BodiesView& b, const Vec3f* omega, const ParticleStaticView& st,
-                                      const ParticleStateView& ps, std::uint32_t i) {
-  const std::uint32_t k = st.body[i];
-  Vec3f xo, vo;
-  const Vec3f ru = particleFromBody(Vec3f{b.px[k], b.py[k], b.pz[k]}, Vec3f{b.vx[k], b.vy[k], b.vz[k]},
-                                    Quatf{b.qw[k], b.qx[k], b.qy[k], b.qz[k]}, omega[k],
-                                    Vec3f{st.ux[i], st.uy[i], st.uz[i]}, &xo, &vo);
-  ps.x[i] = xo.x; ps.y[i] = xo.y; ps.z[i] = xo.z;
-  ps.vx[i] = vo.x; ps.vy[i] = vo.y; ps.vz[i] = vo.z;
-  ps.rx[i] = ru.x; ps.ry[i] = ru.y; ps.rz[i] = ru.z;
+/// Particle positions from their body's state (SPEC §2.1), x = X + R u (R = b.rot), for the
+/// particles first..first+count of body b, with their radii; returns the
+/// largest squared displacement since the rebuild (buildPos; pass nullptr for none, giving 0).
+/// A NaN displacement comes out as FLT_MAX, so that it forces a rebuild, whose bounds check
+/// reports the non-finite particle. Single-sphere scenes (kClumps false): x = X.
+template <bool kClumps>
+TUMBLE_HD_INLINE float bodyParticles(const BodyRow& b, const OwnRow* own, const float* radius, const PosRow* buildPos,
+                                     PosRow* outPos) {
+  float worst = 0.0f;
+  const Mat3f& R = b.rot;
+  for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i) {
+    const Vec3f x = kClumps ? particlePosition(b.x, R, own[i].u) : b.x;
+    const PosRow p{x.x, x.y, x.z, radius[i]};
+    outPos[i] = p;
+    if (buildPos) {
+      const float dx = p.x - buildPos[i].x, dy = p.y - buildPos[i].y, dz = p.z - buildPos[i].z;
+      const float d2 = dx * dx + dy * dy + dz * dz;
+      if (!(d2 <= worst)) worst = d2 > worst ? d2 : FLT_MAX;  // NaN compares false both ways
+    }
+  }
+  return worst;
 }
 
-namespace detail {
+/// What the force stage reads of a particle's body: the lever R u from the centre (the same
+/// expression as its position, so that it does not depend on where the body is), V and Ω.
+TUMBLE_HD_INLINE ContactSide sideOf(const BodyRow& b, Vec3f u) { return ContactSide{mul(b.rot, u), b.v, b.omega}; }
 
-/// Running sums of one particle's force stage.
-struct ForceSums {
-  Vec3f f{0.0f, 0.0f, 0.0f}, tau{0.0f, 0.0f, 0.0f};
+/// Particle i's force and torque about its body's centre in one step, and its number of
+/// touching contacts.
+struct ParticleForce {
+  Vec3f f, t;
+  std::uint32_t contacts;
+};
+
+/// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the candidate
+/// list filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
+/// the list's order (ascending scene index of the partner); then the ground (its stick spring
+/// updated in place), then the pulls. Each force adds arm × f to the torque about the body's
+/// centre. Gravity is the body's (finishBody). Each pair is computed from both sides;
+/// contactForces is exactly antisymmetric, so the two sides agree to the bit.
+template <bool kDebug, bool kClumps>
+TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
+                                             const BodyRow& self, std::uint32_t i) {
+  const PosRow pi = v.pos[i];
+  const Vec3f xi{pi.x, pi.y, pi.z};
+  // i's side of its contacts, computed on first use: most particles touch nothing.
+  ContactSide si{{0.0f, 0.0f, 0.0f}, self.v, {0.0f, 0.0f, 0.0f}};
+  bool haveSide = !kClumps;
+  auto side = [&]() -> const ContactSide& {
+    if (!haveSide) {
+      si = sideOf(self, v.own[i].u);
+      haveSide = true;
+    }
+    return si;
+  };
+  ParticleForce out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
   Vec3f rep{0.0f, 0.0f, 0.0f}, dmp{0.0f, 0.0f, 0.0f}, shr{0.0f, 0.0f, 0.0f};
-};
-
-template <bool kDebug, bool kClumps>
-TUMBLE_HD_INLINE void addContact(ForceSums& s, std::uint32_t i, Vec3f xi, Vec3f vi, Vec3f wi, float ri, std::uint32_t j,
-                                 const ParticleStaticView& st, const ParticleStateView& ps, const CouplesView& couples,
-                                 const ForceParams& fp) {
-  const Vec3f wj = kClumps ? couples.omega[st.body[j]] : Vec3f{0.0f, 0.0f, 0.0f};
-  const ContactForces cf = contactForces(xi, vi, wi, ri, Vec3f{ps.x[j], ps.y[j], ps.z[j]},
-                                         Vec3f{ps.vx[j], ps.vy[j], ps.vz[j]}, wj, st.radius[j], i < j, fp.contact);
-  const Vec3f fc = total(cf);
-  s.f += fc;
-  if (kClumps) s.tau += cross(cf.lever, fc);
-  if (kDebug) {
-    s.rep += cf.repulsion;
-    s.dmp += cf.damping;
-    s.shr += cf.shear;
+  const std::uint32_t end = v.list.offsets[i + 1];
+  for (std::uint32_t e = v.list.offsets[i]; e < end; ++e) {
+    const std::uint32_t j = v.list.cand[e];
+    const PosRow pj = v.pos[j];
+    Vec3f d;
+    float d2;
+    if (!spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2)) continue;
+    const BodyRow& other = v.bodies[kClumps ? v.bodyOf[j] : j];
+    const ContactSide sj = kClumps ? sideOf(other, v.own[j].u) : ContactSide{Vec3f{0, 0, 0}, other.v, Vec3f{0, 0, 0}};
+    const bool iBeforeJ = d2 > 0.0f || v.orig[i] < v.orig[j];  // read only for coincident centres
+    const ContactForces cf = contactForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, fp.contact);
+    const Vec3f fc = total(cf);
+    out.f += fc;
+    if (kClumps) out.t += cross(cf.arm, fc);
+    if (kDebug) {
+      rep += cf.repulsion;
+      dmp += cf.damping;
+      shr += cf.shear;
+    }
+    ++out.contacts;
   }
-}
-
-}  // namespace detail
-
-/// Stages 3–5: particle i's total force (and couple), in a fixed order: forward neighbours by
-/// record, then backward neighbours, then the ground (its stick spring ps.tx/ty updated),
-/// then gravity and pulls.
-template <bool kDebug, bool kClumps>
-TUMBLE_HD_INLINE void particleForces(const ParticleStaticView& st, const ParticleStateView& ps,
-                                     const CouplesView& couples, const ContactListView& cl, const ForceParams& fp,
-                                     const DebugForcesView& dbg, std::uint32_t i) {
-  const Vec3f xi{ps.x[i], ps.y[i], ps.z[i]};
-  const Vec3f vi{ps.vx[i], ps.vy[i], ps.vz[i]};
-  const float ri = st.radius[i];
-  const Vec3f wi = kClumps ? couples.omega[st.body[i]] : Vec3f{0.0f, 0.0f, 0.0f};
-  detail::ForceSums s;
-  for (std::uint32_t r = cl.recFirst[i]; r < cl.recFirst[i + 1]; ++r) {
-    const std::uint32_t sp = cl.inv[r];
-    for (std::uint32_t e = cl.nbrOffsets[sp]; e < cl.nbrOffsets[sp + 1]; ++e)
-      detail::addContact<kDebug, kClumps>(s, i, xi, vi, wi, ri, cl.nbr[e], st, ps, couples, fp);
-  }
-  for (std::uint32_t e = cl.backOffsets[i]; e < cl.backOffsets[i + 1]; ++e)
-    detail::addContact<kDebug, kClumps>(s, i, xi, vi, wi, ri, cl.back[e], st, ps, couples, fp);
   GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
   if (fp.hasGround) {
-    float tx = ps.tx[i], ty = ps.ty[i];
-    gf = groundForces(xi, vi, wi, ri, st.groundDamping[i], fp.ground, fp.dt, &tx, &ty);
-    ps.tx[i] = tx;
-    ps.ty[i] = ty;
-    s.f += gf.normal + gf.friction;
-    if (kClumps) s.tau += cross(gf.lever, gf.friction);  // friction acts at the bottom
+    if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {
+      float tx = v.ground.tx[i], ty = v.ground.ty[i];
+      gf = groundForces<kClumps>(xi, pi.r, side(), v.own[i].groundDamping, fp.ground, fp.dt, &tx, &ty);
+      v.ground.tx[i] = tx;
+      v.ground.ty[i] = ty;
+      const Vec3f fg = gf.normal + gf.friction;
+      out.f += fg;
+      if (kClumps) out.t += cross(gf.arm, fg);
+    } else {  // out of contact the stick spring is released
+      v.ground.tx[i] = 0.0f;
+      v.ground.ty[i] = 0.0f;
+    }
   }
-  s.f += externalForce(xi, st.mass[i], fp.gravity, fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls, fp.pullCentre);
-  ps.fx[i] = s.f.x;
-  ps.fy[i] = s.f.y;
-  ps.fz[i] = s.f.z;
-  if (kClumps) {
-    couples.x[i] = s.tau.x;
-    couples.y[i] = s.tau.y;
-    couples.z[i] = s.tau.z;
+  if (fp.pulls != 0u) {
+    const Vec3f fpull = pullForce(xi, v.mass[i], fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls, fp.pullCentre);
+    out.f += fpull;
+    if (kClumps) out.t += cross(side().offset, fpull);
   }
   if (kDebug) {
-    const Vec3f parts[5] = {s.rep, s.dmp, s.shr, gf.normal, gf.friction};
-    for (int k = 0; k < 5; ++k) {
-      dbg.f[k][3 * std::size_t(i)] = parts[k].x;
-      dbg.f[k][3 * std::size_t(i) + 1] = parts[k].y;
-      dbg.f[k][3 * std::size_t(i) + 2] = parts[k].z;
+    const ContactSide& s = side();
+    const Vec3f vel = kClumps ? pointVelocity(s.v, s.omega, s.offset) : s.v;
+    const Vec3f parts[6] = {rep, dmp, shr, gf.normal, gf.friction, vel};
+    for (int k = 0; k < 6; ++k) {
+      float* col = k < 5 ? dbg.f[k] : dbg.v;
+      col[3 * std::size_t(i)] = parts[k].x;
+      col[3 * std::size_t(i) + 1] = parts[k].y;
+      col[3 * std::size_t(i) + 2] = parts[k].z;
     }
   }
+  return out;
 }
 
-/// Stages 6–7: body k's totals F = Σ f_i, T = Σ R u_i × f_i + Σ τ_i (particle order), then the
-/// integration (rotation by `scheme`); omega[k] receives Ω of the new state.
-TUMBLE_HD_INLINE void integrateBody(const BodiesView& b, const ParticleStateView& ps, const CouplesView& couples,
-                                    Vec3f* omega, float dt, bool clumps, RotationScheme scheme, std::uint32_t k) {
-  Vec3f F, T{0.0f, 0.0f, 0.0f};
-  if (clumps) {
-    F = Vec3f{0.0f, 0.0f, 0.0f};
-    const std::uint32_t a = b.first[k], e = a + b.numParticles[k];
-    for (std::uint32_t i = a; i < e; ++i) {
-      const Vec3f fi{ps.fx[i], ps.fy[i], ps.fz[i]};
-      F += fi;
-      T += cross(Vec3f{ps.rx[i], ps.ry[i], ps.rz[i]}, fi) + Vec3f{couples.x[i], couples.y[i], couples.z[i]};
-    }
-  } else {
-    F = Vec3f{ps.fx[k], ps.fy[k], ps.fz[k]};
-  }
-  Vec3f X{b.px[k], b.py[k], b.pz[k]}, V{b.vx[k], b.vy[k], b.vz[k]};
-  integrateTranslation(F, b.invMass[k], dt, &X, &V);
-  b.px[k] = X.x; b.py[k] = X.y; b.pz[k] = X.z;
-  b.vx[k] = V.x; b.vy[k] = V.y; b.vz[k] = V.z;
-  if (clumps && b.numParticles[k] > 1) {
-    Vec3f L{b.lx[k], b.ly[k], b.lz[k]};
-    Quatf q{b.qw[k], b.qx[k], b.qy[k], b.qz[k]};
-    omega[k] = scheme == RotationScheme::Splitting ? integrateRotationSplitting(T, b.invInertia[k], dt, &L, &q)
-                                                   : integrateRotation(T, b.invInertia[k], dt, &L, &q);
-    b.lx[k] = L.x; b.ly[k] = L.y; b.lz[k] = L.z;
-    b.qw[k] = q.w; b.qx[k] = q.x; b.qy[k] = q.y; b.qz[k] = q.z;
-  }
+/// Stage 6, one particle's share of its body's totals: F += f_i, T += t_i. A body adds its
+/// particles in their order within the body.
+template <bool kClumps>
+TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
+  F += pf.f;
+  if (kClumps) T += pf.t;
+}
+
+/// Stage 7 and the next step's stage 1 for body k, given the sums F and T of its particles
+/// (addToBody): adds the weight M g, integrates (rotation by `scheme`, only for bodies of more
+/// than one particle; Ω of the new state kept in the row), writes its particles' positions of
+/// the next state and returns their largest squared displacement since the rebuild.
+template <bool kClumps>
+TUMBLE_HD_INLINE float finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f gravity, float dt,
+                                  RotationScheme scheme, std::uint32_t k) {
+  BodyRow b = v.bodies[k];  // this step's row; the new state goes to bodiesNext
+  const BodyStatic bs = v.bodyStatic[k];
+  F += bs.mass * gravity;
+  integrateTranslation(F, b.invMass, dt, &b.x, &b.v);
+  if (kClumps && b.count > 1)  // single-sphere bodies do not rotate: q and R stay
+    b.omega = scheme == RotationScheme::Splitting ? integrateRotationSplitting(T, bs.invInertia, dt, &b.l, &b.q, &b.rot)
+                                                  : integrateRotation(T, bs.invInertia, dt, &b.l, &b.q, &b.rot);
+  v.bodiesNext[k] = b;
+  return bodyParticles<kClumps>(b, v.own, v.radius, v.buildPos, v.posNext);
 }
 
 }  // namespace tumble

@@ -4,6 +4,7 @@
 /// trajectories stepped side by side and compared after every step (`tumble validate`).
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,7 @@ struct TrajectoryTolerance {
 /// Result of stepping two pipelines side by side.
 struct TrajectoryResult {
   std::uint64_t steps = 0;            ///< steps compared
-  bool bitwiseIdentical = true;       ///< every compared state equal bit for bit
+  bool bitwiseIdentical = true;       ///< every compared state (bodies, contact history) equal bit for bit
   std::uint64_t firstDifferentStep = 0;  ///< first step whose state differs at all (0 = none)
   std::uint32_t firstDifferentBody = 0;
   std::uint64_t firstOutOfTolStep = 0;   ///< first step beyond tolerance (0 = none)
@@ -46,6 +47,17 @@ struct TrajectoryResult {
   std::uint64_t firstPairMismatchStep = 0;
   bool withinTolerance() const { return firstOutOfTolStep == 0; }
 };
+
+/// The first bit-level difference between two states (bodies first, in column order X, V, Q,
+/// L, then the per-particle contact history): the column's name ("px", …, "groundSpringY"), the
+/// body or particle index and both values. Empty when every bit agrees.
+struct StateDifference {
+  std::string quantity;
+  std::uint32_t index = 0;
+  float a = 0.0f, b = 0.0f;
+  std::string describe() const;  ///< "vz of body 12: 0.125 vs 0.12500001"
+};
+std::optional<StateDifference> firstDifference(const BodyState& a, const BodyState& b);
 
 /// Steps pipelines a and b from the same world for `steps` steps and compares the body state
 /// (and the pair lists) after every step.

@@ -1,0 +1,199 @@
+// SPDX-License-Identifier: MIT
+/// @file contact_list.hpp
+/// The canonical contact list (SPEC §4) and what builds it, written once for both pipelines.
+///
+/// Detection (any method, any knob) only proposes candidates; the contact list does not depend
+/// on how they were found:
+/// 1. **Candidates.** At a rebuild the sweep runs on radii grown by skin/2 and reports every
+///    pair within r_i + r_j + skin once (its forward lists by record, and their transpose).
+///    candidateCount() / fillCandidates() turn that into particle i's row of a CSR list with
+///    both directions, sorted by the partner's *scene* index: a unique result for a given set,
+///    whatever order the sweep produced it in.
+/// 2. **Contacts.** Every step the exact predicate spheresOverlap() filters each row (the
+///    force stage, kernels/step.hpp): the touching partners of i in ascending scene index.
+/// 3. **Skin.** The list stays valid while every particle has moved less than skin/2 since the
+///    rebuild (less a rounding margin, skinTrigger()): two particles that touch now were then
+///    within r_i + r_j + skin. The largest displacement is a max, exact in any order.
+/// 4. **Reordering.** At each rebuild the bodies are renumbered in Morton order of their
+///    centres (mortonKey()), particles following their bodies, so that a row's candidates lie
+///    near it in memory. Outputs and sums are by scene index, so this changes no bit.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "tumble/hd.hpp"
+#include "tumble/kernels/overlap.hpp"
+#include "tumble/math.hpp"
+#include "tumble/soa.hpp"
+
+namespace tumble {
+
+/// The sweep's output (the broadphase's CSR contact list in two halves; internal numbering):
+/// particle i's records are recFirst[i]..recFirst[i+1], record r sits at sorted position
+/// inv[r] and lists the forward neighbours nbr[nbrOffsets[s] .. nbrOffsets[s+1]); the backward
+/// neighbours are back[backOffsets[i] .. backOffsets[i+1]).
+struct SweepListView {
+  const std::uint32_t* recFirst;
+  const std::uint32_t* inv;
+  const std::uint32_t* nbrOffsets;
+  const std::uint32_t* nbr;
+  const std::uint32_t* backOffsets;
+  const std::uint32_t* back;
+};
+
+/// Number of candidates of particle i (both directions).
+TUMBLE_HD_INLINE std::uint32_t candidateCount(const SweepListView& s, std::uint32_t i) {
+  std::uint32_t n = s.backOffsets[i + 1] - s.backOffsets[i];
+  for (std::uint32_t r = s.recFirst[i]; r < s.recFirst[i + 1]; ++r) {
+    const std::uint32_t sp = s.inv[r];
+    n += s.nbrOffsets[sp + 1] - s.nbrOffsets[sp];
+  }
+  return n;
+}
+
+namespace detail {
+
+/// Sorts (key, value) pairs of one row by key (keys distinct): insertion sort for short rows,
+/// heap sort (O(n log n), no extra memory, no recursion) for long ones. The result is unique
+/// because the keys are distinct, so the algorithm does not matter for the bits.
+TUMBLE_HD_INLINE void siftDown(std::uint32_t* key, std::uint32_t* val, std::uint32_t root, std::uint32_t n) {
+  for (;;) {
+    std::uint32_t c = 2 * root + 1;
+    if (c >= n) return;
+    if (c + 1 < n && key[c + 1] > key[c]) ++c;
+    if (!(key[c] > key[root])) return;
+    const std::uint32_t k = key[c], v = val[c];
+    key[c] = key[root];
+    val[c] = val[root];
+    key[root] = k;
+    val[root] = v;
+    root = c;
+  }
+}
+
+TUMBLE_HD_INLINE void sortRow(std::uint32_t* key, std::uint32_t* val, std::uint32_t n) {
+  if (n <= 24) {
+    for (std::uint32_t a = 1; a < n; ++a) {
+      const std::uint32_t k = key[a], v = val[a];
+      std::uint32_t b = a;
+      for (; b > 0 && key[b - 1] > k; --b) {
+        key[b] = key[b - 1];
+        val[b] = val[b - 1];
+      }
+      key[b] = k;
+      val[b] = v;
+    }
+    return;
+  }
+  for (std::uint32_t r = n / 2; r-- > 0;) siftDown(key, val, r, n);
+  for (std::uint32_t end = n - 1; end > 0; --end) {
+    const std::uint32_t k = key[0], v = val[0];
+    key[0] = key[end];
+    val[0] = val[end];
+    key[end] = k;
+    val[end] = v;
+    siftDown(key, val, 0, end);
+  }
+}
+
+}  // namespace detail
+
+/// Writes particle i's row cand[offsets[i] .. offsets[i+1]) (internal indices) sorted by the
+/// partners' scene indices orig[·]; `key` is scratch of the list's size (receives orig of each
+/// entry). Each row has one writer, and its content is unique: the sort keys are distinct.
+TUMBLE_HD_INLINE void fillCandidates(const SweepListView& s, const std::uint32_t* orig, const std::uint32_t* offsets,
+                                     std::uint32_t* cand, std::uint32_t* key, std::uint32_t i) {
+  std::uint32_t e = offsets[i];
+  for (std::uint32_t r = s.recFirst[i]; r < s.recFirst[i + 1]; ++r) {
+    const std::uint32_t sp = s.inv[r];
+    for (std::uint32_t t = s.nbrOffsets[sp]; t < s.nbrOffsets[sp + 1]; ++t, ++e) {
+      cand[e] = s.nbr[t];
+      key[e] = orig[s.nbr[t]];
+    }
+  }
+  for (std::uint32_t t = s.backOffsets[i]; t < s.backOffsets[i + 1]; ++t, ++e) {
+    cand[e] = s.back[t];
+    key[e] = orig[s.back[t]];
+  }
+  const std::uint32_t a = offsets[i];
+  detail::sortRow(key + a, cand + a, offsets[i + 1] - a);
+}
+
+/// Number of contacts of particle i with partners of a higher scene index (the pairs i < j that
+/// pairs() lists for i), at the positions `pos`.
+TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
+                                             std::uint32_t i) {
+  const PosRow pi = pos[i];
+  const std::uint32_t me = orig[i];
+  std::uint32_t n = 0;
+  for (std::uint32_t e = l.offsets[i]; e < l.offsets[i + 1]; ++e) {
+    const std::uint32_t j = l.cand[e];
+    const PosRow pj = pos[j];
+    if (orig[j] > me && spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) ++n;
+  }
+  return n;
+}
+
+/// Writes those contacts as scene-index pairs (i, j), ascending j, from outI/outJ[at] on.
+TUMBLE_HD_INLINE void emitContactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
+                                        std::uint32_t i, std::uint32_t at, std::uint32_t* outI,
+                                        std::uint32_t* outJ) {
+  const PosRow pi = pos[i];
+  const std::uint32_t me = orig[i];
+  for (std::uint32_t e = l.offsets[i]; e < l.offsets[i + 1]; ++e) {
+    const std::uint32_t j = l.cand[e];
+    const PosRow pj = pos[j];
+    const std::uint32_t other = orig[j];
+    if (other > me && spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) {
+      outI[at] = me;
+      outJ[at] = other;
+      ++at;
+    }
+  }
+}
+
+/// The skin test's threshold on the squared displacement: a rebuild is due once some particle's
+/// fl(|x − x_build|²) is not below it. h = skin/2 less a margin for the rounding of the three
+/// float tests involved (the candidate test at the build on grown radii, the contact test now,
+/// the displacement itself; each within a few units of 2^-24 relative, see docs/model.md),
+/// 16 · 2^-24 · (2 r_max + h). 0 (a rebuild every step) when the skin is below that margin.
+inline float skinTrigger2(float skin, float maxRadius) {
+  const double h = 0.5 * double(skin);
+  const double margin = 16.0 * std::ldexp(1.0, -24) * (2.0 * double(maxRadius) + h);
+  const double t = h - margin;
+  return t > 0.0 ? static_cast<float>(t * t) : 0.0f;
+}
+
+/// The grid of the reordering: 1024 cells per axis over a box (lo, with 1/cell as scale).
+struct MortonGrid {
+  Vec3f lo;
+  float scale;  ///< cells per unit length
+};
+
+namespace detail {
+/// Spreads the low 10 bits of v to every third bit.
+TUMBLE_HD_INLINE std::uint32_t spreadBits3(std::uint32_t v) {
+  v &= 0x3FFu;
+  v = (v | (v << 16)) & 0x030000FFu;
+  v = (v | (v << 8)) & 0x0300F00Fu;
+  v = (v | (v << 4)) & 0x030C30C3u;
+  v = (v | (v << 2)) & 0x09249249u;
+  return v;
+}
+TUMBLE_HD_INLINE std::uint32_t gridCell(float c) {
+  if (!(c > 0.0f)) return 0u;  // also NaN
+  if (c >= 1023.0f) return 1023u;
+  return static_cast<std::uint32_t>(c);
+}
+}  // namespace detail
+
+/// 30-bit Morton (Z-order) key of a body centre on the grid; positions outside the box (or not
+/// finite) are clamped to its faces, so any input gives a key.
+TUMBLE_HD_INLINE std::uint32_t mortonKey(const MortonGrid& g, Vec3f x) {
+  const std::uint32_t a = detail::gridCell((x.x - g.lo.x) * g.scale);
+  const std::uint32_t b = detail::gridCell((x.y - g.lo.y) * g.scale);
+  const std::uint32_t c = detail::gridCell((x.z - g.lo.z) * g.scale);
+  return detail::spreadBits3(a) | (detail::spreadBits3(b) << 1) | (detail::spreadBits3(c) << 2);
+}
+
+}  // namespace tumble

@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: MIT
+// Contacts as state (SPEC §4, kernels/contact_list.hpp): the trajectory does not depend on how
+// the contacts were found — cell size, PCA interval, thread count, skin, reordering — and with a
+// skin the contacts are still exactly the brute-force set at every step.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "tumble/error.hpp"
+#include "tumble/random.hpp"
+#include "tumble/scene_io.hpp"
+#include "tumble/validation/brute_force.hpp"
+#include "tumble/validation/compare.hpp"
+#include "tumble/validation/scenes.hpp"
+
+using namespace tumble;
+using namespace tumble::validation;
+
+namespace {
+
+class ContactListTest : public ::testing::TestWithParam<Backend> {
+ protected:
+  void SetUp() override {
+    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+  }
+};
+
+/// One way of finding the contacts: the knobs that must not change a bit.
+struct Knobs {
+  std::string name;
+  float cellFactor = 0.0f;  ///< × the automatic cell size; 0 = automatic
+  int pcaEvery = 10;
+  float skinFactor = 1.0f;  ///< × the automatic skin (0 = detect every step)
+  int threads = 2;
+  bool reorder = true;
+};
+
+/// The states of a run every `every` steps (and at the end), plus its last-step statistics.
+struct Run {
+  std::vector<BodyState> states;
+  StepStats stats;
+};
+
+Run run(Backend b, World w, const Knobs& k, std::uint64_t steps, std::uint64_t every, float autoCell) {
+  w.params.broadphase.cellSize = k.cellFactor > 0.0f ? k.cellFactor * autoCell : 0.0f;
+  w.params.broadphase.pcaEvery = k.pcaEvery;
+  w.params.broadphase.skin = k.skinFactor * kAutoSkinPerRadius * w.maxRadius;
+  PipelineOptions o;
+  o.threads = k.threads;
+  o.reorder = k.reorder;
+  auto p = makePipeline(b, o);
+  p->load(w);
+  Run r;
+  for (std::uint64_t done = 0; done < steps;) {
+    const std::uint64_t n = std::min(every, steps - done);
+    p->step(n);
+    done += n;
+    r.states.emplace_back();
+    p->readState(r.states.back());
+  }
+  r.stats = p->stats();
+  return r;
+}
+
+void expectInvariant(Backend b, const std::string& scene, std::uint64_t steps) {
+  const World w = World::fromScene(readSceneFile(sourcePath(scene)));
+  const std::uint64_t every = steps / 10;
+  const Run ref = run(b, w, Knobs{"reference"}, steps, every, 0.0f);
+  const float autoCell = ref.stats.cellSize;
+  std::printf("%s: %llu steps, %llu contacts at the end, %llu rebuilds, cell %g, hash %016llx\n", scene.c_str(),
+              static_cast<unsigned long long>(steps), static_cast<unsigned long long>(ref.stats.numPairs),
+              static_cast<unsigned long long>(ref.stats.numRebuilds), autoCell,
+              static_cast<unsigned long long>(stateHash(ref.states.back())));
+  ASSERT_GT(ref.stats.numPairs, 20u) << "the run needs contacts for the test to mean something";
+  const Knobs variants[] = {
+      {"cell x0.5", 0.5f},  {"cell x2", 2.0f},          {"cell x10", 10.0f},
+      {"pca_every 1", 0.0f, 1},    {"pca_every 1000", 0.0f, 1000},
+      {"1 thread", 0.0f, 10, 1.0f, 1},  {"4 threads", 0.0f, 10, 1.0f, 4},
+      {"skin 0 (detect every step)", 0.0f, 10, 0.0f}, {"skin x0.5", 0.0f, 10, 0.5f}, {"skin x3", 0.0f, 10, 3.0f},
+      {"no reordering", 0.0f, 10, 1.0f, 2, false},
+  };
+  for (const Knobs& k : variants) {
+    const Run got = run(b, w, k, steps, every, autoCell);
+    for (std::size_t c = 0; c < ref.states.size(); ++c) {
+      const auto d = firstDifference(ref.states[c], got.states[c]);
+      if (d) {
+        ADD_FAILURE() << scene << ", " << k.name << ": first difference by step " << std::min(steps, (c + 1) * every)
+                      << ": " << d->describe();
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TEST_P(ContactListTest, MoleculesDoNotDependOnHowContactsAreFound) {
+  expectInvariant(GetParam(), "scenes/molecules.toml", 1500);
+}
+TEST_P(ContactListTest, SpheresDoNotDependOnHowContactsAreFound) {
+  expectInvariant(GetParam(), "scenes/spheres.toml", 1500);
+}
+TEST_P(ContactListTest, Bench16kDoesNotDependOnHowContactsAreFound) {
+  expectInvariant(GetParam(), "scenes/bench-16k.toml", 600);
+}
+
+namespace {
+
+/// A hard case of SPEC §3 set in motion: every particle a single-sphere body with a random
+/// velocity of about `speed` smallest radii per step, no gravity, no ground; particle 0
+/// optionally fast enough to force a rebuild every step (two largest radii per step, more than
+/// half of any skin below 4 largest radii).
+World movingCloud(const ParticleCloud& c, std::uint64_t seed, float speed, bool fast) {
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.dt = 1e-3f;
+  s.contact = {1e3f, 0.5f, 0.2f};
+  Rng rng(seed);
+  float rmin = 1e30f, rmax = 0.0f;
+  for (float r : c.r) {
+    rmin = std::min(rmin, r);
+    rmax = std::max(rmax, r);
+  }
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    s.shapes.push_back(ShapeDef{std::to_string(i), {SphereDef{{0, 0, 0}, c.r[i], 1.0f, 0.5f}}});
+    BodyDef b;
+    b.shape = static_cast<std::uint32_t>(i);
+    b.position = {c.x[i], c.y[i], c.z[i]};
+    const float v = speed * rmin / s.dt;
+    b.velocity = {rng.uniform(-v, v), rng.uniform(-v, v), rng.uniform(-v, v)};
+    s.bodies.push_back(b);
+  }
+  if (fast && !s.bodies.empty()) s.bodies[0].velocity = {2.0f * rmax / s.dt, 0.0f, 0.0f};
+  return World::fromScene(s);
+}
+
+/// pairs() after each step against the oracle on the state the step started from (in the frame
+/// the pipeline integrates in, so that the positions are the ones it used).
+void expectExactAtEveryStep(Pipeline& p, const World& w, int steps, const std::string& what) {
+  p.load(w);
+  const World local = toLocal(w, p.frame());
+  for (int s = 0; s < steps; ++s) {
+    BodyState st;
+    p.readLocalState(st);
+    p.step(1);
+    const auto want = bruteForcePairs(cloudOf(local, st));
+    const auto got = p.pairs();
+    if (got != want) {
+      ADD_FAILURE() << what << ": step " << s << ": " << got.size() << " pairs, the oracle has " << want.size();
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+TEST_P(ContactListTest, PairsAreExactAtEveryStepWithASkin) {
+  const std::uint64_t seed = 20261201;
+  std::printf("moving hard cases, seed %llu\n", static_cast<unsigned long long>(seed));
+  std::size_t withContacts = 0;
+  for (const auto& hc : hardCases(seed)) {
+    if (hc.cloud.size() < 2 || hc.cloud.size() > 2500) continue;
+    for (bool fast : {false, true}) {
+      const World w = movingCloud(hc.cloud, seed, 0.02f, fast);
+      for (float skin : {0.0f, 0.1f, 1.0f}) {  // × the largest radius
+        World ws = w;
+        ws.params.broadphase.skin = skin * w.maxRadius;
+        auto p = makePipeline(GetParam());
+        std::string what = hc.name;
+        if (fast) what += " (fast particle)";
+        what += ", skin ";
+        what += std::to_string(skin);
+        expectExactAtEveryStep(*p, ws, 30, what);
+        if (fast && skin > 0.0f) {
+          EXPECT_EQ(p->stats().numRebuilds, p->stats().steps)
+              << hc.name << ": a particle moving 2 radii per step must force a rebuild every step";
+        }
+      }
+    }
+    if (!bruteForcePairs(hc.cloud).empty()) ++withContacts;
+  }
+  EXPECT_GE(withContacts, 6u) << "the hard cases must contain contacts";
+}
+
+TEST_P(ContactListTest, PairsAreExactAtEveryStepOfAClumpRun) {
+  // The bench lattice falling and landing: skin reuse across many steps, clumps, ground.
+  const World w = World::fromScene(benchScene(4000));
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  p->step(350);  // near landing: contacts form and break at every step
+  BodyState st;
+  p->readState(st);
+  World w2 = w;
+  w2.state = st;
+  expectExactAtEveryStep(*p, w2, 80, "bench-4k from step 350");
+  std::printf("bench-4k from step 350: %llu contacts, %llu rebuilds in 80 steps\n",
+              static_cast<unsigned long long>(p->stats().numPairs),
+              static_cast<unsigned long long>(p->stats().numRebuilds));
+  EXPECT_GT(p->stats().numPairs, 100u);
+  EXPECT_LT(p->stats().numRebuilds, p->stats().steps) << "the skin must actually be reused";
+}
+
+TEST_P(ContactListTest, SkinIsReusedAndCounted) {
+  World w = World::fromScene(benchScene(16000));
+  auto p = makePipeline(GetParam());
+  p->load(w);
+  p->step(200);
+  const StepStats& st = p->stats();
+  std::printf("bench-16k, 200 steps: skin %g, %llu rebuilds, %llu candidate pairs\n", st.skin,
+              static_cast<unsigned long long>(st.numRebuilds), static_cast<unsigned long long>(st.numCandidates));
+  EXPECT_FLOAT_EQ(st.skin, kAutoSkinPerRadius * 0.5f);
+  EXPECT_GE(st.numRebuilds, 1u);
+  EXPECT_LT(st.numRebuilds, 50u);
+  EXPECT_NEAR(st.rebuildsPer1000(), 1000.0 * double(st.numRebuilds) / 200.0, 1e-9);
+  w.params.broadphase.skin = 0.0f;
+  p->load(w);
+  p->step(20);
+  EXPECT_EQ(p->stats().numRebuilds, 20u) << "skin 0 detects every step";
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, ContactListTest, ::testing::ValuesIn(compiledBackends()),
+                         [](const auto& info) { return std::string(toString(info.param)); });
