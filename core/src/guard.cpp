@@ -235,7 +235,7 @@ GuardTrip RunGuard::trip(GuardTrip::Kind kind, std::uint32_t body, const Pipelin
                          const std::string& what, double contactTime) const {
   GuardTrip t;
   t.kind = kind;
-  t.step = pipeline.stats().steps;
+  t.step = pipeline.stepCount();
   t.body = body;
   t.suggestedDt = suggestedDt();
   const double dt = m_world.params.dt;

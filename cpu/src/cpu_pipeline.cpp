@@ -217,6 +217,7 @@ class CpuPipeline final : public Pipeline {
     m_stats.skin = m_skin;
   }
   double time() const override { return m_time; }
+  std::uint64_t stepCount() const override { return m_world.step + m_steps; }
 
  private:
   void stepOnce() {

@@ -131,5 +131,29 @@ expect_status "validate unknown case" 2 "$bin" validate --random 0 --steps 1 --c
 expect_msg "validate unknown case" "unknown case \"nope\""
 [ -e study/bad/report.md ] && bad "unknown case wrote a report" || ok "unknown case wrote no report"
 
+# Checkpoint and resume: 50 steps straight equal 20 + a checkpoint + 30 resumed, state and
+# recording (which the resumed run continues) byte for byte; bad resumes end with status 2.
+"$bin" run small.toml --steps 50 --record straight.bin --state-out straight.csv -q 2>/dev/null
+expect_status "checkpoint" 0 "$bin" run small.toml --steps 20 --record split.bin --checkpoint ck.bin --checkpoint-every 7 -q
+[ -s ck.bin ] && [ ! -e ck.bin.part ] && ok "checkpoint written" || bad "no checkpoint file"
+expect_status "resume" 0 "$bin" run small.toml --steps 50 --resume ck.bin --record split.bin --state-out split.csv
+expect_msg "resume" "resuming at step 20"
+cmp -s straight.csv split.csv && ok "resumed state equals the straight run" || bad "resumed state differs"
+cmp -s straight.bin split.bin && ok "continued recording equals the straight run's" || bad "continued recording differs"
+expect_status "resume, nothing to do" 2 "$bin" run small.toml --steps 20 --resume ck.bin
+expect_msg "resume, nothing to do" "ck.bin: the checkpoint is at step 20 and the run ends at step 20"
+sed 's/count = \[4, 4, 2\]/count = [4, 4, 3]/' small.toml > other.toml
+expect_status "resume another scene" 2 "$bin" run other.toml --resume ck.bin --steps 50
+expect_msg "resume another scene" "ck.bin: cannot resume other.toml: .*another scene"
+head -c 100 ck.bin > cut.ck
+expect_status "resume a cut checkpoint" 2 "$bin" run small.toml --resume cut.ck --steps 50
+expect_msg "resume a cut checkpoint" "cut.ck: byte [0-9]+: state block"
+"$bin" run other.toml --steps 10 --record otherrec.bin -q 2>/dev/null
+cp otherrec.bin keep.bin
+expect_status "resume into another run's recording" 2 "$bin" run small.toml --steps 50 --resume ck.bin --record otherrec.bin
+expect_msg "resume into another run's recording" "otherrec.bin' is not this run's"
+cmp -s otherrec.bin keep.bin && ok "the other recording is untouched" || bad "the other recording was changed"
+expect_status "checkpoint-every without a file" 2 "$bin" run small.toml --checkpoint-every 5
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "tumble/checkpoint.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/recording.hpp"
@@ -32,6 +33,9 @@ struct RunOptions {
   bool quiet = false;
   bool noGuard = false;
   std::optional<std::uint64_t> guardEvery;
+  std::string checkpoint;
+  std::optional<std::uint64_t> checkpointEvery;
+  std::string resume;
 };
 
 // REC=<n_steps>[,<file>] (SPEC §6).
@@ -73,6 +77,18 @@ void printPhases(const StepStats& st, std::FILE* out) {
   std::fprintf(out, "%-10s %12.2f %12.4f %6.1f%%\n", "step", 1e3 * total, 1e3 * total / n, 100.0);
 }
 
+// The continuity of a recording continued by a resumed run: its frames must reach the last frame
+// due at or before the checkpoint's step.
+void checkContinues(const RecordingWriter& rec, std::uint64_t start, std::uint64_t recSteps, std::uint64_t perFrame,
+                    bool debug) {
+  const std::uint64_t due = (std::min(start, recSteps) / perFrame) * perFrame;  // last frame due by now
+  const bool any = !(debug && due == 0);  // a debug recording has no step-0 frame
+  if (any ? rec.lastStep() != due : rec.numFrames() != 0)
+    throw Error("recording '" + rec.path() + "' ends at step " + std::to_string(rec.lastStep()) +
+                " but the checkpoint is at step " + std::to_string(start) +
+                ": it does not continue there; record the resumed run to another file");
+}
+
 void run(RunOptions o) {
   applyRecEnv(o);
   Scene scene = readSceneFile(o.scene);
@@ -89,13 +105,31 @@ void run(RunOptions o) {
     if (!(*o.skin >= 0.0f) || !std::isfinite(*o.skin)) throw Error("--skin must be a finite number >= 0 (0 = detect every step)");
     scene.broadphase.skin = *o.skin;
   }
+  if (o.checkpointEvery && (*o.checkpointEvery == 0 || o.checkpoint.empty()))
+    throw Error("--checkpoint-every N needs N >= 1 and --checkpoint FILE");
   if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;
   if (!o.recordSteps && scene.recordSteps > 0) o.recordSteps = scene.recordSteps;
   const bool debug = o.debug || scene.recordDebug;
 
-  const World world = World::fromScene(scene);
+  World world = World::fromScene(scene);
   if (const std::string w = timeStepWarning(world); !w.empty())
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), w.c_str());
+  if (!o.resume.empty()) {
+    const Checkpoint ck = Checkpoint::read(o.resume);
+    std::string warning;
+    try {
+      world = ck.resume(world, &warning);
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      throw Error(o.resume + ": cannot resume " + o.scene + ": " + e.what());
+    }
+    if (!warning.empty()) std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.resume.c_str(), warning.c_str());
+    if (ck.step >= scene.steps)
+      throw Error(o.resume + ": the checkpoint is at step " + std::to_string(ck.step) + " and the run ends at step " +
+                  std::to_string(scene.steps) + ": nothing to do (--steps N sets the step to run to)");
+  }
+  const std::uint64_t start = world.step;
   PipelineOptions po;
   po.threads = o.threads;
   auto pipeline = makePipeline(backendFromString(o.pipeline), po);
@@ -103,20 +137,32 @@ void run(RunOptions o) {
   pipeline->setDebugCapture(debug && !o.record.empty());
 
   const bool tty = isatty(fileno(stderr)) && !o.quiet;
-  if (!o.quiet)
+  if (!o.quiet) {
     std::fprintf(stderr, "tumble run: %s — %u bodies, %u particles, %llu steps of %g s, pipeline %s\n",
                  scene.name.c_str(), world.numBodies(), world.numParticles(),
                  static_cast<unsigned long long>(scene.steps), scene.dt, toString(pipeline->backend()));
+    if (start > 0)
+      std::fprintf(stderr, "tumble run: resuming at step %llu (t = %.9g s) from %s\n",
+                   static_cast<unsigned long long>(start), world.time, o.resume.c_str());
+  }
 
+  // Steps are counted from the start of the run (a resumed run continues the count), so frames,
+  // guard checks and checkpoints fall on the same steps as in an uninterrupted run.
   std::unique_ptr<RecordingWriter> rec;
   const std::uint64_t recSteps = o.recordSteps ? std::min<std::uint64_t>(*o.recordSteps, scene.steps) : scene.steps;
   const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
   BodyState state;
   ParticleDebug dbg;
-  if (!o.record.empty()) {
-    rec = std::make_unique<RecordingWriter>(o.record, world, debug, static_cast<int>(perFrame));
+  if (!o.record.empty() && start < recSteps) {
+    if (start == 0) {
+      rec = std::make_unique<RecordingWriter>(o.record, world, debug, static_cast<int>(perFrame));
+    } else {
+      rec = RecordingWriter::continueAt(o.record, world, debug, static_cast<int>(perFrame), start);
+      if (rec->numFrames() > 0) checkContinues(*rec, start, recSteps, perFrame, debug);
+    }
     pipeline->readState(state);
-    if (!debug) rec->writeFrame(0, 0.0, pipeline->pulls(), state);  // debug frames start after step 1
+    // The first frame of a new recording: the initial state (debug frames start after a step).
+    if (rec->numFrames() == 0 && !debug) rec->writeFrame(start, pipeline->time(), pipeline->pulls(), state);
   }
 
   // Guards (docs/model.md#guards): checked every guardEvery steps and before every frame.
@@ -124,20 +170,23 @@ void run(RunOptions o) {
   if (!o.noGuard) guard.emplace(world, *pipeline);
   const std::uint64_t guardEvery = o.guardEvery ? *o.guardEvery : perFrame;
   if (guard && guardEvery == 0) throw Error("--guard-every must be >= 1");
+  const std::uint64_t ckEvery = o.checkpointEvery.value_or(0);
 
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;
-  std::uint64_t done = 0;
+  std::uint64_t done = start;
   try {
     while (done < scene.steps) {
       std::uint64_t chunk = scene.steps - done;
       if (rec && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
       if (guard) chunk = std::min(chunk, guardEvery - done % guardEvery);
+      if (ckEvery) chunk = std::min(chunk, ckEvery - done % ckEvery);
       chunk = std::min<std::uint64_t>(chunk, 1000);
       pipeline->step(chunk);
       done += chunk;
       const bool frameDue = rec && done <= recSteps && done % perFrame == 0;
-      if (guard && (frameDue || done % guardEvery == 0 || done == scene.steps)) {
+      const bool checkpointDue = ckEvery && done % ckEvery == 0 && done < scene.steps;
+      if (guard && (frameDue || checkpointDue || done % guardEvery == 0 || done == scene.steps)) {
         if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
       }
       if (frameDue) {
@@ -146,14 +195,16 @@ void run(RunOptions o) {
         rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr);
         if (done + perFrame > recSteps) rec->close();  // last frame: the file is complete now
       }
+      if (checkpointDue) Checkpoint::of(world, *pipeline).write(o.checkpoint);
       const auto now = std::chrono::steady_clock::now();
       if (tty && (now - lastPrint > std::chrono::milliseconds(200) || done == scene.steps)) {
         lastPrint = now;
         const double el = std::chrono::duration<double>(now - t0).count();
-        const double eta = el / double(done) * double(scene.steps - done);
+        const double ran = double(done - start);
+        const double eta = el / ran * double(scene.steps - done);
         std::fprintf(stderr, "\r  step %llu/%llu (%5.1f%%)  %.3f ms/step  elapsed %.1f s  eta %.1f s   ",
                      static_cast<unsigned long long>(done), static_cast<unsigned long long>(scene.steps),
-                     100.0 * double(done) / double(scene.steps), 1e3 * el / double(done), el, eta);
+                     100.0 * double(done) / double(scene.steps), 1e3 * el / ran, el, eta);
       }
     }
   } catch (const SimulationError&) {
@@ -169,9 +220,15 @@ void run(RunOptions o) {
   if (rec) {
     rec->close();
     if (!o.quiet)
-      std::fprintf(stderr, "recorded %llu frames (%llu steps, %llu steps per frame) to %s\n",
-                   static_cast<unsigned long long>(rec->numFrames()), static_cast<unsigned long long>(recSteps),
+      std::fprintf(stderr, "recorded %llu frames (up to step %llu, %llu steps per frame) to %s\n",
+                   static_cast<unsigned long long>(rec->numFrames()), static_cast<unsigned long long>(rec->lastStep()),
                    static_cast<unsigned long long>(perFrame), rec->path().c_str());
+  }
+  if (!o.checkpoint.empty()) {
+    Checkpoint::of(world, *pipeline).write(o.checkpoint);
+    if (!o.quiet)
+      std::fprintf(stderr, "checkpoint at step %llu written to %s (continue with --resume %s)\n",
+                   static_cast<unsigned long long>(done), o.checkpoint.c_str(), o.checkpoint.c_str());
   }
   pipeline->readState(state);
   if (!o.stateOut.empty()) writeState(o.stateOut, world, state);
@@ -195,7 +252,7 @@ void addRun(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   CLI::App* c = app.add_subcommand("run", "Simulate a scene file (TOML, see docs/scenes.md)");
   c->add_option("scene", o->scene, "Scene file, e.g. scenes/molecules.toml")->required();
-  c->add_option("--steps", o->steps, "Number of steps (default: the scene's steps)");
+  c->add_option("--steps", o->steps, "Step to run to, counted from the start of the run (default: the scene's steps)");
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores (results do not depend on it)")
       ->check(CLI::NonNegativeNumber);
   c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
@@ -203,6 +260,12 @@ void addRun(CLI::App& app) {
   c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)");
   c->add_flag("--debug-record", o->debug, "Add velocities, the five forces and the contacts to every frame");
   c->add_option("--state-out", o->stateOut, "Write the final body state as CSV (exact float round trip)");
+  c->add_option("--checkpoint", o->checkpoint,
+                "Write a checkpoint to FILE at the end of the run (docs/checkpoint.md); --resume continues it");
+  c->add_option("--checkpoint-every", o->checkpointEvery, "Also write the checkpoint every N steps");
+  c->add_option("--resume", o->resume,
+                "Continue the run of SCENE from a checkpoint, bit for bit, up to step --steps (default: the "
+                "scene's steps); a --record file of the first part is continued");
   c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 x largest diameter)");
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K detections");
   c->add_option("--skin", o->skin,

@@ -386,6 +386,7 @@ class CudaPipeline final : public Pipeline {
     m_stats.skin = m_skin;
   }
   double time() const override { return m_time; }
+  std::uint64_t stepCount() const override { return m_world.step + m_steps; }
 
  private:
   StepView stepView() {

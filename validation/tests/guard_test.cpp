@@ -318,6 +318,7 @@ class FakePipeline : public Pipeline {
   const StepStats& stats() const override { return m_stats; }
   void resetStats() override {}
   double time() const override { return 0.0; }
+  std::uint64_t stepCount() const override { return m_stats.steps; }
   BodyState m_state;
   StepStats m_stats;
 };

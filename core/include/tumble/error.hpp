@@ -19,13 +19,23 @@ class Error : public std::runtime_error {
 class InputError : public Error {
  public:
   InputError(const std::string& file, long line, const std::string& problem)
-      : Error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + problem),
-        m_file(file), m_line(line), m_problem(problem) {}
+      : Error(message(file, line, problem)), m_file(file), m_line(line), m_problem(problem) {}
   const std::string& file() const noexcept { return m_file; }
   long line() const noexcept { return m_line; }
   const std::string& problem() const noexcept { return m_problem; }
 
  private:
+  // Built by appending (GCC 12 warns, wrongly, about chains of temporaries: -Wrestrict).
+  static std::string message(const std::string& file, long line, const std::string& problem) {
+    std::string s = file;
+    if (line > 0) {
+      s += ':';
+      s += std::to_string(line);
+    }
+    s += ": ";
+    s += problem;
+    return s;
+  }
   std::string m_file;
   long m_line;
   std::string m_problem;

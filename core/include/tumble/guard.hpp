@@ -34,7 +34,7 @@ struct GuardParams {
 struct GuardTrip {
   enum class Kind { NonFinite, Energy, Overlap };
   Kind kind = Kind::NonFinite;
-  std::uint64_t step = 0;    ///< the pipeline's stats().steps: steps since load() or resetStats()
+  std::uint64_t step = 0;    ///< the pipeline's stepCount(): steps since the start of the run
   std::uint32_t body = 0;    ///< the body named in the message
   double suggestedDt = 0.0;  ///< s
   std::string message;       ///< one line: step, time, body, what, dt to use

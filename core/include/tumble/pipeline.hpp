@@ -135,6 +135,9 @@ class Pipeline {
   virtual void resetStats() = 0;
   /// Simulated time: world.time at load() plus the steps since.
   virtual double time() const = 0;
+  /// Steps since the start of the run: world.step at load() plus the steps since (unlike
+  /// stats().steps, not reset by resetStats()).
+  virtual std::uint64_t stepCount() const = 0;
 };
 
 /// Creates a pipeline. Throws tumble::Error when the backend is not compiled in or has no device.

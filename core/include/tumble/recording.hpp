@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,14 @@ class RecordingWriter {
   /// non-finite.
   RecordingWriter(const std::string& path, const World& world, bool debug, int stepsPerFrame,
                   float fps = 60.0f);
+  /// Continues the recording at `path` for a run resumed at `step` (tumble run --resume): its
+  /// frames up to that step are written again, with the same bytes, to `path + ".part"` and
+  /// the writer appends from there, so that the finished file equals the uninterrupted run's;
+  /// `path` itself is replaced only by close(). When `path` does not exist this is a new
+  /// recording. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
+  /// when it records another scene or other settings (its frames would not belong to this run).
+  static std::unique_ptr<RecordingWriter> continueAt(const std::string& path, const World& world, bool debug,
+                                                     int stepsPerFrame, std::uint64_t step, float fps = 60.0f);
   /// Calls close(), swallowing its exceptions.
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
@@ -87,6 +96,8 @@ class RecordingWriter {
   void close();
   /// Frames written so far.
   std::uint64_t numFrames() const { return m_numFrames; }
+  /// Step of the last frame written (0 before the first).
+  std::uint64_t lastStep() const { return m_lastStep; }
   /// The final path (without ".part").
   const std::string& path() const { return m_path; }
 
@@ -95,6 +106,7 @@ class RecordingWriter {
   std::string m_partPath;
   std::FILE* m_file = nullptr;
   std::uint64_t m_numFrames = 0;
+  std::uint64_t m_lastStep = 0;
   std::uint32_t m_numParticles = 0;
   std::uint32_t m_numBodies = 0;
   bool m_debug = false;

@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: MIT
+// The checkpoint format of docs/checkpoint.md: writer and validating reader.
+//
+// Design notes
+// - Exactness. The state is stored as the pipeline integrates it: positions in the run's local
+//   frame (whose origin is stored too, as doubles), the simulated time as the double the
+//   pipeline accumulated. Loading it back gives the pipeline the same bits it had.
+// - Identity. Two fingerprints tie a checkpoint to its run: the static bodies and particles
+//   (a different scene cannot be resumed) and the physical parameters (a different dt or
+//   stiffness may be resumed, with a warning: the continuation is then another run).
+// - Safety. Written to `path.part` and renamed (atomic on POSIX); read as untrusted input, with
+//   every size checked against the file before anything is allocated, FNV-1a checksums over the
+//   header and the state, and finiteness checks. Encoding and checks: binary_io.hpp.
+#include "tumble/checkpoint.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "binary_io.hpp"
+#include "tumble/error.hpp"
+
+namespace tumble {
+namespace {
+
+using namespace tumble::detail;  // binary_io.hpp
+
+constexpr char kMagic[8] = {'T', 'U', 'M', 'B', 'L', 'E', 'C', 'K'};
+constexpr std::uint32_t kFlagGroundSprings = 1u;
+constexpr std::uint64_t kHeaderBytes = 92;  // through the header checksum
+constexpr std::uint64_t kOffVersion = 8, kOffFlags = 12, kOffNumParticles = 16, kOffNumBodies = 20;
+
+/// 64-bit FNV-1a over the bytes of values.
+class Fingerprint {
+ public:
+  template <class T>
+  void add(const T& v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&v);
+    for (std::size_t k = 0; k < sizeof v; ++k) {
+      m_h ^= p[k];
+      m_h *= 1099511628211ull;
+    }
+  }
+  template <class T>
+  void addAll(const std::vector<T>& v) {
+    add(std::uint64_t(v.size()));
+    for (const T& x : v) add(x);
+  }
+  std::uint64_t value() const { return m_h; }
+
+ private:
+  std::uint64_t m_h = 1469598103934665603ull;
+};
+
+std::vector<const std::vector<float>*> bodyColumns(const BodyState& s) {
+  return {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz};
+}
+std::vector<std::vector<float>*> bodyColumns(BodyState& s) {
+  return {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz};
+}
+const char* const kColumnNames[13] = {"px", "py", "pz", "vx", "vy", "vz", "qw",
+                                      "qx", "qy", "qz", "lx", "ly", "lz"};
+
+}  // namespace
+
+std::uint64_t sceneFingerprint(const World& w) {
+  Fingerprint f;
+  f.add(w.numBodies());
+  f.add(w.numParticles());
+  for (const auto* c : {&w.radius, &w.mass, &w.elasticity, &w.ux, &w.uy, &w.uz, &w.bodyMass}) f.addAll(*c);
+  f.addAll(w.body);
+  for (const Sym3f& i : w.invInertia) f.add(i);
+  f.add(static_cast<std::uint32_t>(w.params.integrator.rotation));
+  return f.value();
+}
+
+std::uint64_t physicsFingerprint(const Scene& s) {
+  Fingerprint f;
+  f.add(s.dt);
+  f.add(s.gravity);
+  f.add(s.contact);
+  f.add(s.ground.enabled);
+  f.add(s.ground.height);
+  f.add(s.ground.stiffness);
+  f.add(s.ground.friction);
+  f.add(s.ground.tangentialStiffness);
+  f.add(s.pulls.x);
+  f.add(s.pulls.y);
+  f.add(s.pulls.swirl);
+  f.add(static_cast<std::uint32_t>(s.integrator.rotation));
+  return f.value();
+}
+
+Checkpoint Checkpoint::of(const World& world, const Pipeline& pipeline) {
+  Checkpoint c;
+  c.step = pipeline.stepCount();
+  c.time = pipeline.time();
+  c.pulls = pipeline.pulls();
+  c.frame = pipeline.frame();
+  pipeline.readLocalState(c.state);
+  c.sceneFingerprint = tumble::sceneFingerprint(world);
+  c.physicsFingerprint = tumble::physicsFingerprint(world.params);
+  return c;
+}
+
+void Checkpoint::write(const std::string& path) const {
+  const std::size_t nb = state.size(), np = state.groundSpringX.size();
+  if (state.groundSpringY.size() != np) throw Error("checkpoint " + path + ": ground spring columns differ in length");
+  for (const auto* c : bodyColumns(state))
+    if (c->size() != nb) throw Error("checkpoint " + path + ": body columns differ in length");
+  std::vector<std::uint8_t> buf;
+  Encoder e(buf);
+  e.bytes(kMagic, 8);
+  e.u32(kCheckpointVersion);
+  e.u32(np > 0 ? kFlagGroundSprings : 0u);
+  e.u32(static_cast<std::uint32_t>(np));
+  e.u32(static_cast<std::uint32_t>(nb));
+  e.u64(step);
+  e.f64(time);
+  e.u32(pulls);
+  e.u32(0);
+  e.f64(frame.x);
+  e.f64(frame.y);
+  e.f64(frame.z);
+  e.u64(sceneFingerprint);
+  e.u64(physicsFingerprint);
+  e.u32(fnv1a(buf.data(), buf.size()));
+  const std::size_t stateStart = buf.size();
+  for (const auto* c : bodyColumns(state)) e.f32s(*c, nb);
+  e.f32s(state.groundSpringX, np);
+  e.f32s(state.groundSpringY, np);
+  e.u32(fnv1a(buf.data() + stateStart, buf.size() - stateStart));
+
+  const std::string part = path + ".part";
+  std::FILE* f = std::fopen(part.c_str(), "wb");
+  if (f == nullptr) throw Error("cannot write checkpoint " + part + ": " + errnoText(errno));
+  const bool ok = std::fwrite(buf.data(), 1, buf.size(), f) == buf.size() && std::fflush(f) == 0;
+  const int err = errno;
+  if (std::fclose(f) != 0 || !ok) {
+    std::remove(part.c_str());
+    throw Error("cannot write checkpoint " + part + ": " + errnoText(ok ? errno : err));
+  }
+  if (std::rename(part.c_str(), path.c_str()) != 0) {
+    const int e2 = errno;
+    std::remove(part.c_str());
+    throw Error("cannot rename " + part + " to " + path + ": " + errnoText(e2));
+  }
+}
+
+Checkpoint Checkpoint::read(const std::string& path) {
+  InFile in(path, "checkpoint");
+  std::vector<std::uint8_t> buf;
+  in.read(buf, std::min<std::uint64_t>(in.size(), kHeaderBytes), "header");
+  if (!buf.empty() && std::memcmp(buf.data(), kMagic, std::min<std::size_t>(buf.size(), 8)) != 0)
+    in.fail(0, "not a tumble checkpoint (bad magic; expected \"TUMBLECK\")");
+  if (buf.size() < kOffFlags) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
+  const std::uint32_t version = getU32(buf.data() + kOffVersion);
+  if (version != kCheckpointVersion)
+    in.fail(kOffVersion, "unsupported checkpoint version " + std::to_string(version) +
+                             " (this build of tumble reads version " + std::to_string(kCheckpointVersion) + " only)");
+  if (buf.size() < kHeaderBytes) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
+  checkChecksum(in, buf, 0, kHeaderBytes - 4, kHeaderBytes - 4, "header");
+  Decoder d(in, buf, 0, kOffFlags);
+  const std::uint32_t flags = d.u32();
+  if ((flags & ~kFlagGroundSprings) != 0) in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kFlagGroundSprings));
+  const std::uint64_t np = d.u32(), nb = d.u32();
+  if (((flags & kFlagGroundSprings) != 0) != (np > 0))
+    in.fail(kOffNumParticles, "the ground-spring flag does not match the particle count " + std::to_string(np));
+  Checkpoint c;
+  c.step = d.u64();
+  const std::uint64_t timeAt = d.fileOffset();
+  c.time = d.f64();
+  if (!std::isfinite(c.time) || c.time < 0.0) in.fail(timeAt, "the simulated time is not a finite number >= 0");
+  c.pulls = d.u32();
+  if (c.pulls > 7u) in.fail(timeAt + 8, "unknown pull bits " + hex32(c.pulls));
+  d.u32();
+  const std::uint64_t frameAt = d.fileOffset();
+  c.frame.x = d.f64();
+  c.frame.y = d.f64();
+  c.frame.z = d.f64();
+  if (!std::isfinite(c.frame.x) || !std::isfinite(c.frame.y) || !std::isfinite(c.frame.z))
+    in.fail(frameAt, "the frame origin is not finite");
+  c.sceneFingerprint = d.u64();
+  c.physicsFingerprint = d.u64();
+  if (nb == 0) in.fail(kOffNumBodies, "the checkpoint holds no bodies");
+
+  // The state block: its size follows from the counts; checked before anything is read.
+  const std::uint64_t stateAt = in.offset();
+  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np);
+  if (stateBytes + 4 != in.remaining())
+    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies and " + std::to_string(np) +
+                         " particles needs " + std::to_string(stateBytes + 4) + " bytes, the file has " +
+                         std::to_string(in.remaining()) + " left");
+  buf.clear();
+  in.read(buf, stateBytes + 4, "state");
+  checkChecksum(in, buf, 0, static_cast<std::size_t>(stateBytes), stateAt + stateBytes, "state");
+  Decoder sd(in, buf, stateAt);
+  auto cols = bodyColumns(c.state);
+  for (int k = 0; k < 13; ++k) sd.finiteColumn(*cols[k], static_cast<std::size_t>(nb), kColumnNames[k]);
+  sd.finiteColumn(c.state.groundSpringX, static_cast<std::size_t>(np), "groundSpringX");
+  sd.finiteColumn(c.state.groundSpringY, static_cast<std::size_t>(np), "groundSpringY");
+  return c;
+}
+
+World Checkpoint::resume(const World& world, std::string* warning) const {
+  if (state.size() != world.numBodies())
+    throw Error("the checkpoint holds " + std::to_string(state.size()) + " bodies, the scene has " +
+                std::to_string(world.numBodies()) + ": it was written by a run of another scene");
+  if (!state.groundSpringX.empty() && state.groundSpringX.size() != world.numParticles())
+    throw Error("the checkpoint holds " + std::to_string(state.groundSpringX.size()) + " particles, the scene has " +
+                std::to_string(world.numParticles()) + ": it was written by a run of another scene");
+  if (sceneFingerprint != tumble::sceneFingerprint(world))
+    throw Error("the checkpoint was written by a run of another scene (the same counts, but other shapes, "
+                "masses, radii or rotation scheme)");
+  if (warning) {
+    warning->clear();
+    if (physicsFingerprint != tumble::physicsFingerprint(world.params))
+      *warning = "the scene's physical parameters (dt, contact, ground, gravity, pulls or integrator) differ from "
+                 "those the checkpoint was written with: the continuation is not the uninterrupted run";
+  }
+  World w = world;
+  w.state = state;
+  w.step = step;
+  w.time = time;
+  w.frame = frame;
+  w.params.pulls.active = pulls;
+  return w;
+}
+
+}  // namespace tumble

@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT
+// Checkpoint and resume (docs/checkpoint.md): a run stopped and continued equals the
+// uninterrupted run bit for bit; the file is validated like any untrusted input.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <unistd.h>
+
+#include "tumble/checkpoint.hpp"
+#include "tumble/error.hpp"
+#include "tumble/scene_io.hpp"
+#include "tumble/validation/compare.hpp"
+#include "tumble/validation/scenes.hpp"
+
+using namespace tumble;
+using namespace tumble::validation;
+
+namespace {
+
+class CheckpointTest : public ::testing::TestWithParam<Backend> {
+ protected:
+  void SetUp() override {
+    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+  }
+};
+
+std::string tempPath(const std::string& name) {
+  return ::testing::TempDir() + "tumble_" + std::to_string(::getpid()) + "_" + name;
+}
+
+World scene(const std::string& file, RotationScheme scheme) {
+  Scene s = readSceneFile(sourcePath(file));
+  s.integrator.rotation = scheme;
+  return World::fromScene(s);
+}
+
+BodyState straight(Backend b, const World& w, std::uint64_t steps) {
+  auto p = makePipeline(b);
+  p->load(w);
+  p->step(steps);
+  BodyState s;
+  p->readState(s);
+  return s;
+}
+
+/// `first` steps, a checkpoint through a file, a fresh pipeline resumed from it, `second` more.
+BodyState resumed(Backend b, const World& w, std::uint64_t first, std::uint64_t second, Checkpoint* outCk = nullptr) {
+  const std::string path = tempPath("resume.ck");
+  {
+    auto p = makePipeline(b);
+    p->load(w);
+    p->step(first);
+    Checkpoint::of(w, *p).write(path);
+  }
+  const Checkpoint ck = Checkpoint::read(path);
+  std::remove(path.c_str());
+  if (outCk) *outCk = ck;
+  std::string warning;
+  const World w2 = ck.resume(w, &warning);
+  EXPECT_TRUE(warning.empty()) << warning;
+  auto p = makePipeline(b);
+  p->load(w2);
+  EXPECT_EQ(p->stepCount(), first);
+  p->step(second);
+  EXPECT_EQ(p->stepCount(), first + second);
+  BodyState s;
+  p->readState(s);
+  return s;
+}
+
+}  // namespace
+
+TEST_P(CheckpointTest, ResumeEqualsTheUninterruptedRun) {
+  for (const char* file : {"scenes/molecules.toml", "scenes/bench-16k.toml"}) {
+    for (RotationScheme scheme : {RotationScheme::Report, RotationScheme::Splitting}) {
+      SCOPED_TRACE(std::string(file) + ", rotation " + toString(scheme));
+      const World w = scene(file, scheme);
+      const BodyState a = straight(GetParam(), w, 300);
+      Checkpoint ck;
+      const BodyState b = resumed(GetParam(), w, 150, 150, &ck);
+      const auto d = firstDifference(a, b);
+      EXPECT_FALSE(d.has_value()) << "resumed run differs: " << d->describe();
+      // The negative control: the ground springs carry the contact history; a resume that
+      // dropped them would not give the same bits (so this test can fail).
+      std::size_t springing = 0;
+      for (float x : ck.state.groundSpringX) springing += x != 0.0f;
+      if (springing > 0) {
+        Checkpoint forgetful = ck;
+        forgetful.state.groundSpringX.assign(forgetful.state.groundSpringX.size(), 0.0f);
+        forgetful.state.groundSpringY.assign(forgetful.state.groundSpringY.size(), 0.0f);
+        auto p = makePipeline(GetParam());
+        p->load(forgetful.resume(w, nullptr));
+        p->step(150);
+        BodyState c;
+        p->readState(c);
+        EXPECT_TRUE(firstDifference(a, c).has_value()) << "without the ground springs the run must differ";
+      }
+      std::printf("%s, %s: resumed at 150 equals 300 straight; %zu particles held by a ground spring at the checkpoint\n",
+                  file, toString(scheme), springing);
+    }
+  }
+}
+
+TEST_P(CheckpointTest, ResumeKeepsTheLocalFrameOfAFarScene) {
+  // 1e5 m from the origin: the run integrates in a local frame chosen at its start; the resumed
+  // run must keep that frame (choosing one from the checkpoint's state would round differently).
+  Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
+  for (auto& b : s.bodies) b.position.x += 1.0e5f;
+  const World w = World::fromScene(s);
+  const BodyState a = straight(GetParam(), w, 200);
+  const BodyState b = resumed(GetParam(), w, 80, 120);
+  const auto d = firstDifference(a, b);
+  EXPECT_FALSE(d.has_value()) << d->describe();
+}
+
+TEST(Checkpoint, RejectsAnotherScene) {
+  const World w = World::fromScene(readSceneFile(sourcePath("scenes/molecules.toml")));
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  p->step(3);
+  const Checkpoint ck = Checkpoint::of(w, *p);
+  const World other = World::fromScene(readSceneFile(sourcePath("scenes/spheres.toml")));
+  EXPECT_THROW(ck.resume(other, nullptr), Error);
+  Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
+  s.integrator.rotation = RotationScheme::Splitting;  // other body frames
+  EXPECT_THROW(ck.resume(World::fromScene(s), nullptr), Error);
+  s = readSceneFile(sourcePath("scenes/molecules.toml"));
+  s.dt *= 0.5f;  // other physics: allowed, with a warning
+  std::string warning;
+  EXPECT_NO_THROW(ck.resume(World::fromScene(s), &warning));
+  EXPECT_NE(warning.find("differ"), std::string::npos) << warning;
+}
+
+TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
+  Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
+  s.bodies.resize(12);
+  const World w = World::fromScene(s);
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  p->step(5);
+  const std::string path = tempPath("damage.ck");
+  Checkpoint::of(w, *p).write(path);
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(bytes.size(), 200u);
+  const Checkpoint good = Checkpoint::read(path);
+  EXPECT_EQ(good.step, 5u);
+  auto writeBytes = [&](const std::string& b) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(b.data(), std::streamsize(b.size()));
+  };
+  int errors = 0;
+  for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+    writeBytes(bytes.substr(0, cut));
+    try {
+      Checkpoint::read(path);
+      ADD_FAILURE() << "a file cut at byte " << cut << " was accepted";
+    } catch (const InputError&) {
+      ++errors;
+    }
+  }
+  for (std::size_t at = 0; at < bytes.size(); ++at) {
+    std::string b = bytes;
+    b[at] = static_cast<char>(b[at] ^ 0x10);
+    writeBytes(b);
+    try {
+      Checkpoint::read(path);
+      ADD_FAILURE() << "a file with byte " << at << " flipped was accepted";
+    } catch (const InputError& e) {
+      ++errors;
+      if (at == 0) {
+        EXPECT_NE(std::string(e.what()).find("not a tumble checkpoint"), std::string::npos) << e.what();
+      }
+    }
+  }
+  writeBytes(bytes + "x");
+  EXPECT_THROW(Checkpoint::read(path), InputError) << "trailing bytes";
+  std::remove(path.c_str());
+  EXPECT_THROW(Checkpoint::read(path), InputError) << "a missing file";
+  EXPECT_EQ(errors, int(2 * bytes.size()));
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, CheckpointTest, ::testing::ValuesIn(compiledBackends()),
+                         [](const auto& info) { return std::string(toString(info.param)); });
