@@ -2,9 +2,12 @@
 #include "tumble/guard.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+
+#include <tbb/parallel_for.h>
 
 #include "tumble/kernels/integrate.hpp"
 
@@ -47,7 +50,25 @@ std::string dtAdvice(const World& w) {
 /// position computed from it (x = X + R u in float).
 double roundingOf(double v) {
   const float a = std::abs(static_cast<float>(v));
-  return std::nextafter(a, std::numeric_limits<float>::infinity()) - a;
+  if (!(a < std::numeric_limits<float>::max())) return std::numeric_limits<double>::infinity();
+  // The next float above a non-negative finite a is the next bit pattern (nextafter without the
+  // library call: this runs for every body at every check).
+  return double(std::bit_cast<float>(std::bit_cast<std::uint32_t>(a) + 1u)) - a;
+}
+
+/// Reduces body(begin, end, acc) over fixed chunks of n elements in parallel, merging the
+/// chunks' accumulators in chunk order: the same result for any thread count.
+template <class Acc, class Body, class Merge>
+Acc chunkedSum(std::size_t n, Body&& body, Merge&& merge) {
+  constexpr std::size_t kChunk = 4096;
+  const std::size_t numChunks = (n + kChunk - 1) / kChunk;
+  std::vector<Acc> part(numChunks);
+  tbb::parallel_for(std::size_t{0}, numChunks, [&](std::size_t c) {
+    body(c * kChunk, std::min(n, (c + 1) * kChunk), part[c]);
+  });
+  Acc total;
+  for (const Acc& a : part) merge(total, a);
+  return total;
 }
 
 bool finiteRow(const BodyState& s, std::size_t k) {
@@ -91,71 +112,97 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       frame.active() ? double(static_cast<float>(double(sc.ground.height) - frame.z)) : double(sc.ground.height);
   Snapshot out;
   const std::size_t nb = s.size();
-  for (std::size_t k = 0; k < nb; ++k) {
-    if (!finiteRow(s, k)) {
-      out.nonFiniteBody = static_cast<std::int64_t>(k);
-      return out;
-    }
+  struct FirstBad {
+    std::int64_t body = -1;
+  };
+  const FirstBad bad = chunkedSum<FirstBad>(nb, [&](std::size_t begin, std::size_t end, FirstBad& a) {
+    for (std::size_t k = begin; k < end && a.body < 0; ++k)
+      if (!finiteRow(s, k)) a.body = static_cast<std::int64_t>(k);
+  }, [](FirstBad& l, const FirstBad& r) {
+    if (l.body < 0) l.body = r.body;  // the lowest index
+  });
+  if (bad.body >= 0) {
+    out.nonFiniteBody = bad.body;
+    return out;
   }
 
-  // Particle positions and velocities from the bodies (double from here on).
+  // Particle positions: the pipeline's own (so that the pairs it reports apply to them).
   const std::uint32_t np = w.numParticles();
-  std::vector<double>& x = m_x;  // buffers kept between checks: no allocation per check
-  x.resize(3 * std::size_t(np));
+  std::vector<float>& x = m_x;  // buffers kept between checks: no allocation per check
+  pipeline.readLocalPositions(x);
   // Far from the origin the positions handed out are rounded (pipelines may integrate in a local
   // frame, LocalFrame): every energy term computed from them carries that rounding, which is
-  // added to the allowance (slack) instead of counting as growth.
+  // added to the allowance (slack) instead of counting as growth. Per body: err (largest axis),
+  // errZ (z).
   std::vector<double>& err = m_err;
   std::vector<double>& errZ = m_errZ;
-  err.resize(np);
-  errZ.resize(np);
-  double slack = 0.0;
-  double kinetic = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
-  double lowest = std::numeric_limits<double>::infinity();
+  err.resize(nb);
+  errZ.resize(nb);
   const Vec3f g = sc.gravity;
   const double gNorm = std::sqrt(double(g.x) * g.x + double(g.y) * g.y + double(g.z) * g.z);
-  for (std::size_t k = 0; k < nb; ++k) {
-    const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
-    const Vec3f X{s.px[k], s.py[k], s.pz[k]}, V{s.vx[k], s.vy[k], s.vz[k]};
-    const bool rotates = w.numParticlesOf[k] > 1;
-    const Vec3f omega = rotates ? angularVelocity(q, w.invInertia[k], Vec3f{s.lx[k], s.ly[k], s.lz[k]}) : Vec3f{0, 0, 0};
-    const double m = w.bodyMass[k];
-    double e = 0.5 * m * (double(V.x) * V.x + double(V.y) * V.y + double(V.z) * V.z);
-    if (rotates) e += 0.5 * (double(omega.x) * s.lx[k] + double(omega.y) * s.ly[k] + double(omega.z) * s.lz[k]);
-    kinetic += e;
-    if (e > hottest) {
-      hottest = e;
-      out.hottestBody = static_cast<std::uint32_t>(k);
-    }
-    const double h = -(double(g.x) * X.x + double(g.y) * X.y + double(g.z) * X.z);
-    gravity += m * h;
-    const double eX = roundingOf(std::max({std::abs(X.x), std::abs(X.y), std::abs(X.z)}));
-    slack += m * gNorm * 1.8 * eX;
-    lowest = std::min(lowest, h);
-    const Mat3f R = rotationMatrix(q);
-    for (std::uint32_t i = w.first[k], e1 = i + w.numParticlesOf[k]; i < e1; ++i) {
-      // The pipelines' positions (particlePosition), so that the pairs they report apply.
-      const Vec3f xi = w.hasClumps ? particlePosition(X, R, Vec3f{w.ux[i], w.uy[i], w.uz[i]}) : X;
-      const Vec3f vi = rotates ? pointVelocity(V, omega, xi - X) : V;
-      x[3 * std::size_t(i)] = xi.x;
-      x[3 * std::size_t(i) + 1] = xi.y;
-      x[3 * std::size_t(i) + 2] = xi.z;
-      err[i] = eX;
-      errZ[i] = roundingOf(X.z);
-      const double mi = w.mass[i];
-      // The pulls act about the world origin: world coordinates (double) for them.
-      const double wx = double(xi.x) + frame.x, wy = double(xi.y) + frame.y;
-      if (mask & kPullX) {
-        pullPotential += 0.5 * mi * sc.pulls.x * wx * wx;
-        slack += mi * std::abs(sc.pulls.x) * (std::abs(wx) + eX) * eX;
+  // Per body (and, with pulls on, per particle), in parallel over fixed chunks combined in chunk
+  // order: the same sums for any thread count.
+  struct BodySums {
+    double slack = 0.0, kinetic = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
+    double lowest = std::numeric_limits<double>::infinity();
+    std::uint32_t hottestBody = 0;
+  };
+  const BodySums bs = chunkedSum<BodySums>(nb, [&](std::size_t begin, std::size_t end, BodySums& a) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
+      const Vec3f X{s.px[k], s.py[k], s.pz[k]}, V{s.vx[k], s.vy[k], s.vz[k]};
+      const bool rotates = w.numParticlesOf[k] > 1;
+      const Vec3f omega =
+          rotates ? angularVelocity(q, w.invInertia[k], Vec3f{s.lx[k], s.ly[k], s.lz[k]}) : Vec3f{0, 0, 0};
+      const double m = w.bodyMass[k];
+      double e = 0.5 * m * (double(V.x) * V.x + double(V.y) * V.y + double(V.z) * V.z);
+      if (rotates) e += 0.5 * (double(omega.x) * s.lx[k] + double(omega.y) * s.ly[k] + double(omega.z) * s.lz[k]);
+      a.kinetic += e;
+      if (e > a.hottest) {
+        a.hottest = e;
+        a.hottestBody = static_cast<std::uint32_t>(k);
       }
-      if (mask & kPullY) {
-        pullPotential += 0.5 * mi * sc.pulls.y * wy * wy;
-        slack += mi * std::abs(sc.pulls.y) * (std::abs(wy) + eX) * eX;
+      const double h = -(double(g.x) * X.x + double(g.y) * X.y + double(g.z) * X.z);
+      a.gravity += m * h;
+      const double eX = roundingOf(std::max({std::abs(X.x), std::abs(X.y), std::abs(X.z)}));
+      err[k] = eX;
+      errZ[k] = roundingOf(X.z);
+      a.slack += m * gNorm * 1.8 * eX;
+      a.lowest = std::min(a.lowest, h);
+      if (mask == 0) continue;
+      for (std::uint32_t i = w.first[k], e1 = i + w.numParticlesOf[k]; i < e1; ++i) {
+        const Vec3f xi{x[3 * std::size_t(i)], x[3 * std::size_t(i) + 1], x[3 * std::size_t(i) + 2]};
+        const Vec3f vi = rotates ? pointVelocity(V, omega, xi - X) : V;
+        const double mi = w.mass[i];
+        // The pulls act about the world origin: world coordinates (double) for them.
+        const double wx = double(xi.x) + frame.x, wy = double(xi.y) + frame.y;
+        if (mask & kPullX) {
+          a.pullPotential += 0.5 * mi * sc.pulls.x * wx * wx;
+          a.slack += mi * std::abs(sc.pulls.x) * (std::abs(wx) + eX) * eX;
+        }
+        if (mask & kPullY) {
+          a.pullPotential += 0.5 * mi * sc.pulls.y * wy * wy;
+          a.slack += mi * std::abs(sc.pulls.y) * (std::abs(wy) + eX) * eX;
+        }
+        if (mask & kPullSwirl) a.power += mi * sc.pulls.swirl * (-wy * vi.x + wx * vi.y);
       }
-      if (mask & kPullSwirl) power += mi * sc.pulls.swirl * (-wy * vi.x + wx * vi.y);
     }
-  }
+  }, [](BodySums& l, const BodySums& r) {
+    l.slack += r.slack;
+    l.kinetic += r.kinetic;
+    l.gravity += r.gravity;
+    l.pullPotential += r.pullPotential;
+    l.power += r.power;
+    l.lowest = std::min(l.lowest, r.lowest);
+    if (r.hottest > l.hottest) {  // the lowest index among equals: the serial loop's choice
+      l.hottest = r.hottest;
+      l.hottestBody = r.hottestBody;
+    }
+  });
+  double slack = bs.slack;
+  const double kinetic = bs.kinetic, gravity = bs.gravity, pullPotential = bs.pullPotential, power = bs.power;
+  const double lowest = bs.lowest;
+  out.hottestBody = bs.hottestBody;
 
   // Contact springs and overlaps: particle pairs of the last detection, and the ground.
   double springs = 0.0;
@@ -164,9 +211,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     ParticleCloud cloud;
     for (auto* c : {&cloud.x, &cloud.y, &cloud.z, &cloud.r}) c->resize(np);
     for (std::uint32_t i = 0; i < np; ++i) {
-      cloud.x[i] = static_cast<float>(x[3 * std::size_t(i)]);
-      cloud.y[i] = static_cast<float>(x[3 * std::size_t(i) + 1]);
-      cloud.z[i] = static_cast<float>(x[3 * std::size_t(i) + 2]);
+      cloud.x[i] = x[3 * std::size_t(i)];
+      cloud.y[i] = x[3 * std::size_t(i) + 1];
+      cloud.z[i] = x[3 * std::size_t(i) + 2];
       cloud.r[i] = w.radius[i];
     }
     cloud.body = w.body;
@@ -174,39 +221,81 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   } else {
     pairs = pipeline.pairs();
   }
-  for (const Pair& p : pairs) {
-    const double dx = x[3 * std::size_t(p.i)] - x[3 * std::size_t(p.j)];
-    const double dy = x[3 * std::size_t(p.i) + 1] - x[3 * std::size_t(p.j) + 1];
-    const double dz = x[3 * std::size_t(p.i) + 2] - x[3 * std::size_t(p.j) + 2];
-    const double delta = double(w.radius[p.i]) + w.radius[p.j] - std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (delta <= 0.0) continue;
-    springs += 0.5 * sc.contact.stiffness * delta * delta;
-    const double e = 1.8 * (err[p.i] + err[p.j]);
-    slack += sc.contact.stiffness * e * (delta + e);
-    const double frac = delta / std::min(w.radius[p.i], w.radius[p.j]);
-    if (frac > out.maxOverlap) {
-      out.maxOverlap = frac;
-      out.overlapBody = w.body[p.i];
-      out.overlapOther = w.body[p.j];
-      out.groundOverlap = false;
-      const double mi = w.mass[p.i], mj = w.mass[p.j];
-      out.overlapContactTime = kPi * std::sqrt(mi * mj / (mi + mj) / double(sc.contact.stiffness));
+  struct PairSums {
+    double springs = 0.0, slack = 0.0, maxOverlap = 0.0;
+    std::size_t deepest = 0;
+  };
+  const PairSums ps = chunkedSum<PairSums>(pairs.size(), [&](std::size_t begin, std::size_t end, PairSums& a) {
+    for (std::size_t c = begin; c < end; ++c) {
+      const Pair& p = pairs[c];
+      const double dx = double(x[3 * std::size_t(p.i)]) - x[3 * std::size_t(p.j)];
+      const double dy = double(x[3 * std::size_t(p.i) + 1]) - x[3 * std::size_t(p.j) + 1];
+      const double dz = double(x[3 * std::size_t(p.i) + 2]) - x[3 * std::size_t(p.j) + 2];
+      const double delta = double(w.radius[p.i]) + w.radius[p.j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (delta <= 0.0) continue;
+      a.springs += 0.5 * sc.contact.stiffness * delta * delta;
+      const double e = 1.8 * (err[w.body[p.i]] + err[w.body[p.j]]);
+      a.slack += sc.contact.stiffness * e * (delta + e);
+      const double frac = delta / std::min(w.radius[p.i], w.radius[p.j]);
+      if (frac > a.maxOverlap) {
+        a.maxOverlap = frac;
+        a.deepest = c;
+      }
     }
+  }, [](PairSums& l, const PairSums& r) {
+    l.springs += r.springs;
+    l.slack += r.slack;
+    if (r.maxOverlap > l.maxOverlap) {  // the first pair among equals, as a serial loop
+      l.maxOverlap = r.maxOverlap;
+      l.deepest = r.deepest;
+    }
+  });
+  springs += ps.springs;
+  slack += ps.slack;
+  if (ps.maxOverlap > out.maxOverlap) {
+    const Pair& p = pairs[ps.deepest];
+    out.maxOverlap = ps.maxOverlap;
+    out.overlapBody = w.body[p.i];
+    out.overlapOther = w.body[p.j];
+    out.groundOverlap = false;
+    const double mi = w.mass[p.i], mj = w.mass[p.j];
+    out.overlapContactTime = kPi * std::sqrt(mi * mj / (mi + mj) / double(sc.contact.stiffness));
   }
   if (sc.ground.enabled) {
-    for (std::uint32_t i = 0; i < np; ++i) {
-      const double delta = groundZ - (x[3 * std::size_t(i) + 2] - w.radius[i]);
-      if (delta <= 0.0) continue;
-      springs += 0.5 * sc.ground.stiffness * delta * delta;
-      const double e = errZ[i] + roundingOf(groundZ);
-      slack += sc.ground.stiffness * e * (delta + e);
-      const double frac = delta / w.radius[i];
-      if (frac > out.maxOverlap) {
-        out.maxOverlap = frac;
-        out.overlapBody = w.body[i];
-        out.groundOverlap = true;
-        out.overlapContactTime = kPi * std::sqrt(double(w.mass[i]) / double(sc.ground.stiffness));
+    struct GroundSums {
+      double springs = 0.0, slack = 0.0, maxOverlap = 0.0, contactTime = 0.0;
+      std::uint32_t body = 0;
+    };
+    const GroundSums gs = chunkedSum<GroundSums>(np, [&](std::size_t begin, std::size_t end, GroundSums& a) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const double delta = groundZ - (double(x[3 * i + 2]) - w.radius[i]);
+        if (delta <= 0.0) continue;
+        a.springs += 0.5 * sc.ground.stiffness * delta * delta;
+        const double e = errZ[w.body[i]] + roundingOf(groundZ);
+        a.slack += sc.ground.stiffness * e * (delta + e);
+        const double frac = delta / w.radius[i];
+        if (frac > a.maxOverlap) {
+          a.maxOverlap = frac;
+          a.body = w.body[i];
+          a.contactTime = kPi * std::sqrt(double(w.mass[i]) / double(sc.ground.stiffness));
+        }
       }
+    }, [](GroundSums& l, const GroundSums& r) {
+      l.springs += r.springs;
+      l.slack += r.slack;
+      if (r.maxOverlap > l.maxOverlap) {
+        l.maxOverlap = r.maxOverlap;
+        l.body = r.body;
+        l.contactTime = r.contactTime;
+      }
+    });
+    springs += gs.springs;
+    slack += gs.slack;
+    if (gs.maxOverlap > out.maxOverlap) {
+      out.maxOverlap = gs.maxOverlap;
+      out.overlapBody = gs.body;
+      out.groundOverlap = true;
+      out.overlapContactTime = gs.contactTime;
     }
   }
 
@@ -216,14 +305,21 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // What the state can release: motion, springs, the pulls' potential, and gravity down to the
   // lowest body or, with a ground below, down to the ground (the heights above it), at least
   // Σ M |g| r_max.
-  double drop = 0.0;
-  for (std::size_t k = 0; k < nb; ++k) {
-    double hk = -(double(g.x) * s.px[k] + double(g.y) * s.py[k] + double(g.z) * s.pz[k]) - lowest;
-    if (sc.ground.enabled && g.z < 0.0f) hk = std::max(hk, -double(g.z) * (double(s.pz[k]) - groundZ));
-    drop += w.bodyMass[k] * std::max(0.0, hk);
-  }
-  double totalMass = 0.0;
-  for (float m : w.bodyMass) totalMass += m;
+  struct DropSums {
+    double drop = 0.0, mass = 0.0;
+  };
+  const DropSums ds = chunkedSum<DropSums>(nb, [&](std::size_t begin, std::size_t end, DropSums& a) {
+    for (std::size_t k = begin; k < end; ++k) {
+      double hk = -(double(g.x) * s.px[k] + double(g.y) * s.py[k] + double(g.z) * s.pz[k]) - lowest;
+      if (sc.ground.enabled && g.z < 0.0f) hk = std::max(hk, -double(g.z) * (double(s.pz[k]) - groundZ));
+      a.drop += w.bodyMass[k] * std::max(0.0, hk);
+      a.mass += w.bodyMass[k];
+    }
+  }, [](DropSums& l, const DropSums& r) {
+    l.drop += r.drop;
+    l.mass += r.mass;
+  });
+  const double drop = ds.drop, totalMass = ds.mass;
   // |pull potential|: an outward pull (κ < 0) has a negative potential, whose size is still the
   // energy scale of the motion it drives.
   out.available = kinetic + springs + std::abs(pullPotential) + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;

@@ -30,6 +30,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cfloat>
 #include <string>
@@ -104,6 +105,7 @@ class CpuPipeline final : public Pipeline {
     m_gty = m_ground ? s.groundSpringY : std::vector<float>{};
     for (auto& c : m_pos) c.assign(n, PosRow{});
     m_buildPos.assign(n, PosRow{});
+    m_touching.assign(n, 0);
     m_candOffsets.assign(std::size_t(n) + 1, 0u);
     m_cur = 0;
     m_skin = effectiveSkin(w);
@@ -113,6 +115,7 @@ class CpuPipeline final : public Pipeline {
     m_time = w.time;
     m_steps = 0;
     m_bp = cpu::detail::Broadphase{};
+    m_arena.execute([&] { computePositions(); });  // readLocalPositions() before the first step
     resetStats();
     m_hasDebug = false;
   }
@@ -133,21 +136,35 @@ class CpuPipeline final : public Pipeline {
   void readLocalState(BodyState& out) const override {
     const std::uint32_t nb = static_cast<std::uint32_t>(m_bodies.size());
     out.resize(nb);
-    for (std::uint32_t k = 0; k < nb; ++k) {
-      const BodyRow& b = m_bodies[k];
-      const std::uint32_t o = b.orig;
-      out.px[o] = b.x.x; out.py[o] = b.x.y; out.pz[o] = b.x.z;
-      out.vx[o] = b.v.x; out.vy[o] = b.v.y; out.vz[o] = b.v.z;
-      out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
-      out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
-    }
     const std::size_t ng = m_gtx.size();
     out.groundSpringX.resize(ng);
     out.groundSpringY.resize(ng);
-    for (std::size_t i = 0; i < ng; ++i) {
-      out.groundSpringX[m_orig[i]] = m_gtx[i];
-      out.groundSpringY[m_orig[i]] = m_gty[i];
-    }
+    m_arena.execute([&] {
+      forEach(nb, kGrain, [&](std::uint32_t k) {
+        const BodyRow& b = m_bodies[k];
+        const std::uint32_t o = b.orig;
+        out.px[o] = b.x.x; out.py[o] = b.x.y; out.pz[o] = b.x.z;
+        out.vx[o] = b.v.x; out.vy[o] = b.v.y; out.vz[o] = b.v.z;
+        out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
+        out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
+      });
+      forEach(static_cast<std::uint32_t>(ng), kGrain, [&](std::uint32_t i) {
+        out.groundSpringX[m_orig[i]] = m_gtx[i];
+        out.groundSpringY[m_orig[i]] = m_gty[i];
+      });
+    });
+  }
+
+  void readLocalPositions(std::vector<float>& out) const override {
+    const std::uint32_t n = m_world.numParticles();
+    out.resize(3 * std::size_t(n));
+    const PosRow* pos = m_pos[m_cur].data();
+    m_arena.execute([&] {
+      forEach(n, kGrain, [&](std::uint32_t i) {
+        const std::size_t o = 3 * std::size_t(m_orig[i]);
+        out[o] = pos[i].x; out[o + 1] = pos[i].y; out[o + 2] = pos[i].z;
+      });
+    });
   }
 
   std::vector<Pair> pairs() const override {
@@ -156,24 +173,48 @@ class CpuPipeline final : public Pipeline {
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
     const std::uint32_t* orig = m_orig.data();
     const CandidateListView list{m_candOffsets.data(), m_cand.data()};
-    // Counts by scene index, a scan, then each particle writes its pairs at its own offset: the
-    // output comes out sorted by (i, j) without a sort.
-    std::vector<std::uint32_t> count(std::size_t(n) + 1, 0u), at(std::size_t(n) + 1);
-    std::vector<std::uint32_t> outI, outJ;
+    // One pass of the exact test over fixed chunks of particles, each appending its pairs
+    // (scene indices, ascending j within a particle's row) to its own buffers; the buffers are
+    // joined in chunk order and sorted by i with a stable radix sort, which gives (i, j) order.
+    // Scratch kept between calls (the guards call this every few steps).
+    const std::uint32_t numChunks = (n + kGrain - 1) / kGrain;
+    if (m_pairChunks.size() < numChunks) m_pairChunks.resize(numChunks);
+    std::vector<Pair> out;
     m_arena.execute([&] {
-      forEach(n, kGrain, [&](std::uint32_t i) { count[orig[i]] = contactsAbove(pos, orig, list, i); });
-      std::size_t bytes = 0;
-      exclusiveSum<std::uint32_t>(nullptr, bytes, count.data(), at.data(), std::size_t(n) + 1);
-      std::vector<std::byte> temp(bytes);
-      exclusiveSum<std::uint32_t>(temp.data(), bytes, count.data(), at.data(), std::size_t(n) + 1);
-      outI.resize(at[n]);
-      outJ.resize(at[n]);
-      forEach(n, kGrain, [&](std::uint32_t i) {
-        emitContactsAbove(pos, orig, list, i, at[orig[i]], outI.data(), outJ.data());
+      tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
+        PairChunk& buf = m_pairChunks[c];
+        buf.i.clear();
+        buf.j.clear();
+        for (std::uint32_t p = c * kGrain, e = std::min(n, (c + 1) * kGrain); p < e; ++p) {
+          if (m_touching[p] == 0) continue;  // the last step saw it touch nothing
+          const std::size_t at = buf.i.size(), room = list.offsets[p + 1] - list.offsets[p];
+          buf.i.resize(at + room);
+          buf.j.resize(at + room);
+          const std::uint32_t k =
+              emitContactsAbove(pos, orig, list, p, static_cast<std::uint32_t>(at), buf.i.data(), buf.j.data());
+          buf.i.resize(at + k);
+          buf.j.resize(at + k);
+        }
       });
+      std::vector<std::size_t> start(numChunks + 1, 0);
+      for (std::uint32_t c = 0; c < numChunks; ++c) start[c + 1] = start[c] + m_pairChunks[c].i.size();
+      const std::size_t total = start[numChunks];
+      std::uint32_t* keys = tumble::detail::grow(m_pairI, total);
+      std::uint32_t* vals = tumble::detail::grow(m_pairJ, total);
+      tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
+        std::copy(m_pairChunks[c].i.begin(), m_pairChunks[c].i.end(), keys + start[c]);
+        std::copy(m_pairChunks[c].j.begin(), m_pairChunks[c].j.end(), vals + start[c]);
+      });
+      std::uint32_t* skeys = tumble::detail::grow(m_pairSortedI, total);
+      std::uint32_t* svals = tumble::detail::grow(m_pairSortedJ, total);
+      const int bits = std::max(1, static_cast<int>(std::bit_width(n - 1)));
+      std::size_t bytes = 0;
+      radixSortPairs<std::uint32_t, std::uint32_t>(nullptr, bytes, keys, skeys, vals, svals, total, 0, bits);
+      radixSortPairs<std::uint32_t, std::uint32_t>(tumble::detail::grow(m_pairTemp, bytes), bytes, keys, skeys, vals,
+                                                   svals, total, 0, bits);
+      out.resize(total);
+      for (std::size_t k = 0; k < total; ++k) out[k] = Pair{skeys[k], svals[k]};
     });
-    std::vector<Pair> out(outI.size());
-    for (std::size_t k = 0; k < out.size(); ++k) out[k] = Pair{outI[k], outJ[k]};
     return out;
   }
 
@@ -290,13 +331,8 @@ class CpuPipeline final : public Pipeline {
     sec[int(Phase::Reorder)] += since(t0);
 
     t0 = Clock::now();
+    computePositions();
     PosRow* pos = m_pos[m_cur].data();
-    forEach(static_cast<std::uint32_t>(m_bodies.size()), kBodyGrain, [&](std::uint32_t k) {
-      if (m_clumps)
-        bodyParticles<true>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
-      else
-        bodyParticles<false>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
-    });
     // Detection input: the positions and the radii grown by skin/2.
     const float h = 0.5f * m_skin;
     float* bx = tumble::detail::grow(m_bx, n);
@@ -330,6 +366,17 @@ class CpuPipeline final : public Pipeline {
     m_stats.numRecords = m_bp.numRecords();
     m_stats.numCells = m_bp.numCells();
     m_stats.cellSize = m_bp.frame().cellSize;
+  }
+
+  // Stage 1: the particle positions of the current body state (after a reordering, and at load).
+  void computePositions() {
+    PosRow* pos = m_pos[m_cur].data();
+    forEach(static_cast<std::uint32_t>(m_bodies.size()), kBodyGrain, [&](std::uint32_t k) {
+      if (m_clumps)
+        bodyParticles<true>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
+      else
+        bodyParticles<false>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
+    });
   }
 
   // The sweep's forward and backward lists → one row per particle, sorted by scene index.
@@ -435,6 +482,7 @@ class CpuPipeline final : public Pipeline {
                     GroundSpringView{m_gtx.data(), m_gty.data()},
                     m_buildPos.data(),
                     CandidateListView{m_candOffsets.data(), m_cand.data()},
+                    m_touching.data(),
                     m_world.numParticles()};
   }
 
@@ -457,6 +505,7 @@ class CpuPipeline final : public Pipeline {
   int m_cur = 0;
   std::vector<PosRow> m_buildPos;
   std::vector<std::uint32_t> m_candOffsets, m_cand;
+  std::vector<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
   float m_skin = 0.0f, m_trigger2 = 0.0f;
   bool m_needRebuild = true;
 
@@ -471,6 +520,12 @@ class CpuPipeline final : public Pipeline {
   std::vector<float> m_radiusTmp, m_massTmp, m_gtxTmp, m_gtyTmp;
   std::vector<std::uint32_t> m_origTmp, m_bodyOfTmp;
   std::vector<float> m_dbg[5], m_dbgVel;
+  struct PairChunk {
+    std::vector<std::uint32_t> i, j;
+  };
+  mutable std::vector<PairChunk> m_pairChunks;  // pairs() scratch
+  mutable std::vector<std::uint32_t> m_pairI, m_pairJ, m_pairSortedI, m_pairSortedJ;
+  mutable std::vector<std::byte> m_pairTemp;
 
   StepStats m_stats;
   std::uint32_t m_pulls = 0;

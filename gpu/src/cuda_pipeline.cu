@@ -174,16 +174,17 @@ __global__ void integrateKernel(StepView v, const Vec3f* f, const Vec3f* t, Vec3
 // pairs(): per particle the contacts with a higher scene index, written at its scene index's
 // offset, so that the output comes out sorted by (i, j).
 __global__ void contactsAboveKernel(const PosRow* pos, const std::uint32_t* orig, CandidateListView list,
-                                    std::uint32_t n, std::uint32_t* countByOrig) {
+                                    const std::uint8_t* touching, std::uint32_t n, std::uint32_t* countByOrig) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < n) countByOrig[orig[i]] = contactsAbove(pos, orig, list, i);
+  if (i < n) countByOrig[orig[i]] = touching[i] ? contactsAbove(pos, orig, list, i) : 0u;
   if (i == n) countByOrig[n] = 0;
 }
 
 __global__ void emitContactsKernel(const PosRow* pos, const std::uint32_t* orig, CandidateListView list,
-                                   std::uint32_t n, const std::uint32_t* at, std::uint32_t* outI, std::uint32_t* outJ) {
+                                   const std::uint8_t* touching, std::uint32_t n, const std::uint32_t* at,
+                                   std::uint32_t* outI, std::uint32_t* outJ) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < n) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ);
+  if (i < n && touching[i]) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ);
 }
 
 /// What each step reads back: the skin test and the contact count.
@@ -238,10 +239,12 @@ class CudaPipeline final : public Pipeline {
     m_ty.upload(m_ground ? st.groundSpringY : std::vector<float>{}, s);
     for (auto& p : m_pos) p.grow(n);
     m_buildPos.grow(n);
+    m_touching.grow(n);
     m_f.grow(n);
     m_t.grow(n);
     m_candOffsets.grow(std::size_t(n) + 1);
     m_readback.grow(1);
+    m_clumps ? launchState<true>() : launchState<false>();  // readLocalPositions() before the first step
     m_ctx.synchronize();
     m_cur = 0;
     m_numCand = 0;
@@ -299,6 +302,23 @@ class CudaPipeline final : public Pipeline {
     }
   }
 
+  // As CpuPipeline::readLocalPositions.
+  void readLocalPositions(std::vector<float>& out) const override {
+    const std::uint32_t n = m_world.numParticles();
+    std::vector<PosRow> pos(n);
+    std::vector<std::uint32_t> orig(n);
+    m_pos[m_cur].download(pos.data(), n, m_ctx.stream());
+    m_orig.download(orig.data(), n, m_ctx.stream());
+    m_ctx.synchronize();
+    out.resize(3 * std::size_t(n));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::size_t o = 3 * std::size_t(orig[i]);
+      out[o] = pos[i].x;
+      out[o + 1] = pos[i].y;
+      out[o + 2] = pos[i].z;
+    }
+  }
+
   // As CpuPipeline::pairs.
   std::vector<Pair> pairs() const override {
     if (m_steps == 0) return {};
@@ -310,7 +330,8 @@ class CudaPipeline final : public Pipeline {
     DeviceBuffer<unsigned char> temp;
     count.grow(std::size_t(n) + 1);
     at.grow(std::size_t(n) + 1);
-    contactsAboveKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, s>>>(pos, m_orig.data(), list, n, count.data());
+    contactsAboveKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, s>>>(pos, m_orig.data(), list, m_touching.data(),
+                                                                        n, count.data());
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "contactsAboveKernel");
     std::size_t bytes = 0;
     TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, bytes, count.data(), at.data(), n + 1, s));
@@ -320,8 +341,8 @@ class CudaPipeline final : public Pipeline {
     m_ctx.synchronize();
     std::vector<std::uint32_t> hi(total), hj(total);
     if (total > 0) {
-      emitContactsKernel<<<blocksFor(n), kBlock, 0, s>>>(pos, m_orig.data(), list, n, at.data(), outI.grow(total),
-                                                          outJ.grow(total));
+      emitContactsKernel<<<blocksFor(n), kBlock, 0, s>>>(pos, m_orig.data(), list, m_touching.data(), n, at.data(),
+                                                          outI.grow(total), outJ.grow(total));
       TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "emitContactsKernel");
       outI.download(hi.data(), total, s);
       outJ.download(hj.data(), total, s);
@@ -405,6 +426,7 @@ class CudaPipeline final : public Pipeline {
                     GroundSpringView{m_tx.data(), m_ty.data()},
                     m_buildPos.data(),
                     CandidateListView{m_candOffsets.data(), m_cand.data()},
+                    m_touching.data(),
                     m_world.numParticles()};
   }
 
@@ -465,6 +487,15 @@ class CudaPipeline final : public Pipeline {
     m_stats.numPairs = h.contacts / 2;  // each contact is seen from both sides
   }
 
+  // Stage 1: the particle positions of the current body state (after a reordering, and at load).
+  template <bool kClumps>
+  void launchState() {
+    const std::uint32_t nb = m_world.numBodies();
+    stateKernel<kClumps><<<blocksFor(nb), kBlock, 0, m_ctx.stream()>>>(m_bodies.data(), nb, m_own.data(),
+                                                                        m_radius.data(), m_pos[m_cur].data());
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "stateKernel");
+  }
+
   // As CpuPipeline::rebuild.
   void rebuild() {
     const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
@@ -473,12 +504,8 @@ class CudaPipeline final : public Pipeline {
     if (m_reorder) reorder();
 
     m_timer.mark(Phase::State, s);
+    m_clumps ? launchState<true>() : launchState<false>();
     PosRow* pos = m_pos[m_cur].data();
-    if (m_clumps)
-      stateKernel<true><<<blocksFor(nb), kBlock, 0, s>>>(m_bodies.data(), nb, m_own.data(), m_radius.data(), pos);
-    else
-      stateKernel<false><<<blocksFor(nb), kBlock, 0, s>>>(m_bodies.data(), nb, m_own.data(), m_radius.data(), pos);
-    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "stateKernel");
     const float h = 0.5f * m_skin;
     detectionInputKernel<<<blocksFor(n), kBlock, 0, s>>>(pos, n, h, m_bx.grow(n), m_by.grow(n), m_bz.grow(n),
                                                          m_br.grow(n), m_buildPos.data());
@@ -582,6 +609,7 @@ class CudaPipeline final : public Pipeline {
   DeviceBuffer<PosRow> m_pos[2], m_buildPos;
   int m_cur = 0;
   DeviceBuffer<std::uint32_t> m_candOffsets, m_cand, m_candKey;
+  DeviceBuffer<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
   std::uint32_t m_numCand = 0;
   float m_skin = 0.0f, m_trigger2 = 0.0f;
   bool m_needRebuild = true;

@@ -4,6 +4,8 @@
 // beyond the stability limit, on a particle driven through the ground, and on a non-finite state.
 #include <gtest/gtest.h>
 
+#include "tumble/kernels/integrate.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -304,11 +306,21 @@ namespace {
 // A pipeline whose state is whatever the test puts in it.
 class FakePipeline : public Pipeline {
  public:
-  explicit FakePipeline(const World& w) : m_state(w.state) {}
+  explicit FakePipeline(const World& w) : m_world(w), m_state(w.state) {}
   Backend backend() const override { return Backend::Cpu; }
   void load(const World&) override {}
   void step(std::uint64_t n) override { m_stats.steps += n; }
   void readState(BodyState& out) const override { out = m_state; }
+  void readLocalPositions(std::vector<float>& out) const override {
+    out.clear();
+    for (std::uint32_t i = 0; i < m_world.numParticles(); ++i) {
+      const std::uint32_t k = m_world.body[i];
+      const Vec3f x = particlePosition(Vec3f{m_state.px[k], m_state.py[k], m_state.pz[k]},
+                                       rotationMatrix(Quatf{m_state.qw[k], m_state.qx[k], m_state.qy[k], m_state.qz[k]}),
+                                       Vec3f{m_world.ux[i], m_world.uy[i], m_world.uz[i]});
+      out.insert(out.end(), {x.x, x.y, x.z});
+    }
+  }
   std::vector<Pair> pairs() const override { return {}; }
   std::vector<Pair> findPairs(const ParticleCloud&, const BroadphaseParams&) override { return {}; }
   void readDebug(ParticleDebug&) const override {}
@@ -319,6 +331,7 @@ class FakePipeline : public Pipeline {
   void resetStats() override {}
   double time() const override { return 0.0; }
   std::uint64_t stepCount() const override { return m_stats.steps; }
+  const World& m_world;
   BodyState m_state;
   StepStats m_stats;
 };

@@ -93,7 +93,8 @@ class RunGuard {
   const World& m_world;
   GuardParams m_params;
   BodyState m_state;
-  std::vector<double> m_x, m_err, m_errZ;  ///< particle positions and their rounding, per check
+  std::vector<float> m_x;             ///< particle positions (Pipeline::readLocalPositions), per check
+  std::vector<double> m_err, m_errZ;  ///< the rounding of each body's position, per check
   double m_reference = 0.0;   ///< E₀ (rebased when the pull mask changes)
   double m_referenceSlack = 0.0;
   double m_scale = 0.0;       ///< S

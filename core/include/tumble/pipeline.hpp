@@ -114,6 +114,9 @@ class Pipeline {
   /// The body state in that frame: positions X − frame origin, as integrated (no rounding to the
   /// world frame). The same as readState() when the frame is inactive.
   virtual void readLocalState(BodyState& out) const { readState(out); }
+  /// The particle positions of the current state, in the frame of readLocalState(), scene
+  /// order, 3 floats per particle: the bits the next step's contacts are decided on.
+  virtual void readLocalPositions(std::vector<float>& out) const = 0;
   /// The contacts of the last step (the particles that touched at its start), sorted by (i, j),
   /// scene indices; {} before the first step. Exactly the brute-force pair set of that state,
   /// whatever the detection settings and the skin.

@@ -80,6 +80,8 @@ struct StepView {
   GroundSpringView ground;
   const PosRow* buildPos;        ///< positions at the last rebuild (the skin test)
   CandidateListView list;
+  std::uint8_t* touching;        ///< written by the forces: min(255, contacts) per particle, so that
+                                 ///< pairs() need not test the particles that touch nothing
   std::uint32_t numParticles;
 };
 

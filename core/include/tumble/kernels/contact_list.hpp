@@ -120,7 +120,8 @@ TUMBLE_HD_INLINE void fillCandidates(const SweepListView& s, const std::uint32_t
 }
 
 /// Number of contacts of particle i with partners of a higher scene index (the pairs i < j that
-/// pairs() lists for i), at the positions `pos`.
+/// pairs() lists for i), at the positions `pos`. (The caller may skip the particles that the
+/// force stage saw touch nothing: StepView::touching.)
 TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
                                              std::uint32_t i) {
   const PosRow pi = pos[i];
@@ -134,22 +135,25 @@ TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint3
   return n;
 }
 
-/// Writes those contacts as scene-index pairs (i, j), ascending j, from outI/outJ[at] on.
-TUMBLE_HD_INLINE void emitContactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
-                                        std::uint32_t i, std::uint32_t at, std::uint32_t* outI,
-                                        std::uint32_t* outJ) {
+/// Writes those contacts as scene-index pairs (i, j), ascending j, from outI/outJ[at] on (room
+/// for the whole row suffices); returns how many.
+TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::uint32_t* orig,
+                                                 const CandidateListView& l, std::uint32_t i, std::uint32_t at,
+                                                 std::uint32_t* outI, std::uint32_t* outJ) {
   const PosRow pi = pos[i];
   const std::uint32_t me = orig[i];
+  std::uint32_t n = 0;
   for (std::uint32_t e = l.offsets[i]; e < l.offsets[i + 1]; ++e) {
     const std::uint32_t j = l.cand[e];
     const PosRow pj = pos[j];
     const std::uint32_t other = orig[j];
     if (other > me && spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) {
-      outI[at] = me;
-      outJ[at] = other;
-      ++at;
+      outI[at + n] = me;
+      outJ[at + n] = other;
+      ++n;
     }
   }
+  return n;
 }
 
 /// The skin test's threshold on the squared displacement: a rebuild is due once some particle's

@@ -137,6 +137,7 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     }
     ++out.contacts;
   }
+  v.touching[i] = static_cast<std::uint8_t>(out.contacts < 255u ? out.contacts : 255u);
   GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
   if (fp.hasGround) {
     if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {
