@@ -114,6 +114,32 @@ MortonGrid mortonGridOf(const BoundsPartial& b) {
   return MortonGrid{Vec3f{lo[0], lo[1], lo[2]}, extent > 0.0f ? 1023.0f / extent : 0.0f};
 }
 
+void initialRows(const World& w, std::vector<BodyRow>* outBodies, std::vector<BodyStatic>* outStatic,
+                 std::vector<OwnRow>* outOwn) {
+  const std::uint32_t nb = w.numBodies(), n = w.numParticles();
+  const std::vector<Vec3f> omega = initialOmega(w);
+  const BodyState& s = w.state;
+  outBodies->resize(nb);
+  outStatic->resize(nb);
+  for (std::uint32_t k = 0; k < nb; ++k) {
+    BodyRow& b = (*outBodies)[k];
+    b = BodyRow{};
+    b.x = Vec3f{s.px[k], s.py[k], s.pz[k]};
+    b.v = Vec3f{s.vx[k], s.vy[k], s.vz[k]};
+    b.q = Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
+    b.l = Vec3f{s.lx[k], s.ly[k], s.lz[k]};
+    b.omega = omega[k];
+    b.rot = rotationMatrix(b.q);
+    b.invMass = w.invMass[k];
+    b.first = w.first[k];
+    b.count = w.numParticlesOf[k];
+    b.orig = k;
+    (*outStatic)[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], 0.0f};
+  }
+  outOwn->resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) (*outOwn)[i] = OwnRow{Vec3f{w.ux[i], w.uy[i], w.uz[i]}, w.groundDamping[i]};
+}
+
 // Twin: cpu/src/cpu_pipeline.cpp CpuPipeline::load(), the m_omega loop.
 std::vector<Vec3f> initialOmega(const World& world) {
   const BodyState& s = world.state;

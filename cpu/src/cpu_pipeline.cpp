@@ -60,9 +60,9 @@ void forEach(std::uint32_t n, std::uint32_t grain, F&& f) {
   });
 }
 
-/// The per-step reduction: largest squared displacement (skin test) and touching contacts.
+/// The per-step reduction: the drift since the rebuild (skin test) and the touching contacts.
 struct StepTotals {
-  float maxDisplacement2 = 0.0f;
+  Drift drift = noDrift();
   std::uint64_t contacts = 0;
 };
 
@@ -80,27 +80,14 @@ class CpuPipeline final : public Pipeline {
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
     m_clumps = w.hasClumps;
     m_ground = w.params.ground.enabled;
-    const std::vector<Vec3f> omega = tumble::detail::initialOmega(w);
-    m_bodies.resize(nb);
+    tumble::detail::initialRows(w, &m_bodies, &m_bodyStatic, &m_own);
     m_bodiesNext.resize(nb);
-    m_bodyStatic.resize(nb);
-    const BodyState& s = w.state;
-    for (std::uint32_t k = 0; k < nb; ++k) {
-      const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
-      m_bodies[k] = BodyRow{Vec3f{s.px[k], s.py[k], s.pz[k]}, w.first[k], Vec3f{s.vx[k], s.vy[k], s.vz[k]},
-                            w.numParticlesOf[k], omega[k], k, rotationMatrix(q), w.invMass[k], q,
-                            Vec3f{s.lx[k], s.ly[k], s.lz[k]}};
-      m_bodyStatic[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], 0.0f};
-    }
-    m_own.resize(n);
     m_radius = w.radius;
     m_mass = w.mass;
     m_orig.resize(n);
     m_bodyOf = w.body;
-    for (std::uint32_t i = 0; i < n; ++i) {
-      m_own[i] = OwnRow{Vec3f{w.ux[i], w.uy[i], w.uz[i]}, w.groundDamping[i]};
-      m_orig[i] = i;
-    }
+    for (std::uint32_t i = 0; i < n; ++i) m_orig[i] = i;
+    const BodyState& s = w.state;
     m_gtx = m_ground ? s.groundSpringX : std::vector<float>{};
     m_gty = m_ground ? s.groundSpringY : std::vector<float>{};
     for (auto& c : m_pos) c.assign(n, PosRow{});
@@ -277,7 +264,7 @@ class CpuPipeline final : public Pipeline {
     }
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
-    m_needRebuild = !(tot.maxDisplacement2 < m_trigger2);
+    m_needRebuild = !listStillValid(tot.drift, m_trigger2);
     sec[int(Phase::Forces)] += since(t0);
 
     ++m_steps;
@@ -310,12 +297,12 @@ class CpuPipeline final : public Pipeline {
               addToBody<kClumps>(F, T, pf);
               acc.contacts += pf.contacts;
             }
-            acc.maxDisplacement2 = std::max(acc.maxDisplacement2, finishBody<kClumps>(v, F, T, g, dt, scheme, k));
+            finishBody<kClumps>(v, F, T, g, dt, scheme, k, &acc.drift);
           }
           return acc;
         },
         [](StepTotals x, const StepTotals& y) {
-          x.maxDisplacement2 = std::max(x.maxDisplacement2, y.maxDisplacement2);
+          mergeDrift(x.drift, y.drift);
           x.contacts += y.contacts;
           return x;
         });
@@ -373,9 +360,9 @@ class CpuPipeline final : public Pipeline {
     PosRow* pos = m_pos[m_cur].data();
     forEach(static_cast<std::uint32_t>(m_bodies.size()), kBodyGrain, [&](std::uint32_t k) {
       if (m_clumps)
-        bodyParticles<true>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
+        bodyParticles<true>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos, nullptr);
       else
-        bodyParticles<false>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos);
+        bodyParticles<false>(m_bodies[k], m_own.data(), m_radius.data(), nullptr, pos, nullptr);
     });
   }
 

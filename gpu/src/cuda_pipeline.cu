@@ -10,9 +10,9 @@
 //   pass over the bodies; here they are two kernels (particleForce per particle, then
 //   finishBody per body, which adds its particles' forces in their order): the same sums in the
 //   same order.
-// - Contacts as state. The candidate list is rebuilt only when the skin test asks (the largest
-//   displacement since the last rebuild, an integer atomicMax of non-negative float bits: exact
-//   in any order); the rows are sorted by scene index, so the contacts and their order do not
+// - Contacts as state. The candidate list is rebuilt only when the skin test asks (the drift since
+//   the last rebuild: a max and a box of displacements, by integer atomics on order-preserving
+//   images of the floats, exact in any order); the rows are sorted by scene index, so the contacts and their order do not
 //   depend on the sweep's output order, the skin or the internal numbering.
 // - Determinism of the GPU run itself: every output element has one writer, scans are integer
 //   scans, sorts are stable, and the only atomics are an integer max and an integer count.
@@ -50,7 +50,7 @@ template <bool kClumps>
 __global__ void stateKernel(const BodyRow* bodies, std::uint32_t numBodies, const OwnRow* own, const float* radius,
                             PosRow* pos) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < numBodies) bodyParticles<kClumps>(bodies[k], own, radius, nullptr, pos);
+  if (k < numBodies) bodyParticles<kClumps>(bodies[k], own, radius, nullptr, pos, nullptr);
 }
 
 // The detection's input columns (radii grown by skin/2) and the build positions.
@@ -154,21 +154,31 @@ __global__ void forcesKernel(StepView v, ForceParams fp, DebugForcesView dbg, Ve
   if (pf.contacts != 0) atomicAdd(contacts, static_cast<unsigned long long>(pf.contacts));  // integer: exact
 }
 
-// Stages 6–7 and the next step's stage 1 per body; the skin test's max is an integer atomicMax
-// of non-negative float bits (order-preserving), exact in any order.
+/// What each step reads back: the drift (skin test; as order-preserving integer images of the
+/// floats, so that integer atomics give the exact max and min in any order) and the contacts.
+struct StepReadback {
+  unsigned int max2, lo[3], hi[3];
+  unsigned int pad;
+  unsigned long long contacts;
+};
+
+// Stages 6–7 and the next step's stage 1 per body; the drift's max and mins by integer atomics.
 template <bool kClumps>
 __global__ void integrateKernel(StepView v, const Vec3f* f, const Vec3f* t, Vec3f gravity, float dt,
-                                RotationScheme scheme, unsigned int* maxDisplacement2Bits) {
+                                RotationScheme scheme, StepReadback* rb) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= v.numBodies) return;
   const BodyRow& b = v.bodies[k];
   Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
   for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i)
     addToBody<kClumps>(F, T, ParticleForce{f[i], t[i], 0u});
-  const float d2 = finishBody<kClumps>(v, F, T, gravity, dt, scheme, k);
-  unsigned int bits;
-  std::memcpy(&bits, &d2, sizeof bits);
-  atomicMax(maxDisplacement2Bits, bits);
+  Drift d = noDrift();
+  finishBody<kClumps>(v, F, T, gravity, dt, scheme, k, &d);
+  atomicMax(&rb->max2, orderedBits(d.max2));
+  for (int a = 0; a < 3; ++a) {
+    atomicMin(&rb->lo[a], orderedBits(d.lo[a]));
+    atomicMax(&rb->hi[a], orderedBits(d.hi[a]));
+  }
 }
 
 // pairs(): per particle the contacts with a higher scene index, written at its scene index's
@@ -187,13 +197,6 @@ __global__ void emitContactsKernel(const PosRow* pos, const std::uint32_t* orig,
   if (i < n && touching[i]) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ);
 }
 
-/// What each step reads back: the skin test and the contact count.
-struct StepReadback {
-  unsigned int maxDisplacement2Bits;
-  unsigned int pad;
-  unsigned long long contacts;
-};
-
 class CudaPipeline final : public Pipeline {
  public:
   explicit CudaPipeline(const PipelineOptions& options) : m_reorder(options.reorder) {}
@@ -210,23 +213,13 @@ class CudaPipeline final : public Pipeline {
     const cudaStream_t s = m_ctx.stream();
     m_clumps = w.hasClumps;
     m_ground = w.params.ground.enabled;
-    const std::vector<Vec3f> omega = initialOmega(w);
-    std::vector<BodyRow> bodies(nb);
-    std::vector<BodyStatic> bodyStatic(nb);
-    const BodyState& st = w.state;
-    for (std::uint32_t k = 0; k < nb; ++k) {
-      const Quatf q{st.qw[k], st.qx[k], st.qy[k], st.qz[k]};
-      bodies[k] = BodyRow{Vec3f{st.px[k], st.py[k], st.pz[k]}, w.first[k], Vec3f{st.vx[k], st.vy[k], st.vz[k]},
-                          w.numParticlesOf[k], omega[k], k, rotationMatrix(q), w.invMass[k], q,
-                          Vec3f{st.lx[k], st.ly[k], st.lz[k]}};
-      bodyStatic[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], 0.0f};
-    }
-    std::vector<OwnRow> own(n);
+    std::vector<BodyRow> bodies;
+    std::vector<BodyStatic> bodyStatic;
+    std::vector<OwnRow> own;
+    initialRows(w, &bodies, &bodyStatic, &own);
     std::vector<std::uint32_t> orig(n);
-    for (std::uint32_t i = 0; i < n; ++i) {
-      own[i] = OwnRow{Vec3f{w.ux[i], w.uy[i], w.uz[i]}, w.groundDamping[i]};
-      orig[i] = i;
-    }
+    for (std::uint32_t i = 0; i < n; ++i) orig[i] = i;
+    const BodyState& st = w.state;
     m_bodies.upload(bodies, s);
     m_bodiesNext.grow(nb);
     m_bodyStatic.upload(bodyStatic, s);
@@ -451,7 +444,14 @@ class CudaPipeline final : public Pipeline {
       dbg.v = m_dbgVel.grow(3 * std::size_t(n));
     }
     StepReadback* rb = m_readback.data();
-    TUMBLE_CUDA_CHECK(cudaMemsetAsync(rb, 0, sizeof(StepReadback), s));
+    const Drift none = noDrift();
+    StepReadback init{orderedBits(none.max2), {}, {}, 0u, 0ull};
+    for (int a = 0; a < 3; ++a) {
+      init.lo[a] = orderedBits(none.lo[a]);
+      init.hi[a] = orderedBits(none.hi[a]);
+    }
+    m_readbackInit = init;  // a member: the copy may still read it after this function returns
+    TUMBLE_CUDA_CHECK(cudaMemcpyAsync(rb, &m_readbackInit, sizeof init, cudaMemcpyHostToDevice, s));
     unsigned long long* contacts = &rb->contacts;
     if (m_debug) {
       if (m_clumps) forcesKernel<true, true><<<blocksFor(n), kBlock, 0, s>>>(v, fp, dbg, m_f.data(), m_t.data(), contacts);
@@ -466,20 +466,23 @@ class CudaPipeline final : public Pipeline {
     m_timer.mark(Phase::Integrate, s);
     if (m_clumps)
       integrateKernel<true><<<blocksFor(nb), kBlock, 0, s>>>(v, m_f.data(), m_t.data(), p.gravity, p.dt,
-                                                              p.integrator.rotation, &rb->maxDisplacement2Bits);
+                                                              p.integrator.rotation, rb);
     else
       integrateKernel<false><<<blocksFor(nb), kBlock, 0, s>>>(v, m_f.data(), m_t.data(), p.gravity, p.dt,
-                                                               p.integrator.rotation, &rb->maxDisplacement2Bits);
+                                                               p.integrator.rotation, rb);
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "integrateKernel");
     StepReadback h{};
     TUMBLE_CUDA_CHECK(cudaMemcpyAsync(&h, rb, sizeof h, cudaMemcpyDeviceToHost, s));
     m_timer.finish(s);
     m_timer.accumulate(m_stats.seconds);  // waits for the step (and the read-back)
-    float maxD2;
-    std::memcpy(&maxD2, &h.maxDisplacement2Bits, sizeof maxD2);
+    Drift drift{fromOrderedBits(h.max2), {}, {}};
+    for (int a = 0; a < 3; ++a) {
+      drift.lo[a] = fromOrderedBits(h.lo[a]);
+      drift.hi[a] = fromOrderedBits(h.hi[a]);
+    }
     m_cur = 1 - m_cur;
     std::swap(m_bodies, m_bodiesNext);
-    m_needRebuild = !(maxD2 < m_trigger2);
+    m_needRebuild = !listStillValid(drift, m_trigger2);
 
     ++m_steps;
     m_time += p.dt;
@@ -615,6 +618,7 @@ class CudaPipeline final : public Pipeline {
   bool m_needRebuild = true;
   DeviceBuffer<Vec3f> m_f, m_t;  // per-particle force and torque of the step
   DeviceBuffer<StepReadback> m_readback;
+  StepReadback m_readbackInit{};
   Broadphase m_bp;
   // Scratch (grow-only).
   DeviceBuffer<float> m_bx, m_by, m_bz, m_br;

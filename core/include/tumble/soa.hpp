@@ -15,20 +15,22 @@
 
 namespace tumble {
 
-/// One body: its integrated state and what the step reads with it (internal numbering). The
-/// first 84 bytes are what a touching neighbour reads: X, V, Ω and R.
-struct alignas(16) BodyRow {
+/// One body: its integrated state and what the step reads with it (internal numbering), in two
+/// cache lines. The first holds what a touching neighbour reads (V, Ω, R), so that a contact
+/// costs one line of the other body.
+struct alignas(64) BodyRow {
+  Vec3f v;               ///< V
+  Vec3f omega;           ///< Ω = R I0⁻¹ Rᵀ L of this state (0 for single-sphere bodies)
+  Mat3f rot;             ///< R = rotationMatrix(q): lever arms R u and positions X + R u
+  std::uint32_t count;   ///< number of particles
   Vec3f x;               ///< centre of mass X
   std::uint32_t first;   ///< first particle (internal numbering); the body's particles are contiguous
-  Vec3f v;               ///< V
-  std::uint32_t count;   ///< number of particles
-  Vec3f omega;           ///< Ω = R I0⁻¹ Rᵀ L of this state (0 for single-sphere bodies)
-  std::uint32_t orig;    ///< scene index of the body
-  Mat3f rot;             ///< R = rotationMatrix(q): lever arms R u and positions X + R u
-  float invMass;
   Quatf q;               ///< orientation Q (body frame → world)
   Vec3f l;               ///< angular momentum L, world frame
+  float invMass;
+  std::uint32_t orig;    ///< scene index of the body
 };
+static_assert(sizeof(BodyRow) == 128, "two cache lines");
 
 /// A body's static mass properties (internal numbering).
 struct alignas(16) BodyStatic {

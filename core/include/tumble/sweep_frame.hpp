@@ -16,6 +16,7 @@
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
+#include "tumble/soa.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble::detail {
@@ -79,6 +80,11 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const Broa
 /// 1024 cells along the largest extent. Any grid gives correct results; this one only sets the
 /// memory order.
 MortonGrid mortonGridOf(const BoundsPartial& bodyCentres);
+
+/// The pipelines' rows of a loaded world (in its integration frame), in scene order: body rows
+/// with Ω (initialOmega) and R, the bodies' static rows, and the particles' own rows.
+void initialRows(const World& world, std::vector<BodyRow>* outBodies, std::vector<BodyStatic>* outStatic,
+                 std::vector<OwnRow>* outOwn);
 
 /// Ω = R I0⁻¹ Rᵀ L of every clump, and 0 for single-sphere bodies (they do not rotate; their L
 /// is kept but never used). The pipelines' load().

@@ -11,13 +11,15 @@
 ///    whatever order the sweep produced it in.
 /// 2. **Contacts.** Every step the exact predicate spheresOverlap() filters each row (the
 ///    force stage, kernels/step.hpp): the touching partners of i in ascending scene index.
-/// 3. **Skin.** The list stays valid while every particle has moved less than skin/2 since the
-///    rebuild (less a rounding margin, skinTrigger()): two particles that touch now were then
-///    within r_i + r_j + skin. The largest displacement is a max, exact in any order.
+/// 3. **Skin.** The list stays valid while no two particles can have closed in by the skin since
+///    the rebuild (less a rounding margin, skinTrigger2(); Drift): two particles that touch now
+///    were then within r_i + r_j + skin. The tests are on a max and a bounding box of the
+///    displacements, exact in any order.
 /// 4. **Reordering.** At each rebuild the bodies are renumbered in Morton order of their
 ///    centres (mortonKey()), particles following their bodies, so that a row's candidates lie
 ///    near it in memory. Outputs and sums are by scene index, so this changes no bit.
 #pragma once
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 
@@ -156,16 +158,72 @@ TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::u
   return n;
 }
 
-/// The skin test's threshold on the squared displacement: a rebuild is due once some particle's
-/// fl(|x − x_build|²) is not below it. h = skin/2 less a margin for the rounding of the three
-/// float tests involved (the candidate test at the build on grown radii, the contact test now,
-/// the displacement itself; each within a few units of 2^-24 relative, see docs/model.md),
-/// 16 · 2^-24 · (2 r_max + h). 0 (a rebuild every step) when the skin is below that margin.
+/// The skin test's threshold T² on the squared displacement (see Drift): h = skin/2 less a
+/// margin for the rounding of the three float tests involved (the candidate test at the build on
+/// grown radii, the contact test now, the displacements themselves; each within a few units of
+/// 2^-24 relative, docs/model.md), 16 · 2^-24 · (2 r_max + h). 0 (a rebuild every step) when the
+/// skin is below that margin.
 inline float skinTrigger2(float skin, float maxRadius) {
   const double h = 0.5 * double(skin);
   const double margin = 16.0 * std::ldexp(1.0, -24) * (2.0 * double(maxRadius) + h);
   const double t = h - margin;
   return t > 0.0 ? static_cast<float>(t * t) : 0.0f;
+}
+
+/// How the particles have moved since the last rebuild: the largest squared displacement, and
+/// the bounding box of the displacement vectors (per axis the least and the largest component).
+/// Both are a max or a min over the particles: exact in any order, so the rebuild decision does
+/// not depend on the scheduling.
+///
+/// The list stays valid while two particles cannot have closed in by the skin. Their distance
+/// has changed by at most |Δx_i − Δx_j|, which is below 2 max |Δx| and below the box's diagonal;
+/// so the list is kept while either is below the skin (less the margin): 4 max |Δx|² < 4 T² (the
+/// classic rule) or diagonal² < 4 T². The second keeps the list through a common motion, such as
+/// a pile falling as one, which the first cannot.
+struct Drift {
+  float max2;
+  float lo[3], hi[3];
+};
+
+TUMBLE_HD_INLINE Drift noDrift() { return Drift{0.0f, {FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}}; }
+
+/// Adds one particle's displacement. A NaN makes both criteria fail (max2 and the box become
+/// infinite), so that it forces a rebuild, whose bounds check reports the non-finite particle.
+TUMBLE_HD_INLINE void addDisplacement(Drift& d, float dx, float dy, float dz) {
+  const float d2 = dx * dx + dy * dy + dz * dz;
+  if (!(d2 <= FLT_MAX)) {  // NaN or overflow
+    d.max2 = FLT_MAX;
+    for (int a = 0; a < 3; ++a) {
+      d.lo[a] = -FLT_MAX;
+      d.hi[a] = FLT_MAX;
+    }
+    return;
+  }
+  if (d2 > d.max2) d.max2 = d2;
+  const float c[3] = {dx, dy, dz};
+  for (int a = 0; a < 3; ++a) {
+    if (c[a] < d.lo[a]) d.lo[a] = c[a];
+    if (c[a] > d.hi[a]) d.hi[a] = c[a];
+  }
+}
+
+TUMBLE_HD_INLINE void mergeDrift(Drift& d, const Drift& o) {
+  if (o.max2 > d.max2) d.max2 = o.max2;
+  for (int a = 0; a < 3; ++a) {
+    if (o.lo[a] < d.lo[a]) d.lo[a] = o.lo[a];
+    if (o.hi[a] > d.hi[a]) d.hi[a] = o.hi[a];
+  }
+}
+
+/// Whether the candidate list is still valid after this drift (trigger2 = skinTrigger2()).
+TUMBLE_HD_INLINE bool listStillValid(const Drift& d, float trigger2) {
+  if (d.max2 < trigger2) return true;
+  float diag2 = 0.0f;
+  for (int a = 0; a < 3; ++a) {
+    const float w = d.hi[a] > d.lo[a] ? d.hi[a] - d.lo[a] : 0.0f;
+    diag2 += w * w;
+  }
+  return diag2 < 4.0f * trigger2;
 }
 
 /// The grid of the reordering: 1024 cells per axis over a box (lo, with 1/cell as scale).

@@ -16,6 +16,7 @@
 
 #include "tumble/hd.hpp"
 #include "tumble/kernels/contact.hpp"
+#include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/math.hpp"
@@ -60,26 +61,19 @@ struct DebugForcesView {
 };
 
 /// Particle positions from their body's state (SPEC §2.1), x = X + R u (R = b.rot), for the
-/// particles first..first+count of body b, with their radii; returns the
-/// largest squared displacement since the rebuild (buildPos; pass nullptr for none, giving 0).
-/// A NaN displacement comes out as FLT_MAX, so that it forces a rebuild, whose bounds check
-/// reports the non-finite particle. Single-sphere scenes (kClumps false): x = X.
+/// particles first..first+count of body b, with their radii; their displacements since the
+/// rebuild (buildPos) are added to *drift (pass nullptrs for neither). Single-sphere scenes
+/// (kClumps false): x = X.
 template <bool kClumps>
-TUMBLE_HD_INLINE float bodyParticles(const BodyRow& b, const OwnRow* own, const float* radius, const PosRow* buildPos,
-                                     PosRow* outPos) {
-  float worst = 0.0f;
+TUMBLE_HD_INLINE void bodyParticles(const BodyRow& b, const OwnRow* own, const float* radius, const PosRow* buildPos,
+                                    PosRow* outPos, Drift* drift) {
   const Mat3f& R = b.rot;
   for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i) {
     const Vec3f x = kClumps ? particlePosition(b.x, R, own[i].u) : b.x;
     const PosRow p{x.x, x.y, x.z, radius[i]};
     outPos[i] = p;
-    if (buildPos) {
-      const float dx = p.x - buildPos[i].x, dy = p.y - buildPos[i].y, dz = p.z - buildPos[i].z;
-      const float d2 = dx * dx + dy * dy + dz * dz;
-      if (!(d2 <= worst)) worst = d2 > worst ? d2 : FLT_MAX;  // NaN compares false both ways
-    }
+    if (buildPos) addDisplacement(*drift, p.x - buildPos[i].x, p.y - buildPos[i].y, p.z - buildPos[i].z);
   }
-  return worst;
 }
 
 /// What the force stage reads of a particle's body: the lever R u from the centre (the same
@@ -182,11 +176,11 @@ TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
 
 /// Stage 7 and the next step's stage 1 for body k, given the sums F and T of its particles
 /// (addToBody): adds the weight M g, integrates (rotation by `scheme`, only for bodies of more
-/// than one particle; Ω of the new state kept in the row), writes its particles' positions of
-/// the next state and returns their largest squared displacement since the rebuild.
+/// than one particle; Ω and R of the new state kept in the row), writes its particles' positions
+/// of the next state and adds their displacements since the rebuild to *drift.
 template <bool kClumps>
-TUMBLE_HD_INLINE float finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f gravity, float dt,
-                                  RotationScheme scheme, std::uint32_t k) {
+TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f gravity, float dt, RotationScheme scheme,
+                                 std::uint32_t k, Drift* drift) {
   BodyRow b = v.bodies[k];  // this step's row; the new state goes to bodiesNext
   const BodyStatic bs = v.bodyStatic[k];
   F += bs.mass * gravity;
@@ -195,7 +189,7 @@ TUMBLE_HD_INLINE float finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f gra
     b.omega = scheme == RotationScheme::Splitting ? integrateRotationSplitting(T, bs.invInertia, dt, &b.l, &b.q, &b.rot)
                                                   : integrateRotation(T, bs.invInertia, dt, &b.l, &b.q, &b.rot);
   v.bodiesNext[k] = b;
-  return bodyParticles<kClumps>(b, v.own, v.radius, v.buildPos, v.posNext);
+  bodyParticles<kClumps>(b, v.own, v.radius, v.buildPos, v.posNext, drift);
 }
 
 }  // namespace tumble

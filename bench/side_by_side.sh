@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# tumble against LAMMPS on the same starting state, on this machine, in one sitting.
+#
+#   bench/side_by_side.sh [N ...]          N in 16000 128000 960000 (default: 16000 128000)
+#
+# For each N: writes the peers' clump state for both codes (bench/peers/clumps.py), then
+# alternates, REPS times: tumble (tumble bench --scene, THREADS threads) and LAMMPS
+# (bench/peers/in.clumps, THREADS MPI ranks: Debian's lammps has no OpenMP), each timed over
+# steps 500-2500 excluding set-up. Two pairings: with a skin (tumble's default skin, LAMMPS skin
+# 0.1 with "check yes") and detecting every step (tumble --skin 0, LAMMPS skin 0 rebuilt every
+# step). Prints ns per particle-step, the medians and the LAMMPS/tumble ratio as Markdown.
+#
+# Environment: TUMBLE (default build/examples/tumble), REPS (3), THREADS (2), WORK (/var/tmp/tumble-sbs),
+# SKIN_ONLY=1 (skip the every-step pairing). Installs lammps and openmpi-bin with apt when missing.
+# Run it on an idle machine (uptime): the rows of a contended run mean nothing.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+tumble=${TUMBLE:-$here/../build/examples/tumble}
+REPS=${REPS:-3}; THREADS=${THREADS:-2}; WORK=${WORK:-/var/tmp/tumble-sbs}
+sizes=${*:-16000 128000}
+[ -x "$tumble" ] || { echo "side_by_side.sh: no tumble binary at $tumble (build first, or set TUMBLE)" >&2; exit 2; }
+if ! command -v lmp >/dev/null || ! command -v mpirun >/dev/null; then
+  echo "side_by_side.sh: installing lammps and openmpi-bin" >&2
+  sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends lammps openmpi-bin >/dev/null
+fi
+mkdir -p "$WORK"
+mpi=(mpirun --allow-run-as-root --oversubscribe -np "$THREADS")
+
+tumble_ns() {  # N SKIN_ARGS... → ns per particle-step over steps 500-2500
+  local n=$1; shift
+  "$tumble" bench --scene "$WORK/clumps_$n.toml" --threads "$THREADS" --warmup 500 --steps 2000 "$@" 2>/dev/null |
+    awk -F'|' '$2 ~ /clumps/ {gsub(/ /, "", $9); gsub(/ /, "", $13); print $9, $13}'
+}
+lammps_ns() {  # N SKIN CHECK → ns per particle-step and list builds over steps 500-2500
+  local n=$1 skin=$2 check=$3 log="$WORK/lmp_$1_$2_$3.log"
+  (cd "$WORK" && "${mpi[@]}" lmp -in "$here/peers/in.clumps" -var data "clumps_$n.data" -var nwarm 500 -var nrun 2000 \
+      -var skin "$skin" -var check "$check" -log none -screen "$log" >/dev/null 2>&1) || { echo "nan nan"; return; }
+  awk -v n="$n" '/TIMED_RUN/ {f = 1} f && /^Loop time of/ {t = $4} f && /^Neighbor list builds/ {b = $5}
+                 END {printf "%.1f %.1f\n", t / 2000 / n * 1e9, b / 2}' "$log"
+}
+median() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+
+echo "Machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; $(date -u '+%Y-%m-%d %H:%M UTC'); load: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "tumble: $("$tumble" --version 2>/dev/null || echo "$tumble"); LAMMPS: $(lmp -h 2>/dev/null | awk '/^Large-scale/ {getline; print; exit}' | sed 's/^ *//')"
+echo
+printf "| particles | pairing | rep | tumble ns | tumble rebuilds/1000 | LAMMPS ns | LAMMPS rebuilds/1000 | LAMMPS / tumble |\n|---|---|---|---|---|---|---|---|\n"
+summary=()
+for n in $sizes; do
+  [ -f "$WORK/clumps_$n.toml" ] || python3 "$here/peers/clumps.py" "$n" "$WORK" >&2
+  pairings=("skin")
+  [ "${SKIN_ONLY:-0}" = 1 ] || pairings+=("every step")
+  for pairing in "${pairings[@]}"; do
+    if [ "$pairing" = skin ]; then targs=(); lskin=0.1; lcheck=yes; else targs=(--skin 0); lskin=0.0; lcheck=no; fi
+    ts=""; ls=""
+    for r in $(seq "$REPS"); do
+      read -r t tb < <(tumble_ns "$n" "${targs[@]}")
+      read -r l lb < <(lammps_ns "$n" "$lskin" "$lcheck")
+      printf "| %s | %s | %d | %s | %s | %s | %s | %.2f |\n" "$n" "$pairing" "$r" "$t" "$tb" "$l" "$lb" \
+        "$(awk -v a="$l" -v b="$t" 'BEGIN {print a / b}')"
+      ts="$ts $t"; ls="$ls $l"
+    done
+    mt=$(echo "$ts" | median); ml=$(echo "$ls" | median)
+    summary+=("| $n | $pairing | $mt | $ml | $(awk -v a="$ml" -v b="$mt" 'BEGIN {printf "%.2f", a / b}') |")
+  done
+done
+echo
+echo "Medians over $REPS alternating runs (ns per particle-step, steps 500-2500, $THREADS threads / ranks):"
+echo
+printf "| particles | pairing | tumble | LAMMPS | LAMMPS / tumble |\n|---|---|---|---|---|\n"
+printf "%s\n" "${summary[@]}"
