@@ -270,7 +270,7 @@ void addRun(CLI::App& app) {
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K detections");
   c->add_option("--skin", o->skin,
                 "Verlet skin: detect pairs within r_i + r_j + S and reuse them until a particle has moved S/2 "
-                "(0 = detect every step; default 0.2 x the largest radius)");
+                "(0 = detect every step; default 0.5 x the largest radius)");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_option("--guard-every", o->guardEvery,
                 "Check the guards (finite state, energy, overlaps) every N steps (default: the steps per frame)");

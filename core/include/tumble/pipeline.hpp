@@ -37,7 +37,7 @@ struct PipelineOptions {
 /// (automatic) kAutoSkinPerRadius × the largest radius.
 float effectiveSkin(const World& world);
 /// The automatic skin, in units of the largest radius (docs/performance.md measures it).
-inline constexpr float kAutoSkinPerRadius = 0.2f;
+inline constexpr float kAutoSkinPerRadius = 0.5f;
 
 /// A particle pair (i < j) in global particle indices.
 struct Pair {
