@@ -205,6 +205,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   });
   const std::uint32_t numChunks = (numRec + kSweepChunk - 1) / kSweepChunk;
   if (m_chunkNbr.size() < numChunks) m_chunkNbr.resize(numChunks);
+  if (m_chunkHits.size() < numChunks) m_chunkHits.resize(numChunks);
   std::uint32_t* nbrCount = tumble::detail::grow(m_nbrCount, numRec + 1);
   const tumble::detail::SweepWindow win = tumble::detail::sweepWindow(in.maxRadius, f);
   const float reachR = win.reach;
@@ -213,7 +214,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
     auto& out = m_chunkNbr[c];
     out.clear();
-    std::vector<std::uint32_t> cand;
+    std::vector<std::uint32_t>& cand = m_chunkHits[c];  // kept between runs: no allocation once sized
     const std::uint32_t end = std::min(numRec, (c + 1) * kSweepChunk);
     std::uint32_t e = c * kSweepChunk + 1;  // two pointers: end of the widest possible window
     for (std::uint32_t s = c * kSweepChunk; s < end; ++s) {

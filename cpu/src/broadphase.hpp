@@ -68,7 +68,7 @@ class Broadphase {
   std::vector<std::int32_t> m_sa0, m_sb0;
   std::vector<std::uint32_t> m_nbrCount;
   std::vector<std::uint32_t> m_owner, m_backKeys;  // transpose input: (other, owner) per pair
-  std::vector<std::vector<std::uint32_t>> m_chunkNbr;
+  std::vector<std::vector<std::uint32_t>> m_chunkNbr, m_chunkHits;
 };
 
 }  // namespace tumble::cpu::detail

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// A step allocates nothing once the sizes have settled (scratch is grow-only; the candidate list
+// and the detection keep their capacity across rebuilds). This file replaces the global
+// operator new of the test binary with a counting one (the count is all it changes).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+
+#include "tumble/validation/scenes.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+TEST(Allocation, StepsAllocateNothingOnceSizesHaveSettled) {
+  using namespace tumble;
+  const World w = World::fromScene(validation::benchScene(16000));
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  p->step(1500);  // the pile lands: the list and the detection reach their sizes
+  const std::uint64_t rebuilds = p->stats().numRebuilds;
+  const long before = g_allocations.load();
+  p->step(500);
+  const long allocations = g_allocations.load() - before;
+  std::printf("500 steps with %llu rebuilds: %ld allocations\n",
+              static_cast<unsigned long long>(p->stats().numRebuilds - rebuilds), allocations);
+  EXPECT_GT(p->stats().numRebuilds, rebuilds) << "the window must contain rebuilds for the test to mean something";
+  EXPECT_EQ(allocations, 0);
+}
