@@ -52,6 +52,7 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 constexpr std::uint32_t kGrain = 2048;      // particles per task
 constexpr std::uint32_t kBodyGrain = 256;   // bodies per task of the step pass
+constexpr float kNearSkinFraction = 0.25f;  // near skin / skin: chosen by measurement (docs/performance.md)
 
 template <class F>
 void forEach(std::uint32_t n, std::uint32_t grain, F&& f) {
@@ -96,7 +97,12 @@ class CpuPipeline final : public Pipeline {
     m_candOffsets.assign(std::size_t(n) + 1, 0u);
     m_cur = 0;
     m_skin = effectiveSkin(w);
-    m_trigger2 = skinTrigger2(m_skin, w.maxRadius);
+    m_fullLimit = skinClosureLimit(m_skin, w.maxRadius);
+    m_nearSkin = kNearSkinFraction * m_skin;
+    m_nearLimit = skinClosureLimit(m_nearSkin, w.maxRadius);
+    if (!(m_nearLimit > 0.0f)) m_nearSkin = 0.0f;  // too thin to help: the forces read the candidate list
+    m_closed = 0.0;
+    m_needRefresh = false;
     m_needRebuild = true;
     m_pulls = w.params.pulls.active;
     m_time = w.time;
@@ -159,7 +165,7 @@ class CpuPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles();
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
     const std::uint32_t* orig = m_orig.data();
-    const CandidateListView list{m_candOffsets.data(), m_cand.data()};
+    const CandidateListView list = contactListView();
     // One pass of the exact test over fixed chunks of particles, each appending its pairs
     // (scene indices, ascending j within a particle's row) to its own buffers; the buffers are
     // joined in chunk order and sorted by i with a stable radix sort, which gives (i, j) order.
@@ -174,7 +180,7 @@ class CpuPipeline final : public Pipeline {
         buf.j.clear();
         for (std::uint32_t p = c * kGrain, e = std::min(n, (c + 1) * kGrain); p < e; ++p) {
           if (m_touching[p] == 0) continue;  // the last step saw it touch nothing
-          const std::size_t at = buf.i.size(), room = list.offsets[p + 1] - list.offsets[p];
+          const std::size_t at = buf.i.size(), room = list.end[p] - list.begin[p];
           buf.i.resize(at + room);
           buf.j.resize(at + room);
           const std::uint32_t k =
@@ -250,7 +256,10 @@ class CpuPipeline final : public Pipeline {
  private:
   void stepOnce() {
     double* sec = m_stats.seconds;
-    if (m_needRebuild) rebuild();
+    if (m_needRebuild)
+      rebuild();
+    else if (m_needRefresh)
+      refreshNear();
 
     const auto t0 = Clock::now();
     StepTotals tot;
@@ -264,7 +273,10 @@ class CpuPipeline final : public Pipeline {
     }
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
-    m_needRebuild = !listStillValid(tot.drift, m_trigger2);
+    const float closure = closureOf(tot.drift);
+    m_needRebuild = !(m_closed + double(closure) < double(m_fullLimit));
+    m_needRefresh = m_nearSkin > 0.0f && !(closure < m_nearLimit);
+    m_lastClosure = closure;
     sec[int(Phase::Forces)] += since(t0);
 
     ++m_steps;
@@ -346,13 +358,44 @@ class CpuPipeline final : public Pipeline {
 
     t0 = Clock::now();
     buildList();
+    m_closed = 0.0;
+    if (m_nearSkin > 0.0f) fillNearList();
     sec[int(Phase::List)] += since(t0);
     m_needRebuild = false;
+    m_needRefresh = false;
     ++m_stats.numRebuilds;
     m_stats.numCandidates = m_cand.size() / 2;
     m_stats.numRecords = m_bp.numRecords();
     m_stats.numCells = m_bp.numCells();
     m_stats.cellSize = m_bp.frame().cellSize;
+  }
+
+  // The near list from the candidate list at the current positions, which become the reference of
+  // the drift; the closure of the interval that ends here counts against the candidate list.
+  void refreshNear() {
+    const auto t0 = Clock::now();
+    m_closed += m_lastClosure;
+    const PosRow* pos = m_pos[m_cur].data();
+    forEach(m_world.numParticles(), kGrain, [&](std::uint32_t i) { m_buildPos[i] = pos[i]; });
+    fillNearList();
+    m_needRefresh = false;
+    ++m_stats.numNearRefreshes;
+    m_stats.seconds[int(Phase::List)] += since(t0);
+  }
+
+  void fillNearList() {
+    const std::uint32_t n = m_world.numParticles();
+    m_near.resize(m_cand.size());
+    m_nearEnd.resize(n);
+    const CandidateListView full = compactList(m_candOffsets.data(), m_cand.data());
+    const PosRow* pos = m_pos[m_cur].data();
+    forEach(n, kGrain, [&](std::uint32_t i) { m_nearEnd[i] = fillNear(pos, full, m_nearSkin, m_near.data(), i); });
+  }
+
+  // The list the forces (and pairs()) iterate: the near list when there is one.
+  CandidateListView contactListView() const {
+    if (m_nearSkin > 0.0f) return CandidateListView{m_candOffsets.data(), m_nearEnd.data(), m_near.data()};
+    return compactList(m_candOffsets.data(), m_cand.data());
   }
 
   // Stage 1: the particle positions of the current body state (after a reordering, and at load).
@@ -468,7 +511,7 @@ class CpuPipeline final : public Pipeline {
                     m_orig.data(),
                     GroundSpringView{m_gtx.data(), m_gty.data()},
                     m_buildPos.data(),
-                    CandidateListView{m_candOffsets.data(), m_cand.data()},
+                    contactListView(),
                     m_touching.data(),
                     m_world.numParticles()};
   }
@@ -493,8 +536,16 @@ class CpuPipeline final : public Pipeline {
   std::vector<PosRow> m_buildPos;
   std::vector<std::uint32_t> m_candOffsets, m_cand;
   std::vector<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
-  float m_skin = 0.0f, m_trigger2 = 0.0f;
+  float m_skin = 0.0f;
   bool m_needRebuild = true;
+  // The near list (kernels/contact_list.hpp fillNear): rows at the candidate list's offsets.
+  std::vector<std::uint32_t> m_near, m_nearEnd;
+  float m_nearSkin = 0.0f;     // 0: no near list
+  float m_fullLimit = 0.0f;    // the candidate list holds while m_closed + closure < this
+  float m_nearLimit = 0.0f;    // the near list holds while its interval's closure < this
+  double m_closed = 0.0;       // closures of the near list's finished intervals since the rebuild
+  float m_lastClosure = 0.0f;  // closure of the current interval after the last step
+  bool m_needRefresh = false;
 
   cpu::detail::Broadphase m_bp;
   // Scratch (grow-only).

@@ -89,12 +89,12 @@ void bench(BenchOptions o) {
   std::printf("Full steps (contacts, integration and the rebuilds of the candidate list they need), timed over "
               "steps %d to %d; threads 0 = all cores.\n",
               o.warmup, o.warmup + o.steps);
-  std::printf("ms/step: mean over the window (rebuilds included); ns: per particle-step; rebuilds per 1000 "
-              "steps; phase columns: mean ms per step.\n\n");
+  std::printf("ms/step: mean over the window (rebuilds included); ns: per particle-step; rebuilds and near-list "
+              "refreshes per 1000 steps; phase columns: mean ms per step.\n\n");
   std::printf("| scene | particles | report (Intel Iris 6100) | pipeline | threads | ms/step | median ms | ns | "
-              "speedup vs cpu | contacts | skin | rebuilds/1000 |");
+              "speedup vs cpu | contacts | skin | rebuilds/1000 | near/1000 |");
   for (int ph = 0; ph < kNumPhases; ++ph) std::printf(" %s |", toString(static_cast<Phase>(ph)));
-  std::printf("\n|---|---|---|---|---|---|---|---|---|---|---|---|");
+  std::printf("\n|---|---|---|---|---|---|---|---|---|---|---|---|---|");
   for (int ph = 0; ph < kNumPhases; ++ph) std::printf("---|");
   std::printf("\n");
   for (const Row& r : rows) {
@@ -105,9 +105,10 @@ void bench(BenchOptions o) {
       if (q.scene == r.scene && q.pipeline == "cpu" && (cpuBest == 0.0 || q.meanMs < cpuBest)) cpuBest = q.meanMs;
     char speedup[32] = "-";
     if (cpuBest > 0.0) std::snprintf(speedup, sizeof speedup, "%.2fx", cpuBest / r.meanMs);
-    std::printf("| %s | %u | %s | %s | %d | %.3f | %.3f | %.1f | %s | %llu | %g | %.1f |", r.scene.c_str(), r.n, rep,
+    std::printf("| %s | %u | %s | %s | %d | %.3f | %.3f | %.1f | %s | %llu | %g | %.1f | %.1f |", r.scene.c_str(), r.n, rep,
                 r.pipeline.c_str(), r.threads, r.meanMs, r.medianMs, 1e6 * r.meanMs / r.n, speedup,
-                static_cast<unsigned long long>(r.stats.numPairs), r.stats.skin, r.stats.rebuildsPer1000());
+                static_cast<unsigned long long>(r.stats.numPairs), r.stats.skin, r.stats.rebuildsPer1000(),
+                r.stats.per1000(r.stats.numNearRefreshes));
     for (int ph = 0; ph < kNumPhases; ++ph)
       std::printf(" %.3f |", 1e3 * r.stats.seconds[ph] / double(std::max<std::uint64_t>(1, r.stats.steps)));
     std::printf("\n");

@@ -237,10 +237,11 @@ void run(RunOptions o) {
     std::printf("%s: %llu steps, %u particles, %llu contacts in the last step\n", scene.name.c_str(),
                 static_cast<unsigned long long>(st.steps), world.numParticles(),
                 static_cast<unsigned long long>(st.numPairs));
-    std::printf("candidate list: skin %g, %llu rebuilds (%.1f per 1000 steps), %llu candidate pairs; "
-                "detection cell size %g (%llu cells)\n",
+    std::printf("candidate list: skin %g, %llu rebuilds (%.1f per 1000 steps), %llu near-list refreshes, "
+                "%llu candidate pairs; detection cell size %g (%llu cells)\n",
                 st.skin, static_cast<unsigned long long>(st.numRebuilds), st.rebuildsPer1000(),
-                static_cast<unsigned long long>(st.numCandidates), st.cellSize,
+                static_cast<unsigned long long>(st.numNearRefreshes), static_cast<unsigned long long>(st.numCandidates),
+                st.cellSize,
                 static_cast<unsigned long long>(st.numCells));
     printPhases(st, stdout);
   }

@@ -242,7 +242,7 @@ class CudaPipeline final : public Pipeline {
     m_cur = 0;
     m_numCand = 0;
     m_skin = effectiveSkin(w);
-    m_trigger2 = skinTrigger2(m_skin, w.maxRadius);
+    m_skinLimit = skinClosureLimit(m_skin, w.maxRadius);
     m_needRebuild = true;
     m_pulls = w.params.pulls.active;
     m_time = w.time;
@@ -317,7 +317,7 @@ class CudaPipeline final : public Pipeline {
     if (m_steps == 0) return {};
     const std::uint32_t n = m_world.numParticles();
     const cudaStream_t s = m_ctx.stream();
-    const CandidateListView list{m_candOffsets.data(), m_cand.data()};
+    const CandidateListView list = compactList(m_candOffsets.data(), m_cand.data());
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
     DeviceBuffer<std::uint32_t> count, at, outI, outJ;
     DeviceBuffer<unsigned char> temp;
@@ -418,7 +418,7 @@ class CudaPipeline final : public Pipeline {
                     m_orig.data(),
                     GroundSpringView{m_tx.data(), m_ty.data()},
                     m_buildPos.data(),
-                    CandidateListView{m_candOffsets.data(), m_cand.data()},
+                    compactList(m_candOffsets.data(), m_cand.data()),
                     m_touching.data(),
                     m_world.numParticles()};
   }
@@ -482,7 +482,7 @@ class CudaPipeline final : public Pipeline {
     }
     m_cur = 1 - m_cur;
     std::swap(m_bodies, m_bodiesNext);
-    m_needRebuild = !listStillValid(drift, m_trigger2);
+    m_needRebuild = !listStillValid(drift, m_skinLimit);
 
     ++m_steps;
     m_time += p.dt;
@@ -614,7 +614,7 @@ class CudaPipeline final : public Pipeline {
   DeviceBuffer<std::uint32_t> m_candOffsets, m_cand, m_candKey;
   DeviceBuffer<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
   std::uint32_t m_numCand = 0;
-  float m_skin = 0.0f, m_trigger2 = 0.0f;
+  float m_skin = 0.0f, m_skinLimit = 0.0f;
   bool m_needRebuild = true;
   DeviceBuffer<Vec3f> m_f, m_t;  // per-particle force and torque of the step
   DeviceBuffer<StepReadback> m_readback;

@@ -160,6 +160,7 @@ TEST_P(ContactListTest, PairsAreExactAtEveryStepWithASkin) {
   const std::uint64_t seed = 20261201;
   std::printf("moving hard cases, seed %llu\n", static_cast<unsigned long long>(seed));
   std::size_t withContacts = 0;
+  std::uint64_t refreshes = 0;
   for (const auto& hc : hardCases(seed)) {
     if (hc.cloud.size() < 2 || hc.cloud.size() > 2500) continue;
     for (bool fast : {false, true}) {
@@ -173,6 +174,7 @@ TEST_P(ContactListTest, PairsAreExactAtEveryStepWithASkin) {
         what += ", skin ";
         what += std::to_string(skin);
         expectExactAtEveryStep(*p, ws, 30, what);
+        refreshes += p->stats().numNearRefreshes;
         if (fast && skin > 0.0f) {
           EXPECT_EQ(p->stats().numRebuilds, p->stats().steps)
               << hc.name << ": a particle moving 2 radii per step must force a rebuild every step";
@@ -182,6 +184,10 @@ TEST_P(ContactListTest, PairsAreExactAtEveryStepWithASkin) {
     if (!bruteForcePairs(hc.cloud).empty()) ++withContacts;
   }
   EXPECT_GE(withContacts, 6u) << "the hard cases must contain contacts";
+  std::printf("near-list refreshes over all runs: %llu\n", static_cast<unsigned long long>(refreshes));
+  if (GetParam() == Backend::Cpu) {
+    EXPECT_GT(refreshes, 0u) << "the near list must be refreshed between rebuilds";
+  }
 }
 
 TEST_P(ContactListTest, PairsAreExactAtEveryStepOfAClumpRun) {
@@ -195,11 +201,15 @@ TEST_P(ContactListTest, PairsAreExactAtEveryStepOfAClumpRun) {
   World w2 = w;
   w2.state = st;
   expectExactAtEveryStep(*p, w2, 80, "bench-4k from step 350");
-  std::printf("bench-4k from step 350: %llu contacts, %llu rebuilds in 80 steps\n",
+  std::printf("bench-4k from step 350: %llu contacts, %llu rebuilds and %llu near-list refreshes in 80 steps\n",
               static_cast<unsigned long long>(p->stats().numPairs),
-              static_cast<unsigned long long>(p->stats().numRebuilds));
+              static_cast<unsigned long long>(p->stats().numRebuilds),
+              static_cast<unsigned long long>(p->stats().numNearRefreshes));
   EXPECT_GT(p->stats().numPairs, 100u);
   EXPECT_LT(p->stats().numRebuilds, p->stats().steps) << "the skin must actually be reused";
+  if (GetParam() == Backend::Cpu) {  // the CPU's forces read the near list, refreshed between rebuilds
+    EXPECT_GT(p->stats().numNearRefreshes, 0u) << "the near list must actually be refreshed";
+  }
 }
 
 TEST_P(ContactListTest, SkinIsReusedAndCounted) {

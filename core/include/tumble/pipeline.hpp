@@ -64,14 +64,16 @@ struct StepStats {
   double seconds[kNumPhases] = {};  ///< wall time per phase, summed over steps
   std::uint64_t numPairs = 0;       ///< contacts (touching pairs) in the last step
   std::uint64_t numRebuilds = 0;    ///< rebuilds of the candidate list (detection runs)
+  std::uint64_t numNearRefreshes = 0;  ///< refreshes of the near list from the candidate list (CPU)
   std::uint64_t numCandidates = 0;  ///< candidate pairs in the list of the last rebuild
   std::uint64_t numRecords = 0;     ///< sweep records (particle × overlapped cell), last rebuild
   std::uint64_t numCells = 0;       ///< cells in the last rebuild's grid
   float cellSize = 0.0f;            ///< cell side used at the last rebuild
   float skin = 0.0f;                ///< the Verlet skin in use
   double totalSeconds() const;
-  /// Rebuilds per 1000 steps (0 before the first step).
-  double rebuildsPer1000() const { return steps ? 1000.0 * double(numRebuilds) / double(steps) : 0.0; }
+  /// Events per 1000 steps (0 before the first step).
+  double per1000(std::uint64_t count) const { return steps ? 1000.0 * double(count) / double(steps) : 0.0; }
+  double rebuildsPer1000() const { return per1000(numRebuilds); }
 };
 
 /// Per-particle debug data for the debug recording: velocity and the five forces.

@@ -11,6 +11,7 @@
 #pragma once
 #include <cstdint>
 
+#include "tumble/hd.hpp"
 #include "tumble/math.hpp"
 
 namespace tumble {
@@ -57,14 +58,20 @@ struct GroundSpringView {
   float* ty;
 };
 
-/// The candidate list (a Verlet list): particle i's candidates are
-/// cand[offsets[i] .. offsets[i+1]), internal indices, in ascending *scene* index of the
-/// candidate. Every particle of another body within r_i + r_j + skin at the last rebuild is
-/// listed, in both directions.
+/// The candidate list (a Verlet list): particle i's candidates are cand[begin[i] .. end[i]),
+/// internal indices, in ascending *scene* index of the candidate. Every particle of another body
+/// within r_i + r_j + skin at the last rebuild is listed, in both directions. The near list (a
+/// subsequence of each row, kept in the same storage layout) has the same form.
 struct CandidateListView {
-  const std::uint32_t* offsets;
+  const std::uint32_t* begin;
+  const std::uint32_t* end;
   const std::uint32_t* cand;
 };
+
+/// The view of a list stored compactly: row i is cand[offsets[i] .. offsets[i+1]).
+TUMBLE_HD_INLINE CandidateListView compactList(const std::uint32_t* offsets, const std::uint32_t* cand) {
+  return CandidateListView{offsets, offsets + 1, cand};
+}
 
 /// Everything one step reads and writes (internal numbering).
 struct StepView {

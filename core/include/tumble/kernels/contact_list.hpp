@@ -12,10 +12,16 @@
 /// 2. **Contacts.** Every step the exact predicate spheresOverlap() filters each row (the
 ///    force stage, kernels/step.hpp): the touching partners of i in ascending scene index.
 /// 3. **Skin.** The list stays valid while no two particles can have closed in by the skin since
-///    the rebuild (less a rounding margin, skinTrigger2(); Drift): two particles that touch now
+///    the rebuild (less a rounding margin, skinClosureLimit(); Drift): two particles that touch now
 ///    were then within r_i + r_j + skin. The tests are on a max and a bounding box of the
 ///    displacements, exact in any order.
-/// 4. **Reordering.** At each rebuild the bodies are renumbered in Morton order of their
+/// 4. **Near list (CPU).** A second, thinner skin g inside the first: fillNear() keeps of each
+///    row the partners within r_i + r_j + g now, and the forces read that subsequence while no
+///    two particles can have closed in by g since (the same rule), refreshing it from the
+///    candidate list when they can; the candidate list then holds while the closures summed
+///    over the near list's intervals stay below its skin. Fewer candidates per step, the same
+///    contacts in the same order.
+/// 5. **Reordering.** At each rebuild the bodies are renumbered in Morton order of their
 ///    centres (mortonKey()), particles following their bodies, so that a row's candidates lie
 ///    near it in memory. Outputs and sums are by scene index, so this changes no bit.
 #pragma once
@@ -129,7 +135,7 @@ TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint3
   const PosRow pi = pos[i];
   const std::uint32_t me = orig[i];
   std::uint32_t n = 0;
-  for (std::uint32_t e = l.offsets[i]; e < l.offsets[i + 1]; ++e) {
+  for (std::uint32_t e = l.begin[i]; e < l.end[i]; ++e) {
     const std::uint32_t j = l.cand[e];
     const PosRow pj = pos[j];
     if (orig[j] > me && spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) ++n;
@@ -145,7 +151,7 @@ TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::u
   const PosRow pi = pos[i];
   const std::uint32_t me = orig[i];
   std::uint32_t n = 0;
-  for (std::uint32_t e = l.offsets[i]; e < l.offsets[i + 1]; ++e) {
+  for (std::uint32_t e = l.begin[i]; e < l.end[i]; ++e) {
     const std::uint32_t j = l.cand[e];
     const PosRow pj = pos[j];
     const std::uint32_t other = orig[j];
@@ -158,16 +164,17 @@ TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::u
   return n;
 }
 
-/// The skin test's threshold T² on the squared displacement (see Drift): h = skin/2 less a
-/// margin for the rounding of the three float tests involved (the candidate test at the build on
-/// grown radii, the contact test now, the displacements themselves; each within a few units of
-/// 2^-24 relative, docs/model.md), 16 · 2^-24 · (2 r_max + h). 0 (a rebuild every step) when the
-/// skin is below that margin.
-inline float skinTrigger2(float skin, float maxRadius) {
+/// The skin test's limit on how far two particles may have closed in since the rebuild (see
+/// Drift, closureOf): the skin less twice a margin for the rounding of the three float tests
+/// involved (the candidate test at the build on grown radii, the contact test now, the
+/// displacements themselves; each within a few units of 2^-24 relative, docs/model.md),
+/// margin = 16 · 2^-24 · (2 r_max + skin/2). 0 (a rebuild every step) when the skin is below
+/// twice that margin.
+inline float skinClosureLimit(float skin, float maxRadius) {
   const double h = 0.5 * double(skin);
   const double margin = 16.0 * std::ldexp(1.0, -24) * (2.0 * double(maxRadius) + h);
   const double t = h - margin;
-  return t > 0.0 ? static_cast<float>(t * t) : 0.0f;
+  return t > 0.0 ? static_cast<float>(2.0 * t) : 0.0f;
 }
 
 /// How the particles have moved since the last rebuild: the largest squared displacement, and
@@ -177,9 +184,9 @@ inline float skinTrigger2(float skin, float maxRadius) {
 ///
 /// The list stays valid while two particles cannot have closed in by the skin. Their distance
 /// has changed by at most |Δx_i − Δx_j|, which is below 2 max |Δx| and below the box's diagonal;
-/// so the list is kept while either is below the skin (less the margin): 4 max |Δx|² < 4 T² (the
-/// classic rule) or diagonal² < 4 T². The second keeps the list through a common motion, such as
-/// a pile falling as one, which the first cannot.
+/// so the list is kept while the smaller of the two (closureOf()) is below the skin less the
+/// margin (skinClosureLimit()). The first is the classic rule; the second keeps the list through
+/// a common motion, such as a pile falling as one, which the first cannot.
 struct Drift {
   float max2;
   float lo[3], hi[3];
@@ -215,15 +222,41 @@ TUMBLE_HD_INLINE void mergeDrift(Drift& d, const Drift& o) {
   }
 }
 
-/// Whether the candidate list is still valid after this drift (trigger2 = skinTrigger2()).
-TUMBLE_HD_INLINE bool listStillValid(const Drift& d, float trigger2) {
-  if (d.max2 < trigger2) return true;
+/// How far two particles can have closed in under this drift: min(2 max |Δx|, the box's
+/// diagonal), rounded up; infinite (FLT_MAX) after a NaN.
+TUMBLE_HD_INLINE float closureOf(const Drift& d) {
   float diag2 = 0.0f;
   for (int a = 0; a < 3; ++a) {
     const float w = d.hi[a] > d.lo[a] ? d.hi[a] - d.lo[a] : 0.0f;
     diag2 += w * w;
   }
-  return diag2 < 4.0f * trigger2;
+  const float m2 = 4.0f * d.max2 < diag2 ? 4.0f * d.max2 : diag2;
+  if (!(m2 < FLT_MAX)) return FLT_MAX;
+  return sqrtf(m2) * (1.0f + 0x1p-20f);
+}
+
+/// Whether the candidate list is still valid after this drift (limit = skinClosureLimit()).
+TUMBLE_HD_INLINE bool listStillValid(const Drift& d, float limit) { return closureOf(d) < limit; }
+
+/// The near list, a second skin inside the first. Row i of the near list is the candidates j of
+/// row i that are within r_i + r_j + g now (|d|² < (r_i + r_j + g)², in row order, so in
+/// ascending scene index); it is written at the same offsets as the candidate row (nearCand has
+/// the candidate list's size) and its end is returned. A partner left out cannot touch i until
+/// the two have closed in by g (less a rounding margin: skinClosureLimit(g, ·)), so while that holds
+/// the forces may iterate the near list instead of the candidate list: the same contacts in the
+/// same order, so the same bits. It is refreshed from the candidate list, which stays valid while
+/// the closures summed over the near list's intervals stay below the candidate list's skin.
+TUMBLE_HD_INLINE std::uint32_t fillNear(const PosRow* pos, const CandidateListView& l, float g, std::uint32_t* nearCand,
+                                        std::uint32_t i) {
+  const PosRow pi = pos[i];
+  std::uint32_t out = l.begin[i];
+  for (std::uint32_t e = l.begin[i]; e < l.end[i]; ++e) {
+    const std::uint32_t j = l.cand[e];
+    const PosRow pj = pos[j];
+    nearCand[out] = j;
+    out += spheresOverlap(pi.x, pi.y, pi.z, pi.r + g, pj.x, pj.y, pj.z, pj.r) ? 1u : 0u;
+  }
+  return out;
 }
 
 /// The grid of the reordering: 1024 cells per axis over a box (lo, with 1/cell as scale).

@@ -110,8 +110,8 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
   };
   ParticleForce out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
   Vec3f rep{0.0f, 0.0f, 0.0f}, dmp{0.0f, 0.0f, 0.0f}, shr{0.0f, 0.0f, 0.0f};
-  const std::uint32_t end = v.list.offsets[i + 1];
-  for (std::uint32_t e = v.list.offsets[i]; e < end; ++e) {
+  const std::uint32_t end = v.list.end[i];
+  for (std::uint32_t e = v.list.begin[i]; e < end; ++e) {
     const std::uint32_t j = v.list.cand[e];
     const PosRow pj = v.pos[j];
     Vec3f d;
