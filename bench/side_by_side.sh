@@ -44,7 +44,7 @@ lammps_ns() {  # N SKIN CHECK → ns per particle-step and list builds over step
 median() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
 
 echo "Machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; $(date -u '+%Y-%m-%d %H:%M UTC'); load: $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "tumble: $("$tumble" --version 2>/dev/null || echo "$tumble"); LAMMPS: $(lmp -h 2>/dev/null | awk '/^Large-scale/ {getline; print; exit}' | sed 's/^ *//')"
+echo "tumble: $("$tumble" --version 2>/dev/null || echo "$tumble"); LAMMPS: $(lmp -h 2>/dev/null | sed -n 's/^Large-scale Atomic\/Molecular Massively Parallel Simulator - //p' | head -1) (Debian $(dpkg-query -W -f '${Version}' lammps 2>/dev/null))"
 echo
 printf "| particles | pairing | rep | tumble ns | tumble rebuilds/1000 | LAMMPS ns | LAMMPS rebuilds/1000 | LAMMPS / tumble |\n|---|---|---|---|---|---|---|---|\n"
 summary=()

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 // Full step of the bench scene (bodies of 8 particles) at 16k, 128k and 960k particles, threads
-// swept, with the per-phase split as counters (ms per step). TUMBLE_BENCH_SMOKE=1: 16k only.
+// swept, with the per-phase split as counters (ms per step); the guard's check against the steps
+// between two checks. TUMBLE_BENCH_SMOKE=1: 16k only.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <map>
 #include <memory>
 
+#include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/validation/scenes.hpp"
 
@@ -40,6 +43,35 @@ void BM_Step(benchmark::State& state) {
   state.counters["ns_per_particle"] = benchmark::Counter(double(n) * double(state.iterations()) * 1e-9,
                                                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * n);
+}
+
+// The guard's check (tumble run checks every steps_per_frame = 10 steps by default) against the
+// 10 steps between two checks: the iteration time is the check alone; guard_share is the
+// check's time over the steps' time.
+void BM_GuardCheck(benchmark::State& state) {
+  using Clock = std::chrono::steady_clock;
+  const auto n = static_cast<std::uint32_t>(state.range(0));
+  tumble::PipelineOptions o;
+  o.threads = static_cast<int>(state.range(1));
+  auto p = tumble::makePipeline(tumble::Backend::Cpu, o);
+  p->load(benchWorld(n));
+  tumble::RunGuard guard(benchWorld(n), *p);
+  p->step(smokeWarmup());
+  double stepSeconds = 0.0, checkSeconds = 0.0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    p->step(10);
+    const auto t1 = Clock::now();
+    const auto trip = guard.check(*p);
+    const auto t2 = Clock::now();
+    if (trip) state.SkipWithError(trip->message.c_str());
+    stepSeconds += std::chrono::duration<double>(t1 - t0).count();
+    const double c = std::chrono::duration<double>(t2 - t1).count();
+    checkSeconds += c;
+    state.SetIterationTime(c);
+  }
+  state.counters["guard_share"] = stepSeconds > 0.0 ? checkSeconds / stepSeconds : 0.0;
+  state.counters["ms_per_step"] = 1e3 * stepSeconds / (10.0 * double(state.iterations()));
 }
 
 // CUDA pipeline: the phase times come from CUDA events, so the iteration time is their sum
@@ -77,6 +109,10 @@ void registerAll() {
     for (long t : {1L, 2L}) b->Args({n, t});
   }
   b->ArgNames({"particles", "threads"})->UseRealTime()->Unit(benchmark::kMillisecond);
+  auto* g = benchmark::RegisterBenchmark("BM_GuardCheck", BM_GuardCheck);
+  for (long n : {16000L, 128000L, 960000L})
+    if (!smoke || n == 16000) g->Args({n, 2});
+  g->ArgNames({"particles", "threads"})->UseManualTime()->Unit(benchmark::kMillisecond);
 }
 
 }  // namespace

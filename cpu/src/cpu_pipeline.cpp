@@ -176,18 +176,21 @@ class CpuPipeline final : public Pipeline {
     m_arena.execute([&] {
       tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
         PairChunk& buf = m_pairChunks[c];
-        buf.i.clear();
-        buf.j.clear();
-        for (std::uint32_t p = c * kGrain, e = std::min(n, (c + 1) * kGrain); p < e; ++p) {
+        const std::uint32_t begin = c * kGrain, end = std::min(n, (c + 1) * kGrain);
+        // Room: the contacts each particle had in the last step (the same list and positions),
+        // its whole row where that count was capped.
+        std::size_t room = 0;
+        for (std::uint32_t p = begin; p < end; ++p)
+          room += m_touching[p] < 255 ? m_touching[p] : list.end[p] - list.begin[p];
+        buf.i.resize(room);
+        buf.j.resize(room);
+        std::uint32_t k = 0;
+        for (std::uint32_t p = begin; p < end; ++p) {
           if (m_touching[p] == 0) continue;  // the last step saw it touch nothing
-          const std::size_t at = buf.i.size(), room = list.end[p] - list.begin[p];
-          buf.i.resize(at + room);
-          buf.j.resize(at + room);
-          const std::uint32_t k =
-              emitContactsAbove(pos, orig, list, p, static_cast<std::uint32_t>(at), buf.i.data(), buf.j.data());
-          buf.i.resize(at + k);
-          buf.j.resize(at + k);
+          k += emitContactsAbove(pos, orig, list, p, k, buf.i.data(), buf.j.data());
         }
+        buf.i.resize(k);
+        buf.j.resize(k);
       });
       std::vector<std::size_t> start(numChunks + 1, 0);
       for (std::uint32_t c = 0; c < numChunks; ++c) start[c + 1] = start[c] + m_pairChunks[c].i.size();
