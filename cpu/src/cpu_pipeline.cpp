@@ -6,8 +6,9 @@
 //   kernels/contact_list.hpp): on radii grown by skin/2, then turned into one row per particle
 //   sorted by the partners' scene indices. Every step the exact predicate filters the rows, so
 //   the contacts, and the order in which a particle sums them, are the same for any detection
-//   setting, skin or thread count. A rebuild is due when some particle has moved skin/2 (less a
-//   rounding margin) since the last one; with skin 0, every step.
+//   setting, skin or thread count. A rebuild is due when two particles may have closed in by the
+//   skin (less a rounding margin) since the last one; with skin 0, every step. Between rebuilds
+//   the forces read the near list (a thinner skin, refreshed from the candidate list).
 // - Locality. At each rebuild the bodies are renumbered in Morton order of their centres and
 //   particles follow their bodies (a body's particles stay contiguous and in scene order), so a
 //   row's candidates are near it in memory. Every output and every sum is by scene index, so
@@ -93,6 +94,7 @@ class CpuPipeline final : public Pipeline {
     m_gty = m_ground ? s.groundSpringY : std::vector<float>{};
     for (auto& c : m_pos) c.assign(n, PosRow{});
     m_buildPos.assign(n, PosRow{});
+    m_rebuildPos.assign(n, PosRow{});
     m_touching.assign(n, 0);
     m_candOffsets.assign(std::size_t(n) + 1, 0u);
     m_cur = 0;
@@ -347,6 +349,7 @@ class CpuPipeline final : public Pipeline {
       bz[i] = pos[i].z;
       br[i] = pos[i].r + h;
       m_buildPos[i] = pos[i];
+      m_rebuildPos[i] = pos[i];
     });
     sec[int(Phase::State)] += since(t0);
 
@@ -374,12 +377,28 @@ class CpuPipeline final : public Pipeline {
   }
 
   // The near list from the candidate list at the current positions, which become the reference of
-  // the drift; the closure of the interval that ends here counts against the candidate list.
+  // the drift. What counts against the candidate list from here on: the smaller of the closures
+  // summed over the near list's intervals and the closure since the rebuild, measured now (the
+  // latter keeps a particle that moves to and fro from forcing rebuilds).
   void refreshNear() {
     const auto t0 = Clock::now();
-    m_closed += m_lastClosure;
+    const std::uint32_t n = m_world.numParticles();
     const PosRow* pos = m_pos[m_cur].data();
-    forEach(m_world.numParticles(), kGrain, [&](std::uint32_t i) { m_buildPos[i] = pos[i]; });
+    const Drift sinceRebuild = tbb::parallel_reduce(
+        tbb::blocked_range<std::uint32_t>(0, n, kGrain), noDrift(),
+        [&](const auto& rg, Drift d) {
+          for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
+            const PosRow& a = m_rebuildPos[i];
+            addDisplacement(d, pos[i].x - a.x, pos[i].y - a.y, pos[i].z - a.z);
+            m_buildPos[i] = pos[i];
+          }
+          return d;
+        },
+        [](Drift x, const Drift& y) {
+          mergeDrift(x, y);  // min and max: exact in any order
+          return x;
+        });
+    m_closed = std::min(m_closed + double(m_lastClosure), double(closureOf(sinceRebuild)));
     fillNearList();
     m_needRefresh = false;
     ++m_stats.numNearRefreshes;
@@ -536,7 +555,8 @@ class CpuPipeline final : public Pipeline {
   std::vector<float> m_gtx, m_gty;     // ground springs (empty without ground)
   std::vector<PosRow> m_pos[2];        // particle rows, double-buffered: [m_cur] is this step's
   int m_cur = 0;
-  std::vector<PosRow> m_buildPos;
+  std::vector<PosRow> m_buildPos;    // the reference of the drift: positions at the last refresh
+  std::vector<PosRow> m_rebuildPos;  // positions at the last rebuild
   std::vector<std::uint32_t> m_candOffsets, m_cand;
   std::vector<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
   float m_skin = 0.0f;
@@ -546,7 +566,7 @@ class CpuPipeline final : public Pipeline {
   float m_nearSkin = 0.0f;     // 0: no near list
   float m_fullLimit = 0.0f;    // the candidate list holds while m_closed + closure < this
   float m_nearLimit = 0.0f;    // the near list holds while its interval's closure < this
-  double m_closed = 0.0;       // closures of the near list's finished intervals since the rebuild
+  double m_closed = 0.0;       // bound on the closure from the rebuild to the last refresh
   float m_lastClosure = 0.0f;  // closure of the current interval after the last step
   bool m_needRefresh = false;
 

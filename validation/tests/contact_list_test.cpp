@@ -212,6 +212,70 @@ TEST_P(ContactListTest, PairsAreExactAtEveryStepOfAClumpRun) {
   }
 }
 
+TEST_P(ContactListTest, AParticleMovingToAndFroDoesNotForceRebuilds) {
+  // A row of resting spheres, one of which swings in x (the x-pull, amplitude 0.075 = 0.3 skin,
+  // 5 periods). Two particles never close in by the skin, so the list of the first step lasts:
+  // the near list's refreshes must not add up the swings.
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.dt = 1e-3f;
+  s.broadphase.skin = 0.25f;
+  s.pulls.x = 100.0f;
+  s.pulls.active = kPullX;
+  s.shapes.push_back(ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}}});
+  for (int k = 0; k < 100; ++k) {
+    BodyDef b;
+    b.shape = 0;
+    b.position = {k == 0 ? 0.075f : 0.0f, 2.0f * float(k), 0.0f};
+    s.bodies.push_back(b);
+  }
+  auto p = makePipeline(GetParam());
+  p->load(World::fromScene(s));
+  p->step(3000);
+  std::printf("swinging sphere, 3000 steps: %llu rebuilds, %llu near-list refreshes\n",
+              static_cast<unsigned long long>(p->stats().numRebuilds),
+              static_cast<unsigned long long>(p->stats().numNearRefreshes));
+  EXPECT_EQ(p->stats().numRebuilds, 1u);
+  if (GetParam() == Backend::Cpu) {
+    EXPECT_GE(p->stats().numNearRefreshes, 5u) << "the near list must follow the swings";
+  }
+}
+
+TEST_P(ContactListTest, PairsAreExactForAParticleWithThousandsOfContacts) {
+  // 2500 small spheres on a big one (radius 19.6, overlap 0.1 each, none touching another small
+  // one): more contacts than the per-particle count the step keeps (255), and more than the
+  // other particles of a chunk of pairs() can make room for, so pairs() must size the big
+  // sphere's room from its row. Checked at every step, and through readDebug().
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.dt = 1e-4f;
+  s.contact = {1e3f, 0.5f, 0.2f};
+  s.shapes.push_back(ShapeDef{"big", {SphereDef{{0, 0, 0}, 19.6f, 100.0f, 0.5f}}});
+  s.shapes.push_back(ShapeDef{"small", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}}});
+  BodyDef big;
+  big.shape = 0;
+  s.bodies.push_back(big);
+  const int m = 2500;
+  for (int k = 0; k < m; ++k) {  // a Fibonacci sphere of radius 20
+    const float z = 1.0f - 2.0f * (float(k) + 0.5f) / float(m), rho = std::sqrt(1.0f - z * z);
+    const float phi = 2.39996323f * float(k);
+    BodyDef b;
+    b.shape = 1;
+    b.position = {20.0f * rho * std::cos(phi), 20.0f * rho * std::sin(phi), 20.0f * z};
+    s.bodies.push_back(b);
+  }
+  const World w = World::fromScene(s);
+  ASSERT_EQ(bruteForcePairs(cloudOf(w, w.state)).size(), std::size_t(m));
+  auto p = makePipeline(GetParam());
+  expectExactAtEveryStep(*p, w, 10, "big sphere with 2500 contacts");
+  p->setDebugCapture(true);
+  p->step(1);
+  ParticleDebug dbg;
+  p->readDebug(dbg);
+  EXPECT_EQ(dbg.contacts, p->pairs());
+  EXPECT_EQ(dbg.contacts.size(), std::size_t(m));
+}
+
 TEST_P(ContactListTest, SkinIsReusedAndCounted) {
   World w = World::fromScene(benchScene(16000));
   auto p = makePipeline(GetParam());

@@ -71,8 +71,8 @@ struct BodyDef {
 struct BroadphaseParams {
   float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (3 × largest diameter)
   int pcaEvery = 10;       ///< recompute the PCA axis every K detections (1 = every one)
-  /// Verlet skin s: detection finds the pairs within r_i + r_j + s and the list is kept until a
-  /// particle has moved s/2; 0 = detect every step (the report's method); negative = automatic
+  /// Verlet skin s: detection finds the pairs within r_i + r_j + s and the list is kept until two
+  /// particles may have closed in by s (about s/2 of motion each); 0 = detect every step (the report's method); negative = automatic
   /// (effectiveSkin()).
   float skin = -1.0f;
 };

@@ -87,7 +87,8 @@ struct StepView {
   const std::uint32_t* bodyOf;   ///< body of each particle
   const std::uint32_t* orig;     ///< scene index of each particle
   GroundSpringView ground;
-  const PosRow* buildPos;        ///< positions at the last rebuild (the skin test)
+  const PosRow* buildPos;        ///< the skin test's reference: positions at the last rebuild of
+                                 ///< the list the step reads (on the CPU, of the near list)
   CandidateListView list;
   std::uint8_t* touching;        ///< written by the forces: min(255, contacts) per particle, so that
                                  ///< pairs() need not test the particles that touch nothing

@@ -18,9 +18,11 @@
 /// 4. **Near list (CPU).** A second, thinner skin g inside the first: fillNear() keeps of each
 ///    row the partners within r_i + r_j + g now, and the forces read that subsequence while no
 ///    two particles can have closed in by g since (the same rule), refreshing it from the
-///    candidate list when they can; the candidate list then holds while the closures summed
-///    over the near list's intervals stay below its skin. Fewer candidates per step, the same
-///    contacts in the same order.
+///    candidate list when they can; the candidate list then holds while a bound on the closure
+///    since the rebuild stays below its skin: the bound at the last refresh (the smaller of the
+///    closures summed over the near list's intervals and the closure since the rebuild measured
+///    at that refresh) plus the closure since. Fewer candidates per step, the same contacts in
+///    the same order.
 /// 5. **Reordering.** At each rebuild the bodies are renumbered in Morton order of their
 ///    centres (mortonKey()), particles following their bodies, so that a row's candidates lie
 ///    near it in memory. Outputs and sums are by scene index, so this changes no bit.
@@ -177,7 +179,8 @@ inline float skinClosureLimit(float skin, float maxRadius) {
   return t > 0.0 ? static_cast<float>(2.0 * t) : 0.0f;
 }
 
-/// How the particles have moved since the last rebuild: the largest squared displacement, and
+/// How the particles have moved since the skin test's reference (the last rebuild, or the near
+/// list's last refresh): the largest squared displacement, and
 /// the bounding box of the displacement vectors (per axis the least and the largest component).
 /// Both are a max or a min over the particles: exact in any order, so the rebuild decision does
 /// not depend on the scheduling.
@@ -244,8 +247,7 @@ TUMBLE_HD_INLINE bool listStillValid(const Drift& d, float limit) { return closu
 /// the candidate list's size) and its end is returned. A partner left out cannot touch i until
 /// the two have closed in by g (less a rounding margin: skinClosureLimit(g, ·)), so while that holds
 /// the forces may iterate the near list instead of the candidate list: the same contacts in the
-/// same order, so the same bits. It is refreshed from the candidate list, which stays valid while
-/// the closures summed over the near list's intervals stay below the candidate list's skin.
+/// same order, so the same bits. It is refreshed from the candidate list (point 4 above).
 TUMBLE_HD_INLINE std::uint32_t fillNear(const PosRow* pos, const CandidateListView& l, float g, std::uint32_t* nearCand,
                                         std::uint32_t i) {
   const PosRow pi = pos[i];

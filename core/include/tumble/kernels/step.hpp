@@ -62,7 +62,7 @@ struct DebugForcesView {
 
 /// Particle positions from their body's state (SPEC §2.1), x = X + R u (R = b.rot), for the
 /// particles first..first+count of body b, with their radii; their displacements since the
-/// rebuild (buildPos) are added to *drift (pass nullptrs for neither). Single-sphere scenes
+/// skin test's reference (buildPos) are added to *drift (pass nullptrs for neither). Single-sphere scenes
 /// (kClumps false): x = X.
 template <bool kClumps>
 TUMBLE_HD_INLINE void bodyParticles(const BodyRow& b, const OwnRow* own, const float* radius, const PosRow* buildPos,
@@ -87,8 +87,8 @@ struct ParticleForce {
   std::uint32_t contacts;
 };
 
-/// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the candidate
-/// list filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
+/// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
+/// view (the candidate list, or on the CPU its near list) filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
 /// the list's order (ascending scene index of the partner); then the ground (its stick spring
 /// updated in place), then the pulls. Each force adds arm × f to the torque about the body's
 /// centre. Gravity is the body's (finishBody). Each pair is computed from both sides;
@@ -177,7 +177,7 @@ TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
 /// Stage 7 and the next step's stage 1 for body k, given the sums F and T of its particles
 /// (addToBody): adds the weight M g, integrates (rotation by `scheme`, only for bodies of more
 /// than one particle; Ω and R of the new state kept in the row), writes its particles' positions
-/// of the next state and adds their displacements since the rebuild to *drift.
+/// of the next state and adds their displacements since buildPos to *drift.
 template <bool kClumps>
 TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f gravity, float dt, RotationScheme scheme,
                                  std::uint32_t k, Drift* drift) {
