@@ -29,6 +29,9 @@ bool cudaAvailable() {
 }
 
 std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options) {
+  if (options.threads < 0 || options.threads > kMaxThreads)
+    throw Error("threads = " + std::to_string(options.threads) + ": expected 0 (all cores) to " +
+                std::to_string(kMaxThreads));
   if (backend == Backend::Cpu) return cpu::makeCpuPipeline(options);
 #if TUMBLE_HAS_CUDA
   return gpu::makeCudaPipeline(options);  // throws tumble::Error naming the reason when no GPU can be used

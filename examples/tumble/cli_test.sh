@@ -77,6 +77,20 @@ grep -q "^sweep" out.txt && ok "phase table" || bad "no phase table in: $(cat ou
 cmp -s state.csv state1.csv && ok "state identical for 1 and 2 threads" || bad "state differs between thread counts"
 
 sed 's/^dt = 1e-4/dt = 2e-2/' small.toml > bigdt.toml
+# Counts must be whole numbers in range: no wrap of "-1" or 2^64 to huge unsigned values, no
+# zero steps, no thread count that oneTBB cannot take.
+for bad_count in "--steps -1" "--steps 0" "--steps 18446744073709551616" "--record-steps -1" \
+                 "--guard-every 0" "--checkpoint-every -3" "--threads 65537" "--threads -1"; do
+  # shellcheck disable=SC2086
+  expect_status "run $bad_count" 2 "$bin" run small.toml $bad_count --state-out wrapped.csv -q
+  expect_msg "run $bad_count" "expected a whole number from [01] to"
+done
+[ -e wrapped.csv ] && bad "a rejected count wrote wrapped.csv" || ok "a rejected count writes nothing"
+REC=-5,neg.bin expect_status "REC with a negative count" 2 "$bin" run small.toml -q
+expect_msg "REC with a negative count" "REC=-5,neg.bin: expected"
+[ -e neg.bin ] && bad "REC=-5 wrote neg.bin" || ok "REC=-5 writes nothing"
+expect_status "bench --threads 1,70000" 2 "$bin" bench --threads 1,70000 --sizes 16000 --steps 1 --warmup 0
+
 expect_status "large dt runs" 0 "$bin" run bigdt.toml --steps 2 -q
 expect_msg "large dt warns" "warning: bigdt.toml: dt = 0.02 s .*use dt <="
 
@@ -95,6 +109,8 @@ expect_status "debug recording" 0 "$bin" run small.toml --debug-record --record 
 printf 'x,y,z,r,body\n0,0,0,0.5,0\n0.9,0,0,0.5,1\n0.5,0.5,0,0.5,1\n5,5,5,1,2\n' > p.csv
 expect_status "pairs" 0 "$bin" pairs p.csv
 [ "$(cat out.txt | tr '\n' ' ')" = "0,1 0,2 " ] && ok "pairs output" || bad "pairs output: $(cat out.txt | tr '\n' ' ')"
+expect_status "pairs --threads 70000" 2 "$bin" pairs p.csv --threads 70000
+expect_msg "pairs --threads 70000" "expected a whole number from 0 to 4096"
 printf 'x,y,z,r,body\n0,0,0,0.5,0\n0,0,zz,0.5,1\n' > bad.csv
 expect_status "bad csv number" 2 "$bin" pairs bad.csv
 expect_msg "bad csv number" "bad.csv:3: z is not a number"

@@ -122,7 +122,8 @@ void addBench(CLI::App& app) {
   CLI::App* c = app.add_subcommand("bench", "Print the report's step-time table (SPEC §7) for this machine");
   c->add_option("--sizes", o->sizes, "Particle counts of the bench scene (multiples of 8)")->delimiter(',');
   c->add_option("--scene", o->scenes, "Time these scene files instead of the bench scene")->delimiter(',');
-  c->add_option("--threads", o->threads, "Thread counts to sweep, 0 = all cores")->delimiter(',');
+  c->add_option("--threads", o->threads, "Thread counts to sweep, 0 = all cores")->delimiter(',')
+      ->check(countIn(0, kMaxThreads));
   c->add_option("--pipeline", o->pipelines, "Pipelines: cpu and/or cuda")->delimiter(',')
       ->check(CLI::IsMember({"cpu", "cuda"}));
   c->add_option("--skin", o->skin, "Verlet skin (0 = detect every step; default: the scene's, else automatic)");

@@ -45,11 +45,10 @@ void applyRecEnv(RunOptions& o) {
   const std::string s = rec;
   const auto comma = s.find(',');
   const std::string n = s.substr(0, comma);
-  char* end = nullptr;
-  const unsigned long long v = std::strtoull(n.c_str(), &end, 10);
-  if (n.empty() || *end != '\0' || v == 0)
-    throw Error("REC=" + s + ": expected REC=<n_steps>[,<file>] with n_steps a positive integer");
-  if (!o.recordSteps) o.recordSteps = v;
+  const std::optional<std::uint64_t> v = parseCount(n, 1, kMaxSteps);
+  if (!v) throw Error("REC=" + s + ": expected REC=<n_steps>[,<file>] with n_steps a whole number from 1 to " +
+                      std::to_string(kMaxSteps));
+  if (!o.recordSteps) o.recordSteps = *v;
   if (o.record.empty()) o.record = comma == std::string::npos ? "record.bin" : s.substr(comma + 1);
   if (o.record.empty()) throw Error("REC=" + s + ": the file name after the comma is empty");
 }
@@ -169,7 +168,6 @@ void run(RunOptions o) {
   std::optional<RunGuard> guard;
   if (!o.noGuard) guard.emplace(world, *pipeline);
   const std::uint64_t guardEvery = o.guardEvery ? *o.guardEvery : perFrame;
-  if (guard && guardEvery == 0) throw Error("--guard-every must be >= 1");
   const std::uint64_t ckEvery = o.checkpointEvery.value_or(0);
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -253,28 +251,32 @@ void addRun(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   CLI::App* c = app.add_subcommand("run", "Simulate a scene file (TOML, see docs/scenes.md)");
   c->add_option("scene", o->scene, "Scene file, e.g. scenes/molecules.toml")->required();
-  c->add_option("--steps", o->steps, "Step to run to, counted from the start of the run (default: the scene's steps)");
+  c->add_option("--steps", o->steps, "Step to run to, counted from the start of the run (default: the scene's steps)")
+      ->check(countIn(1, kMaxSteps));
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores (results do not depend on it)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(countIn(0, kMaxThreads));
   c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
   c->add_option("--record", o->record, "Write a recording to FILE (docs/recording.md); REC=<n_steps>[,<file>] does the same");
-  c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)");
+  c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)")
+      ->check(countIn(1, kMaxSteps));
   c->add_flag("--debug-record", o->debug, "Add velocities, the five forces and the contacts to every frame");
   c->add_option("--state-out", o->stateOut, "Write the final body state as CSV (exact float round trip)");
   c->add_option("--checkpoint", o->checkpoint,
                 "Write a checkpoint to FILE at the end of the run (docs/checkpoint.md); --resume continues it");
-  c->add_option("--checkpoint-every", o->checkpointEvery, "Also write the checkpoint every N steps");
+  c->add_option("--checkpoint-every", o->checkpointEvery, "Also write the checkpoint every N steps")
+      ->check(countIn(1, kMaxSteps));
   c->add_option("--resume", o->resume,
                 "Continue the run of SCENE from a checkpoint, bit for bit, up to step --steps (default: the "
                 "scene's steps); a --record file of the first part is continued");
   c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 x largest diameter)");
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K detections");
   c->add_option("--skin", o->skin,
-                "Verlet skin: detect pairs within r_i + r_j + S and reuse them until a particle has moved S/2 "
-                "(0 = detect every step; default 0.5 x the largest radius)");
+                "Verlet skin: detect pairs within r_i + r_j + S and reuse them until two particles may have "
+                "closed in by S (0 = detect every step; default 0.5 x the largest radius)");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_option("--guard-every", o->guardEvery,
-                "Check the guards (finite state, energy, overlaps) every N steps (default: the steps per frame)");
+                "Check the guards (finite state, energy, overlaps) every N steps (default: the steps per frame)")
+      ->check(countIn(1, kMaxSteps));
   c->add_flag("--no-guard", o->noGuard, "Do not check the guards (a diverging run then stops only at a non-finite position)");
   c->callback([o] { run(*o); });
 }

@@ -8,6 +8,22 @@
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
 
+std::optional<std::uint64_t> tumble::cli::parseCount(const std::string& text, std::uint64_t lo, std::uint64_t hi) {
+  if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos) return {};
+  const std::uint64_t v = std::stoull(text);  // at most 19 digits: no overflow
+  if (v < lo || v > hi) return {};
+  return v;
+}
+
+CLI::Validator tumble::cli::countIn(std::uint64_t lo, std::uint64_t hi) {
+  const std::string range = std::to_string(lo) + " to " + std::to_string(hi);
+  return CLI::Validator(
+      [lo, hi, range](std::string& s) -> std::string {
+        return parseCount(s, lo, hi) ? std::string() : "expected a whole number from " + range + ", got '" + s + "'";
+      },
+      "INT " + range);
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"tumble " TUMBLE_VERSION_STRING
                ": rigid bodies made of spheres, with sweep-and-prune collision detection along the PCA axis"};

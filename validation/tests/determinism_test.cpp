@@ -5,6 +5,7 @@
 
 #include <cstdio>
 
+#include "tumble/error.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/scenes.hpp"
 
@@ -61,6 +62,18 @@ TEST_P(DeterminismTest, StepSplitDoesNotMatter) {
   b->readState(sb);
   EXPECT_EQ(stateHash(sa), stateHash(sb));
   EXPECT_GT(a->stats().numPairs, 0u);
+}
+
+TEST(PipelineOptionsTest, ThreadCountOutOfRangeIsAnError) {
+  // oneTBB crashes in its arena's destructor beyond 65536 threads: rejected before it is asked.
+  for (int threads : {-1, kMaxThreads + 1, 65537}) {
+    PipelineOptions o;
+    o.threads = threads;
+    EXPECT_THROW(makePipeline(Backend::Cpu, o), Error) << threads << " threads";
+  }
+  PipelineOptions o;
+  o.threads = kMaxThreads;
+  EXPECT_NO_THROW(makePipeline(Backend::Cpu, o));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, DeterminismTest, ::testing::ValuesIn(compiledBackends()),

@@ -27,9 +27,12 @@ std::vector<Backend> compiledBackends();
 /// True when the CUDA module is compiled in and a device is present.
 bool cudaAvailable();
 
+/// The most worker threads a pipeline accepts (oneTBB fails beyond 65536).
+inline constexpr int kMaxThreads = 4096;
+
 /// Options that do not change results: they change only speed.
 struct PipelineOptions {
-  int threads = 0;      ///< 0 = all cores (CPU pipeline)
+  int threads = 0;      ///< 0 = all cores (CPU pipeline); at most kMaxThreads
   bool reorder = true;  ///< renumber bodies in spatial order at each rebuild (locality)
 };
 
