@@ -21,11 +21,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -43,6 +45,42 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 using tumble::detail::kChunk;  // fixed reduction chunk (determinism)
+
+// The exact sum of n 32-bit counts (an integer sum: the same in any order).
+std::uint64_t sum64(const std::uint32_t* c, std::uint32_t n) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::uint32_t>(0, n, kChunk), std::uint64_t{0},
+      [&](const auto& rg, std::uint64_t s) {
+        for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) s += c[i];
+        return s;
+      },
+      [](std::uint64_t a, std::uint64_t b) { return a + b; });
+}
+
+// The detection's 32-bit scans and buffers hold at most 2^31 − 1 entries, and a typical scene
+// makes a few records and candidates per particle: more than 2^31 − 1, or more than 4096 per
+// particle on average (beyond 2^24), means a cell size far too small for the radii or
+// coordinates so spread that the rounding slack spans many cells. Refused with a clear error
+// instead of wrapping or exhausting memory.
+void checkTotal(std::uint64_t total, std::uint32_t n, const char* what, float cellSize, float maxRadius) {
+  const std::uint64_t limit = std::min<std::uint64_t>(0x7fffffffull, std::max<std::uint64_t>(4096ull * n, 1ull << 24));
+  if (total <= limit) return;
+  std::string msg = "detection would need ";
+  msg += std::to_string(total);
+  msg += " ";
+  msg += what;
+  msg += " for ";
+  msg += std::to_string(n);
+  msg += " particles (at most ";
+  msg += std::to_string(limit);
+  char sizes[96];
+  std::snprintf(sizes, sizeof sizes, "): the cell size %g is too small for particles of radius up to %g",
+                double(cellSize), double(maxRadius));
+  msg += sizes;
+  msg += ", or the particles are spread too far apart; use a larger [broadphase] cell_size or --cell-size "
+         "(0 = automatic)";
+  throw Error(msg);
+}
 constexpr std::uint32_t kSweepChunk = 2048;   // records per sweep output buffer
 
 // The sweep's inner loop: tests `len` consecutive sorted records against one probe record and
@@ -149,6 +187,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) countRecords(in, f, prow, counts, i);
   });
   counts[n] = 0;
+  checkTotal(sum64(counts, n), n, "cell records", f.cellSize, in.maxRadius);
   std::uint32_t* first = recFirst.data();
   std::size_t tempBytes = 0;
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, counts, first, n + 1);
@@ -238,6 +277,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     }
   });
   nbrCount[numRec] = 0;
+  checkTotal(sum64(nbrCount, numRec), n, "candidate pairs", f.cellSize, in.maxRadius);
   std::uint32_t* offs = tumble::detail::grow(nbrOffsets, numRec + 1);
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, nbrCount, offs, numRec + 1);
   exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nbrCount, offs, numRec + 1);

@@ -111,6 +111,13 @@ expect_status "pairs" 0 "$bin" pairs p.csv
 [ "$(cat out.txt | tr '\n' ' ')" = "0,1 0,2 " ] && ok "pairs output" || bad "pairs output: $(cat out.txt | tr '\n' ' ')"
 expect_status "pairs --threads 70000" 2 "$bin" pairs p.csv --threads 70000
 expect_msg "pairs --threads 70000" "expected a whole number from 0 to 4096"
+# Detection that would need more records than it can hold is refused (no wrap, no heap overflow).
+printf 'x,y,z,r,body\n' > coin.csv; for i in 0 1 2 3 4 5 6 7 8; do echo "0,0,0,1,$i" >> coin.csv; done
+expect_status "pairs with a cell size far below the radii" 2 "$bin" pairs coin.csv --cell-size 8.4e-6
+expect_msg "pairs with a cell size far below the radii" "detection would need [0-9]+ cell records for 9 particles"
+{ echo 'x,y,z,r,body'; for i in $(seq 0 123); do echo "$((i * 5)),0,0,1,$i"; done; echo '1e30,0,0,1,124'; } > far.csv
+expect_status "pairs with one particle 1e30 away" 2 "$bin" pairs far.csv
+expect_msg "pairs with one particle 1e30 away" "detection would need"
 printf 'x,y,z,r,body\n0,0,0,0.5,0\n0,0,zz,0.5,1\n' > bad.csv
 expect_status "bad csv number" 2 "$bin" pairs bad.csv
 expect_msg "bad csv number" "bad.csv:3: z is not a number"

@@ -108,6 +108,35 @@ TEST_P(PairsTest, RejectsBadInput) {
   EXPECT_THROW(p->findPairs(c, BroadphaseParams{}), Error);
 }
 
+// Inputs whose detection would need more records than the 32-bit scans hold (issue 14): a cell
+// size far below the radii, and one particle 1e30 away. Refused with an error, not a wrap (the
+// CPU pipeline; the CUDA pipeline's bound is the GPU issue's).
+TEST(BroadphaseBoundsTest, HugeRecordCountsAreRefused) {
+  auto p = makePipeline(Backend::Cpu);
+  ParticleCloud c;
+  auto add = [&](float x, std::uint32_t body) {
+    c.x.push_back(x);
+    c.y.push_back(0.0f);
+    c.z.push_back(0.0f);
+    c.r.push_back(1.0f);
+    c.body.push_back(body);
+  };
+  for (std::uint32_t i = 0; i < 9; ++i) add(0.0f, i);
+  EXPECT_EQ(p->findPairs(c, BroadphaseParams{}).size(), 36u);
+  BroadphaseParams tiny;
+  tiny.cellSize = 8.4e-6f;
+  try {
+    p->findPairs(c, tiny);
+    ADD_FAILURE() << "a cell size of 8.4e-6 for unit spheres must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("detection would need"), std::string::npos) << e.what();
+  }
+  c = ParticleCloud{};
+  for (std::uint32_t i = 0; i < 124; ++i) add(2.5f * float(i), i);
+  add(1e30f, 124);
+  EXPECT_THROW(p->findPairs(c, BroadphaseParams{}), Error);
+}
+
 TEST_P(PairsTest, StepPairsMatchBruteForceOnTheBenchScene) {
   World w = World::fromScene(benchScene(16000));
   auto p = makePipeline(GetParam());

@@ -91,8 +91,10 @@ TUMBLE_HD_INLINE std::uint64_t sweepKey(std::uint32_t cell, float z) {
 }
 
 /// Number of sweep records of a particle (cells its square overlaps).
+/// (Saturates at 2^32 − 1, so that a huge range is refused by the caller's bound, never wraps.)
 TUMBLE_HD_INLINE std::uint32_t numRecords(const CellRange& c) {
-  return static_cast<std::uint32_t>(c.a1 - c.a0 + 1) * static_cast<std::uint32_t>(c.b1 - c.b0 + 1);
+  const std::uint64_t k = std::uint64_t(std::uint32_t(c.a1 - c.a0 + 1)) * std::uint64_t(std::uint32_t(c.b1 - c.b0 + 1));
+  return k < 0xffffffffull ? static_cast<std::uint32_t>(k) : 0xffffffffu;
 }
 
 /// Once-only rule (SPEC §3.7): a pair is reported only in the cell holding the lower corner of
