@@ -736,9 +736,54 @@ class SceneParser {
   std::unordered_map<std::string, std::uint32_t> m_shapeIndex;
 };
 
+// Non-ASCII bytes outside strings and comments are refused before toml++ sees them: its 3.3.0
+// reaches an "unreachable" branch (undefined behaviour) for some code points where it expects
+// whitespace (U+00A1–U+0499, e.g. "Ñ"). Strings: "…" and '…', and their multi-line forms.
+void checkAsciiOutsideStrings(std::string_view t, const std::string& file) {
+  long line = 1;
+  std::size_t i = 0;
+  const auto starts = [&](std::string_view s) { return t.substr(i, s.size()) == s; };
+  while (i < t.size()) {
+    const char c = t[i];
+    if (c == '\n') {
+      ++line;
+      ++i;
+    } else if (c == '#') {  // comment: to the end of the line
+      while (i < t.size() && t[i] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const bool multi = starts(c == '"' ? "\"\"\"" : "'''");
+      const std::size_t open = multi ? 3 : 1;
+      i += open;
+      for (;;) {
+        if (i >= t.size()) return;  // unterminated: toml++ reports it
+        if (t[i] == '\n') {
+          if (!multi) break;  // toml++ reports the unterminated string
+          ++line;
+        }
+        if (c == '"' && t[i] == '\\') {  // an escape in a basic string
+          i += 2;
+          continue;
+        }
+        if (t[i] == c && (!multi || starts(c == '"' ? "\"\"\"" : "'''"))) {
+          i += open;
+          break;
+        }
+        ++i;
+      }
+    } else if (static_cast<unsigned char>(c) >= 0x80) {
+      throw InputError(file, line,
+                       "a non-ASCII character outside a string or comment; TOML allows them only in "
+                       "\"strings\" and # comments");
+    } else {
+      ++i;
+    }
+  }
+}
+
 }  // namespace
 
 Scene parseScene(std::string_view text, const std::string& sourceName) {
+  checkAsciiOutsideStrings(text, sourceName);
   toml::table root;
 #if TOML_EXCEPTIONS
   try {

@@ -643,3 +643,17 @@ TEST(SceneIoErrors, TooManyParticles) {
 }
 
 }  // namespace
+
+// toml++ 3.3.0 has undefined behaviour for some non-ASCII code points where it expects
+// whitespace ("Ñ", found by UBSan): they are refused, with the line, before it parses; in
+// strings (all four kinds) and comments they are fine.
+TEST(SceneIo, NonAsciiOutsideStringsIsRefusedWithTheLine) {
+  expectError(withExtra("# note\nfoo =\xc3\x91 1\n"), 13, {"non-ASCII character outside a string or comment"});
+  expectError(withExtra("x = '''a\n\xc3\x91'''\ny = 1 \xc3\x91\n"), 14, {"non-ASCII"});
+  const std::string ok = withExtra("# comentario: a\xc3\xb1o\n");
+  EXPECT_NO_THROW((void)tumble::parseScene(ok, "test.toml"));
+  std::vector<std::string> ls = baseLines();
+  ls.at(4) = "name = \"\xc3\xb1" "and\xc3\xba \\\" \xc3\x91\"";   // the shape's name, with an escaped quote
+  ls.at(9) = "shape = '\xc3\xb1" "and\xc3\xba \" \xc3\x91'";        // a literal string naming it
+  EXPECT_EQ(tumble::parseScene(join(ls), "test.toml").shapes.at(0).name, "\xc3\xb1" "and\xc3\xba \" \xc3\x91");
+}

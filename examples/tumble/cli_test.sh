@@ -111,6 +111,9 @@ expect_status "pairs" 0 "$bin" pairs p.csv
 [ "$(cat out.txt | tr '\n' ' ')" = "0,1 0,2 " ] && ok "pairs output" || bad "pairs output: $(cat out.txt | tr '\n' ' ')"
 expect_status "pairs --threads 70000" 2 "$bin" pairs p.csv --threads 70000
 expect_msg "pairs --threads 70000" "expected a whole number from 0 to 4096"
+printf 'x,y,z,r,body\n0.9\0garbage,0,0,0.5,0\n' > nul.csv
+expect_status "NUL byte in a csv field" 2 "$bin" pairs nul.csv
+expect_msg "NUL byte in a csv field" "nul.csv:2: contains a NUL byte"
 # Detection that would need more records than it can hold is refused (no wrap, no heap overflow).
 printf 'x,y,z,r,body\n' > coin.csv; for i in 0 1 2 3 4 5 6 7 8; do echo "0,0,0,1,$i" >> coin.csv; done
 expect_status "pairs with a cell size far below the radii" 2 "$bin" pairs coin.csv --cell-size 8.4e-6

@@ -34,6 +34,12 @@ ParticleCloud readCloud(const std::string& path) {
   long lineNo = 0;
   if (!std::getline(in, line)) throw InputError(path, 1, "empty file; expected the header line x,y,z,r,body");
   ++lineNo;
+  // A NUL byte would end a field early for strtof (0.9<NUL>garbage read as 0.9).
+  const auto noNul = [&] {
+    if (line.find('\0') != std::string::npos)
+      throw InputError(path, lineNo, "contains a NUL byte (is this a text CSV file?)");
+  };
+  noNul();
   {
     std::string h;
     for (char c : line)
@@ -44,6 +50,7 @@ ParticleCloud readCloud(const std::string& path) {
   static const char* names[5] = {"x", "y", "z", "r", "body"};
   while (std::getline(in, line)) {
     ++lineNo;
+    noNul();
     if (trim(line).empty()) continue;
     std::string field[5];
     int nf = 0;
