@@ -741,7 +741,7 @@ class SceneParser {
 // whitespace (U+00A1–U+0499, e.g. "Ñ"). Strings: "…" and '…', and their multi-line forms.
 void checkAsciiOutsideStrings(std::string_view t, const std::string& file) {
   long line = 1;
-  std::size_t i = 0;
+  std::size_t i = t.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // a UTF-8 byte-order mark (toml++ skips it)
   const auto starts = [&](std::string_view s) { return t.substr(i, s.size()) == s; };
   while (i < t.size()) {
     const char c = t[i];
@@ -760,13 +760,21 @@ void checkAsciiOutsideStrings(std::string_view t, const std::string& file) {
           if (!multi) break;  // toml++ reports the unterminated string
           ++line;
         }
-        if (c == '"' && t[i] == '\\') {  // an escape in a basic string
+        if (c == '"' && t[i] == '\\') {  // an escape in a basic string (a line-ending one too)
+          if (i + 1 < t.size() && t[i + 1] == '\n') ++line;
           i += 2;
           continue;
         }
-        if (t[i] == c && (!multi || starts(c == '"' ? "\"\"\"" : "'''"))) {
-          i += open;
+        if (t[i] == c && !multi) {
+          ++i;
           break;
+        }
+        if (t[i] == c) {  // a run of quotes: three or more end the string, after the whole run
+          std::size_t k = 0;
+          while (i + k < t.size() && t[i + k] == c) ++k;
+          i += k;
+          if (k >= 3) break;
+          continue;
         }
         ++i;
       }

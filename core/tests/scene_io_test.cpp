@@ -657,3 +657,13 @@ TEST(SceneIo, NonAsciiOutsideStringsIsRefusedWithTheLine) {
   ls.at(9) = "shape = '\xc3\xb1" "and\xc3\xba \" \xc3\x91'";        // a literal string naming it
   EXPECT_EQ(tumble::parseScene(join(ls), "test.toml").shapes.at(0).name, "\xc3\xb1" "and\xc3\xba \" \xc3\x91");
 }
+
+TEST(SceneIo, AsciiCheckFollowsTomlStrings) {
+  // A byte-order mark is skipped (as toml++ does).
+  EXPECT_NO_THROW((void)tumble::parseScene("\xEF\xBB\xBF" + join(baseLines()), "test.toml"));
+  // A multi-line string may end in one or two quotes before its closing three: the scan must not
+  // close it early and take the rest of the line for string content.
+  expectError(withExtra("x = \"\"\"a\"\"\"\" \xc3\x91\n"), 12, {"non-ASCII"});
+  // A line-ending backslash in a multi-line basic string still counts its line.
+  expectError(withExtra("x = \"\"\"a \\\nb\"\"\"\ny = \xc3\x91\n"), 14, {"non-ASCII"});
+}

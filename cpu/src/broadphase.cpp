@@ -57,13 +57,19 @@ std::uint64_t sum64(const std::uint32_t* c, std::uint32_t n) {
       [](std::uint64_t a, std::uint64_t b) { return a + b; });
 }
 
-// The detection's 32-bit scans and buffers hold at most 2^31 − 1 entries, and a typical scene
-// makes a few records and candidates per particle: more than 2^31 − 1, or more than 4096 per
-// particle on average (beyond 2^24), means a cell size far too small for the radii or
-// coordinates so spread that the rounding slack spans many cells. Refused with a clear error
-// instead of wrapping or exhausting memory.
-void checkTotal(std::uint64_t total, std::uint32_t n, const char* what, float cellSize, float maxRadius) {
-  const std::uint64_t limit = std::min<std::uint64_t>(0x7fffffffull, std::max<std::uint64_t>(4096ull * n, 1ull << 24));
+// The detection's 32-bit scans and buffers hold at most 2^31 − 1 entries. Records are cells
+// overlapped per particle, a few in a typical scene whatever its density: more than 4096 per
+// particle on average (beyond 2^24) means a cell size far too small for the radii, or
+// coordinates so spread that the rounding slack spans many cells. Candidate pairs grow with the
+// density instead, and are bounded by the scans only. Refused with a clear error instead of
+// wrapping or exhausting memory.
+constexpr std::uint64_t kMaxEntries = 0x7fffffffull;
+
+std::uint64_t recordLimit(std::uint32_t n) {
+  return std::min<std::uint64_t>(kMaxEntries, std::max<std::uint64_t>(4096ull * n, 1ull << 24));
+}
+
+void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint32_t n, const char* what, const char* cause) {
   if (total <= limit) return;
   std::string msg = "detection would need ";
   msg += std::to_string(total);
@@ -73,12 +79,8 @@ void checkTotal(std::uint64_t total, std::uint32_t n, const char* what, float ce
   msg += std::to_string(n);
   msg += " particles (at most ";
   msg += std::to_string(limit);
-  char sizes[96];
-  std::snprintf(sizes, sizeof sizes, "): the cell size %g is too small for particles of radius up to %g",
-                double(cellSize), double(maxRadius));
-  msg += sizes;
-  msg += ", or the particles are spread too far apart; use a larger [broadphase] cell_size or --cell-size "
-         "(0 = automatic)";
+  msg += "): ";
+  msg += cause;
   throw Error(msg);
 }
 constexpr std::uint32_t kSweepChunk = 2048;   // records per sweep output buffer
@@ -187,7 +189,14 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) countRecords(in, f, prow, counts, i);
   });
   counts[n] = 0;
-  checkTotal(sum64(counts, n), n, "cell records", f.cellSize, in.maxRadius);
+  if (const std::uint64_t total = sum64(counts, n); total > recordLimit(n)) {
+    char cause[200];
+    std::snprintf(cause, sizeof cause,
+                  "the cell size %g is too small for particles of radius up to %g, or the particles are spread too "
+                  "far apart; use a larger [broadphase] cell_size or --cell-size (0 = automatic)",
+                  double(f.cellSize), double(in.maxRadius));
+    checkTotal(total, recordLimit(n), n, "cell records", cause);
+  }
   std::uint32_t* first = recFirst.data();
   std::size_t tempBytes = 0;
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, counts, first, n + 1);
@@ -277,7 +286,8 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     }
   });
   nbrCount[numRec] = 0;
-  checkTotal(sum64(nbrCount, numRec), n, "candidate pairs", f.cellSize, in.maxRadius);
+  checkTotal(sum64(nbrCount, numRec), kMaxEntries, n, "candidate pairs",
+             "the particles overlap too densely for one detection (a smaller skin lowers the count)");
   std::uint32_t* offs = tumble::detail::grow(nbrOffsets, numRec + 1);
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, nbrCount, offs, numRec + 1);
   exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nbrCount, offs, numRec + 1);

@@ -80,7 +80,7 @@ sed 's/^dt = 1e-4/dt = 2e-2/' small.toml > bigdt.toml
 # Counts must be whole numbers in range: no wrap of "-1" or 2^64 to huge unsigned values, no
 # zero steps, no thread count that oneTBB cannot take.
 for bad_count in "--steps -1" "--steps 0" "--steps 18446744073709551616" "--record-steps -1" \
-                 "--guard-every 0" "--checkpoint-every -3" "--threads 65537" "--threads -1"; do
+                 "--guard-every 0" "--checkpoint-every -3" "--threads 65537" "--threads -1" "--steps 010"; do
   # shellcheck disable=SC2086
   expect_status "run $bad_count" 2 "$bin" run small.toml $bad_count --state-out wrapped.csv -q
   expect_msg "run $bad_count" "expected a whole number from [01] to"

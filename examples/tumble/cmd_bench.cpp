@@ -120,7 +120,8 @@ void bench(BenchOptions o) {
 void addBench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* c = app.add_subcommand("bench", "Print the report's step-time table (SPEC §7) for this machine");
-  c->add_option("--sizes", o->sizes, "Particle counts of the bench scene (multiples of 8)")->delimiter(',');
+  c->add_option("--sizes", o->sizes, "Particle counts of the bench scene (multiples of 8)")->delimiter(',')
+      ->check(countIn(8, 100000000));
   c->add_option("--scene", o->scenes, "Time these scene files instead of the bench scene")->delimiter(',');
   c->add_option("--threads", o->threads, "Thread counts to sweep, 0 = all cores")->delimiter(',')
       ->check(countIn(0, kMaxThreads));

@@ -133,7 +133,7 @@ void addPlay(CLI::App& app) {
   c->add_option("--script", o->script,
                 "Key script: lines 'FRAME press|release|tap KEY' or 'FRAME quit' (docs/animation.md); each frame "
                 "then counts as 1/60 s");
-  c->add_option("--frames", o->frames, "Quit after N window frames");
+  c->add_option("--frames", o->frames, "Quit after N window frames")->check(countIn(1, kMaxSteps));
   c->add_option("--screenshot", o->screenshot, "When quitting, save the last frame without the overlay (.png or .ppm)");
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER

@@ -151,12 +151,14 @@ void addValidate(CLI::App& app) {
   c->add_option("--pipelines", o->pipelines, "Pipelines to compare, e.g. cpu,cuda")->delimiter(',')
       ->check(CLI::IsMember({"cpu", "cuda"}));
   c->add_option("--scene", o->scene, "Scene for the side-by-side run (default scenes/molecules.toml)");
-  c->add_option("--steps", o->steps, "Steps of the side-by-side run")->check(CLI::PositiveNumber);
-  c->add_option("--seed", o->seed, "Seed of the random clouds and hard cases");
+  c->add_option("--steps", o->steps, "Steps of the side-by-side run")->check(countIn(1, kMaxSteps));
+  c->add_option("--seed", o->seed, "Seed of the random clouds and hard cases")
+      ->check(countIn(0, 9999999999999999999ull));
   c->add_option("--random", o->random, "Number of random clouds")->check(CLI::NonNegativeNumber);
   c->add_option("--position-tol", o->tol.positionTol, "Position tolerance in units of the smallest radius");
   c->add_option("--orientation-tol", o->tol.orientationTol, "Orientation tolerance |dq|");
-  c->add_option("--horizon", o->tol.horizon, "Steps over which the tolerance must hold");
+  c->add_option("--horizon", o->tol.horizon, "Steps over which the tolerance must hold")
+      ->check(countIn(1, kMaxSteps));
   c->add_option("--out", o->out,
                  "Run the validation study and write DIR/report.md, DIR/summary.csv, DIR/<pipeline>/*.csv and *.png "
                  "(the folder is created)");

@@ -46,8 +46,8 @@ void parseSize(const std::string& text, const char* option, int& outW, int& outH
 /// The most steps a run accepts (10^15: decades at a microsecond per step).
 inline constexpr std::uint64_t kMaxSteps = 1000000000000000ull;
 
-/// A whole number written with digits only (no sign: "-1" must not wrap to 2^64 − 1), from lo
-/// to hi; nothing when the text is not one.
+/// A whole number written with digits only (no sign: "-1" must not wrap to 2^64 − 1; no leading
+/// zero, which CLI11 reads as octal), from lo to hi; nothing when the text is not one.
 std::optional<std::uint64_t> parseCount(const std::string& text, std::uint64_t lo, std::uint64_t hi);
 
 /// The CLI11 check of a count option: parseCount(text, lo, hi) must succeed.

@@ -10,6 +10,7 @@
 
 std::optional<std::uint64_t> tumble::cli::parseCount(const std::string& text, std::uint64_t lo, std::uint64_t hi) {
   if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos) return {};
+  if (text.size() > 1 && text[0] == '0') return {};  // CLI11 would read a leading 0 as octal
   const std::uint64_t v = std::stoull(text);  // at most 19 digits: no overflow
   if (v < lo || v > hi) return {};
   return v;
