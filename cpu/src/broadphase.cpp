@@ -190,7 +190,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   });
   counts[n] = 0;
   if (const std::uint64_t total = sum64(counts, n); total > recordLimit(n)) {
-    char cause[200];
+    char cause[320];
     std::snprintf(cause, sizeof cause,
                   "the cell size %g is too small for particles of radius up to %g, or the particles are spread too "
                   "far apart; use a larger [broadphase] cell_size or --cell-size (0 = automatic)",
