@@ -717,7 +717,9 @@ wait $pid
   std::size_t pulled = 0;
   for (const RecordedFrame& f : rec.frames) pulled += f.pulls == kPullX;
   EXPECT_EQ(rec.frames.front().pulls, 0u);
-  EXPECT_GT(pulled, 0u) << "arrow-left pressed through X switched the x pull on";
+  EXPECT_GT(pulled, 0u) << "arrow-left pressed through X switched the x pull on; " << rec.frames.size()
+                        << " frames; view.out: " << out << "; view.err: " << slurp(path("view.err"))
+                        << "; keys.sh: " << slurp(path("err.txt"));
   EXPECT_LT(pulled, rec.frames.size());
 }
 
