@@ -104,8 +104,7 @@ void run(RunOptions o) {
     if (!(*o.skin >= 0.0f) || !std::isfinite(*o.skin)) throw Error("--skin must be a finite number >= 0 (0 = detect every step)");
     scene.broadphase.skin = *o.skin;
   }
-  if (o.checkpointEvery && (*o.checkpointEvery == 0 || o.checkpoint.empty()))
-    throw Error("--checkpoint-every N needs N >= 1 and --checkpoint FILE");
+  if (o.checkpointEvery && o.checkpoint.empty()) throw Error("--checkpoint-every N needs --checkpoint FILE");
   if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;
   if (!o.recordSteps && scene.recordSteps > 0) o.recordSteps = scene.recordSteps;
   const bool debug = o.debug || scene.recordDebug;
