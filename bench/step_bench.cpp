@@ -45,9 +45,9 @@ void BM_Step(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * n);
 }
 
-// The guard's check (tumble run checks every steps_per_frame = 10 steps by default) against the
-// 10 steps between two checks: the iteration time is the check alone; guard_share is the
-// check's time over the steps' time.
+// The guard's check against the steps between two checks (tumble run without a recording checks
+// every kDefaultGuardEvery steps): the iteration time is the check alone; guard_share is the
+// check's time over the steps' time, check_steps the check in steps.
 void BM_GuardCheck(benchmark::State& state) {
   using Clock = std::chrono::steady_clock;
   const auto n = static_cast<std::uint32_t>(state.range(0));
@@ -57,10 +57,11 @@ void BM_GuardCheck(benchmark::State& state) {
   p->load(benchWorld(n));
   tumble::RunGuard guard(benchWorld(n), *p);
   p->step(smokeWarmup());
+  const std::uint64_t every = tumble::kDefaultGuardEvery;
   double stepSeconds = 0.0, checkSeconds = 0.0;
   for (auto _ : state) {
     const auto t0 = Clock::now();
-    p->step(10);
+    p->step(every);
     const auto t1 = Clock::now();
     const auto trip = guard.check(*p);
     const auto t2 = Clock::now();
@@ -70,8 +71,10 @@ void BM_GuardCheck(benchmark::State& state) {
     checkSeconds += c;
     state.SetIterationTime(c);
   }
+  const double perStep = stepSeconds / (double(every) * double(state.iterations()));
   state.counters["guard_share"] = stepSeconds > 0.0 ? checkSeconds / stepSeconds : 0.0;
-  state.counters["ms_per_step"] = 1e3 * stepSeconds / (10.0 * double(state.iterations()));
+  state.counters["check_steps"] = perStep > 0.0 ? checkSeconds / double(state.iterations()) / perStep : 0.0;
+  state.counters["ms_per_step"] = 1e3 * perStep;
 }
 
 // CUDA pipeline: the phase times come from CUDA events, so the iteration time is their sum

@@ -2,7 +2,6 @@
 #include "tumble/guard.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -46,16 +45,6 @@ std::string dtAdvice(const World& w) {
   return format("dt = %g s already resolves the shortest contact (%.3g s); try dt = %.3g s", w.params.dt, tc, use);
 }
 
-/// The rounding of a float coordinate of magnitude |v|: ½ ulp, and as much again for the particle
-/// position computed from it (x = X + R u in float).
-double roundingOf(double v) {
-  const float a = std::abs(static_cast<float>(v));
-  if (!(a < std::numeric_limits<float>::max())) return std::numeric_limits<double>::infinity();
-  // The next float above a non-negative finite a is the next bit pattern (nextafter without the
-  // library call: this runs for every body at every check).
-  return double(std::bit_cast<float>(std::bit_cast<std::uint32_t>(a) + 1u)) - a;
-}
-
 /// Reduces body(begin, end, acc) over fixed chunks of n elements in parallel, merging the
 /// chunks' accumulators in chunk order: the same result for any thread count.
 template <class Acc, class Body, class Merge>
@@ -78,6 +67,17 @@ bool finiteRow(const BodyState& s, std::size_t k) {
 }
 
 }  // namespace
+
+void contactSumsOfPairs(const World& world, const std::vector<Pair>& pairs, const std::vector<float>& x,
+                        const std::vector<double>& bodyErr, double k, std::vector<ContactSums>& out) {
+  out.assign(world.numBodies(), ContactSums{});
+  for (const Pair& p : pairs) {
+    const float* a = &x[3 * std::size_t(p.i)];
+    const float* b = &x[3 * std::size_t(p.j)];
+    addContactSum(out[world.body[p.i]], a[0], a[1], a[2], world.radius[p.i], b[0], b[1], b[2], world.radius[p.j],
+                  bodyErr[world.body[p.i]], bodyErr[world.body[p.j]], k, p.i, p.j);
+  }
+}
 
 std::string divergenceMessage(const World& world, std::uint64_t step, std::uint32_t particle) {
   const std::uint32_t body = particle < world.body.size() ? world.body[particle] : 0;
@@ -164,9 +164,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       }
       const double h = -(double(g.x) * X.x + double(g.y) * X.y + double(g.z) * X.z);
       a.gravity += m * h;
-      const double eX = roundingOf(std::max({std::abs(X.x), std::abs(X.y), std::abs(X.z)}));
+      const double eX = bodyRounding(X.x, X.y, X.z);
       err[k] = eX;
-      errZ[k] = roundingOf(X.z);
+      errZ[k] = floatRounding(X.z);
       a.slack += m * gNorm * 1.8 * eX;
       a.lowest = std::min(a.lowest, h);
       if (mask == 0) continue;
@@ -204,9 +204,11 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   const double lowest = bs.lowest;
   out.hottestBody = bs.hottestBody;
 
-  // Contact springs and overlaps: particle pairs of the last detection, and the ground.
+  // Contact springs and overlaps: the contacts of the last step (of the initial state before
+  // the first), summed per body, then over fixed chunks of bodies in order.
   double springs = 0.0;
-  std::vector<Pair> pairs;
+  const double k = sc.contact.stiffness;
+  std::vector<ContactSums>& perBody = m_contacts;
   if (findPairsWith) {
     ParticleCloud cloud;
     for (auto* c : {&cloud.x, &cloud.y, &cloud.z, &cloud.r}) c->resize(np);
@@ -217,48 +219,21 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       cloud.r[i] = w.radius[i];
     }
     cloud.body = w.body;
-    pairs = findPairsWith->findPairs(cloud, sc.broadphase);
-  } else {
-    pairs = pipeline.pairs();
+    contactSumsOfPairs(w, findPairsWith->findPairs(cloud, sc.broadphase), x, err, k, perBody);
+  } else if (!pipeline.contactSumsPerBody(k, perBody)) {
+    contactSumsOfPairs(w, pipeline.pairs(), x, err, k, perBody);
   }
-  struct PairSums {
-    double springs = 0.0, slack = 0.0, maxOverlap = 0.0;
-    std::size_t deepest = 0;
-  };
-  const PairSums ps = chunkedSum<PairSums>(pairs.size(), [&](std::size_t begin, std::size_t end, PairSums& a) {
-    for (std::size_t c = begin; c < end; ++c) {
-      const Pair& p = pairs[c];
-      const double dx = double(x[3 * std::size_t(p.i)]) - x[3 * std::size_t(p.j)];
-      const double dy = double(x[3 * std::size_t(p.i) + 1]) - x[3 * std::size_t(p.j) + 1];
-      const double dz = double(x[3 * std::size_t(p.i) + 2]) - x[3 * std::size_t(p.j) + 2];
-      const double delta = double(w.radius[p.i]) + w.radius[p.j] - std::sqrt(dx * dx + dy * dy + dz * dz);
-      if (delta <= 0.0) continue;
-      a.springs += 0.5 * sc.contact.stiffness * delta * delta;
-      const double e = 1.8 * (err[w.body[p.i]] + err[w.body[p.j]]);
-      a.slack += sc.contact.stiffness * e * (delta + e);
-      const double frac = delta / std::min(w.radius[p.i], w.radius[p.j]);
-      if (frac > a.maxOverlap) {
-        a.maxOverlap = frac;
-        a.deepest = c;
-      }
-    }
-  }, [](PairSums& l, const PairSums& r) {
-    l.springs += r.springs;
-    l.slack += r.slack;
-    if (r.maxOverlap > l.maxOverlap) {  // the first pair among equals, as a serial loop
-      l.maxOverlap = r.maxOverlap;
-      l.deepest = r.deepest;
-    }
-  });
+  const ContactSums ps = chunkedSum<ContactSums>(nb, [&](std::size_t begin, std::size_t end, ContactSums& a) {
+    for (std::size_t b = begin; b < end; ++b) mergeContactSums(a, perBody[b]);
+  }, [](ContactSums& l, const ContactSums& r) { mergeContactSums(l, r); });
   springs += ps.springs;
   slack += ps.slack;
   if (ps.maxOverlap > out.maxOverlap) {
-    const Pair& p = pairs[ps.deepest];
     out.maxOverlap = ps.maxOverlap;
-    out.overlapBody = w.body[p.i];
-    out.overlapOther = w.body[p.j];
+    out.overlapBody = w.body[ps.deepestI];
+    out.overlapOther = w.body[ps.deepestJ];
     out.groundOverlap = false;
-    const double mi = w.mass[p.i], mj = w.mass[p.j];
+    const double mi = w.mass[ps.deepestI], mj = w.mass[ps.deepestJ];
     out.overlapContactTime = kPi * std::sqrt(mi * mj / (mi + mj) / double(sc.contact.stiffness));
   }
   if (sc.ground.enabled) {
@@ -271,7 +246,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
         const double delta = groundZ - (double(x[3 * i + 2]) - w.radius[i]);
         if (delta <= 0.0) continue;
         a.springs += 0.5 * sc.ground.stiffness * delta * delta;
-        const double e = errZ[w.body[i]] + roundingOf(groundZ);
+        const double e = errZ[w.body[i]] + floatRounding(groundZ);
         a.slack += sc.ground.stiffness * e * (delta + e);
         const double frac = delta / w.radius[i];
         if (frac > a.maxOverlap) {

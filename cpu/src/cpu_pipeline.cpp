@@ -216,6 +216,42 @@ class CpuPipeline final : public Pipeline {
     return out;
   }
 
+  // The pairs() set walked where it lies: per body, its particles' rows (the contacts of the
+  // last step, decided on that step's positions as pairs() does), the terms at the current
+  // positions; one write per body, at its scene index.
+  bool contactSumsPerBody(double k, std::vector<ContactSums>& out) const override {
+    const std::uint32_t nb = static_cast<std::uint32_t>(m_bodies.size());
+    if (m_steps == 0) {  // no contacts yet, as pairs()
+      out.assign(nb, ContactSums{});
+      return true;
+    }
+    out.resize(nb);
+    const PosRow* was = m_pos[1 - m_cur].data();  // the rows the last step used
+    const PosRow* now = m_pos[m_cur].data();
+    const std::uint32_t* orig = m_orig.data();
+    const CandidateListView list = contactListView();
+    m_arena.execute([&] {
+      forEach(nb, kBodyGrain, [&](std::uint32_t b) {
+        const BodyRow& row = m_bodies[b];
+        const double errI = bodyRounding(row.x.x, row.x.y, row.x.z);
+        ContactSums a;
+        for (std::uint32_t p = row.first, e1 = row.first + row.count; p < e1; ++p) {
+          if (m_touching[p] == 0) continue;  // the last step saw it touch nothing
+          const PosRow xi = now[p];
+          const std::uint32_t me = orig[p];
+          forContactsAbove(was, orig, list, p, [&](std::uint32_t j, std::uint32_t other) {
+            const PosRow& xj = now[j];
+            const Vec3f& xb = m_bodies[m_bodyOf[j]].x;
+            addContactSum(a, xi.x, xi.y, xi.z, xi.r, xj.x, xj.y, xj.z, xj.r, errI, bodyRounding(xb.x, xb.y, xb.z), k, me,
+                          other);
+          });
+        }
+        out[row.orig] = a;
+      });
+    });
+    return true;
+  }
+
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
     const float maxR = checkCloud(cloud);
     const std::size_t n = cloud.size();

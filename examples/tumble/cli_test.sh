@@ -100,6 +100,11 @@ expect_status "diverging run stops" 3 "$bin" run bigdt.toml --steps 2000 --recor
 expect_msg "diverging run stops" "step [0-9]+ \(t = .*\): .*(energy grew|overlap|sinks).*body [0-9]+.*use dt <= "
 grep -q "non-finite" err.txt && bad "the guard should stop the run before anything is non-finite" || ok "guard trips before NaN"
 [ -s div.bin ] && [ ! -e div.bin.part ] && ok "frames before the trip kept" || bad "no recording kept after the trip"
+# Without a recording the guard checks every 50 steps (kDefaultGuardEvery), or every N.
+expect_status "diverging run stops unrecorded" 3 "$bin" run bigdt.toml --steps 2000 -q
+expect_msg "the default guard interval" "^tumble: step 50 \(t = 1 s\): the energy grew"
+expect_status "diverging run, --guard-every 10" 3 "$bin" run bigdt.toml --steps 2000 -q --guard-every 10
+expect_msg "--guard-every 10" "^tumble: step 10 \(t = 0.2 s\): the energy grew"
 expect_status "no guard" 0 "$bin" run bigdt.toml --steps 2 --no-guard -q
 
 expect_status "debug recording" 0 "$bin" run small.toml --debug-record --record dbg.bin --record-steps 30 -q

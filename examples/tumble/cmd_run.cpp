@@ -163,10 +163,11 @@ void run(RunOptions o) {
     if (rec->numFrames() == 0 && !debug) rec->writeFrame(start, pipeline->time(), pipeline->pulls(), state);
   }
 
-  // Guards (docs/model.md#guards): checked every guardEvery steps and before every frame.
+  // Guards (docs/model.md#guards): checked every guardEvery steps and before every frame and
+  // checkpoint.
   std::optional<RunGuard> guard;
   if (!o.noGuard) guard.emplace(world, *pipeline);
-  const std::uint64_t guardEvery = o.guardEvery ? *o.guardEvery : perFrame;
+  const std::uint64_t guardEvery = o.guardEvery.value_or(kDefaultGuardEvery);
   const std::uint64_t ckEvery = o.checkpointEvery.value_or(0);
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -274,7 +275,8 @@ void addRun(CLI::App& app) {
                 "closed in by S (0 = detect every step; default 0.5 x the largest radius)");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_option("--guard-every", o->guardEvery,
-                "Check the guards (finite state, energy, overlaps) every N steps (default: the steps per frame)")
+                "Check the guards (finite state, energy, overlaps) every N steps, and before every frame and "
+                "checkpoint (default: " + std::to_string(kDefaultGuardEvery) + ")")
       ->check(countIn(1, kMaxSteps));
   c->add_flag("--no-guard", o->noGuard, "Do not check the guards (a diverging run then stops only at a non-finite position)");
   c->callback([o] { run(*o); });

@@ -12,6 +12,7 @@
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/validation/scenes.hpp"
 #include "tumble/world.hpp"
 
 using namespace tumble;
@@ -352,6 +353,49 @@ TEST(Guard, NamesTheBodyWithANonFiniteState) {
   EXPECT_EQ(t->step, 7u);
   EXPECT_NE(t->message.find("step 7"), std::string::npos) << t->message;
   EXPECT_NE(t->message.find("body 5"), std::string::npos) << t->message;
+}
+
+// The CPU pipeline sums the guard's contact terms on its own contact list, in its internal
+// (Morton) numbering; the sums must be the bits of the reference computed from pairs() in scene
+// order, at every check, with contacts and a deepest pair to find.
+TEST(Guard, PipelineContactSumsEqualThoseOfItsPairs) {
+  const World w = World::fromScene(validation::benchScene(16000));
+  for (int threads : {1, 2}) {
+    PipelineOptions o;
+    o.threads = threads;
+    auto p = makePipeline(Backend::Cpu, o);
+    p->load(w);
+    const double k = w.params.contact.stiffness;
+    std::vector<ContactSums> own, ref;
+    std::vector<float> x;
+    std::vector<double> err(w.numBodies());
+    BodyState s;
+    ASSERT_TRUE(p->contactSumsPerBody(k, own));
+    for (const ContactSums& c : own) ASSERT_EQ(c.springs, 0.0) << "no contacts before the first step";
+    std::size_t checks = 0;
+    for (int c = 0; c < 8; ++c) {
+      p->step(60);
+      ASSERT_TRUE(p->contactSumsPerBody(k, own));
+      p->readLocalPositions(x);
+      p->readLocalState(s);
+      for (std::size_t b = 0; b < err.size(); ++b) err[b] = bodyRounding(s.px[b], s.py[b], s.pz[b]);
+      contactSumsOfPairs(w, p->pairs(), x, err, k, ref);
+      ASSERT_EQ(own.size(), ref.size());
+      std::size_t touching = 0, deepest = 0;
+      for (std::size_t b = 0; b < ref.size(); ++b) {
+        ASSERT_EQ(own[b].springs, ref[b].springs) << "body " << b << ", step " << p->stepCount();
+        ASSERT_EQ(own[b].slack, ref[b].slack) << "body " << b;
+        ASSERT_EQ(own[b].maxOverlap, ref[b].maxOverlap) << "body " << b;
+        ASSERT_EQ(own[b].deepestI, ref[b].deepestI) << "body " << b;
+        ASSERT_EQ(own[b].deepestJ, ref[b].deepestJ) << "body " << b;
+        touching += ref[b].springs > 0.0;
+        deepest += ref[b].maxOverlap > 0.0 && w.body[ref[b].deepestI] == b;
+      }
+      if (touching > 0) ++checks;
+      EXPECT_EQ(deepest, touching) << "every body with contacts names its own deepest pair";
+    }
+    EXPECT_GE(checks, 4u) << "the pile must touch for the comparison to mean anything";
+  }
 }
 
 TEST(Guard, DivergenceMessageNamesParticleBodyAndDt) {

@@ -17,6 +17,12 @@
 
 namespace tumble {
 
+/// Steps between two checks of `tumble run` when it writes nothing in between (it also checks
+/// before every frame, checkpoint and the final state). A check reads the whole state and walks
+/// the contacts, about half a step's work on the 2-core development machine at 960k particles
+/// (docs/performance.md#guards): every 50 steps that is about 1 % of the run.
+inline constexpr std::uint64_t kDefaultGuardEvery = 50;
+
 struct GuardParams {
   /// Trip when the energy has grown by more than this fraction of the energy scale (see
   /// RunGuard) beyond what the pulls did on the bodies. A stable run with dt ≤ t_c/10 gains a
@@ -42,10 +48,11 @@ struct GuardTrip {
 
 /// Checks a pipeline's state against the guards. It reads the state in the pipeline's own frame
 /// (Pipeline::readLocalState), so a scene far from the origin is judged as precisely as one at
-/// it. Contacts come from pipeline.pairs(), the detection at the start of the last step: a
-/// contact that formed during that step is seen at the next check. Construct after load() (it records the
-/// initial energy and overlaps); call check() whenever the caller is about to use the state
-/// (each recorded frame, or every few steps).
+/// it. Contacts are those of pipeline.pairs(), the contacts at the start of the last step (a
+/// contact that formed during that step is seen at the next check), their terms summed by
+/// Pipeline::contactSumsPerBody() where the pipeline has it, from pairs() otherwise. Construct
+/// after load() (it records the initial energy and overlaps); call check() whenever the caller
+/// is about to use the state (each recorded frame, or every few steps).
 ///
 /// Energy: E = kinetic + gravity (−M g·X) + the potentials of the x/y pulls that are on
 /// (½ m κ x²) + contact springs (½ k δ² for every pair and ground contact). Without the swirl
@@ -95,6 +102,7 @@ class RunGuard {
   BodyState m_state;
   std::vector<float> m_x;             ///< particle positions (Pipeline::readLocalPositions), per check
   std::vector<double> m_err, m_errZ;  ///< the rounding of each body's position, per check
+  std::vector<ContactSums> m_contacts;  ///< per body, per check
   double m_reference = 0.0;   ///< E₀ (rebased when the pull mask changes)
   double m_referenceSlack = 0.0;
   double m_scale = 0.0;       ///< S
@@ -103,6 +111,13 @@ class RunGuard {
   double m_initialOverlap = 0.0, m_lastOverlap = 0.0;
   std::uint32_t m_mask = 0;
 };
+
+/// The guard's contact sums per body (Pipeline::contactSumsPerBody()) from a pair list sorted
+/// by (i, j), the particle positions x (3 per particle, scene order) and each body's rounding
+/// (bodyRounding of its position): the reference that a pipeline's own sums must equal bit for
+/// bit.
+void contactSumsOfPairs(const World& world, const std::vector<Pair>& pairs, const std::vector<float>& x,
+                        const std::vector<double>& bodyErr, double k, std::vector<ContactSums>& out);
 
 /// The message of a non-finite state found by a pipeline: names the step, the particle's body
 /// and the dt to use. Used by the pipelines when they throw SimulationError.

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tumble/kernels/contact_sums.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble {
@@ -126,6 +127,16 @@ class Pipeline {
   /// scene indices; {} before the first step. Exactly the brute-force pair set of that state,
   /// whatever the detection settings and the skin.
   virtual std::vector<Pair> pairs() const = 0;
+  /// The guard's contact sums (kernels/contact_sums.hpp) per body, scene order, over the contacts
+  /// of the last step (the pairs() set) at the current positions (readLocalPositions()): body b's
+  /// entry sums the pairs (i, j) whose particle i is one of b's, each body's rounding taken from
+  /// its position in readLocalState() (bodyRounding); k: the contact stiffness. A pipeline that
+  /// keeps its contacts computes them where they are (no pair list, no sort); the default
+  /// returns false, and the guard computes the same bits from pairs() (contactSumsOfPairs()).
+  virtual bool contactSumsPerBody(double k, std::vector<ContactSums>& out) const {
+    (void)k, (void)out;
+    return false;
+  }
   /// Broadphase alone on a particle cloud: every pair i < j of different bodies with
   /// |x_i − x_j| < r_i + r_j, sorted. Throws tumble::Error on NaN/inf or radius ≤ 0.
   virtual std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) = 0;

@@ -129,27 +129,14 @@ TUMBLE_HD_INLINE void fillCandidates(const SweepListView& s, const std::uint32_t
   detail::sortRow(key + a, cand + a, offsets[i + 1] - a);
 }
 
-/// Number of contacts of particle i with partners of a higher scene index (the pairs i < j that
-/// pairs() lists for i), at the positions `pos`. (The caller may skip the particles that the
-/// force stage saw touch nothing: StepView::touching.)
-TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
-                                             std::uint32_t i) {
-  const PosRow pi = pos[i];
-  const std::uint32_t me = orig[i];
-  std::uint32_t n = 0;
-  for (std::uint32_t e = l.begin[i]; e < l.end[i]; ++e) {
-    const std::uint32_t j = l.cand[e];
-    const PosRow pj = pos[j];
-    if (orig[j] > me && spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) ++n;
-  }
-  return n;
-}
-
-/// Writes those contacts as scene-index pairs (i, j), ascending j, from outI/outJ[at] on (room
-/// for the whole row suffices); returns how many.
-TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::uint32_t* orig,
-                                                 const CandidateListView& l, std::uint32_t i, std::uint32_t at,
-                                                 std::uint32_t* outI, std::uint32_t* outJ) {
+/// Calls f(j, partner) for each contact of particle i with a partner of a higher scene index
+/// (the pairs i < j that pairs() lists for i), in row order (ascending partner), decided at the
+/// positions `pos`; j is the partner's internal index, partner its scene index. (The caller may
+/// skip the particles that the force stage saw touch nothing: StepView::touching.) Returns how
+/// many.
+template <class F>
+TUMBLE_HD_INLINE std::uint32_t forContactsAbove(const PosRow* pos, const std::uint32_t* orig,
+                                                const CandidateListView& l, std::uint32_t i, F&& f) {
   const PosRow pi = pos[i];
   const std::uint32_t me = orig[i];
   std::uint32_t n = 0;
@@ -158,12 +145,31 @@ TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::u
     const PosRow pj = pos[j];
     const std::uint32_t other = orig[j];
     if (other > me && spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) {
-      outI[at + n] = me;
-      outJ[at + n] = other;
+      f(j, other);
       ++n;
     }
   }
   return n;
+}
+
+/// Number of those contacts.
+TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
+                                             std::uint32_t i) {
+  return forContactsAbove(pos, orig, l, i, [](std::uint32_t, std::uint32_t) {});
+}
+
+/// Writes those contacts as scene-index pairs (i, j), ascending j, from outI/outJ[at] on (room
+/// for the whole row suffices); returns how many.
+TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::uint32_t* orig,
+                                                 const CandidateListView& l, std::uint32_t i, std::uint32_t at,
+                                                 std::uint32_t* outI, std::uint32_t* outJ) {
+  const std::uint32_t me = orig[i];
+  std::uint32_t n = 0;
+  return forContactsAbove(pos, orig, l, i, [&](std::uint32_t, std::uint32_t other) {
+    outI[at + n] = me;
+    outJ[at + n] = other;
+    ++n;
+  });
 }
 
 /// The skin test's limit on how far two particles may have closed in since the rebuild (see

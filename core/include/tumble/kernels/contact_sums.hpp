@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+/// @file contact_sums.hpp
+/// The guard's per-contact terms (docs/model.md#guards): the spring energy of a touching pair,
+/// the allowance for the rounding of its positions and its overlap. Accumulated per body (the
+/// body of the pair's lower scene index, over its particles in scene order and each particle's
+/// partners in ascending scene index: the order of Pipeline::pairs()), so that a pipeline that
+/// walks its own contact list and the guard's fallback that walks pairs() add the same terms in
+/// the same order and get the same bits.
+#pragma once
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "tumble/hd.hpp"
+
+namespace tumble {
+
+/// The sums over a set of contacts (one body's, or all).
+struct ContactSums {
+  double springs = 0.0;     ///< Σ ½ k δ² over the pairs with δ = r_i + r_j − |x_i − x_j| > 0
+  double slack = 0.0;       ///< Σ k e (δ + e), e = 1.8 (err_i + err_j): the energy error of rounded positions
+  double maxOverlap = 0.0;  ///< the largest δ / min(r_i, r_j)
+  std::uint32_t deepestI = 0, deepestJ = 0;  ///< its pair (scene particle indices), the first among equals
+};
+
+/// The rounding of a float coordinate of magnitude |v|: ½ ulp, and as much again for the
+/// particle position computed from it (x = X + R u in float): the step from |v| to the next
+/// float. Infinite for a non-finite |v| or one beyond the largest float.
+TUMBLE_HD_INLINE double floatRounding(double v) {
+  const float a = fabsf(static_cast<float>(v));
+  if (!(a < FLT_MAX)) return HUGE_VAL;
+  std::uint32_t u;
+  memcpy(&u, &a, sizeof u);  // the next float above a non-negative finite a is the next bit pattern
+  ++u;
+  float next;
+  memcpy(&next, &u, sizeof next);
+  return double(next) - a;
+}
+
+/// The rounding of a body's position X (largest axis): what the guard allows each of its
+/// particles' coordinates.
+TUMBLE_HD_INLINE double bodyRounding(float x, float y, float z) {
+  const float ax = fabsf(x), ay = fabsf(y), az = fabsf(z);
+  return floatRounding(ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az));
+}
+
+/// Adds the pair (i, j), i < j scene particle indices, at positions (xi, yi, zi) and (xj, yj, zj)
+/// (integration frame), with radii ri, rj, the rounding errI, errJ of their bodies' positions
+/// (bodyRounding) and stiffness k.
+TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi, float ri, float xj, float yj, float zj,
+                                    float rj, double errI, double errJ, double k, std::uint32_t i, std::uint32_t j) {
+  const double dx = double(xi) - xj;
+  const double dy = double(yi) - yj;
+  const double dz = double(zi) - zj;
+  const double delta = double(ri) + rj - sqrt(dx * dx + dy * dy + dz * dz);
+  if (delta <= 0.0) return;
+  a.springs += 0.5 * k * delta * delta;
+  const double e = 1.8 * (errI + errJ);
+  a.slack += k * e * (delta + e);
+  const double frac = delta / (ri < rj ? ri : rj);
+  if (frac > a.maxOverlap) {
+    a.maxOverlap = frac;
+    a.deepestI = i;
+    a.deepestJ = j;
+  }
+}
+
+/// Appends the sums r of the contacts that come after those of l (in pair order).
+TUMBLE_HD_INLINE void mergeContactSums(ContactSums& l, const ContactSums& r) {
+  l.springs += r.springs;
+  l.slack += r.slack;
+  if (r.maxOverlap > l.maxOverlap) {  // the first pair among equals, as a serial loop
+    l.maxOverlap = r.maxOverlap;
+    l.deepestI = r.deepestI;
+    l.deepestJ = r.deepestJ;
+  }
+}
+
+}  // namespace tumble
