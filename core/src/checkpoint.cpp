@@ -13,6 +13,8 @@
 //   header and the state, and finiteness checks. Encoding and checks: binary_io.hpp.
 #include "tumble/checkpoint.hpp"
 
+#include "tumble/output_file.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -132,20 +134,10 @@ void Checkpoint::write(const std::string& path) const {
   e.f32s(state.groundSpringY, np);
   e.u32(fnv1a(buf.data() + stateStart, buf.size() - stateStart));
 
-  const std::string part = path + ".part";
-  std::FILE* f = std::fopen(part.c_str(), "wb");
-  if (f == nullptr) throw Error("cannot write checkpoint " + part + ": " + errnoText(errno));
-  const bool ok = std::fwrite(buf.data(), 1, buf.size(), f) == buf.size() && std::fflush(f) == 0;
-  const int err = errno;
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(part.c_str());
-    throw Error("cannot write checkpoint " + part + ": " + errnoText(ok ? errno : err));
-  }
-  if (std::rename(part.c_str(), path.c_str()) != 0) {
-    const int e2 = errno;
-    std::remove(part.c_str());
-    throw Error("cannot rename " + part + " to " + path + ": " + errnoText(e2));
-  }
+  OutputFile out(path);  // a temporary renamed into place (output_file.hpp)
+  if (std::fwrite(buf.data(), 1, buf.size(), out.file()) != buf.size())
+    throw Error("cannot write checkpoint " + path + ": " + errnoText(errno));  // the temporary is removed
+  out.commit();
 }
 
 Checkpoint Checkpoint::read(const std::string& path) {

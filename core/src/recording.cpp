@@ -22,6 +22,10 @@
 // - Checksum. FNV-1a, 32 bit, per block (binary_io.hpp, shared with the checkpoint format).
 #include "tumble/recording.hpp"
 
+#include <unistd.h>
+
+#include <memory>
+
 #include <algorithm>
 #include <bit>
 #include <cerrno>
@@ -286,7 +290,6 @@ Recording Recording::read(const std::string& path) {
 RecordingWriter::RecordingWriter(const std::string& path, const World& world, bool debug,
                                  int stepsPerFrame, float fps)
     : m_path(path),
-      m_partPath(path + ".part"),
       m_numParticles(world.numParticles()),
       m_numBodies(world.numBodies()),
       m_debug(debug) {
@@ -361,10 +364,10 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
   t.f32s(world.uz, n);
   t.u32(fnv1a(m_buffer.data(), m_buffer.size()));
 
-  m_file = std::fopen(m_partPath.c_str(), "wb");
-  if (m_file == nullptr) {
-    throw Error("cannot open recording file '" + m_partPath + "' for writing: " + errnoText(errno));
-  }
+  m_out = std::make_unique<OutputFile>(path);  // throws naming the path and the reason
+  m_file = m_out->file();
+  m_partPath = m_out->writingTo();
+  std::setvbuf(m_file, nullptr, _IONBF, 0);  // each frame is one write; a failed one leaves nothing buffered
   try {
     writeBytes(m_header.data(), m_header.size(), "header");
     writeBytes(m_buffer.data(), m_buffer.size(), "particle table");
@@ -372,11 +375,11 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
       throw Error("cannot write recording file '" + m_partPath + "': " + errnoText(errno));
     }
   } catch (...) {
-    std::fclose(m_file);
     m_file = nullptr;
-    std::remove(m_partPath.c_str());
+    m_out->abandon();
     throw;
   }
+  m_complete = m_header.size() + m_buffer.size();
 }
 
 RecordingWriter::~RecordingWriter() {
@@ -509,12 +512,19 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
   }
   e.u32(fnv1a(m_buffer.data() + 4, m_buffer.size() - 4));
 
-  writeBytes(m_buffer.data(), m_buffer.size(), "frame");
-  // Flush every frame so that a crashed run leaves all its complete frames in the .part file.
-  if (std::fflush(m_file) != 0) {
-    m_failed = true;
-    throw Error("cannot write frame to recording file '" + m_partPath + "': " + errnoText(errno));
+  // Flush every frame so that a crashed run leaves all its complete frames in the temporary.
+  // A frame that cannot be written whole (a full disk) is cut off again: the file keeps every
+  // complete frame, and close() still finishes it.
+  if (std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_file) != m_buffer.size() || std::fflush(m_file) != 0) {
+    const std::string why = errnoText(errno != 0 ? errno : EIO);
+    std::clearerr(m_file);  // unbuffered: nothing of the frame is left to be written later
+    if (::ftruncate(::fileno(m_file), static_cast<off_t>(m_complete)) != 0 ||
+        std::fseek(m_file, static_cast<long>(m_complete), SEEK_SET) != 0)
+      m_failed = true;
+    throw Error("cannot write frame to recording file '" + m_partPath + "': " + why +
+                (m_failed ? "" : "; the recording keeps its " + std::to_string(m_numFrames) + " complete frames"));
   }
+  m_complete += m_buffer.size();
   ++m_numFrames;
   m_lastStep = step;
 }
@@ -523,24 +533,22 @@ void RecordingWriter::close() {
   if (m_file == nullptr) return;
   std::FILE* file = std::exchange(m_file, nullptr);
   if (m_failed) {
-    // Leave the .part file for inspection; the write error was already reported.
-    std::fclose(file);
+    // Leave the temporary for inspection; the write error was already reported.
+    m_out->keep();
     return;
   }
   const std::size_t at = static_cast<std::size_t>(m_frameCountOffset);
   putU64At(m_header, at, m_numFrames);
   putU32At(m_header, at + 8, fnv1a(m_header.data(), at + 8));
-  const bool patched = std::fseek(file, m_frameCountOffset, SEEK_SET) == 0 &&
-                       std::fwrite(m_header.data() + at, 1, 12, file) == 12 &&
-                       std::fflush(file) == 0;
-  int err = patched ? 0 : (errno != 0 ? errno : EIO);
-  if (std::fclose(file) != 0 && err == 0) err = errno != 0 ? errno : EIO;
-  if (!patched || err != 0) {
-    throw Error("cannot finish recording file '" + m_partPath + "': " + errnoText(err));
+  // A target that cannot seek (a FIFO) keeps the header's "unfinished" count, which readers accept.
+  const bool seekable = std::fseek(file, m_frameCountOffset, SEEK_SET) == 0;
+  const bool patched = !seekable || (std::fwrite(m_header.data() + at, 1, 12, file) == 12 && std::fflush(file) == 0);
+  if (!patched) {
+    const std::string why = errnoText(errno != 0 ? errno : EIO);
+    const std::string kept = m_out->keep();
+    throw Error("cannot finish recording file '" + kept + "': " + why);
   }
-  if (std::rename(m_partPath.c_str(), m_path.c_str()) != 0) {
-    throw Error("cannot rename '" + m_partPath + "' to '" + m_path + "': " + errnoText(errno));
-  }
+  m_out->commit();  // throws naming the path and the reason
 }
 
 }  // namespace tumble

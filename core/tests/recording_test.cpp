@@ -4,6 +4,10 @@
 #include "tumble/recording.hpp"
 
 #include <gtest/gtest.h>
+
+#include <sys/resource.h>
+
+#include <csignal>
 #include <unistd.h>
 
 #include <bit>
@@ -263,10 +267,12 @@ TEST_F(RecordingTest, PartFileUntilClose) {
   RecordingWriter w(path, makeWorld(), false, 10);
   EXPECT_EQ(w.path(), path);
   w.writeFrame(0, 0.0, 0, makeState(0));
-  EXPECT_TRUE(fs::exists(path + ".part"));
+  const std::string part = w.writingTo();
+  EXPECT_EQ(part.rfind(path + ".part-", 0), 0u) << part;  // next to it, with an unpredictable suffix
+  EXPECT_TRUE(fs::exists(part));
   EXPECT_FALSE(fs::exists(path));
   w.close();
-  EXPECT_FALSE(fs::exists(path + ".part"));
+  EXPECT_FALSE(fs::exists(part));
   EXPECT_TRUE(fs::exists(path));
   w.close();  // idempotent
   EXPECT_THROW(w.writeFrame(10, 0.0, 0, makeState(1)), tumble::Error);
@@ -294,7 +300,8 @@ TEST_F(RecordingTest, DestroyedWithoutCloseKeepsCompleteFrames) {
       w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f), &d);
     }
   }
-  EXPECT_FALSE(fs::exists(path + ".part"));
+  for (const auto& e : fs::directory_iterator(m_dir))
+    EXPECT_EQ(e.path().filename().string().find(".part"), std::string::npos) << e.path();
   expectRecording(Recording::read(path), true, 3);
 }
 
@@ -303,12 +310,12 @@ TEST_F(RecordingTest, CrashedWriterPartFileIsReadable) {
   const std::string crashed = file("crashed.bin");
   RecordingWriter w(path, makeWorld(), false, 10);
   // Right after the header: the sentinel frame count and no frames.
-  fs::copy_file(path + ".part", crashed);
+  fs::copy_file(w.writingTo(), crashed);
   expectRecording(Recording::read(crashed), false, 0);
   for (std::uint32_t f = 0; f < 3; ++f)
     w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
   // Every frame is flushed, so a copy taken now is what a crash would leave behind.
-  const std::vector<std::uint8_t> bytes = readAll(path + ".part");
+  const std::vector<std::uint8_t> bytes = readAll(w.writingTo());
   ASSERT_EQ(bytes.size(), kHeaderBytes + kTableBytes + 3 * kFrameBytes);
   writeAll(crashed, bytes);
   expectRecording(Recording::read(crashed), false, 3);
@@ -401,6 +408,35 @@ TEST_F(RecordingTest, WriterRejectsMisuse) {
   EXPECT_EQ(Recording::read(debugPath).frames.size(), 0u);
 }
 
+// A full disk (here a file size limit, which fails writes the same way) in the middle of a frame:
+// the torn frame is cut off again, and the finished recording holds every complete frame.
+TEST_F(RecordingTest, AFrameThatCannotBeWrittenIsCutOff) {
+  const std::string path = file("rec.bin");
+  struct rlimit old{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);  // EFBIG instead of the signal
+  std::string what;
+  {
+    RecordingWriter w(path, makeWorld(), false, 10);
+    w.writeFrame(0, 0.0, 0, makeState(0));
+    w.writeFrame(10, 2.5e-3, 0, makeState(1));
+    struct rlimit small = old;
+    small.rlim_cur = kHeaderBytes + kTableBytes + 2 * kFrameBytes + kFrameBytes / 2;
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    try {
+      w.writeFrame(20, 5e-3, 0, makeState(2));
+    } catch (const tumble::Error& e) {
+      what = e.what();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, oldHandler);
+    EXPECT_TRUE(contains(what, "keeps its 2 complete frames")) << what;
+    EXPECT_EQ(fs::file_size(w.writingTo()), kHeaderBytes + kTableBytes + 2 * kFrameBytes);
+  }
+  ASSERT_TRUE(fs::exists(path)) << "finished at close despite the failed frame";
+  EXPECT_EQ(Recording::read(path).frames.size(), 2u);
+}
+
 TEST_F(RecordingTest, UnopenablePartFileNamesPathAndReason) {
   const std::string path = file("no/such/dir/rec.bin");
   try {
@@ -408,7 +444,7 @@ TEST_F(RecordingTest, UnopenablePartFileNamesPathAndReason) {
     FAIL() << "expected tumble::Error";
   } catch (const tumble::Error& e) {
     const std::string what = e.what();
-    EXPECT_TRUE(contains(what, path + ".part")) << what;
+    EXPECT_TRUE(contains(what, path)) << what;
     EXPECT_TRUE(contains(what, "No such file or directory")) << what;
   }
 }

@@ -186,5 +186,31 @@ expect_msg "resume into another run's recording" "otherrec.bin' is not this run'
 cmp -s otherrec.bin keep.bin && ok "the other recording is untouched" || bad "the other recording was changed"
 expect_status "checkpoint-every without a file" 2 "$bin" run small.toml --checkpoint-every 5
 
+# SIGTERM (or Ctrl-C) during a run stops it like a guard trip: the recording is finished with its
+# frames, the checkpoint is written, status 128 + 15, and the run can be resumed into the same file.
+"$bin" run small.toml --steps 100000000 --record int.bin --checkpoint int.ck -q 2>err.txt &
+pid=$!
+sleep 2
+kill -TERM $pid
+wait $pid
+got=$?
+[ "$got" = 143 ] && ok "SIGTERM ends the run with status 143" || bad "SIGTERM: status $got, want 143; $(cat err.txt)"
+expect_msg "SIGTERM" "interrupted \(SIGTERM\) at step [0-9]+ of 100000000; kept [0-9]+ frames in int.bin; checkpoint written to int.ck"
+ls int.bin.part* >/dev/null 2>&1 && bad "a temporary was left after SIGTERM" || ok "no temporary left after SIGTERM"
+at=$(sed -n 's/.*at step \([0-9]*\) of.*/\1/p' err.txt)
+expect_status "resume the interrupted run" 0 "$bin" run small.toml --resume int.ck --steps $((at + 20)) --record int.bin -q
+expect_status "straight run to the same step" 0 "$bin" run small.toml --steps $((at + 20)) --record straight.bin -q
+cmp -s int.bin straight.bin && ok "interrupted + resumed recording equals the straight one" || bad "interrupted + resumed recording differs"
+
+# Outputs never replace what is not a file, and write through links (tumble/output_file.hpp).
+ln -sf real.csv link.csv
+expect_status "state-out through a link" 0 "$bin" run small.toml --steps 5 --state-out link.csv -q
+[ -L link.csv ] && [ -s real.csv ] && ok "the link stays, its target is written" || bad "state-out replaced the link"
+ln -sf real.bin link.bin
+expect_status "record through a link" 0 "$bin" run small.toml --steps 20 --record link.bin -q
+[ -L link.bin ] && [ -s real.bin ] && ok "the recording went through the link" || bad "the recording replaced the link"
+expect_status "state-out to /dev/null" 0 "$bin" run small.toml --steps 5 --state-out /dev/null -q
+[ -c /dev/null ] && ok "/dev/null is still a device" || bad "/dev/null was replaced"
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

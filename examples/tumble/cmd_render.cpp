@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "tumble/output_file.hpp"
 #include "tumble/error.hpp"
 
 #if TUMBLE_HAS_VIEWER
@@ -236,7 +237,10 @@ void render(const RenderOptions& o) {
   }
 
   const double fps = o.fps ? *o.fps : rec.info.fps;
-  const std::string part = o.out + ".part";
+  // ffmpeg writes the temporary by name (output_file.hpp: created exclusively next to the target,
+  // or the target itself when it is a device or a FIFO); it is renamed into place at the end.
+  OutputFile out(o.out);
+  const std::string part = out.writingTo();
   char rate[32];
   std::snprintf(rate, sizeof rate, "%g", fps);
   std::vector<std::string> args = {"-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24",
@@ -285,17 +289,21 @@ void render(const RenderOptions& o) {
     // Our own failure (a read-back error, bad_alloc, ...): ~FfmpegPipe has already stopped and
     // reaped ffmpeg, so its half-written output can go.
     if (tty) std::fprintf(stderr, "\n");
-    std::remove(part.c_str());
     restore();
-    throw;
+    throw;  // ~OutputFile removes the temporary
   }
   restore();
   if (g_interrupted) failure = "interrupted";
   if (failure.empty() && status != 0) failure = "ffmpeg failed (exit status " + std::to_string(status) + ")";
-  if (failure.empty() && std::rename(part.c_str(), o.out.c_str()) != 0)
-    failure = std::string("cannot rename ") + part + ": " + std::strerror(errno);
+  if (failure.empty()) {
+    try {
+      out.commit();
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  }
   if (!failure.empty()) {
-    std::remove(part.c_str());
+    out.abandon();
     if (failure == "interrupted") {
       std::fprintf(stderr, "tumble render: interrupted; %s not written\n", o.out.c_str());
       throw Exit{130};

@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: MIT
 // `tumble run SCENE.toml`: simulate a scene, optionally record it and write the final state.
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <csignal>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -62,7 +66,7 @@ void writeState(const std::string& path, const World& world, const BodyState& s)
       std::fprintf(f, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, s.px[k], s.py[k],
                    s.pz[k], s.vx[k], s.vy[k], s.vz[k], q.w, q.x, q.y, q.z, s.lx[k], s.ly[k], s.lz[k]);
     }
-    if (std::ferror(f)) throw Error("cannot write " + path);
+    if (std::ferror(f)) throw Error("cannot write " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
   });
 }
 
@@ -87,6 +91,36 @@ void checkContinues(const RecordingWriter& rec, std::uint64_t start, std::uint64
                 " but the checkpoint is at step " + std::to_string(start) +
                 ": it does not continue there; record the resumed run to another file");
 }
+
+// SIGINT / SIGTERM during a run: the loop stops after the steps under way, like a guard trip
+// (the recording is finished with its frames, a --checkpoint is written), and the run ends
+// with status 128 + the signal. A second signal ends it at once (SA_RESETHAND).
+volatile std::sig_atomic_t g_signal = 0;
+
+class StopOnSignal {
+ public:
+  StopOnSignal() {
+    g_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = [](int sig) { g_signal = sig; };
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    ::sigaction(SIGINT, &sa, &m_int);
+    ::sigaction(SIGTERM, &sa, &m_term);
+    // A signal the caller chose to ignore (nohup, a background job's SIGINT) stays ignored.
+    if (m_int.sa_handler == SIG_IGN) ::sigaction(SIGINT, &m_int, nullptr);
+    if (m_term.sa_handler == SIG_IGN) ::sigaction(SIGTERM, &m_term, nullptr);
+  }
+  ~StopOnSignal() {
+    ::sigaction(SIGINT, &m_int, nullptr);
+    ::sigaction(SIGTERM, &m_term, nullptr);
+  }
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
+
+ private:
+  struct sigaction m_int {}, m_term {};
+};
 
 void run(RunOptions o) {
   applyRecEnv(o);
@@ -173,13 +207,14 @@ void run(RunOptions o) {
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;
   std::uint64_t done = start;
+  const StopOnSignal stopOnSignal;
   try {
     while (done < scene.steps) {
       std::uint64_t chunk = scene.steps - done;
       if (rec && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
       if (guard) chunk = std::min(chunk, guardEvery - done % guardEvery);
       if (ckEvery) chunk = std::min(chunk, ckEvery - done % ckEvery);
-      chunk = std::min<std::uint64_t>(chunk, 1000);
+      chunk = std::min<std::uint64_t>(chunk, 100);  // a signal is seen within 100 steps
       pipeline->step(chunk);
       done += chunk;
       const bool frameDue = rec && done <= recSteps && done % perFrame == 0;
@@ -204,7 +239,11 @@ void run(RunOptions o) {
                      static_cast<unsigned long long>(done), static_cast<unsigned long long>(scene.steps),
                      100.0 * double(done) / double(scene.steps), 1e3 * el / ran, el, eta);
       }
+      if (g_signal != 0) break;
     }
+    // Interrupted: the state is checked before anything is written from it.
+    if (done < scene.steps && guard)
+      if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
   } catch (const SimulationError&) {
     if (tty) std::fprintf(stderr, "\n");
     if (rec) {
@@ -215,6 +254,22 @@ void run(RunOptions o) {
     throw;
   }
   if (tty) std::fprintf(stderr, "\n");
+  if (done < scene.steps) {  // stopped by a signal
+    const int sig = g_signal;
+    std::string kept;
+    if (rec) {
+      rec->close();
+      kept = "; kept " + std::to_string(rec->numFrames()) + " frames in " + rec->path();
+    }
+    if (!o.checkpoint.empty()) {
+      Checkpoint::of(world, *pipeline).write(o.checkpoint);
+      kept += "; checkpoint written to " + o.checkpoint + " (continue with --resume " + o.checkpoint + ")";
+    }
+    std::fprintf(stderr, "tumble run: interrupted (%s) at step %llu of %llu%s; no final state written\n",
+                 sig == SIGTERM ? "SIGTERM" : "SIGINT", static_cast<unsigned long long>(done),
+                 static_cast<unsigned long long>(scene.steps), kept.c_str());
+    throw Exit{128 + sig};
+  }
   if (rec) {
     rec->close();
     if (!o.quiet)

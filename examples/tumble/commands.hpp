@@ -26,8 +26,9 @@ void addRender(CLI::App& app);
 inline constexpr const char* kViewerPackages =
     "libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev libpng-dev";
 
-/// Writes a file atomically: `write` fills `path + ".part"`, which is then renamed to `path`.
-/// On any failure the partial file is removed and tumble::Error is thrown.
+/// Writes a file atomically (tumble/output_file.hpp): `write` fills a temporary next to the
+/// target, which is then renamed over it (a device or FIFO is written directly). On any failure
+/// the temporary is removed and tumble::Error is thrown.
 template <class F>
 void writeAtomically(const std::string& path, F&& write);
 
@@ -55,25 +56,12 @@ CLI::Validator countIn(std::uint64_t lo, std::uint64_t hi);
 
 }  // namespace tumble::cli
 
-#include <cerrno>
-#include <cstring>
-
 #include "tumble/error.hpp"
+#include "tumble/output_file.hpp"
 
 template <class F>
 void tumble::cli::writeAtomically(const std::string& path, F&& write) {
-  const std::string part = path + ".part";
-  std::FILE* f = std::fopen(part.c_str(), "wb");
-  if (!f) throw Error("cannot write " + part + ": " + std::strerror(errno));
-  try {
-    write(f);
-  } catch (...) {
-    std::fclose(f);
-    std::remove(part.c_str());
-    throw;
-  }
-  if (std::fclose(f) != 0 || std::rename(part.c_str(), path.c_str()) != 0) {
-    std::remove(part.c_str());
-    throw Error("cannot write " + path + ": " + std::strerror(errno));
-  }
+  OutputFile out(path);
+  write(out.file());  // an exception abandons the temporary
+  out.commit();
 }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "tumble/output_file.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/world.hpp"
 
@@ -59,13 +60,16 @@ struct Recording {
   static Recording read(const std::string& path);
 };
 
-/// Writes a recording. Frames go to `path + ".part"`; close() (or the destructor) writes the
-/// frame count and renames it to `path`, so a crash never leaves a half-written `path`.
-/// Every frame is flushed when written. Not thread-safe: one caller at a time.
+/// Writes a recording. Frames go to a temporary next to `path` (`path.part-XXXXXX`, OutputFile);
+/// close() (or the destructor) writes the frame count and renames it to `path`, so a crash never
+/// leaves a half-written `path`. Every frame is written whole and at once: a crash leaves all
+/// complete frames in the temporary (readable as a recording), and a frame that cannot be
+/// written (a full disk) is cut off again, so the file keeps every complete frame.
+/// Not thread-safe: one caller at a time.
 /// Determinism: the bytes written depend only on the values given (no timestamps, no padding).
 class RecordingWriter {
  public:
-  /// Opens `path + ".part"` and writes the header and the static particle table of `world`
+  /// Opens the temporary and writes the header and the static particle table of `world`
   /// (radius, mass, elasticity, body, ux, uy, uz; dt, gravity, ground and name from
   /// world.params). Throws tumble::Error if the file cannot be opened (naming it and the
   /// reason), if stepsPerFrame < 1, fps or dt is not positive, or the table is inconsistent or
@@ -73,7 +77,7 @@ class RecordingWriter {
   RecordingWriter(const std::string& path, const World& world, bool debug, int stepsPerFrame,
                   float fps = 60.0f);
   /// Continues the recording at `path` for a run resumed at `step` (tumble run --resume): its
-  /// frames up to that step are written again, with the same bytes, to `path + ".part"` and
+  /// frames up to that step are written again, with the same bytes, to a temporary and
   /// the writer appends from there, so that the finished file equals the uninterrupted run's;
   /// `path` itself is replaced only by close(). When `path` does not exist this is a new
   /// recording. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
@@ -92,25 +96,31 @@ class RecordingWriter {
   void writeFrame(std::uint64_t step, double time, std::uint32_t pulls, const BodyState& state,
                   const ParticleDebug* debug = nullptr);
   /// Finishes the file and renames it into place. Idempotent. Throws tumble::Error if that
-  /// fails. After a failed write it only closes, leaving `path + ".part"` in place.
+  /// fails. When a failed frame could not be cut off again it only closes, leaving the
+  /// temporary in place.
   void close();
   /// Frames written so far.
   std::uint64_t numFrames() const { return m_numFrames; }
   /// Step of the last frame written (0 before the first).
   std::uint64_t lastStep() const { return m_lastStep; }
-  /// The final path (without ".part").
+  /// The final path.
   const std::string& path() const { return m_path; }
+  /// Where the frames go until close(): the temporary (or `path` itself when it is a device or
+  /// a FIFO).
+  const std::string& writingTo() const { return m_partPath; }
 
  private:
   std::string m_path;
   std::string m_partPath;
-  std::FILE* m_file = nullptr;
+  std::unique_ptr<OutputFile> m_out;
+  std::FILE* m_file = nullptr;            ///< m_out's, until close()
+  std::uint64_t m_complete = 0;           ///< bytes up to the end of the last complete frame
   std::uint64_t m_numFrames = 0;
   std::uint64_t m_lastStep = 0;
   std::uint32_t m_numParticles = 0;
   std::uint32_t m_numBodies = 0;
   bool m_debug = false;
-  bool m_failed = false;                 ///< a write failed: close() leaves the .part file alone
+  bool m_failed = false;                 ///< a failed frame could not be cut off: close() keeps the temporary
   long m_frameCountOffset = 0;           ///< byte offset of the header's frame count
   std::vector<std::uint8_t> m_header;    ///< header bytes, re-checksummed at close()
   std::vector<std::uint8_t> m_buffer;    ///< one frame, encoded before it is written

@@ -5,6 +5,7 @@
 // centre + radius and colour. The ground is one large quad whose
 // fragment shader draws a faint grid and fades into the sky with distance, so the horizon has
 // no hard edge. Everything is lit by one directional light plus a hemisphere ambient term.
+#include "tumble/output_file.hpp"
 #include "tumble/viewer/renderer.hpp"
 
 #include <epoxy/gl.h>
@@ -386,10 +387,9 @@ Image readPixels(int w, int h) {
 }
 
 void writeImage(const std::string& path, const Image& img) {
-  const std::string part = path + ".part";
   const bool png = path.size() >= 4 && (path.compare(path.size() - 4, 4, ".png") == 0 ||
                                          path.compare(path.size() - 4, 4, ".PNG") == 0);
-  bool ok = false;
+  OutputFile out(path);  // a temporary renamed into place; abandoned if this throws
   if (png) {
     png_image pi;
     std::memset(&pi, 0, sizeof pi);
@@ -397,24 +397,14 @@ void writeImage(const std::string& path, const Image& img) {
     pi.width = static_cast<png_uint_32>(img.width);
     pi.height = static_cast<png_uint_32>(img.height);
     pi.format = PNG_FORMAT_RGB;
-    ok = png_image_write_to_file(&pi, part.c_str(), 0, img.rgb.data(), 0, nullptr) != 0;
-    if (!ok) {
-      const std::string why = pi.message;
-      std::remove(part.c_str());
-      throw Error("cannot write " + path + ": " + why);
-    }
+    if (png_image_write_to_stdio(&pi, out.file(), 0, img.rgb.data(), 0, nullptr) == 0)
+      throw Error("cannot write " + path + ": " + pi.message);
   } else {
-    std::FILE* f = std::fopen(part.c_str(), "wb");
-    if (!f) throw Error("cannot write " + part + ": " + std::strerror(errno));
-    std::fprintf(f, "P6\n%d %d\n255\n", img.width, img.height);
-    ok = std::fwrite(img.rgb.data(), 1, img.rgb.size(), f) == img.rgb.size();
-    ok = std::fclose(f) == 0 && ok;
+    std::fprintf(out.file(), "P6\n%d %d\n255\n", img.width, img.height);
+    if (std::fwrite(img.rgb.data(), 1, img.rgb.size(), out.file()) != img.rgb.size())
+      throw Error("cannot write " + path + ": " + std::strerror(errno));
   }
-  if (!ok || std::rename(part.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(part.c_str());
-    throw Error("cannot write " + path + ": " + why);
-  }
+  out.commit();
 }
 
 Image readPpm(const std::string& path) {

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+/// @file output_file.hpp
+/// How every tumble output reaches its path (docs/recording.md#outputs): never half-written,
+/// never in place of something that is not a file.
+///
+/// - The target is the path with its symbolic links followed (up to 40), so a link to a file
+///   keeps pointing at it and its target is what gets replaced.
+/// - An existing target that is not a regular file (a device such as /dev/null, a FIFO) is
+///   written directly: it is never replaced.
+/// - Otherwise the bytes go to a new temporary next to the target, `TARGET.part-XXXXXX` with an
+///   unpredictable suffix, created exclusively (mkstemp: O_CREAT | O_EXCL, so no existing file
+///   or planted link is ever opened), and commit() renames it over the target, with the
+///   target's permission bits when it existed (else 0666 less the umask). Until then the target
+///   is untouched; abandon() (or the destructor) removes the temporary.
+#pragma once
+#include <cstdio>
+#include <string>
+
+namespace tumble {
+
+/// `path` with its symbolic links followed; a dangling link gives the path it names. Throws
+/// tumble::Error for a loop (more than 40 links).
+std::string outputTarget(const std::string& path);
+
+class OutputFile {
+ public:
+  /// Opens the temporary (or the non-regular target) for writing. Throws tumble::Error naming
+  /// the path and the reason.
+  explicit OutputFile(const std::string& path);
+  ~OutputFile();  ///< abandon() unless committed or kept
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  std::FILE* file() const { return m_file; }
+  /// The path the bytes go to now: the temporary, or the target when written directly.
+  const std::string& writingTo() const { return m_writing; }
+  /// The path the caller named.
+  const std::string& path() const { return m_path; }
+  /// Closes and renames into place (or just closes a direct target). Throws tumble::Error with
+  /// the reason (the temporary is removed then).
+  void commit();
+  /// Closes and removes the temporary. Never throws.
+  void abandon() noexcept;
+  /// Closes and leaves the temporary where it is (what a crash would leave: a recording's
+  /// complete frames stay readable there). Returns its path.
+  std::string keep() noexcept;
+
+ private:
+  std::string m_path, m_target, m_writing;
+  std::FILE* m_file = nullptr;
+  bool m_direct = false;
+  bool m_existed = false;
+  unsigned m_mode = 0;
+};
+
+}  // namespace tumble
