@@ -95,6 +95,18 @@ RunGuard::RunGuard(const World& world, Pipeline& pipeline, GuardParams params) :
   m_lastTime = pipeline.time();
   m_initialOverlap = s.maxOverlap;
   m_scale = s.available;
+  if (s.maxOverlap > kInitialOverlapWarning) {
+    const std::string held = format(" (the contact springs hold %.3g J, released as motion when the run starts); ", s.springs);
+    m_initialWarning =
+        s.groundOverlap
+            ? "body " + std::to_string(s.overlapBody) +
+                  format(" starts %.0f%% of its radius below the ground", 100.0 * s.maxOverlap) + held +
+                  "raise it unless it is meant to start pressed into the ground"
+            : "bodies " + std::to_string(s.overlapBody) + " and " + std::to_string(s.overlapOther) +
+                  format(" start overlapping by %.0f%% of the smaller radius", 100.0 * s.maxOverlap) + held +
+                  "separate them unless they are meant to start pressed together";
+  }
+
 }
 
 double RunGuard::suggestedDt() const { return dtToUse(m_world); }
@@ -275,6 +287,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }
 
   out.energy = kinetic + gravity + pullPotential + springs;
+  out.springs = springs;
   out.slack = slack;
   out.swirlPower = power;
   // What the state can release: motion, springs, the pulls' potential, and gravity down to the

@@ -202,6 +202,16 @@ expect_status "resume the interrupted run" 0 "$bin" run small.toml --resume int.
 expect_status "straight run to the same step" 0 "$bin" run small.toml --steps $((at + 20)) --record straight.bin -q
 cmp -s int.bin straight.bin && ok "interrupted + resumed recording equals the straight one" || bad "interrupted + resumed recording differs"
 
+# Bodies that start pressed into each other or into the ground are named at load.
+sed 's/spacing = 0.25/spacing = 0.1/' small.toml > tight.toml
+expect_status "overlapping start" 0 "$bin" run tight.toml --steps 5 -q
+expect_msg "overlapping start" "warning: tight.toml: bodies 0 and 1 start overlapping by 100% of the smaller radius \(the contact springs hold .* J"
+sed 's/origin = \[0.0, 0.0, 0.2\]/origin = [0.0, 0.0, 0.05]/' small.toml > low.toml
+expect_status "start below the ground" 0 "$bin" run low.toml --steps 5 -q
+expect_msg "start below the ground" "warning: low.toml: body 0 starts 50% of its radius below the ground"
+expect_status "a good start" 0 "$bin" run small.toml --steps 5 -q
+grep -q "warning" err.txt && bad "small.toml should start without a warning: $(cat err.txt)" || ok "no warning for a good start"
+
 # Outputs never replace what is not a file, and write through links (tumble/output_file.hpp).
 ln -sf real.csv link.csv
 expect_status "state-out through a link" 0 "$bin" run small.toml --steps 5 --state-out link.csv -q

@@ -200,7 +200,11 @@ void run(RunOptions o) {
   // Guards (docs/model.md#guards): checked every guardEvery steps and before every frame and
   // checkpoint.
   std::optional<RunGuard> guard;
-  if (!o.noGuard) guard.emplace(world, *pipeline);
+  if (!o.noGuard) {
+    guard.emplace(world, *pipeline);
+    if (start == 0 && !guard->initialWarning().empty())
+      std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), guard->initialWarning().c_str());
+  }
   const std::uint64_t guardEvery = o.guardEvery.value_or(kDefaultGuardEvery);
   const std::uint64_t ckEvery = o.checkpointEvery.value_or(0);
 

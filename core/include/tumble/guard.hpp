@@ -23,6 +23,10 @@ namespace tumble {
 /// (docs/performance.md#guards): every 50 steps that is about 1 % of the run.
 inline constexpr std::uint64_t kDefaultGuardEvery = 50;
 
+/// The initial overlap, as a fraction of the smaller radius, beyond which RunGuard warns at
+/// the start (a pile at rest on the ground overlaps by a few percent).
+inline constexpr double kInitialOverlapWarning = 0.1;
+
 struct GuardParams {
   /// Trip when the energy has grown by more than this fraction of the energy scale (see
   /// RunGuard) beyond what the pulls did on the bodies. A stable run with dt ≤ t_c/10 gains a
@@ -76,6 +80,12 @@ class RunGuard {
   /// current one is already smaller.
   double suggestedDt() const;
 
+  /// A warning about the state at construction when something overlaps by more than
+  /// kInitialOverlapWarning of the smaller radius (bodies pressed into each other or into the
+  /// ground): the deepest pair or body, the depth and the energy the springs hold; empty
+  /// otherwise. tumble run prints it at the start of a fresh run.
+  const std::string& initialWarning() const { return m_initialWarning; }
+
   /// Energy E as defined above, at the last check (J).
   double energy() const { return m_lastEnergy; }
   /// Largest overlap at the last check, as a fraction of the smaller radius.
@@ -85,7 +95,7 @@ class RunGuard {
 
  private:
   struct Snapshot {
-    double energy = 0.0, swirlPower = 0.0, maxOverlap = 0.0, available = 0.0;
+    double energy = 0.0, swirlPower = 0.0, maxOverlap = 0.0, available = 0.0, springs = 0.0;
     double slack = 0.0;   ///< bound of the energy's error from rounded positions
     std::uint32_t overlapBody = 0, overlapOther = 0;
     bool groundOverlap = false;
@@ -110,6 +120,7 @@ class RunGuard {
   double m_lastPower = 0.0, m_lastTime = 0.0, m_lastEnergy = 0.0;
   double m_initialOverlap = 0.0, m_lastOverlap = 0.0;
   std::uint32_t m_mask = 0;
+  std::string m_initialWarning;
 };
 
 /// The guard's contact sums per body (Pipeline::contactSumsPerBody()) from a pair list sorted
