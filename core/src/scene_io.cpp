@@ -42,6 +42,7 @@
 #include "tumble/error.hpp"
 #include "tumble/math.hpp"
 #include "tumble/random.hpp"
+#include "tumble/world.hpp"
 
 namespace tumble {
 namespace {
@@ -526,6 +527,7 @@ class SceneParser {
         sd.elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
         shape.spheres.push_back(sd);
       }
+      if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.line(), where + ": " + why);
       m_shapeIndex.emplace(shape.name, static_cast<std::uint32_t>(scene.shapes.size()));
       scene.shapes.push_back(std::move(shape));
     }
@@ -597,6 +599,11 @@ class SceneParser {
                          "shape", scene);
     b.position = r.vec3(r.require("position", "centre of mass in m, e.g. position = [0, 0, 1]"),
                         "position", Rule::Any);
+    const double reach = shapeExtent(scene.shapes[b.shape]);
+    for (float x : {b.position.x, b.position.y, b.position.z}) {
+      if (!(std::fabs(double(x)) + reach <= double(std::numeric_limits<float>::max())))
+        r.fail(r.line(), "the body's spheres reach beyond single-precision range from this position");
+    }
     b.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
     if (const toml::node* q = r.find("orientation")) {
       const std::array<double, 4> d = r.numbers<4>(*q, "orientation", Rule::Any);
@@ -683,12 +690,22 @@ class SceneParser {
     const float velocityJitter = r.single("velocity_jitter", 0.0f, Rule::NonNegative);
     const bool randomOrientation = r.boolean("random_orientation", false);
     const float spin = r.single("spin", 0.0f, Rule::NonNegative);
-    // Lattice positions must be representable (origin + (n−1) spacing within float range).
+    // Lattice positions must be representable: origin + (n−1) spacing, the jitter and the
+    // shapes' reach within float range; so must the velocities with their jitter.
+    double reach = 0.0;
+    for (std::uint32_t s : shapes) reach = std::max(reach, shapeExtent(scene.shapes[s]));
+    constexpr double kFloatMax = std::numeric_limits<float>::max();
     for (std::size_t c = 0; c < 3; ++c) {
       const double far = origin[c] + static_cast<double>(count[c] - 1) * spacing[c];
-      if (!(std::fabs(far) <= static_cast<double>(std::numeric_limits<float>::max()))) {
-        r.fail(r.line(), "the lattice reaches beyond single-precision range along " + std::string(kAxes[c]));
+      const double extent = std::max(std::fabs(origin[c]), std::fabs(far)) + double(jitter) + reach;
+      if (!(extent <= kFloatMax)) {
+        r.fail(r.line(), "the lattice reaches beyond single-precision range along " + std::string(kAxes[c]) +
+                             " (origin, spacing, jitter and the shapes' size)");
       }
+    }
+    for (float v : {velocity.x, velocity.y, velocity.z}) {
+      if (!(std::fabs(double(v)) + double(velocityJitter) <= kFloatMax))
+        r.fail(r.line(), "velocity with velocity_jitter reaches beyond single-precision range");
     }
 
     Rng rng(groupSeed(m_seed, index));

@@ -187,6 +187,7 @@ World World::fromScene(const Scene& scene) {
       p.mass += sp.mass;
       p.com += sp.mass * Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z);
     }
+    if (const std::string why = shapeOutOfRange(sh); !why.empty()) throw Error("shape '" + sh.name + "': " + why);
     p.com /= p.mass;
     for (const auto& sp : sh.spheres) {
       const Eigen::Vector3d u = Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com;
@@ -264,6 +265,71 @@ double shortestContactTime(const World& w) {
   if (w.params.ground.enabled && w.params.ground.stiffness > 0.0f)
     tc = std::min(tc, pi * std::sqrt(mMin / double(w.params.ground.stiffness)));
   return tc;
+}
+
+namespace {
+
+// Centre of mass and total mass of a shape, in double.
+double shapeMass(const ShapeDef& shape, double com[3]) {
+  double m = 0.0;
+  com[0] = com[1] = com[2] = 0.0;
+  for (const SphereDef& sp : shape.spheres) {
+    m += sp.mass;
+    com[0] += double(sp.mass) * sp.offset.x;
+    com[1] += double(sp.mass) * sp.offset.y;
+    com[2] += double(sp.mass) * sp.offset.z;
+  }
+  for (int a = 0; a < 3; ++a) com[a] /= m;
+  return m;
+}
+
+}  // namespace
+
+double shapeExtent(const ShapeDef& shape) {
+  double com[3];
+  shapeMass(shape, com);
+  double reach = 0.0;
+  for (const SphereDef& sp : shape.spheres) {
+    const double dx = sp.offset.x - com[0], dy = sp.offset.y - com[1], dz = sp.offset.z - com[2];
+    reach = std::max(reach, std::sqrt(dx * dx + dy * dy + dz * dz) + sp.radius);
+  }
+  return reach;
+}
+
+std::string shapeOutOfRange(const ShapeDef& shape) {
+  if (shape.spheres.empty()) return {};
+  constexpr double kMax = std::numeric_limits<float>::max();
+  double com[3];
+  const double m = shapeMass(shape, com);
+  char buf[200];
+  if (!(m <= kMax)) {
+    std::snprintf(buf, sizeof buf, "the spheres' total mass %.3g kg is beyond single precision (at most %.3g)", m, kMax);
+    return buf;
+  }
+  if (!(1.0 / m <= kMax)) {
+    std::snprintf(buf, sizeof buf, "the spheres' total mass %.3g kg is too small for single precision (1/m overflows)", m);
+    return buf;
+  }
+  // The largest moment of inertia is at most Σ m (0.4 r² + |u|²); the smallest at least Σ 0.4 m r².
+  double most = 0.0, least = 0.0;
+  for (const SphereDef& sp : shape.spheres) {
+    const double dx = sp.offset.x - com[0], dy = sp.offset.y - com[1], dz = sp.offset.z - com[2];
+    const double own = 0.4 * double(sp.mass) * double(sp.radius) * sp.radius;
+    most += own + double(sp.mass) * (dx * dx + dy * dy + dz * dz);
+    least += own;
+  }
+  if (!(most <= kMax)) {
+    std::snprintf(buf, sizeof buf, "its moment of inertia (up to %.3g kg m^2) is beyond single precision; use smaller "
+                  "masses, radii or offsets", most);
+    return buf;
+  }
+  if (!(1.0 / least <= kMax)) {
+    std::snprintf(buf, sizeof buf, "its moment of inertia (%.3g kg m^2) is too small for single precision (its inverse "
+                  "overflows); use larger masses or radii", least);
+    return buf;
+  }
+  if (!(shapeExtent(shape) <= 0.5 * kMax)) return "its spheres reach beyond single-precision range from its centre of mass";
+  return {};
 }
 
 std::string timeStepWarning(const World& w) {

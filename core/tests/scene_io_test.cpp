@@ -619,6 +619,34 @@ TEST(SceneIoErrors, Bodies) {
   expectError(withExtra("orientation = [1, 0, 0]\n"), 12, {"orientation must be an array of 4 numbers [w, x, y, z]"});
 }
 
+// Values that are each finite but whose derived values overflow single precision are refused at
+// the line of their table (they used to surface as a non-finite body with no file or line).
+TEST(SceneIoErrors, DerivedValuesBeyondSinglePrecision) {
+  // Two 3e38 kg spheres: the body's mass overflows.
+  expectError(withExtra("[[shape]]\nname = \"heavy\"\n[[shape.sphere]]\nradius = 1\nmass = 3e38\n"
+                        "[[shape.sphere]]\noffset = [1, 0, 0]\nradius = 1\nmass = 3e38\n"),
+              12, {"shape \"heavy\"", "total mass 6e+38 kg is beyond single precision"});
+  // A far offset: the inertia overflows.
+  expectError(withExtra("[[shape]]\nname = \"far\"\n[[shape.sphere]]\nradius = 1\nmass = 1\n"
+                        "[[shape.sphere]]\noffset = [3e38, 0, 0]\nradius = 1\nmass = 1\n"),
+              12, {"shape \"far\"", "moment of inertia"});
+  // Tiny spheres: the inverse of the inertia overflows.
+  expectError(withLine(7, "radius = 1e-20"), 4, {"shape \"ball\"", "too small for single precision"});
+  // A body whose sphere reaches past the float range from its position.
+  {
+    std::vector<std::string> ls = baseLines();
+    ls[6] = "radius = 1e38";
+    ls[7] = "mass = 3e-38";
+    ls[10] = "position = [3e38, 0, 0]";
+    expectError(join(ls), 9, {"reach beyond single-precision range"});
+  }
+  // A lattice whose jitter, or whose velocity jitter, overflows.
+  const std::string group = "[[group]]\nshape = \"ball\"\ncount = [2, 1, 1]\nspacing = 1\n";
+  expectError(withExtra(group + "origin = [3.4e38, 0, 0]\njitter = 1e38\n"), 12, {"lattice reaches beyond", "jitter"});
+  expectError(withExtra(group + "velocity = [3e38, 0, 0]\nvelocity_jitter = 1e38\n"), 12,
+              {"velocity with velocity_jitter"});
+}
+
 TEST(SceneIoErrors, WholeFile) {
   // Missing [scene], and no bodies at all: the file as a whole (line 0).
   std::vector<std::string> ls = baseLines();

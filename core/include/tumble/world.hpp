@@ -99,6 +99,15 @@ World localWorld(const World& world, LocalFrame* outFrame);
 /// Body positions from frame f back to the world frame: X + o, rounded to float.
 void toWorld(BodyState& s, const LocalFrame& f);
 
+/// The largest |u| + r of a shape's spheres about its centre of mass (m): how far its particles
+/// reach from the body's position.
+double shapeExtent(const ShapeDef& shape);
+
+/// Why a shape's derived values cannot be held in single precision (the total mass or its
+/// inverse, the moment of inertia or its inverse, the extent), as a phrase for a message; empty
+/// when they can. The scene reader reports it at the shape's line; World::fromScene throws it.
+std::string shapeOutOfRange(const ShapeDef& shape);
+
 /// Orientation of body k's shape frame (as written in the scene file): q_k ⊗ bodyToShape[k]⁻¹.
 Quatf shapeOrientation(const World& world, const BodyState& state, std::size_t k);
 
