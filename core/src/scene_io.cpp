@@ -41,6 +41,7 @@
 
 #include "tumble/error.hpp"
 #include "tumble/math.hpp"
+#include "tumble/memory.hpp"
 #include "tumble/random.hpp"
 #include "tumble/world.hpp"
 
@@ -668,6 +669,16 @@ class SceneParser {
       r.fail(lineOf(countNode), "the scene would have more than 2^31 particles (" +
                                     std::to_string(m_numParticles + sites * minSpheres) +
                                     " at least); use a smaller count");
+    }
+
+    // Memory: refused early when the run could not hold the scene (instead of bad_alloc later).
+    const std::uint64_t allBodies = scene.bodies.size() + sites, allParticles = m_numParticles + sites * minSpheres;
+    if (const std::string shortfall = memoryShortfall(allBodies * (kRunBytesPerBody + sizeof(BodyDef)) +
+                                                      allParticles * kRunBytesPerParticle);
+        !shortfall.empty()) {
+      r.fail(lineOf(countNode), "a run of " + std::to_string(allBodies) + " bodies and " +
+                                    std::to_string(allParticles) + " particles needs at least " + shortfall.substr(6) +
+                                    "; use a smaller count");
     }
 
     // Spacing: a scalar or one value per axis; required once a lattice has two sites.

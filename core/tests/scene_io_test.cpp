@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/memory.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/scene_io.hpp"
@@ -645,6 +646,16 @@ TEST(SceneIoErrors, DerivedValuesBeyondSinglePrecision) {
   expectError(withExtra(group + "origin = [3.4e38, 0, 0]\njitter = 1e38\n"), 12, {"lattice reaches beyond", "jitter"});
   expectError(withExtra(group + "velocity = [3e38, 0, 0]\nvelocity_jitter = 1e38\n"), 12,
               {"velocity with velocity_jitter"});
+}
+
+// A lattice the machine could never run is refused at its count, at once, instead of ending in
+// std::bad_alloc after minutes (2e9 bodies need over a terabyte).
+TEST(SceneIoErrors, ALatticeTooBigForTheMemory) {
+  const auto have = tumble::availableMemory();
+  if (!have) GTEST_SKIP() << "no /proc/meminfo";
+  if (*have > (std::uint64_t{1} << 40)) GTEST_SKIP() << "this machine has more than a terabyte available";
+  expectError(withExtra("[[group]]\nshape = \"ball\"\ncount = [1000, 1000, 2000]\nspacing = 1\n"), 14,
+              {"a run of 2000000001 bodies", "needs at least", "this machine has available", "use a smaller count"});
 }
 
 TEST(SceneIoErrors, WholeFile) {

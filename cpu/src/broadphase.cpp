@@ -35,6 +35,7 @@
 #include "tumble/cpu/radix_sort.hpp"
 #include "tumble/cpu/scan.hpp"
 #include "tumble/error.hpp"
+#include "tumble/memory.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/sweep_frame.hpp"
 
@@ -65,21 +66,35 @@ std::uint64_t sum64(const std::uint32_t* c, std::uint32_t n) {
 // wrapping or exhausting memory.
 constexpr std::uint64_t kMaxEntries = 0x7fffffffull;
 
+// The least memory per record (64-bit key and 32-bit value, sorted into a second pair of
+// buffers) and per candidate pair (the forward and backward lists, then both directions of the
+// candidate list with their sort keys, or the sorted pair list of findPairs).
+constexpr std::uint64_t kRecordBytes = 24;
+constexpr std::uint64_t kCandidateBytes = 32;
+
 std::uint64_t recordLimit(std::uint32_t n) {
   return std::min<std::uint64_t>(kMaxEntries, std::max<std::uint64_t>(4096ull * n, 1ull << 24));
 }
 
-void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint32_t n, const char* what, const char* cause) {
-  if (total <= limit) return;
+// Also refused: a total within the limit whose buffers (bytesEach per entry, at least) exceed the
+// memory the system has available, which would end in std::bad_alloc after a long wait.
+void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint64_t bytesEach, std::uint32_t n, const char* what,
+                const char* cause) {
+  const std::string shortfall = total <= limit ? memoryShortfall(total * bytesEach) : std::string();
+  if (total <= limit && shortfall.empty()) return;
   std::string msg = "detection would need ";
   msg += std::to_string(total);
   msg += " ";
   msg += what;
   msg += " for ";
   msg += std::to_string(n);
-  msg += " particles (at most ";
-  msg += std::to_string(limit);
-  msg += "): ";
+  if (shortfall.empty()) {
+    msg += " particles (at most ";
+    msg += std::to_string(limit);
+    msg += "): ";
+  } else {
+    msg += " particles, " + shortfall + ": ";
+  }
   msg += cause;
   throw Error(msg);
 }
@@ -189,13 +204,13 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) countRecords(in, f, prow, counts, i);
   });
   counts[n] = 0;
-  if (const std::uint64_t total = sum64(counts, n); total > recordLimit(n)) {
+  if (const std::uint64_t total = sum64(counts, n); total > recordLimit(n) || !memoryShortfall(total * kRecordBytes).empty()) {
     char cause[320];
     std::snprintf(cause, sizeof cause,
                   "the cell size %g is too small for particles of radius up to %g, or the particles are spread too "
                   "far apart; use a larger [broadphase] cell_size or --cell-size (0 = automatic)",
                   double(f.cellSize), double(in.maxRadius));
-    checkTotal(total, recordLimit(n), n, "cell records", cause);
+    checkTotal(total, recordLimit(n), kRecordBytes, n, "cell records", cause);
   }
   std::uint32_t* first = recFirst.data();
   std::size_t tempBytes = 0;
@@ -286,7 +301,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     }
   });
   nbrCount[numRec] = 0;
-  checkTotal(sum64(nbrCount, numRec), kMaxEntries, n, "candidate pairs",
+  checkTotal(sum64(nbrCount, numRec), kMaxEntries, kCandidateBytes, n, "candidate pairs",
              "the particles overlap too densely for one detection (a smaller skin lowers the count)");
   std::uint32_t* offs = tumble::detail::grow(nbrOffsets, numRec + 1);
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, nbrCount, offs, numRec + 1);

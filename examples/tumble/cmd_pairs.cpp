@@ -98,15 +98,23 @@ void pairs(const PairsOptions& o) {
   bp.cellSize = o.cellSize;
   bp.pcaEvery = 1;
   const auto result = p->findPairs(c, bp);
+  // Streamed in blocks: the text is not held as a whole next to the pairs.
   std::string out;
-  out.reserve(result.size() * 16);
+  out.reserve(1 << 20);
   char buf[32];
+  const auto flush = [&] {
+    if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size())
+      throw Error(std::string("cannot write the pairs to standard output: ") + std::strerror(errno));
+    out.clear();
+  };
   for (const Pair& pr : result) {
     const int len = std::snprintf(buf, sizeof buf, "%u,%u\n", pr.i, pr.j);
     out.append(buf, static_cast<std::size_t>(len));
+    if (out.size() > (1u << 20) - 32) flush();
   }
-  if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size() || std::fflush(stdout) != 0)
-    throw Error("cannot write the pairs to standard output");
+  flush();
+  if (std::fflush(stdout) != 0)
+    throw Error(std::string("cannot write the pairs to standard output: ") + std::strerror(errno));
 }
 
 }  // namespace

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+/// @file memory.hpp
+/// Early, clear refusals of inputs too big for the machine: a rough lower bound of what a run
+/// needs, compared with what the system says is available, instead of std::bad_alloc after
+/// minutes.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace tumble {
+
+/// The least a run holds per body and per particle (scene, world and pipeline rows: two body
+/// rows of 128 bytes, four particle rows of 16, the tables), in bytes. A lower bound: detection
+/// and recording need more.
+inline constexpr std::uint64_t kRunBytesPerBody = 400;
+inline constexpr std::uint64_t kRunBytesPerParticle = 150;
+
+/// MemAvailable from /proc/meminfo (bytes), or nothing where it cannot be read.
+std::optional<std::uint64_t> availableMemory();
+
+/// "3.2 GB", "512 MB": a size for messages.
+std::string bytesText(std::uint64_t bytes);
+
+/// Empty when `bytes` fits in the available memory (or that is unknown, or bytes is below
+/// 1 GB); otherwise "about X, more than the Y this machine has available".
+std::string memoryShortfall(std::uint64_t bytes);
+
+}  // namespace tumble
