@@ -47,7 +47,7 @@ float checkCloud(const ParticleCloud& cloud) {
 
 float effectiveSkin(const World& world) {
   const float s = world.params.broadphase.skin;
-  return s >= 0.0f ? s : kAutoSkinPerRadius * world.maxRadius;
+  return s >= 0.0f ? s : kAutoSkinPerRadius * (world.sizingRadius > 0.0f ? world.sizingRadius : world.maxRadius);
 }
 
 double StepStats::totalSeconds() const {

@@ -12,6 +12,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <vector>
 
 #include "tumble/kernels/integrate.hpp"
 
@@ -51,7 +52,7 @@ Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std
 }
 
 // Twin: cpu/src/broadphase.cpp Broadphase::computeFrame(), after the bounds check and the axis.
-int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const BroadphaseParams& params,
+int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cellRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame) {
   SweepFrame& f = *outFrame;
   f.lz = axis;
@@ -83,7 +84,10 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const Broa
   const double eq = std::abs(q[0]) * half[0] + std::abs(q[1]) * half[1] + std::abs(q[2]) * half[2];
   const double reach = double(maxRadius) + 4.0 * slack;
 
-  double m = params.cellSize > 0.0f ? params.cellSize : 6.0 * maxRadius;  // 3 diameters: measured best (docs/performance.md)
+  // 3 diameters: measured best (docs/performance.md), of the typical radius; at least 1/32 of the
+  // largest diameter, which bounds the records of the largest sphere.
+  const double typical = cellRadius > 0.0f ? double(cellRadius) : double(maxRadius);
+  double m = params.cellSize > 0.0f ? params.cellSize : std::max(6.0 * typical, 2.0 * double(maxRadius) / 32.0);
   for (;;) {
     const double na = std::floor((ep + reach) / m) - std::floor(-(ep + reach) / m) + 3.0;
     const double nb = std::floor((eq + reach) / m) - std::floor(-(eq + reach) / m) + 3.0;
@@ -175,6 +179,18 @@ SweepWindow sweepWindow(float maxRadius, const SweepFrame& f) {
   const float reachR = maxRadius + 2.0f * f.slack;
   const float maxWindow = 2.0f * reachR;  // ≥ every record's window r_s + reachR
   return {reachR, maxWindow};
+}
+
+}  // namespace tumble::detail
+
+namespace tumble::detail {
+
+float sizingRadius(const float* radius, std::size_t n) {
+  if (n == 0) return 0.0f;
+  std::vector<float> r(radius, radius + n);
+  const std::size_t k = (n - 1) * 99 / 100;
+  std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(k), r.end());
+  return r[k];
 }
 
 }  // namespace tumble::detail

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "tumble/error.hpp"
+#include "tumble/sweep_frame.hpp"
 
 namespace tumble {
 
@@ -252,6 +253,8 @@ World World::fromScene(const Scene& scene) {
                               Eigen::Vector3d(bd.angularVelocity.x, bd.angularVelocity.y, bd.angularVelocity.z);
     s.lx[k] = static_cast<float>(L.x()); s.ly[k] = static_cast<float>(L.y()); s.lz[k] = static_cast<float>(L.z());
   }
+  w.sizingRadius = detail::sizingRadius(w.radius.data(), w.radius.size());
+
   return w;
 }
 

@@ -178,7 +178,7 @@ void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams&
     m_runsSinceAxis = 0;
   }
   ++m_runsSinceAxis;
-  m_cellBits = tumble::detail::computeFrame(b, m_axis, in.maxRadius, params, &m_frame);
+  m_cellBits = tumble::detail::computeFrame(b, m_axis, in.maxRadius, in.cellRadius, params, &m_frame);
 }
 
 void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, double* seconds) {

@@ -259,7 +259,7 @@ class CpuPipeline final : public Pipeline {
     double sec[kNumPhases] = {};
     const BroadphaseInput in{cloud.x.data(), cloud.y.data(),    cloud.z.data(),
                              cloud.r.data(), cloud.body.data(), static_cast<std::uint32_t>(n),
-                             maxR};
+                             maxR,           tumble::detail::sizingRadius(cloud.r.data(), n)};
     std::vector<Pair> out;
     m_arena.execute([&] {
       b.run(in, bp, sec);
@@ -389,7 +389,8 @@ class CpuPipeline final : public Pipeline {
     });
     sec[int(Phase::State)] += since(t0);
 
-    const BroadphaseInput in{bx, by, bz, br, m_bodyOf.data(), n, m_world.maxRadius + h};
+    const BroadphaseInput in{bx, by, bz, br, m_bodyOf.data(), n, m_world.maxRadius + h,
+                             m_world.sizingRadius > 0.0f ? m_world.sizingRadius + h : 0.0f};
     try {
       m_bp.run(in, m_world.params.broadphase, sec);
     } catch (const SimulationError& e) {

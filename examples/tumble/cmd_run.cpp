@@ -331,7 +331,8 @@ void addRun(CLI::App& app) {
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K detections");
   c->add_option("--skin", o->skin,
                 "Verlet skin: detect pairs within r_i + r_j + S and reuse them until two particles may have "
-                "closed in by S (0 = detect every step; default 0.5 x the largest radius)");
+                "closed in by S (0 = detect every step; default 0.5 x the largest radius, of the 99th-percentile radius "
+                "when fewer than 1% of the spheres are larger)");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_option("--guard-every", o->guardEvery,
                 "Check the guards (finite state, energy, overlaps) every N steps, and before every frame and "

@@ -249,7 +249,7 @@ void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams&
     m_runsSinceAxis = 0;
   }
   ++m_runsSinceAxis;
-  m_cellBits = detail::computeFrame(b, m_axis, in.maxRadius, params, &m_frame);
+  m_cellBits = detail::computeFrame(b, m_axis, in.maxRadius, in.cellRadius, params, &m_frame);
 }
 
 void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, const StreamContext& ctx,

@@ -360,7 +360,8 @@ class CudaPipeline final : public Pipeline {
     r.upload(cloud.r, s);
     body.upload(cloud.body, s);
     Broadphase b;
-    const BroadphaseInput in{x.data(), y.data(), z.data(), r.data(), body.data(), static_cast<std::uint32_t>(n), maxR};
+    const BroadphaseInput in{x.data(), y.data(), z.data(), r.data(), body.data(), static_cast<std::uint32_t>(n), maxR,
+                             detail::sizingRadius(cloud.r.data(), n)};
     b.run(in, bp, m_ctx, nullptr);
     return b.sortedPairs(static_cast<std::uint32_t>(n), s);
   }
@@ -515,7 +516,8 @@ class CudaPipeline final : public Pipeline {
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "detectionInputKernel");
 
     const BroadphaseInput in{m_bx.data(), m_by.data(), m_bz.data(), m_br.data(), m_bodyOf.data(), n,
-                             m_world.maxRadius + h};
+                             m_world.maxRadius + h,
+                             m_world.sizingRadius > 0.0f ? m_world.sizingRadius + h : 0.0f};
     try {
       m_bp.run(in, m_world.params.broadphase, m_ctx, &m_timer);
     } catch (const SimulationError& e) {

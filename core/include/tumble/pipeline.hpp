@@ -38,7 +38,8 @@ struct PipelineOptions {
 };
 
 /// The Verlet skin a world runs with: params.broadphase.skin, or when that is negative
-/// (automatic) kAutoSkinPerRadius × the largest radius.
+/// (automatic) kAutoSkinPerRadius × world.sizingRadius (the 99th percentile of the radii: the
+/// largest radius unless under 1 % of the particles are larger).
 float effectiveSkin(const World& world);
 /// The automatic skin, in units of the largest radius (docs/performance.md measures it).
 inline constexpr float kAutoSkinPerRadius = 0.5f;

@@ -72,9 +72,16 @@ BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks);
 Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std::uint32_t n);
 
 /// The CPU's Broadphase::computeFrame after the bounds and axis: frame axes, centre, slack,
-/// cell size and cell counts. Returns the number of cell bits of the sort key.
-int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, const BroadphaseParams& params,
+/// cell size and cell counts. Returns the number of cell bits of the sort key. The automatic
+/// cell size (params.cellSize 0) is 3 diameters of cellRadius (0: of maxRadius), but at least
+/// 1/32 of the largest diameter, so that one large sphere covers at most about 32 × 32 cells.
+int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cellRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame);
+
+/// The radius that sizes the automatic cells: the 99th percentile of the radii, so that a few
+/// large spheres among many small ones do not make every cell hold hundreds of small ones (the
+/// sweep then tests them all against each other). All radii equal: that radius. 0 for none.
+float sizingRadius(const float* radius, std::size_t n);
 
 /// The reordering's Morton grid over the bounds of the body centres (kernels/contact_list.hpp):
 /// 1024 cells along the largest extent. Any grid gives correct results; this one only sets the

@@ -77,6 +77,9 @@ struct World {
 
   bool hasClumps = false;  ///< some body has more than one particle
   float maxRadius = 0.0f;
+  /// The 99th percentile of the radii (detail::sizingRadius): what the automatic skin and cell
+  /// size are sized from, so that a few large spheres do not set them for all the small ones.
+  float sizingRadius = 0.0f;
 
   std::uint32_t numParticles() const { return static_cast<std::uint32_t>(radius.size()); }
   std::uint32_t numBodies() const { return static_cast<std::uint32_t>(bodyMass.size()); }

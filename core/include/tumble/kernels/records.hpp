@@ -19,6 +19,9 @@ struct BroadphaseInput {
   const std::uint32_t* body;
   std::uint32_t n;
   float maxRadius;
+  /// The radius the automatic cell size is sized from (sizingRadius() of the radii): 0 means
+  /// maxRadius. Speed only: any cell size gives the same pairs.
+  float cellRadius = 0.0f;
 };
 
 /// One particle's row, written by the key count pass and gathered per sorted record: one
