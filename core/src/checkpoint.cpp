@@ -8,7 +8,7 @@
 // - Identity. Two fingerprints tie a checkpoint to its run: the static bodies and particles
 //   (a different scene cannot be resumed) and the physical parameters (a different dt or
 //   stiffness may be resumed, with a warning: the continuation is then another run).
-// - Safety. Written to `path.part` and renamed (atomic on POSIX); read as untrusted input, with
+// - Safety. Written to a temporary next to `path` and renamed (OutputFile; atomic on POSIX); read as untrusted input, with
 //   every size checked against the file before anything is allocated, FNV-1a checksums over the
 //   header and the state, and finiteness checks. Encoding and checks: binary_io.hpp.
 #include "tumble/checkpoint.hpp"

@@ -30,19 +30,62 @@ std::string outputTarget(const std::string& path) {
 
 namespace {
 
+// The umask, from /proc/self/status (umask() itself can only be read by setting it, which races
+// with other threads creating files); that trick only where /proc has no answer.
 unsigned currentUmask() {
-  const mode_t m = ::umask(0);  // the only way to read it; set back at once
+  if (std::FILE* f = std::fopen("/proc/self/status", "r")) {
+    char line[256];
+    unsigned mask = 0;
+    bool found = false;
+    while (!found && std::fgets(line, sizeof line, f)) found = std::sscanf(line, "Umask: %o", &mask) == 1;
+    std::fclose(f);
+    if (found) return mask;
+  }
+  const mode_t m = ::umask(0);
   ::umask(m);
   return static_cast<unsigned>(m);
 }
 
+// The descriptor a path names itself: /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N; -1
+// for any other. Written through a duplicate of it, so that a pipe or a file opened for
+// appending (`>> log`) gets the bytes as the shell set it up, instead of being reopened.
+int namedDescriptor(const std::string& path) {
+  if (path == "/dev/stdout") return 1;
+  if (path == "/dev/stderr") return 2;
+  for (const char* prefix : {"/dev/fd/", "/proc/self/fd/"}) {
+    const std::string p = prefix;
+    if (path.size() > p.size() && path.compare(0, p.size(), p) == 0) {
+      int fd = 0;
+      for (std::size_t i = p.size(); i < path.size(); ++i) {
+        if (path[i] < '0' || path[i] > '9' || fd > 1000000) return -1;
+        fd = 10 * fd + (path[i] - '0');
+      }
+      return fd;
+    }
+  }
+  return -1;
+}
+
 }  // namespace
 
-OutputFile::OutputFile(const std::string& path) : m_path(path), m_target(outputTarget(path)) {
+OutputFile::OutputFile(const std::string& path) : m_path(path) {
+  if (const int fd = namedDescriptor(path); fd >= 0) {
+    m_direct = m_descriptor = true;
+    m_target = m_writing = path;
+    const int copy = ::dup(fd);
+    m_file = copy >= 0 ? ::fdopen(copy, "wb") : nullptr;
+    if (m_file == nullptr) {
+      const int e = errno;
+      if (copy >= 0) ::close(copy);
+      throw Error("cannot write " + path + ": " + std::strerror(e));
+    }
+    return;
+  }
+  m_target = outputTarget(path);
   struct stat st{};
   if (::stat(m_target.c_str(), &st) == 0) {
     m_existed = true;
-    m_mode = static_cast<unsigned>(st.st_mode) & 07777u;
+    m_mode = static_cast<unsigned>(st.st_mode) & 0777u;  // not set-id bits onto a new file
     m_direct = !S_ISREG(st.st_mode);
     if (S_ISDIR(st.st_mode)) throw Error("cannot write " + path + ": it is a directory");
   }

@@ -5,8 +5,8 @@
 // - Byte order. Every value is encoded little-endian with explicit shifts (floats through
 //   std::bit_cast), so files are identical on any host and the reader never depends on
 //   alignment or on the host's endianness.
-// - Crash safety. The writer appends to `path.part` and flushes after every frame, so a crashed
-//   run leaves a `.part` file that holds every frame written so far. The header's frame count
+// - Crash safety. The writer appends to a temporary next to `path` (OutputFile), unbuffered, so a
+//   crashed run leaves a temporary that holds every frame written so far. The header's frame count
 //   stays at the sentinel kUnfinished until close() patches it (and the header checksum) and
 //   renames the file to `path`. std::rename replaces `path` atomically on POSIX, so `path` is
 //   either the previous file or the finished new one, never a torn one. There is no fsync:
@@ -386,7 +386,7 @@ RecordingWriter::~RecordingWriter() {
   try {
     close();
   } catch (...) {
-    // A destructor must not throw; the .part file (or the error) is all we can leave behind.
+    // A destructor must not throw; the temporary (or the error) is all we can leave behind.
   }
 }
 
@@ -400,8 +400,9 @@ void RecordingWriter::writeBytes(const std::uint8_t* data, std::size_t size, con
 
 std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& path, const World& world, bool debug,
                                                              int stepsPerFrame, std::uint64_t step, float fps) {
+  // Nothing to continue where there is no file, or where the target is a device or a FIFO.
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
+  if (!std::filesystem::is_regular_file(path, ec)) return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
   const Recording old = Recording::read(path);
   const RecordingInfo& i = old.info;
   const Scene& p = world.params;
@@ -421,11 +422,16 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
     differs("the particle tables");
   auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
   BodyState s;
-  for (const RecordedFrame& f : old.frames) {
-    if (f.step > step) break;
-    s.px = f.px; s.py = f.py; s.pz = f.pz;
-    s.qw = f.qw; s.qx = f.qx; s.qy = f.qy; s.qz = f.qz;
-    w->writeFrame(f.step, f.time, f.pulls, s, debug ? &f.debug : nullptr);
+  try {
+    for (const RecordedFrame& f : old.frames) {
+      if (f.step > step) break;
+      s.px = f.px; s.py = f.py; s.pz = f.pz;
+      s.qw = f.qw; s.qx = f.qx; s.qy = f.qy; s.qz = f.qz;
+      w->writeFrame(f.step, f.time, f.pulls, s, debug ? &f.debug : nullptr);
+    }
+  } catch (...) {
+    w->abandon();  // a copy cut short (a full disk) must not replace the recording it copies
+    throw;
   }
   return w;
 }
@@ -521,12 +527,19 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
     if (::ftruncate(::fileno(m_file), static_cast<off_t>(m_complete)) != 0 ||
         std::fseek(m_file, static_cast<long>(m_complete), SEEK_SET) != 0)
       m_failed = true;
-    throw Error("cannot write frame to recording file '" + m_partPath + "': " + why +
-                (m_failed ? "" : "; the recording keeps its " + std::to_string(m_numFrames) + " complete frames"));
+    throw Error(m_failed ? "cannot write frame to recording file '" + m_partPath + "': " + why
+                         : "cannot write frame to recording '" + m_path + "': " + why + "; it keeps the " +
+                               std::to_string(m_numFrames) + " complete frames written before");
   }
   m_complete += m_buffer.size();
   ++m_numFrames;
   m_lastStep = step;
+}
+
+void RecordingWriter::abandon() noexcept {
+  if (m_file == nullptr) return;
+  m_file = nullptr;
+  m_out->abandon();
 }
 
 void RecordingWriter::close() {
@@ -540,8 +553,9 @@ void RecordingWriter::close() {
   const std::size_t at = static_cast<std::size_t>(m_frameCountOffset);
   putU64At(m_header, at, m_numFrames);
   putU32At(m_header, at + 8, fnv1a(m_header.data(), at + 8));
-  // A target that cannot seek (a FIFO) keeps the header's "unfinished" count, which readers accept.
-  const bool seekable = std::fseek(file, m_frameCountOffset, SEEK_SET) == 0;
+  // A target that cannot seek (a FIFO, a pipe, a descriptor shared with the shell) keeps the
+  // header's "unfinished" count, which readers accept.
+  const bool seekable = !m_out->throughDescriptor() && std::fseek(file, m_frameCountOffset, SEEK_SET) == 0;
   const bool patched = !seekable || (std::fwrite(m_header.data() + at, 1, 12, file) == 12 && std::fflush(file) == 0);
   if (!patched) {
     const std::string why = errnoText(errno != 0 ? errno : EIO);

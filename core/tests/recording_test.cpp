@@ -430,11 +430,37 @@ TEST_F(RecordingTest, AFrameThatCannotBeWrittenIsCutOff) {
     }
     ::setrlimit(RLIMIT_FSIZE, &old);
     std::signal(SIGXFSZ, oldHandler);
-    EXPECT_TRUE(contains(what, "keeps its 2 complete frames")) << what;
+    EXPECT_TRUE(contains(what, "rec.bin': File too large; it keeps the 2 complete frames")) << what;
     EXPECT_EQ(fs::file_size(w.writingTo()), kHeaderBytes + kTableBytes + 2 * kFrameBytes);
   }
   ASSERT_TRUE(fs::exists(path)) << "finished at close despite the failed frame";
   EXPECT_EQ(Recording::read(path).frames.size(), 2u);
+}
+
+// Continuing a recording copies its frames first; a copy cut short (a full disk, here a file size
+// limit) must leave the recording it copies as it was, with no temporary left.
+TEST_F(RecordingTest, AFailedContinuationLeavesTheRecording) {
+  const std::string path = file("rec.bin");
+  writeRecording(path, false, 5);
+  const auto before = readAll(path);
+  struct rlimit old{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = old;
+  small.rlim_cur = kHeaderBytes + kTableBytes + 2 * kFrameBytes + kFrameBytes / 2;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  bool threw = false;
+  try {
+    RecordingWriter::continueAt(path, makeWorld(), false, 10, 1000);
+  } catch (const tumble::Error&) {
+    threw = true;
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, oldHandler);
+  EXPECT_TRUE(threw);
+  EXPECT_EQ(readAll(path), before) << "the recording was replaced by a shorter copy";
+  for (const auto& e : fs::directory_iterator(m_dir))
+    EXPECT_EQ(e.path().filename().string().find(".part"), std::string::npos) << e.path();
 }
 
 TEST_F(RecordingTest, UnopenablePartFileNamesPathAndReason) {

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // `tumble render FILE -o out.mp4`: draw every frame of a recording off-screen (EGL, no X server
 // needed) and pipe the frames to ffmpeg as raw RGB; `--still N` writes one frame as PNG/PPM.
-// The output appears only when complete: ffmpeg writes OUT.part, renamed on success and
-// deleted on any failure (ffmpeg error, our error, Ctrl-C).
+// The output appears only when complete: ffmpeg writes a temporary next to OUT (OutputFile),
+// renamed on success and deleted on any failure (ffmpeg error, our error, Ctrl-C).
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "stop_signal.hpp"
 #include "tumble/output_file.hpp"
 #include "tumble/error.hpp"
 
@@ -68,8 +69,6 @@ struct RenderOptions {
 
 #if TUMBLE_HAS_VIEWER
 using namespace tumble::viewer;
-
-volatile std::sig_atomic_t g_interrupted = 0;
 
 bool endsWith(const std::string& s, const char* suffix) {
   const std::size_t n = std::strlen(suffix);
@@ -135,7 +134,7 @@ class FfmpegPipe {
   bool write(const std::uint8_t* data, std::size_t n) {
     while (n > 0) {
       const ssize_t w = ::write(m_fd, data, n);
-      if (w < 0 && errno == EINTR && !g_interrupted) continue;
+      if (w < 0 && errno == EINTR && !g_stopSignal) continue;
       if (w <= 0) return false;
       data += w;
       n -= static_cast<std::size_t>(w);
@@ -250,16 +249,10 @@ void render(const RenderOptions& o) {
   if (muxer == "mp4" || muxer == "mov") args.insert(args.end(), {"-movflags", "+faststart"});
   args.insert(args.end(), {"-f", muxer, part});
 
-  // A dead ffmpeg must give a write error, not kill us; Ctrl-C must clean up the .part file.
+  // A dead ffmpeg must give a write error, not kill us; Ctrl-C must clean up the temporary.
   // The previous dispositions come back however this function ends.
-  const auto oldPipe = std::signal(SIGPIPE, SIG_IGN);
-  const auto oldInt = std::signal(SIGINT, [](int) { g_interrupted = 1; });
-  const auto oldTerm = std::signal(SIGTERM, [](int) { g_interrupted = 1; });
-  const auto restore = [&] {
-    std::signal(SIGPIPE, oldPipe);
-    std::signal(SIGINT, oldInt);
-    std::signal(SIGTERM, oldTerm);
-  };
+  std::optional<StopOnSignal> stopOnSignal(std::in_place);  // stop_signal.hpp; also ignores SIGPIPE
+  const auto restore = [&] { stopOnSignal.reset(); };
   const bool tty = isatty(fileno(stderr)) && !o.quiet;
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;
@@ -268,7 +261,7 @@ void render(const RenderOptions& o) {
   try {
     FfmpegPipe pipe(ffmpeg, args);
     for (std::size_t i = first; i <= last && failure.empty(); ++i) {
-      if (g_interrupted) {
+      if (g_stopSignal) {
         failure = "interrupted";
         break;
       }
@@ -293,7 +286,7 @@ void render(const RenderOptions& o) {
     throw;  // ~OutputFile removes the temporary
   }
   restore();
-  if (g_interrupted) failure = "interrupted";
+  if (g_stopSignal) failure = "interrupted";
   if (failure.empty() && status != 0) failure = "ffmpeg failed (exit status " + std::to_string(status) + ")";
   if (failure.empty()) {
     try {
@@ -306,7 +299,7 @@ void render(const RenderOptions& o) {
     out.abandon();
     if (failure == "interrupted") {
       std::fprintf(stderr, "tumble render: interrupted; %s not written\n", o.out.c_str());
-      throw Exit{130};
+      dieOfSignal(g_stopSignal != 0 ? g_stopSignal : SIGINT);
     }
     throw Error(o.out + ": " + failure + "; nothing written");
   }

@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: MIT
 // `tumble run SCENE.toml`: simulate a scene, optionally record it and write the final state.
-#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <csignal>
 #include <chrono>
 #include <cstring>
 #include <cmath>
@@ -13,6 +11,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "stop_signal.hpp"
 #include "tumble/checkpoint.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
@@ -92,36 +91,6 @@ void checkContinues(const RecordingWriter& rec, std::uint64_t start, std::uint64
                 ": it does not continue there; record the resumed run to another file");
 }
 
-// SIGINT / SIGTERM during a run: the loop stops after the steps under way, like a guard trip
-// (the recording is finished with its frames, a --checkpoint is written), and the run ends
-// with status 128 + the signal. A second signal ends it at once (SA_RESETHAND).
-volatile std::sig_atomic_t g_signal = 0;
-
-class StopOnSignal {
- public:
-  StopOnSignal() {
-    g_signal = 0;
-    struct sigaction sa {};
-    sa.sa_handler = [](int sig) { g_signal = sig; };
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
-    ::sigaction(SIGINT, &sa, &m_int);
-    ::sigaction(SIGTERM, &sa, &m_term);
-    // A signal the caller chose to ignore (nohup, a background job's SIGINT) stays ignored.
-    if (m_int.sa_handler == SIG_IGN) ::sigaction(SIGINT, &m_int, nullptr);
-    if (m_term.sa_handler == SIG_IGN) ::sigaction(SIGTERM, &m_term, nullptr);
-  }
-  ~StopOnSignal() {
-    ::sigaction(SIGINT, &m_int, nullptr);
-    ::sigaction(SIGTERM, &m_term, nullptr);
-  }
-  StopOnSignal(const StopOnSignal&) = delete;
-  StopOnSignal& operator=(const StopOnSignal&) = delete;
-
- private:
-  struct sigaction m_int {}, m_term {};
-};
-
 void run(RunOptions o) {
   applyRecEnv(o);
   Scene scene = readSceneFile(o.scene);
@@ -180,6 +149,9 @@ void run(RunOptions o) {
 
   // Steps are counted from the start of the run (a resumed run continues the count), so frames,
   // guard checks and checkpoints fall on the same steps as in an uninterrupted run.
+  // SIGINT / SIGTERM from here on stop the run like a guard trip (stop_signal.hpp): the loop ends
+  // after the steps under way, the recording is finished, a --checkpoint written.
+  const StopOnSignal stopOnSignal;
   std::unique_ptr<RecordingWriter> rec;
   const std::uint64_t recSteps = o.recordSteps ? std::min<std::uint64_t>(*o.recordSteps, scene.steps) : scene.steps;
   const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
@@ -211,9 +183,9 @@ void run(RunOptions o) {
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;
   std::uint64_t done = start;
-  const StopOnSignal stopOnSignal;
+  std::uint64_t checkedAt = start;  // the step of the last guard check
   try {
-    while (done < scene.steps) {
+    while (done < scene.steps && g_stopSignal == 0) {
       std::uint64_t chunk = scene.steps - done;
       if (rec && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
       if (guard) chunk = std::min(chunk, guardEvery - done % guardEvery);
@@ -225,6 +197,7 @@ void run(RunOptions o) {
       const bool checkpointDue = ckEvery && done % ckEvery == 0 && done < scene.steps;
       if (guard && (frameDue || checkpointDue || done % guardEvery == 0 || done == scene.steps)) {
         if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
+        checkedAt = done;
       }
       if (frameDue) {
         pipeline->readState(state);
@@ -243,10 +216,9 @@ void run(RunOptions o) {
                      static_cast<unsigned long long>(done), static_cast<unsigned long long>(scene.steps),
                      100.0 * double(done) / double(scene.steps), 1e3 * el / ran, el, eta);
       }
-      if (g_signal != 0) break;
     }
     // Interrupted: the state is checked before anything is written from it.
-    if (done < scene.steps && guard)
+    if (done < scene.steps && guard && checkedAt != done)
       if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
   } catch (const SimulationError&) {
     if (tty) std::fprintf(stderr, "\n");
@@ -259,20 +231,21 @@ void run(RunOptions o) {
   }
   if (tty) std::fprintf(stderr, "\n");
   if (done < scene.steps) {  // stopped by a signal
-    const int sig = g_signal;
+    const int sig = g_stopSignal;
     std::string kept;
     if (rec) {
       rec->close();
       kept = "; kept " + std::to_string(rec->numFrames()) + " frames in " + rec->path();
     }
     if (!o.checkpoint.empty()) {
-      Checkpoint::of(world, *pipeline).write(o.checkpoint);
+      if (!(ckEvery && done % ckEvery == 0 && done > start))  // else just written by the loop
+        Checkpoint::of(world, *pipeline).write(o.checkpoint);
       kept += "; checkpoint written to " + o.checkpoint + " (continue with --resume " + o.checkpoint + ")";
     }
     std::fprintf(stderr, "tumble run: interrupted (%s) at step %llu of %llu%s; no final state written\n",
                  sig == SIGTERM ? "SIGTERM" : "SIGINT", static_cast<unsigned long long>(done),
                  static_cast<unsigned long long>(scene.steps), kept.c_str());
-    throw Exit{128 + sig};
+    dieOfSignal(sig);
   }
   if (rec) {
     rec->close();

@@ -28,7 +28,7 @@ struct Checkpoint {
   /// The pipeline's state now. `world` is the one the run was loaded with.
   static Checkpoint of(const World& world, const Pipeline& pipeline);
 
-  /// Writes the checkpoint to `path + ".part"` and renames it to `path`, so that `path` is
+  /// Writes the checkpoint to a temporary next to `path` and renames it (OutputFile), so that `path` is
   /// either the previous file or the complete new one. Throws tumble::Error naming the file and
   /// the system's reason.
   void write(const std::string& path) const;

@@ -6,11 +6,13 @@
 /// - The target is the path with its symbolic links followed (up to 40), so a link to a file
 ///   keeps pointing at it and its target is what gets replaced.
 /// - An existing target that is not a regular file (a device such as /dev/null, a FIFO) is
-///   written directly: it is never replaced.
+///   written directly: it is never replaced. /dev/stdout, /dev/stderr, /dev/fd/N and
+///   /proc/self/fd/N are written through a duplicate of that descriptor (a pipe, or a file the
+///   shell opened for appending, gets the bytes as set up).
 /// - Otherwise the bytes go to a new temporary next to the target, `TARGET.part-XXXXXX` with an
 ///   unpredictable suffix, created exclusively (mkstemp: O_CREAT | O_EXCL, so no existing file
 ///   or planted link is ever opened), and commit() renames it over the target, with the
-///   target's permission bits when it existed (else 0666 less the umask). Until then the target
+///   target's permission bits when it existed (else 0666 less the umask; never set-id bits). Until then the target
 ///   is untouched; abandon() (or the destructor) removes the temporary.
 #pragma once
 #include <cstdio>
@@ -36,6 +38,9 @@ class OutputFile {
   const std::string& writingTo() const { return m_writing; }
   /// The path the caller named.
   const std::string& path() const { return m_path; }
+  /// Written through a descriptor the process already had (/dev/stdout, /dev/fd/N, …): its
+  /// offset is shared with whoever opened it, so the writer must not seek.
+  bool throughDescriptor() const { return m_descriptor; }
   /// Closes and renames into place (or just closes a direct target). Throws tumble::Error with
   /// the reason (the temporary is removed then).
   void commit();
@@ -49,6 +54,7 @@ class OutputFile {
   std::string m_path, m_target, m_writing;
   std::FILE* m_file = nullptr;
   bool m_direct = false;
+  bool m_descriptor = false;
   bool m_existed = false;
   unsigned m_mode = 0;
 };

@@ -79,8 +79,8 @@ class RecordingWriter {
   /// Continues the recording at `path` for a run resumed at `step` (tumble run --resume): its
   /// frames up to that step are written again, with the same bytes, to a temporary and
   /// the writer appends from there, so that the finished file equals the uninterrupted run's;
-  /// `path` itself is replaced only by close(). When `path` does not exist this is a new
-  /// recording. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
+  /// `path` itself is replaced only by close(), and never when the copy fails. When `path` does
+  /// not exist, or is not a regular file (a device, a FIFO), this is a new recording. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
   /// when it records another scene or other settings (its frames would not belong to this run).
   static std::unique_ptr<RecordingWriter> continueAt(const std::string& path, const World& world, bool debug,
                                                      int stepsPerFrame, std::uint64_t step, float fps = 60.0f);
@@ -99,6 +99,8 @@ class RecordingWriter {
   /// fails. When a failed frame could not be cut off again it only closes, leaving the
   /// temporary in place.
   void close();
+  /// Closes and removes the temporary: `path` stays as it was. Idempotent, never throws.
+  void abandon() noexcept;
   /// Frames written so far.
   std::uint64_t numFrames() const { return m_numFrames; }
   /// Step of the last frame written (0 before the first).

@@ -54,7 +54,8 @@ std::string glErrorName(unsigned error);
 Image readPixels(int w, int h);
 
 /// Writes an image as PNG (name ending in .png) or binary PPM (anything else), through
-/// `path + ".part"` renamed into place, so no half-written file is left. Throws tumble::Error.
+/// a temporary renamed into place (tumble/output_file.hpp), so no half-written file is left.
+/// Throws tumble::Error.
 void writeImage(const std::string& path, const Image& img);
 /// Reads a binary PPM (P6, maxval 255) as written by writeImage; throws tumble::Error.
 Image readPpm(const std::string& path);

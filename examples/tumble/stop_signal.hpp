@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+/// @file stop_signal.hpp
+/// SIGINT and SIGTERM during long work (run, render): the first asks the work to stop after
+/// the step or frame under way, so that it can finish its outputs; a second one of either ends
+/// the process at once. SIGPIPE is ignored meanwhile, so that a reader that goes away (a FIFO,
+/// ffmpeg) gives a write error to report instead of a silent death. A signal the caller chose to
+/// ignore (nohup, a background job's SIGINT) stays ignored.
+#pragma once
+#include <signal.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+
+namespace tumble::cli {
+
+/// The signal that asked to stop (0: none).
+inline volatile std::sig_atomic_t g_stopSignal = 0;
+
+class StopOnSignal {
+ public:
+  StopOnSignal() {
+    g_stopSignal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = [](int sig) {
+      if (g_stopSignal != 0) {  // the second: end now
+        std::signal(SIGINT, SIG_DFL);
+        std::signal(SIGTERM, SIG_DFL);
+        std::raise(sig);
+        return;
+      }
+      g_stopSignal = sig;
+    };
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;  // no SA_RESTART: a blocking write returns EINTR and the work sees the flag
+    ::sigaction(SIGINT, &sa, &m_int);
+    ::sigaction(SIGTERM, &sa, &m_term);
+    if (m_int.sa_handler == SIG_IGN) ::sigaction(SIGINT, &m_int, nullptr);
+    if (m_term.sa_handler == SIG_IGN) ::sigaction(SIGTERM, &m_term, nullptr);
+    struct sigaction ign {};
+    ign.sa_handler = SIG_IGN;
+    sigemptyset(&ign.sa_mask);
+    ::sigaction(SIGPIPE, &ign, &m_pipe);
+  }
+  ~StopOnSignal() {
+    ::sigaction(SIGINT, &m_int, nullptr);
+    ::sigaction(SIGTERM, &m_term, nullptr);
+    ::sigaction(SIGPIPE, &m_pipe, nullptr);
+  }
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
+
+ private:
+  struct sigaction m_int {}, m_term {}, m_pipe {};
+};
+
+/// Ends the process by `sig` itself once the outputs are finished, so that a calling shell sees
+/// the signal (a script stops at Ctrl-C) and the status is 128 + sig.
+[[noreturn]] inline void dieOfSignal(int sig) {
+  std::fflush(nullptr);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+  std::_Exit(128 + sig);
+}
+
+}  // namespace tumble::cli
