@@ -20,9 +20,9 @@ std::optional<std::uint64_t> availableMemory() {
 std::string bytesText(std::uint64_t bytes) {
   char buf[32];
   if (bytes >= (std::uint64_t{1} << 30))
-    std::snprintf(buf, sizeof buf, "%.1f GB", double(bytes) / double(std::uint64_t{1} << 30));
+    std::snprintf(buf, sizeof buf, "%.1f GiB", double(bytes) / double(std::uint64_t{1} << 30));
   else
-    std::snprintf(buf, sizeof buf, "%.0f MB", double(bytes) / double(1u << 20));
+    std::snprintf(buf, sizeof buf, "%.0f MiB", double(bytes) / double(1u << 20));
   return buf;
 }
 

@@ -314,6 +314,9 @@ std::string shapeOutOfRange(const ShapeDef& shape) {
     return buf;
   }
   // The largest moment of inertia is at most Σ m (0.4 r² + |u|²); the smallest at least Σ 0.4 m r².
+  // Single-sphere bodies never rotate: their inertia is never used.
+  if (shape.spheres.size() == 1) return shapeExtent(shape) <= 0.5 * kMax ? std::string() : std::string(
+      "its sphere reaches beyond single-precision range");
   double most = 0.0, least = 0.0;
   for (const SphereDef& sp : shape.spheres) {
     const double dx = sp.offset.x - com[0], dy = sp.offset.y - com[1], dz = sp.offset.z - com[2];

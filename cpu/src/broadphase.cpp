@@ -302,7 +302,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   });
   nbrCount[numRec] = 0;
   checkTotal(sum64(nbrCount, numRec), kMaxEntries, kCandidateBytes, n, "candidate pairs",
-             "the particles overlap too densely for one detection (a smaller skin lowers the count)");
+             "the particles overlap too densely for one detection (in a run, a smaller skin lowers the count)");
   std::uint32_t* offs = tumble::detail::grow(nbrOffsets, numRec + 1);
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, nbrCount, offs, numRec + 1);
   exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nbrCount, offs, numRec + 1);

@@ -251,7 +251,7 @@ void render(const RenderOptions& o) {
 
   // A dead ffmpeg must give a write error, not kill us; Ctrl-C must clean up the temporary.
   // The previous dispositions come back however this function ends.
-  std::optional<StopOnSignal> stopOnSignal(std::in_place);  // stop_signal.hpp; also ignores SIGPIPE
+  std::optional<StopOnSignal> stopOnSignal(std::in_place, /*restart=*/false);  // stop_signal.hpp; also ignores SIGPIPE
   const auto restore = [&] { stopOnSignal.reset(); };
   const bool tty = isatty(fileno(stderr)) && !o.quiet;
   const auto t0 = std::chrono::steady_clock::now();

@@ -151,7 +151,7 @@ void run(RunOptions o) {
   // guard checks and checkpoints fall on the same steps as in an uninterrupted run.
   // SIGINT / SIGTERM from here on stop the run like a guard trip (stop_signal.hpp): the loop ends
   // after the steps under way, the recording is finished, a --checkpoint written.
-  const StopOnSignal stopOnSignal;
+  const StopOnSignal stopOnSignal(/*restart=*/true);
   std::unique_ptr<RecordingWriter> rec;
   const std::uint64_t recSteps = o.recordSteps ? std::min<std::uint64_t>(*o.recordSteps, scene.steps) : scene.steps;
   const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
@@ -300,12 +300,12 @@ void addRun(CLI::App& app) {
   c->add_option("--resume", o->resume,
                 "Continue the run of SCENE from a checkpoint, bit for bit, up to step --steps (default: the "
                 "scene's steps); a --record file of the first part is continued");
-  c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 x largest diameter)");
+  c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 diameters of the 99th-percentile radius, at least 1/32 of the largest diameter)");
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K detections");
   c->add_option("--skin", o->skin,
                 "Verlet skin: detect pairs within r_i + r_j + S and reuse them until two particles may have "
-                "closed in by S (0 = detect every step; default 0.5 x the largest radius, of the 99th-percentile radius "
-                "when fewer than 1% of the spheres are larger)");
+                "closed in by S (0 = detect every step; default 0.5 x the 99th-percentile radius, which is the largest radius "
+                "unless only a few spheres are larger)");
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_option("--guard-every", o->guardEvery,
                 "Check the guards (finite state, energy, overlaps) every N steps, and before every frame and "

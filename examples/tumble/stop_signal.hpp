@@ -19,7 +19,10 @@ inline volatile std::sig_atomic_t g_stopSignal = 0;
 
 class StopOnSignal {
  public:
-  StopOnSignal() {
+  /// restart: blocking system calls resume after the first signal (SA_RESTART), for work whose
+  /// writes do not expect EINTR (run's recording); render's pipe to ffmpeg handles EINTR itself
+  /// and is woken instead.
+  explicit StopOnSignal(bool restart) {
     g_stopSignal = 0;
     struct sigaction sa {};
     sa.sa_handler = [](int sig) {
@@ -32,7 +35,7 @@ class StopOnSignal {
       g_stopSignal = sig;
     };
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = 0;  // no SA_RESTART: a blocking write returns EINTR and the work sees the flag
+    sa.sa_flags = restart ? SA_RESTART : 0;
     ::sigaction(SIGINT, &sa, &m_int);
     ::sigaction(SIGTERM, &sa, &m_term);
     if (m_int.sa_handler == SIG_IGN) ::sigaction(SIGINT, &m_int, nullptr);

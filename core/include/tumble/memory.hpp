@@ -19,7 +19,7 @@ inline constexpr std::uint64_t kRunBytesPerParticle = 150;
 /// MemAvailable from /proc/meminfo (bytes), or nothing where it cannot be read.
 std::optional<std::uint64_t> availableMemory();
 
-/// "3.2 GB", "512 MB": a size for messages.
+/// "3.2 GiB", "512 MiB": a size for messages.
 std::string bytesText(std::uint64_t bytes);
 
 /// Empty when `bytes` fits in the available memory (or that is unknown, or bytes is below
