@@ -113,6 +113,13 @@ class InFile {
     throw InputError(m_path, 0, "byte " + std::to_string(at) + ": " + problem);
   }
 
+  /// Moves the read position to `at` (≤ size()).
+  void seek(std::uint64_t at) {
+    if (at > m_size) fail(at, "offset beyond the end of the file");
+    if (fseeko(m_file, static_cast<off_t>(at), SEEK_SET) != 0) fail(at, "cannot seek: " + errnoText(errno));
+    m_offset = at;
+  }
+
   /// Appends the next `count` bytes to `out`. Callers check `count` against remaining() first
   /// (with a better message); this check is the last line of defence.
   void read(std::vector<std::uint8_t>& out, std::uint64_t count, const char* what) {

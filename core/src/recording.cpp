@@ -90,14 +90,24 @@ bool allFinite(const std::vector<float>& v, std::size_t count, std::size_t* bad)
 
 }  // namespace
 
-// ---- Recording::read -----------------------------------------------------------------------
+// ---- RecordingReader -----------------------------------------------------------------------
 
-Recording Recording::read(const std::string& path) {
-  InFile in(path, "recording");
-  Recording rec;
+struct RecordingReader::File {
+  InFile in;
+  std::uint64_t basePayload = 0;      // a plain frame's payload bytes
+  std::uint64_t minDebugPayload = 0;  // a debug frame's payload bytes without contacts
+  // Where frame k starts: framesOffset + k * frameBytes in a plain recording (all frames have
+  // the same size), frameOffsets[k] in a debug one.
+  std::uint64_t framesOffset = 0, frameBytes = 0;
+  std::vector<std::uint64_t> frameOffsets;
+  explicit File(const std::string& path) : in(path, "recording") {}
+};
+
+RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_unique<File>(path)) {
+  InFile& in = m_file->in;
+  Recording& rec = m_header;
   RecordingInfo& info = rec.info;
-  std::vector<std::uint8_t> buf;
-
+  std::vector<std::uint8_t>& buf = m_buffer;
   // Magic, version and header size. A wrong magic is reported before a short file, so any
   // non-recording says so; the version is checked before the checksum, so a newer file gets
   // "unsupported version" rather than "corrupt".
@@ -201,87 +211,131 @@ Recording Recording::read(const std::string& path) {
     td.finiteColumn(rec.uz, n, "uz");
   }
 
-  // Frames, until the end of the file.
+  // The frame index. Frame k starts with its payload size; the frame is size + 8 bytes.
   const std::uint64_t basePayload = kFramePrefixBytes + kBodyBytes * numBodies;
   const std::uint64_t minDebugPayload = basePayload + kDebugParticleBytes * numParticles + 4;
-  const std::size_t nb = static_cast<std::size_t>(numBodies);
-  const std::size_t n3 = static_cast<std::size_t>(3 * numParticles);
-  for (std::uint64_t k = 0; in.remaining() > 0; ++k) {
-    const std::string frameName = "frame " + std::to_string(k);
-    const std::uint64_t frameOffset = in.offset();
-    if (in.remaining() < 4) {
-      in.fail(frameOffset, frameName + " truncated: needs at least 4 bytes, only " +
-                               std::to_string(in.remaining()) + " left");
+  m_file->basePayload = basePayload;
+  m_file->minDebugPayload = minDebugPayload;
+  const auto truncated = [&](std::uint64_t k, std::uint64_t at, std::uint64_t needs) {
+    in.fail(at, "frame " + std::to_string(k) + " truncated: needs " + std::to_string(needs) +
+                    " bytes, only " + std::to_string(in.size() - at) + " left");
+  };
+  const std::uint64_t framesOffset = in.offset();
+  if (!info.debug) {
+    const std::uint64_t frameBytes = basePayload + 8;
+    const std::uint64_t whole = (in.size() - framesOffset) / frameBytes;
+    const std::uint64_t tail = framesOffset + whole * frameBytes;
+    if (tail < in.size()) truncated(whole, tail, in.size() - tail < 4 ? 4 : frameBytes);
+    if (headerFrameCount != kUnfinished && headerFrameCount != whole) {
+      in.fail(frameCountOffset, "header says " + std::to_string(headerFrameCount) +
+                                    " frames but the file holds " + std::to_string(whole));
     }
-    buf.clear();
-    in.read(buf, 4, "frame size");
-    const std::uint64_t payloadBytes = getU32(buf.data());
-    if (!info.debug && payloadBytes != basePayload) {
-      in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
-                               ", expected " + std::to_string(basePayload));
+    m_numFrames = static_cast<std::size_t>(whole);
+    m_file->framesOffset = framesOffset;
+    m_file->frameBytes = frameBytes;
+  } else {
+    for (std::uint64_t at = framesOffset, k = 0; at < in.size(); ++k) {
+      if (in.size() - at < 4) truncated(k, at, 4);
+      in.seek(at);
+      buf.clear();
+      in.read(buf, 4, "frame size");
+      const std::uint64_t payloadBytes = getU32(buf.data());
+      if (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0) {
+        in.fail(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) +
+                        ", expected " + std::to_string(minDebugPayload) + " + 8 per contact");
+      }
+      if (payloadBytes + 8 > in.size() - at) truncated(k, at, payloadBytes + 8);
+      m_file->frameOffsets.push_back(at);
+      at += payloadBytes + 8;
     }
-    if (info.debug &&
-        (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0)) {
-      in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
-                               ", expected " + std::to_string(minDebugPayload) +
-                               " + 8 per contact");
+    m_numFrames = m_file->frameOffsets.size();
+    if (headerFrameCount != kUnfinished && headerFrameCount != m_numFrames) {
+      in.fail(frameCountOffset, "header says " + std::to_string(headerFrameCount) +
+                                    " frames but the file holds " + std::to_string(m_numFrames));
     }
-    if (payloadBytes + 4 > in.remaining()) {
-      in.fail(frameOffset, frameName + " truncated: needs " + std::to_string(payloadBytes + 8) +
-                               " bytes, only " + std::to_string(in.remaining() + 4) + " left");
-    }
-    const std::uint64_t payloadOffset = in.offset();
-    buf.clear();
-    in.read(buf, payloadBytes + 4, "frame");
-    checkChecksum(in, buf, 0, static_cast<std::size_t>(payloadBytes), payloadOffset + payloadBytes,
-                  frameName);
+  }
+}
 
-    RecordedFrame& f = rec.frames.emplace_back();
-    Decoder fd(in, buf, payloadOffset);
-    f.step = fd.u64();
-    {
+RecordingReader::~RecordingReader() = default;
+
+void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
+  if (k >= m_numFrames) {
+    throw Error("recording frame " + std::to_string(k) + " requested, the file has " +
+                std::to_string(m_numFrames));
+  }
+  InFile& in = m_file->in;
+  const RecordingInfo& info = m_header.info;
+  std::vector<std::uint8_t>& buf = m_buffer;
+  const std::uint64_t basePayload = m_file->basePayload;
+  const std::uint64_t minDebugPayload = m_file->minDebugPayload;
+  const std::uint64_t numParticles = info.numParticles;
+  const std::size_t nb = info.numBodies;
+  const std::size_t n3 = 3 * static_cast<std::size_t>(numParticles);
+  const std::string frameName = "frame " + std::to_string(k);
+  const std::uint64_t frameOffset =
+      info.debug ? m_file->frameOffsets[k] : m_file->framesOffset + k * m_file->frameBytes;
+  in.seek(frameOffset);
+  buf.clear();
+  in.read(buf, 4, "frame size");
+  const std::uint64_t payloadBytes = getU32(buf.data());
+  // The index checked a debug frame's size and that every frame fits; a plain frame's size
+  // field is checked here.
+  if (!info.debug && payloadBytes != basePayload) {
+    in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
+                             ", expected " + std::to_string(basePayload));
+  }
+  const std::uint64_t payloadOffset = in.offset();
+  buf.clear();
+  in.read(buf, payloadBytes + 4, "frame");
+  checkChecksum(in, buf, 0, static_cast<std::size_t>(payloadBytes), payloadOffset + payloadBytes,
+                frameName);
+  Decoder fd(in, buf, payloadOffset);
+  f.step = fd.u64();
+  {
+    const std::uint64_t at = fd.fileOffset();
+    f.time = fd.f64();
+    if (!std::isfinite(f.time)) in.fail(at, frameName + " time is not finite");
+  }
+  f.pulls = fd.u32();
+  fd.finiteColumn(f.px, nb, frameName + " px");
+  fd.finiteColumn(f.py, nb, frameName + " py");
+  fd.finiteColumn(f.pz, nb, frameName + " pz");
+  fd.finiteColumn(f.qw, nb, frameName + " qw");
+  fd.finiteColumn(f.qx, nb, frameName + " qx");
+  fd.finiteColumn(f.qy, nb, frameName + " qy");
+  fd.finiteColumn(f.qz, nb, frameName + " qz");
+  if (info.debug) {
+    fd.finiteColumn(f.debug.v, n3, frameName + " v");
+    for (int c = 0; c < 5; ++c) {
+      fd.finiteColumn(f.debug.force[c], n3, frameName + " " + kForceNames[c] + " force");
+    }
+    const std::uint64_t countOffset = fd.fileOffset();
+    const std::uint64_t numContacts = fd.u32();
+    if (numContacts != (payloadBytes - minDebugPayload) / kContactBytes) {
+      in.fail(countOffset, frameName + " contact count " + std::to_string(numContacts) +
+                               " does not match its payload size " +
+                               std::to_string(payloadBytes));
+    }
+    f.debug.contacts.resize(static_cast<std::size_t>(numContacts));
+    for (Pair& p : f.debug.contacts) {
       const std::uint64_t at = fd.fileOffset();
-      f.time = fd.f64();
-      if (!std::isfinite(f.time)) in.fail(at, frameName + " time is not finite");
-    }
-    f.pulls = fd.u32();
-    fd.finiteColumn(f.px, nb, frameName + " px");
-    fd.finiteColumn(f.py, nb, frameName + " py");
-    fd.finiteColumn(f.pz, nb, frameName + " pz");
-    fd.finiteColumn(f.qw, nb, frameName + " qw");
-    fd.finiteColumn(f.qx, nb, frameName + " qx");
-    fd.finiteColumn(f.qy, nb, frameName + " qy");
-    fd.finiteColumn(f.qz, nb, frameName + " qz");
-    if (info.debug) {
-      fd.finiteColumn(f.debug.v, n3, frameName + " v");
-      for (int c = 0; c < 5; ++c) {
-        fd.finiteColumn(f.debug.force[c], n3, frameName + " " + kForceNames[c] + " force");
-      }
-      const std::uint64_t countOffset = fd.fileOffset();
-      const std::uint64_t numContacts = fd.u32();
-      if (numContacts != (payloadBytes - minDebugPayload) / kContactBytes) {
-        in.fail(countOffset, frameName + " contact count " + std::to_string(numContacts) +
-                                 " does not match its payload size " +
-                                 std::to_string(payloadBytes));
-      }
-      f.debug.contacts.resize(static_cast<std::size_t>(numContacts));
-      for (Pair& p : f.debug.contacts) {
-        const std::uint64_t at = fd.fileOffset();
-        p.i = fd.u32();
-        p.j = fd.u32();
-        if (!(p.i < p.j && p.j < numParticles)) {
-          in.fail(at, frameName + " contact (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
-                          ") is not a pair i < j < " + std::to_string(numParticles));
-        }
+      p.i = fd.u32();
+      p.j = fd.u32();
+      if (!(p.i < p.j && p.j < numParticles)) {
+        in.fail(at, frameName + " contact (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
+                        ") is not a pair i < j < " + std::to_string(numParticles));
       }
     }
   }
+}
 
-  const std::uint64_t numFrames = rec.frames.size();
-  if (headerFrameCount != kUnfinished && headerFrameCount != numFrames) {
-    in.fail(frameCountOffset, "header says " + std::to_string(headerFrameCount) +
-                                  " frames but the file holds " + std::to_string(numFrames));
-  }
+// ---- Recording::read -----------------------------------------------------------------------
+
+Recording Recording::read(const std::string& path) {
+  RecordingReader reader(path);
+  Recording rec = reader.header();
+  rec.frames.resize(reader.numFrames());
+  for (std::size_t k = 0; k < rec.frames.size(); ++k) reader.readFrame(k, rec.frames[k]);
   return rec;
 }
 
@@ -403,7 +457,8 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
   // Nothing to continue where there is no file, or where the target is a device or a FIFO.
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
-  const Recording old = Recording::read(path);
+  RecordingReader reader(path);
+  const Recording& old = reader.header();
   const RecordingInfo& i = old.info;
   const Scene& p = world.params;
   const auto differs = [&](const char* what) {
@@ -422,8 +477,10 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
     differs("the particle tables");
   auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
   BodyState s;
+  RecordedFrame f;
   try {
-    for (const RecordedFrame& f : old.frames) {
+    for (std::size_t k = 0; k < reader.numFrames(); ++k) {
+      reader.readFrame(k, f);
       if (f.step > step) break;
       s.px = f.px; s.py = f.py; s.pz = f.pz;
       s.qw = f.qw; s.qx = f.qx; s.qy = f.qy; s.qz = f.qz;

@@ -586,6 +586,48 @@ TEST_F(RecordingTest, EachRegionReportsItsProblem) {
   EXPECT_TRUE(contains(readError(bad), "header says 3 frames but the file holds 4"));
 }
 
+// The reader reads frame by frame: the same frames as a whole read, any frame first; a damaged
+// frame is reported when it is read, with its byte offset, and the frames around it stay
+// readable (render --still and play read only the frames they show).
+TEST_F(RecordingTest, ReaderReadsAnyFrameAndReportsADamagedOneWhenItIsRead) {
+  for (const bool debug : {false, true}) {
+    SCOPED_TRACE(debug ? "debug" : "plain");
+    const std::string path = file("rec.bin");
+    writeRecording(path, debug, 5);
+    const Recording whole = Recording::read(path);
+    tumble::RecordingReader reader(path);
+    ASSERT_EQ(reader.numFrames(), 5u);
+    EXPECT_TRUE(reader.header().frames.empty());
+    EXPECT_EQ(reader.header().body, whole.body);
+    tumble::RecordedFrame f;
+    for (const std::size_t k : {4u, 0u, 2u, 2u, 1u, 3u}) {
+      reader.readFrame(k, f);  // reused storage, any order
+      EXPECT_EQ(f.step, whole.frames[k].step);
+      expectSameBits(f.px, whole.frames[k].px, "px");
+      expectSameBits(f.qz, whole.frames[k].qz, "qz");
+      EXPECT_EQ(f.debug.contacts, whole.frames[k].debug.contacts);
+    }
+    EXPECT_THROW(reader.readFrame(5, f), tumble::Error);
+  }
+  const std::string path = file("plain.bin");
+  writeRecording(path, false, 3);
+  std::vector<std::uint8_t> bytes = readAll(path);
+  const std::size_t frame1 = kHeaderBytes + kTableBytes + kFrameBytes;
+  bytes[frame1 + 30] ^= 0x10;
+  writeAll(path, bytes);
+  tumble::RecordingReader reader(path);  // the header and the table are fine
+  tumble::RecordedFrame f;
+  reader.readFrame(0, f);
+  reader.readFrame(2, f);
+  EXPECT_EQ(f.step, 20u);
+  try {
+    reader.readFrame(1, f);
+    ADD_FAILURE() << "a damaged frame 1 was read";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.problem(), "frame 1 checksum mismatch")) << e.problem();
+  }
+}
+
 /// Rewrites the header's u32 at `at` and fixes the header checksum, so only the value is wrong.
 std::vector<std::uint8_t> withHeaderField(std::vector<std::uint8_t> bytes, std::size_t at,
                                           std::uint32_t v) {

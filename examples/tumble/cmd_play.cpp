@@ -39,20 +39,23 @@ void play(const PlayOptions& o) {
   int w = 0, h = 0;
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
-  // Recording::read names the file, the byte offset and the problem for a corrupt or
-  // truncated file; main() prints it and ends with status 2.
-  const Recording rec = Recording::read(o.file);
-  if (rec.frames.empty()) throw InputError(o.file, 0, "the recording holds no frames");
+  // RecordingReader names the file, the byte offset and the problem for a corrupt or
+  // truncated file; main() prints it and ends with status 2. Frames are read as they are shown.
+  RecordingReader reader(o.file);
+  const Recording& rec = reader.header();
+  const std::size_t numFrames = reader.numFrames();
+  if (numFrames == 0) throw InputError(o.file, 0, "the recording holds no frames");
 
+  // One pass over every frame (each checked) frames the camera before any window opens.
+  const ParticleTable table = ParticleTable::from(rec);
+  Camera cam = Camera::framing(recordingBounds(reader, table));
   Window window("tumble play: " + o.file, w, h);
   Renderer renderer;
-  const ParticleTable table = ParticleTable::from(rec);
   Keyboard kb;
-  PlaybackControls controls(rec.frames.size(), rec.info.debug);
+  PlaybackControls controls(numFrames, rec.info.debug);
   window.setKeyHandler([&](Key k, bool pressed) {
     if (kb.event(k, pressed)) controls.keyEvent(k, pressed);
   });
-  Camera cam = Camera::framing(recordingBounds(rec, table));
   window.setCamera(&cam);
   DrawData d;
   d.groundEnabled = rec.info.groundEnabled;
@@ -62,6 +65,8 @@ void play(const PlayOptions& o) {
   const auto massRange = std::minmax_element(rec.mass.begin(), rec.mass.end());
   const auto elasticityRange = std::minmax_element(rec.elasticity.begin(), rec.elasticity.end());
 
+  RecordedFrame f;
+  std::size_t shown = numFrames;  // the frame in f (none yet)
   std::uint64_t frame = 0;
   std::size_t nextEvent = 0;
   bool quit = false;
@@ -75,7 +80,10 @@ void play(const PlayOptions& o) {
     const CameraMotion cm = cameraMotionFromKeys(kb);
     if (cm.any()) cam.move(cm.forward, cm.right, cm.up, cm.turn, static_cast<float>(dt));
 
-    const RecordedFrame& f = rec.frames[controls.frame()];
+    if (controls.frame() != shown) {
+      shown = controls.frame();
+      reader.readFrame(shown, f);
+    }
     if (controls.colorMode() != color) {
       color = controls.colorMode();
       d.colors = particleColors(table, color);
@@ -96,7 +104,7 @@ void play(const PlayOptions& o) {
     ImGui::Begin("tumble play", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
     ImGui::Text("%s (%s): %u particles, %u bodies", o.file.c_str(), rec.info.sceneName.c_str(), rec.info.numParticles,
                 rec.info.numBodies);
-    ImGui::Text("frame %zu / %zu   step %llu   t = %.4f s", controls.frame(), rec.frames.size() - 1,
+    ImGui::Text("frame %zu / %zu   step %llu   t = %.4f s", controls.frame(), numFrames - 1,
                 static_cast<unsigned long long>(f.step), f.time);
     ImGui::Text("speed %gx   pulls %s", controls.speed(), pullsToString(f.pulls).c_str());
     if (color == ColorMode::Mass)

@@ -188,11 +188,13 @@ void render(const RenderOptions& o) {
     throw Exit{kExitBadInput};
   }
 
-  const Recording rec = Recording::read(o.file);
-  if (rec.frames.empty()) throw InputError(o.file, 0, "the recording holds no frames");
+  // Frame by frame: memory is one frame whatever the recording's length.
+  RecordingReader reader(o.file);
+  const Recording& rec = reader.header();
+  if (reader.numFrames() == 0) throw InputError(o.file, 0, "the recording holds no frames");
   if (!o.forces.empty() && !rec.info.debug)
     throw Error("--forces needs a debug recording (tumble run --debug-record); " + o.file + " is not one");
-  const std::size_t numFrames = rec.frames.size();
+  const std::size_t numFrames = reader.numFrames();
   std::size_t first = 0, last = numFrames - 1;
   if (o.still) {
     const long i = *o.still < 0 ? static_cast<long>(numFrames) + *o.still : *o.still;
@@ -202,11 +204,12 @@ void render(const RenderOptions& o) {
     first = last = static_cast<std::size_t>(i);
   }
 
+  // One pass over every frame (each checked) frames the camera before anything is drawn.
+  const ParticleTable table = ParticleTable::from(rec);
+  Camera cam = Camera::framing(recordingBounds(reader, table));
   OffscreenContext ctx;
   Renderer renderer;
   Framebuffer fb(w, h);
-  const ParticleTable table = ParticleTable::from(rec);
-  Camera cam = Camera::framing(recordingBounds(rec, table));
   if (o.yaw) cam.yaw = static_cast<float>(*o.yaw * 3.14159265358979 / 180.0);
   if (o.pitch) cam.pitch = static_cast<float>(std::max(-85.0, std::min(85.0, *o.pitch)) * 3.14159265358979 / 180.0);
   cam.distance /= static_cast<float>(o.zoom);
@@ -215,8 +218,9 @@ void render(const RenderOptions& o) {
   d.groundHeight = rec.info.groundHeight;
   d.colors = particleColors(table, *mode);
 
+  RecordedFrame f;
   const auto drawFrame = [&](std::size_t i) {
-    const RecordedFrame& f = rec.frames[i];
+    reader.readFrame(i, f);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
                     d.spheres);
     d.pulls = f.pulls;
@@ -230,7 +234,7 @@ void render(const RenderOptions& o) {
     writeImage(o.out, drawFrame(first));
     if (!o.quiet)
       std::fprintf(stderr, "tumble render: frame %zu (step %llu, t = %.4f s) of %s, %dx%d, %s, to %s\n", first,
-                   static_cast<unsigned long long>(rec.frames[first].step), rec.frames[first].time, o.file.c_str(), w,
+                   static_cast<unsigned long long>(f.step), f.time, o.file.c_str(), w,
                    h, toString(*mode), o.out.c_str());
     return;
   }

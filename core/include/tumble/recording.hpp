@@ -52,12 +52,43 @@ struct Recording {
   std::vector<float> ux, uy, uz;
   std::vector<RecordedFrame> frames;
 
-  /// Reads a recording. Throws tumble::InputError (file, byte offset as "line" 0, problem) on a
-  /// missing, truncated or corrupt file or an unsupported version; never crashes on bad bytes.
-  /// Every count is checked against the file size before anything is allocated. Accepts a
-  /// `.part` file left by a crashed writer (all complete frames; a torn last frame is an error).
-  /// Memory: the whole recording. Thread safety: none shared; concurrent calls are fine.
+  /// Reads a whole recording: RecordingReader, then every frame. Throws what RecordingReader
+  /// and RecordingReader::readFrame throw. Memory: the whole recording (about the file size, plus
+  /// some 400 bytes per frame); players and the renderer read frame by frame instead.
   static Recording read(const std::string& path);
+};
+
+/// Reads a recording one frame at a time: memory is the particle table and one frame, whatever
+/// the file's length (plus 8 bytes per frame for a debug recording's index).
+///
+/// The constructor checks the header and the particle table (checksums, counts, finite values)
+/// and indexes the frames: in a plain recording every frame has the same size, so the index is
+/// arithmetic; a debug recording's frames are walked by their size fields. readFrame() checks the
+/// frame it reads (size, checksum, finite values, contact pairs). Errors are tumble::InputError
+/// naming the file and the byte offset; bad bytes never crash it, and every count is checked
+/// against the file size before anything is allocated. A `.part` file left by a crashed writer
+/// reads as the complete frames it holds (a torn last frame is an error).
+/// Not thread-safe (one file position); separate readers of one file are fine.
+class RecordingReader {
+ public:
+  explicit RecordingReader(const std::string& path);
+  ~RecordingReader();
+  RecordingReader(const RecordingReader&) = delete;
+  RecordingReader& operator=(const RecordingReader&) = delete;
+
+  /// The header and the particle table; its `frames` is empty.
+  const Recording& header() const { return m_header; }
+  const RecordingInfo& info() const { return m_header.info; }
+  std::size_t numFrames() const { return m_numFrames; }
+  /// Reads frame `k` (< numFrames()) into `out`, reusing its storage.
+  void readFrame(std::size_t k, RecordedFrame& out);
+
+ private:
+  struct File;
+  std::unique_ptr<File> m_file;
+  Recording m_header;
+  std::size_t m_numFrames = 0;
+  std::vector<std::uint8_t> m_buffer;         ///< one frame's bytes
 };
 
 /// Writes a recording. Frames go to a temporary next to `path` (`path.part-XXXXXX`, OutputFile);

@@ -116,10 +116,12 @@ Bounds sphereBounds(const std::vector<float>& spheres) {
   return b;
 }
 
-Bounds recordingBounds(const Recording& rec, const ParticleTable& table) {
+Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table) {
   Bounds b;
   std::vector<float> s;
-  for (const RecordedFrame& f : rec.frames) {
+  RecordedFrame f;
+  for (std::size_t k = 0; k < rec.numFrames(); ++k) {
+    rec.readFrame(k, f);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(), s);
     const Bounds fb = sphereBounds(s);
     if (!fb.empty) {
@@ -127,7 +129,7 @@ Bounds recordingBounds(const Recording& rec, const ParticleTable& table) {
       b.add(fb.hi, 0.0f);
     }
   }
-  if (rec.info.groundEnabled && !b.empty) b.lo.z = std::max(b.lo.z, rec.info.groundHeight);
+  if (rec.info().groundEnabled && !b.empty) b.lo.z = std::max(b.lo.z, rec.info().groundHeight);
   return b;
 }
 

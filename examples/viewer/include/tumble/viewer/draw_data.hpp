@@ -51,7 +51,8 @@ void forceLines(const ParticleTable& table, const std::vector<float>& spheres, c
                 const bool show[kNumForces], std::vector<float>& outLines);
 
 /// Bounds of every particle over every frame of a recording (for framing a video), and the ground.
-Bounds recordingBounds(const Recording& rec, const ParticleTable& table);
+/// One pass over the file, one frame in memory.
+Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table);
 /// Bounds of the given spheres (x, y, z, r per particle).
 Bounds sphereBounds(const std::vector<float>& spheres);
 
