@@ -1,20 +1,69 @@
 // SPDX-License-Identifier: MIT
 #include "tumble/memory.hpp"
 
+#include <sys/resource.h>
+
 #include <cstdio>
+#include <limits>
 #include <fstream>
 #include <string>
 
 namespace tumble {
 
-std::optional<std::uint64_t> availableMemory() {
-  std::ifstream in("/proc/meminfo");
+namespace {
+
+// A "Key:  N kB" line of a /proc file, in bytes.
+std::optional<std::uint64_t> procKilobytes(const char* file, const std::string& wanted) {
+  std::ifstream in(file);
   std::string key;
-  std::uint64_t kb = 0;
-  std::string unit;
-  while (in >> key >> kb >> unit)
-    if (key == "MemAvailable:") return kb * 1024;
+  while (in >> key) {
+    if (key == wanted) {
+      std::uint64_t kb = 0;
+      if (in >> kb) return kb * 1024;
+      return std::nullopt;
+    }
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
   return std::nullopt;
+}
+
+// The room under a soft resource limit, given what the process uses of it; nothing when unset.
+std::optional<std::uint64_t> roomUnder(int resource, const char* usedKey) {
+  rlimit lim{};
+  if (getrlimit(resource, &lim) != 0 || lim.rlim_cur == RLIM_INFINITY) return std::nullopt;
+  const std::uint64_t used = procKilobytes("/proc/self/status", usedKey).value_or(0);
+  return lim.rlim_cur > used ? lim.rlim_cur - used : 0;
+}
+
+struct Available {
+  std::uint64_t bytes;
+  bool byLimit;  // a limit, not the machine's memory, is the lower
+};
+
+std::optional<Available> available() {
+  std::optional<Available> have;
+  if (const auto m = procKilobytes("/proc/meminfo", "MemAvailable:")) have = Available{*m, false};
+  for (const auto room : {roomUnder(RLIMIT_AS, "VmSize:"), roomUnder(RLIMIT_DATA, "VmData:")}) {
+    if (room && (!have || *room < have->bytes)) have = Available{*room, true};
+  }
+  return have;
+}
+
+std::string text(const Available& a) {
+  return "the " + bytesText(a.bytes) +
+         (a.byLimit ? " this process may still allocate (ulimit -v or -d)" : " this machine has available");
+}
+
+}  // namespace
+
+std::optional<std::uint64_t> availableMemory() {
+  if (const auto a = available()) return a->bytes;
+  return std::nullopt;
+}
+
+std::string availableMemoryText() {
+  const auto a = available();
+  return a ? text(*a) : "the memory available";
 }
 
 std::string bytesText(std::uint64_t bytes) {
@@ -28,9 +77,9 @@ std::string bytesText(std::uint64_t bytes) {
 
 std::string memoryShortfall(std::uint64_t bytes) {
   if (bytes < (std::uint64_t{1} << 30)) return {};  // small: not worth asking the system
-  const std::optional<std::uint64_t> have = availableMemory();
-  if (!have || bytes <= *have) return {};
-  return "about " + bytesText(bytes) + ", more than the " + bytesText(*have) + " this machine has available";
+  const std::optional<Available> have = available();
+  if (!have || bytes <= have->bytes) return {};
+  return "about " + bytesText(bytes) + ", more than " + text(*have);
 }
 
 }  // namespace tumble

@@ -24,11 +24,13 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "grow.hpp"
@@ -77,27 +79,46 @@ std::uint64_t recordLimit(std::uint32_t n) {
 }
 
 // Also refused: a total within the limit whose buffers (bytesEach per entry, at least) exceed the
-// memory the system has available, which would end in std::bad_alloc after a long wait.
-void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint64_t bytesEach, std::uint32_t n, const char* what,
-                const char* cause) {
-  const std::string shortfall = total <= limit ? memoryShortfall(total * bytesEach) : std::string();
-  if (total <= limit && shortfall.empty()) return;
+// memory the system has available, which would end in std::bad_alloc after a long wait. Only the
+// growth counts: `held` entries are in buffers the detection already has (a run's earlier
+// detections), which the available memory no longer includes. `atLeast`: the count stopped there.
+void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint64_t bytesEach, std::uint64_t held, std::uint32_t n,
+                const char* what, const char* cause, bool atLeast = false) {
+  const std::string shortfall =
+      total <= limit && !atLeast ? memoryShortfall((total > held ? total - held : 0) * bytesEach) : std::string();
+  if (total <= limit && shortfall.empty() && !atLeast) return;
   std::string msg = "detection would need ";
+  msg += atLeast ? "more than " : "";
   msg += std::to_string(total);
   msg += " ";
   msg += what;
   msg += " for ";
   msg += std::to_string(n);
-  if (shortfall.empty()) {
+  if (total >= limit || (shortfall.empty() && !atLeast)) {
     msg += " particles (at most ";
     msg += std::to_string(limit);
     msg += "): ";
+  } else if (atLeast) {
+    msg += " particles, whose buffers (" + std::to_string(bytesEach) + " bytes each) would take all of " +
+           availableMemoryText() + ": ";
   } else {
     msg += " particles, " + shortfall + ": ";
   }
   msg += cause;
   throw Error(msg);
 }
+
+// The most candidate pairs the sweep may collect before it stops counting: the scans' limit, or
+// fewer when the available memory (plus what the detection already holds) cannot take their
+// buffers. The sweep stores its hits as it goes (4 bytes each), so without this bound 70 000
+// coincident particles took 120 s and 10 GB before the count was refused.
+std::uint64_t candidateBudget(std::uint64_t held) {
+  const std::optional<std::uint64_t> have = availableMemory();
+  if (!have) return kMaxEntries;
+  const std::uint64_t fits = (*have + held * kCandidateBytes) / kCandidateBytes;
+  return std::min(kMaxEntries, std::max(fits, (std::uint64_t{1} << 30) / kCandidateBytes));
+}
+
 constexpr std::uint32_t kSweepChunk = 2048;   // records per sweep output buffer
 
 // The sweep's inner loop: tests `len` consecutive sorted records against one probe record and
@@ -204,13 +225,13 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) countRecords(in, f, prow, counts, i);
   });
   counts[n] = 0;
-  if (const std::uint64_t total = sum64(counts, n); total > recordLimit(n) || !memoryShortfall(total * kRecordBytes).empty()) {
+  if (const std::uint64_t total = sum64(counts, n); total > recordLimit(n) || total * kRecordBytes >= (1u << 30)) {
     char cause[320];
     std::snprintf(cause, sizeof cause,
                   "the cell size %g is too small for particles of radius up to %g, or the particles are spread too "
                   "far apart; use a larger [broadphase] cell_size or --cell-size (0 = automatic)",
                   double(f.cellSize), double(in.maxRadius));
-    checkTotal(total, recordLimit(n), kRecordBytes, n, "cell records", cause);
+    checkTotal(total, recordLimit(n), kRecordBytes, m_keys.size(), n, "cell records", cause);
   }
   std::uint32_t* first = recFirst.data();
   std::size_t tempBytes = 0;
@@ -274,9 +295,16 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   const float reachR = win.reach;
   const float maxWindow = win.maxWindow;  // ≥ every record's window r_s + reachR
   const SortedColumns cols{sx, sy, sz, sr, spz, sbody, sa0, sb0};
+  // Hits found so far, published every 2^16 per chunk (an integer count for the stop test only:
+  // nothing of the result depends on it).
+  const std::uint64_t budget = candidateBudget(nbr.size());
+  std::atomic<std::uint64_t> found{0};
+  std::atomic<bool> over{false};
   tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
     auto& out = m_chunkNbr[c];
     out.clear();
+    if (over.load(std::memory_order_relaxed)) return;
+    std::uint64_t unpublished = 0;
     std::vector<std::uint32_t>& cand = m_chunkHits[c];  // kept between runs: no allocation once sized
     const std::uint32_t end = std::min(numRec, (c + 1) * kSweepChunk);
     std::uint32_t e = c * kSweepChunk + 1;  // two pointers: end of the widest possible window
@@ -298,11 +326,26 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
           if (hits[t]) out.push_back(sp[base + t]);
       }
       nbrCount[s] = k;
+      unpublished += k;
+      if (unpublished >= (1u << 16)) {
+        if (found.fetch_add(unpublished, std::memory_order_relaxed) + unpublished > budget) {
+          over.store(true, std::memory_order_relaxed);
+          return;
+        }
+        unpublished = 0;
+        if (over.load(std::memory_order_relaxed)) return;
+      }
     }
+    found.fetch_add(unpublished, std::memory_order_relaxed);
   });
   nbrCount[numRec] = 0;
-  checkTotal(sum64(nbrCount, numRec), kMaxEntries, kCandidateBytes, n, "candidate pairs",
-             "the particles overlap too densely for one detection (in a run, a smaller skin lowers the count)");
+  const char* const denseCause =
+      "the particles overlap too densely for one detection (in a run, a smaller skin lowers the count)";
+  if (over.load() || found.load() > budget) {
+    for (auto& v : m_chunkNbr) std::vector<std::uint32_t>().swap(v);  // give the hits back first
+    checkTotal(budget, kMaxEntries, kCandidateBytes, nbr.size(), n, "candidate pairs", denseCause, /*atLeast=*/true);
+  }
+  checkTotal(sum64(nbrCount, numRec), kMaxEntries, kCandidateBytes, nbr.size(), n, "candidate pairs", denseCause);
   std::uint32_t* offs = tumble::detail::grow(nbrOffsets, numRec + 1);
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, nbrCount, offs, numRec + 1);
   exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nbrCount, offs, numRec + 1);
