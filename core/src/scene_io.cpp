@@ -618,6 +618,13 @@ class SceneParser {
                             static_cast<float>(d[2] * inv), static_cast<float>(d[3] * inv)};
     }
     b.angularVelocity = r.vec3("angular_velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
+    {
+      const Vec3f& om = b.angularVelocity;
+      if (const std::string why = angularVelocityOutOfRange(
+              scene.shapes[b.shape], std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z));
+          !why.empty())
+        r.fail(lineOf(*r.find("angular_velocity")), "angular_velocity: " + why);
+    }
     addParticles(r, r.line(), scene.shapes[b.shape].spheres.size());
     scene.bodies.push_back(b);
   }
@@ -717,6 +724,10 @@ class SceneParser {
     for (float v : {velocity.x, velocity.y, velocity.z}) {
       if (!(std::fabs(double(v)) + double(velocityJitter) <= kFloatMax))
         r.fail(r.line(), "velocity with velocity_jitter reaches beyond single-precision range");
+    }
+    for (std::uint32_t s : shapes) {
+      if (const std::string why = angularVelocityOutOfRange(scene.shapes[s], spin); !why.empty())
+        r.fail(lineOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
     }
 
     Rng rng(groupSeed(m_seed, index));

@@ -217,6 +217,11 @@ World World::fromScene(const Scene& scene) {
     const ShapeProps& p = props[bd.shape];
     if (!finite(bd.position) || !finite(bd.velocity) || !finite(bd.angularVelocity))
       throw Error("body " + std::to_string(k) + " has a non-finite position or velocity");
+    const Vec3f& om = bd.angularVelocity;
+    if (const std::string why = angularVelocityOutOfRange(
+            sh, std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z));
+        !why.empty())
+      throw Error("body " + std::to_string(k) + ": " + why);
     w.first[k] = static_cast<std::uint32_t>(w.radius.size());
     w.numParticlesOf[k] = static_cast<std::uint32_t>(sh.spheres.size());
     if (sh.spheres.size() > 1) w.hasClumps = true;
@@ -299,6 +304,26 @@ double shapeExtent(const ShapeDef& shape) {
   return reach;
 }
 
+double shapeInertiaBound(const ShapeDef& shape) {
+  double com[3];
+  shapeMass(shape, com);
+  double most = 0.0;
+  for (const SphereDef& sp : shape.spheres) {
+    const double dx = sp.offset.x - com[0], dy = sp.offset.y - com[1], dz = sp.offset.z - com[2];
+    most += double(sp.mass) * (0.4 * double(sp.radius) * sp.radius + dx * dx + dy * dy + dz * dz);
+  }
+  return most;
+}
+
+std::string angularVelocityOutOfRange(const ShapeDef& shape, double omega) {
+  const double bound = shapeInertiaBound(shape) * omega;
+  if (bound <= double(std::numeric_limits<float>::max())) return {};
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "an angular velocity of %.3g rad/s gives this shape an angular momentum of up to "
+                "%.3g kg m^2/s, beyond single precision", omega, bound);
+  return buf;
+}
+
 std::string shapeOutOfRange(const ShapeDef& shape) {
   if (shape.spheres.empty()) return {};
   constexpr double kMax = std::numeric_limits<float>::max();
@@ -317,13 +342,9 @@ std::string shapeOutOfRange(const ShapeDef& shape) {
   // Single-sphere bodies never rotate: their inertia is never used.
   if (shape.spheres.size() == 1) return shapeExtent(shape) <= 0.5 * kMax ? std::string() : std::string(
       "its sphere reaches beyond single-precision range");
-  double most = 0.0, least = 0.0;
-  for (const SphereDef& sp : shape.spheres) {
-    const double dx = sp.offset.x - com[0], dy = sp.offset.y - com[1], dz = sp.offset.z - com[2];
-    const double own = 0.4 * double(sp.mass) * double(sp.radius) * sp.radius;
-    most += own + double(sp.mass) * (dx * dx + dy * dy + dz * dz);
-    least += own;
-  }
+  const double most = shapeInertiaBound(shape);
+  double least = 0.0;
+  for (const SphereDef& sp : shape.spheres) least += 0.4 * double(sp.mass) * double(sp.radius) * sp.radius;
   if (!(most <= kMax)) {
     std::snprintf(buf, sizeof buf, "its moment of inertia (up to %.3g kg m^2) is beyond single precision; use smaller "
                   "masses, radii or offsets", most);

@@ -650,6 +650,19 @@ TEST(SceneIoErrors, DerivedValuesBeyondSinglePrecision) {
   expectError(withExtra(group + "origin = [3.4e38, 0, 0]\njitter = 1e38\n"), 12, {"lattice reaches beyond", "jitter"});
   expectError(withExtra(group + "velocity = [3e38, 0, 0]\nvelocity_jitter = 1e38\n"), 12,
               {"velocity with velocity_jitter"});
+  // A spin whose angular momentum I ω overflows: at the key's line, for a body and for a lattice
+  // (a clump of two 100 kg spheres: I ω up to 5.8e38 at 3e38 rad/s). Before, the body's L became
+  // infinite at load and the run stopped at step 10 with "try dt = …".
+  const std::string heavy =
+      "[[shape]]\nname = \"heavy\"\nsphere = [{radius = 0.1, mass = 100}, {offset = [0.15, 0, 0], radius = 0.1, "
+      "mass = 100}]\n";
+  expectError(withExtra(heavy + "[[body]]\nshape = \"heavy\"\nposition = [0, 0, 1]\nangular_velocity = [0, 0, 3e38]\n"),
+              18, {"angular_velocity", "angular momentum of up to 5.78e+38", "beyond single precision"});
+  expectError(withExtra(heavy + "[[group]]\nshape = \"heavy\"\ncount = [2, 1, 1]\nspacing = 1\nspin = 3e38\n"), 19,
+              {"spin", "beyond single precision", "shape 'heavy'"});
+  EXPECT_NO_THROW((void)tumble::parseScene(
+      withExtra(heavy + "[[body]]\nshape = \"heavy\"\nposition = [0, 0, 1]\nangular_velocity = [0, 0, 1e36]\n"),
+      "test.toml"));
 }
 
 // A lattice the machine could never run is refused at its count, at once, instead of ending in

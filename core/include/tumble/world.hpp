@@ -106,6 +106,14 @@ void toWorld(BodyState& s, const LocalFrame& f);
 /// reach from the body's position.
 double shapeExtent(const ShapeDef& shape);
 
+/// Σ m (0.4 r² + |u|²) over a shape's spheres (u about the centre of mass), kg m²: at least its
+/// largest principal moment of inertia.
+double shapeInertiaBound(const ShapeDef& shape);
+
+/// Why a body of this shape spinning at `omega` rad/s would have an angular momentum beyond
+/// single precision (bounded by shapeInertiaBound × omega), as a phrase; empty when it fits.
+std::string angularVelocityOutOfRange(const ShapeDef& shape, double omega);
+
 /// Why a shape's derived values cannot be held in single precision (the total mass or its
 /// inverse, the moment of inertia or its inverse, the extent), as a phrase for a message; empty
 /// when they can. The scene reader reports it at the shape's line; World::fromScene throws it.
