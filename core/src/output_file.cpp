@@ -68,6 +68,8 @@ int namedDescriptor(const std::string& path) {
 
 }  // namespace
 
+bool namesDescriptor(const std::string& path) { return namedDescriptor(path) >= 0; }
+
 OutputFile::OutputFile(const std::string& path) : m_path(path) {
   if (const int fd = namedDescriptor(path); fd >= 0) {
     m_direct = m_descriptor = true;

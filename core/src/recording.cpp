@@ -454,9 +454,12 @@ void RecordingWriter::writeBytes(const std::uint8_t* data, std::size_t size, con
 
 std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& path, const World& world, bool debug,
                                                              int stepsPerFrame, std::uint64_t step, float fps) {
-  // Nothing to continue where there is no file, or where the target is a device or a FIFO.
+  // Nothing to continue where there is no file, where the target is a device or a FIFO, or
+  // where it is a descriptor the process was given (`--record /dev/stdout > rec.bin`: the shell
+  // has emptied the file, or appends to it; either way the output is a stream of its own).
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
+  if (namesDescriptor(path) || !std::filesystem::is_regular_file(path, ec))
+    return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
   RecordingReader reader(path);
   const Recording& old = reader.header();
   const RecordingInfo& i = old.info;

@@ -235,6 +235,15 @@ expect_status "resume recording to /dev/null" 0 "$bin" run small.toml --resume i
 echo "previous line" > log.txt
 "$bin" run small.toml --steps 5 --state-out /dev/stdout -q >> log.txt 2>err.txt
 grep -q "previous line" log.txt && grep -q "^body,x,y,z" log.txt && ok "/dev/stdout appends to the shell's file" || bad "/dev/stdout replaced log.txt"
+# A resumed run recording to /dev/stdout: a new recording from the checkpoint on (the shell has
+# emptied the file; it used to be read as the recording to continue and refused as truncated).
+"$bin" run small.toml --resume int.ck --steps $((at + 20)) --record /dev/stdout -q > resumed.bin 2>err.txt
+rm -f fresh.bin
+"$bin" run small.toml --resume int.ck --steps $((at + 20)) --record fresh.bin -q 2>>err.txt
+# The same frames as a new recording to a file; only the header differs (a descriptor is not
+# seeked back, so its frame count stays "unfinished"): compare after the 77 header bytes.
+[ -s resumed.bin ] && cmp -s <(tail -c +78 resumed.bin) <(tail -c +78 fresh.bin) \
+  && ok "resume --record /dev/stdout writes a new recording" || bad "resume --record /dev/stdout: $(cat err.txt)"
 n=$("$bin" run small.toml --steps 20 --record /dev/stdout -q 2>err.txt | wc -c)
 [ "$n" -gt 1000 ] && ok "a recording to a pipe" || bad "a recording to a pipe: $n bytes; $(cat err.txt)"
 

@@ -24,6 +24,10 @@ namespace tumble {
 /// tumble::Error for a loop (more than 40 links).
 std::string outputTarget(const std::string& path);
 
+/// Whether `path` names a descriptor of this process (/dev/stdout, /dev/stderr, /dev/fd/N,
+/// /proc/self/fd/N), which OutputFile writes through.
+bool namesDescriptor(const std::string& path);
+
 class OutputFile {
  public:
   /// Opens the temporary (or the non-regular target) for writing. Throws tumble::Error naming

@@ -111,7 +111,8 @@ class RecordingWriter {
   /// frames up to that step are written again, with the same bytes, to a temporary and
   /// the writer appends from there, so that the finished file equals the uninterrupted run's;
   /// `path` itself is replaced only by close(), and never when the copy fails. When `path` does
-  /// not exist, or is not a regular file (a device, a FIFO), this is a new recording. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
+  /// not exist, is not a regular file (a device, a FIFO) or names a descriptor (/dev/stdout,
+  /// /dev/fd/N: namesDescriptor), this is a new recording, from `step` on. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
   /// when it records another scene or other settings (its frames would not belong to this run).
   static std::unique_ptr<RecordingWriter> continueAt(const std::string& path, const World& world, bool debug,
                                                      int stepsPerFrame, std::uint64_t step, float fps = 60.0f);
