@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -69,6 +71,33 @@ int namedDescriptor(const std::string& path) {
 }  // namespace
 
 bool namesDescriptor(const std::string& path) { return namedDescriptor(path) >= 0; }
+
+namespace {
+volatile std::sig_atomic_t g_writeStop = 0;
+}  // namespace
+
+void requestWriteStop() noexcept { g_writeStop = 1; }
+void clearWriteStop() noexcept { g_writeStop = 0; }
+bool writeStopRequested() noexcept { return g_writeStop != 0; }
+
+bool writeFully(std::FILE* file, const void* data, std::size_t size) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  while (size > 0) {
+    errno = 0;
+    const std::size_t n = std::fwrite(p, 1, size, file);
+    p += n;
+    size -= n;
+    if (size == 0) break;
+    if (!std::ferror(file)) {
+      if (n > 0) continue;  // a short write without an error: go on
+      errno = EIO;
+      return false;
+    }
+    if (errno != EINTR || writeStopRequested()) return false;
+    std::clearerr(file);
+  }
+  return true;
+}
 
 OutputFile::OutputFile(const std::string& path) : m_path(path) {
   if (const int fd = namedDescriptor(path); fd >= 0) {

@@ -445,7 +445,7 @@ RecordingWriter::~RecordingWriter() {
 }
 
 void RecordingWriter::writeBytes(const std::uint8_t* data, std::size_t size, const char* what) {
-  if (size != 0 && std::fwrite(data, 1, size, m_file) != size) {
+  if (!writeFully(m_file, data, size)) {
     m_failed = true;
     throw Error("cannot write " + std::string(what) + " to recording file '" + m_partPath +
                 "': " + errnoText(errno));
@@ -581,7 +581,9 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
   // Flush every frame so that a crashed run leaves all its complete frames in the temporary.
   // A frame that cannot be written whole (a full disk) is cut off again: the file keeps every
   // complete frame, and close() still finishes it.
-  if (std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_file) != m_buffer.size() || std::fflush(m_file) != 0) {
+  // A signal that interrupts the write (a pipe nobody reads) restarts it, unless a stop was
+  // requested (writeFully, output_file.hpp).
+  if (!writeFully(m_file, m_buffer.data(), m_buffer.size()) || std::fflush(m_file) != 0) {
     const std::string why = errnoText(errno != 0 ? errno : EIO);
     std::clearerr(m_file);  // unbuffered: nothing of the frame is left to be written later
     if (::ftruncate(::fileno(m_file), static_cast<off_t>(m_complete)) != 0 ||
@@ -616,7 +618,7 @@ void RecordingWriter::close() {
   // A target that cannot seek (a FIFO, a pipe, a descriptor shared with the shell) keeps the
   // header's "unfinished" count, which readers accept.
   const bool seekable = !m_out->throughDescriptor() && std::fseek(file, m_frameCountOffset, SEEK_SET) == 0;
-  const bool patched = !seekable || (std::fwrite(m_header.data() + at, 1, 12, file) == 12 && std::fflush(file) == 0);
+  const bool patched = !seekable || (writeFully(file, m_header.data() + at, 12) && std::fflush(file) == 0);
   if (!patched) {
     const std::string why = errnoText(errno != 0 ? errno : EIO);
     const std::string kept = m_out->keep();

@@ -212,6 +212,25 @@ expect_status "resume the interrupted run" 0 "$bin" run small.toml --resume int.
 expect_status "straight run to the same step" 0 "$bin" run small.toml --steps $((at + 20)) --record straight.bin -q
 cmp -s int.bin straight.bin && ok "interrupted + resumed recording equals the straight one" || bad "interrupted + resumed recording differs"
 
+# SIGTERM while the recording's write is blocked on a pipe nobody reads: the write gets 2 s to
+# finish, is then given up, and the run still stops (before, the restarted write blocked until a
+# second signal).
+rm -f stuck.pid
+{ "$bin" run small.toml --steps 100000000 --record /dev/stdout --checkpoint stuck.ck -q 2>stuck.err & echo $! > stuck.pid; wait; } | sleep 30 &
+reader=$!
+sleep 2
+t0=$(date +%s)
+kill -TERM "$(cat stuck.pid)"
+for _ in $(seq 1 100); do kill -0 "$(cat stuck.pid)" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$(cat stuck.pid)" 2>/dev/null; then
+  bad "SIGTERM with a blocked recording pipe: still running 10 s later"; kill -KILL "$(cat stuck.pid)"
+else
+  ok "SIGTERM with a blocked recording pipe ends the run after $(( $(date +%s) - t0 )) s"
+fi
+grep -q "interrupted (SIGTERM)" stuck.err && [ -s stuck.ck ] && ok "the blocked run wrote its checkpoint and said so" \
+  || bad "blocked run: $(cat stuck.err)"
+kill "$reader" 2>/dev/null; wait "$reader" 2>/dev/null
+
 # Bodies that start pressed into each other or into the ground are named at load.
 sed 's/spacing = 0.25/spacing = 0.1/' small.toml > tight.toml
 expect_status "overlapping start" 0 "$bin" run tight.toml --steps 5 -q

@@ -184,6 +184,7 @@ void run(RunOptions o) {
   auto lastPrint = t0;
   std::uint64_t done = start;
   std::uint64_t checkedAt = start;  // the step of the last guard check
+  bool frameCut = false;            // a frame's write was given up at a stop
   try {
     while (done < scene.steps && g_stopSignal == 0) {
       std::uint64_t chunk = scene.steps - done;
@@ -202,7 +203,15 @@ void run(RunOptions o) {
       if (frameDue) {
         pipeline->readState(state);
         if (debug) pipeline->readDebug(dbg);
-        rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr);
+        try {
+          rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr);
+        } catch (const Error&) {
+          // Stopping, and the write was interrupted (a pipe nobody reads: StopOnSignal gave it
+          // kWriteGraceSeconds): the run stops as interrupted, without that frame.
+          if (!writeStopRequested() || g_stopSignal == 0) throw;
+          frameCut = true;
+          break;
+        }
         if (done + perFrame > recSteps) rec->close();  // last frame: the file is complete now
       }
       if (checkpointDue) Checkpoint::of(world, *pipeline).write(o.checkpoint);
@@ -236,6 +245,8 @@ void run(RunOptions o) {
     if (rec) {
       rec->close();
       kept = "; kept " + std::to_string(rec->numFrames()) + " frames in " + rec->path();
+      if (frameCut) kept += " (the next frame's write was given up: nothing read it for " +
+                            std::to_string(kWriteGraceSeconds) + " s)";
     }
     if (!o.checkpoint.empty()) {
       if (!(ckEvery && done % ckEvery == 0 && done > start))  // else just written by the loop

@@ -15,6 +15,7 @@
 ///   target's permission bits when it existed (else 0666 less the umask; never set-id bits). Until then the target
 ///   is untouched; abandon() (or the destructor) removes the temporary.
 #pragma once
+#include <cstddef>
 #include <cstdio>
 #include <string>
 
@@ -23,6 +24,19 @@ namespace tumble {
 /// `path` with its symbolic links followed; a dangling link gives the path it names. Throws
 /// tumble::Error for a loop (more than 40 links).
 std::string outputTarget(const std::string& path);
+
+/// Asks writes to give up instead of restarting when a signal interrupts them. Async-signal-safe:
+/// a stop handler calls it (tumble run's first Ctrl-C), so that a write blocked on a pipe nobody
+/// reads ends once a later signal interrupts it (EINTR) instead of blocking the stop forever.
+void requestWriteStop() noexcept;
+/// Clears the request (a new stop handler, or the handler's end).
+void clearWriteStop() noexcept;
+bool writeStopRequested() noexcept;
+
+/// Writes all `size` bytes of `data` to `file`, continuing after a short write and after a signal
+/// (EINTR) unless writeStopRequested(). Returns false on an error, errno telling which (EINTR
+/// once a stop was requested).
+bool writeFully(std::FILE* file, const void* data, std::size_t size);
 
 /// Whether `path` names a descriptor of this process (/dev/stdout, /dev/stderr, /dev/fd/N,
 /// /proc/self/fd/N), which OutputFile writes through.
