@@ -141,7 +141,21 @@ struct SortedColumns {
   const std::int32_t* b0;
 };
 
-__attribute__((target_clones("avx2", "default"))) std::uint32_t testCandidates(const SortedColumns& c, std::uint32_t base,
+// GCC's ifunc resolver for target_clones runs before ThreadSanitizer's runtime is set up and
+// crashes the process at start-up, so a TSan build has the baseline loop only (the same flags:
+// both clones do the same IEEE operations).
+#if defined(__SANITIZE_THREAD__)
+#define TUMBLE_SWEEP_CLONES
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define TUMBLE_SWEEP_CLONES
+#endif
+#endif
+#ifndef TUMBLE_SWEEP_CLONES
+#define TUMBLE_SWEEP_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+
+TUMBLE_SWEEP_CLONES std::uint32_t testCandidates(const SortedColumns& c, std::uint32_t base,
                                                                     std::uint32_t len, const Probe& me,
                                                                     std::uint32_t* __restrict hits) {
   const float* __restrict cx = c.x + base;

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "tumble/error.hpp"
+#include "tumble/pipeline.hpp"  // kMaxThreads, with or without the viewer
 
 #if TUMBLE_HAS_VIEWER
 #include <imgui.h>
@@ -17,7 +18,6 @@
 #include <chrono>
 
 #include "tumble/guard.hpp"
-#include "tumble/pipeline.hpp"
 #include "tumble/recording.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/viewer/controls.hpp"
