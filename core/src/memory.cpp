@@ -1,28 +1,43 @@
 // SPDX-License-Identifier: MIT
 #include "tumble/memory.hpp"
 
+#include <fcntl.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <limits>
-#include <fstream>
 #include <string>
 
 namespace tumble {
 
 namespace {
 
-// A "Key:  N kB" line of a /proc file, in bytes.
-std::optional<std::uint64_t> procKilobytes(const char* file, const std::string& wanted) {
-  std::ifstream in(file);
-  std::string key;
-  while (in >> key) {
-    if (key == wanted) {
+// A "Key:  N kB" line of a /proc file, in bytes. No heap allocation (the detection asks at
+// every rebuild, and a step allocates nothing once sizes have settled).
+std::optional<std::uint64_t> procKilobytes(const char* file, const char* wanted) {
+  const int fd = ::open(file, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  char buf[8192];
+  std::size_t len = 0;
+  for (ssize_t n; len < sizeof buf - 1 && (n = ::read(fd, buf + len, sizeof buf - 1 - len)) > 0;)
+    len += static_cast<std::size_t>(n);
+  ::close(fd);
+  buf[len] = '\0';
+  const std::size_t keyLen = std::strlen(wanted);
+  for (const char* line = buf; *line != '\0';) {
+    if (std::strncmp(line, wanted, keyLen) == 0) {
+      const char* p = line + keyLen;
+      while (*p == ' ' || *p == '\t') ++p;
+      if (*p < '0' || *p > '9') return std::nullopt;
       std::uint64_t kb = 0;
-      if (in >> kb) return kb * 1024;
-      return std::nullopt;
+      for (; *p >= '0' && *p <= '9'; ++p) kb = 10 * kb + static_cast<std::uint64_t>(*p - '0');
+      return kb * 1024;
     }
-    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    const char* nl = std::strchr(line, '\n');
+    if (nl == nullptr) break;
+    line = nl + 1;
   }
   return std::nullopt;
 }

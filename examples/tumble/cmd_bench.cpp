@@ -119,7 +119,7 @@ void bench(BenchOptions o) {
 
 void addBench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
-  CLI::App* c = app.add_subcommand("bench", "Print the report's step-time table (SPEC §7) for this machine");
+  CLI::App* c = app.add_subcommand("bench", "Time the steps of the bench scene (or of scene files) per pipeline, size and thread count on this machine: ms per step and its phases");
   c->add_option("--sizes", o->sizes, "Particle counts of the bench scene (multiples of 8)")->delimiter(',')
       ->check(countIn(8, 100000000));
   c->add_option("--scene", o->scenes, "Time these scene files instead of the bench scene")->delimiter(',');

@@ -135,7 +135,7 @@ void play(const PlayOptions& o) {
 
 void addPlay(CLI::App& app) {
   auto o = std::make_shared<PlayOptions>();
-  CLI::App* c = app.add_subcommand("play", "Play a recording in a window, with the report's playback keys");
+  CLI::App* c = app.add_subcommand("play", "Play a recording in a window (arrows play and step, H shows the keys)");
   c->add_option("file", o->file, "Recording (default record.bin)");
   c->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
   c->add_option("--script", o->script,

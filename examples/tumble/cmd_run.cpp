@@ -7,6 +7,7 @@
 #include <cstring>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -260,10 +261,15 @@ void run(RunOptions o) {
   }
   if (rec) {
     rec->close();
-    if (!o.quiet)
+    if (!o.quiet) {
       std::fprintf(stderr, "recorded %llu frames (up to step %llu, %llu steps per frame) to %s\n",
                    static_cast<unsigned long long>(rec->numFrames()), static_cast<unsigned long long>(rec->lastStep()),
                    static_cast<unsigned long long>(perFrame), rec->path().c_str());
+      std::error_code ec;
+      if (!namesDescriptor(rec->path()) && std::filesystem::is_regular_file(rec->path(), ec))  // what next
+        std::fprintf(stderr, "  watch it: tumble play %s    make a video: tumble render %s -o video.mp4\n",
+                     rec->path().c_str(), rec->path().c_str());
+    }
   }
   if (!o.checkpoint.empty()) {
     Checkpoint::of(world, *pipeline).write(o.checkpoint);
