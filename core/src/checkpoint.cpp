@@ -111,6 +111,20 @@ void Checkpoint::write(const std::string& path) const {
   if (state.groundSpringY.size() != np) throw Error("checkpoint " + path + ": ground spring columns differ in length");
   for (const auto* c : bodyColumns(state))
     if (c->size() != nb) throw Error("checkpoint " + path + ": body columns differ in length");
+  // read() refuses non-finite values, so a diverged state (a run with --no-guard) is not
+  // written: the file at `path` stays as it was.
+  const auto cols = bodyColumns(state);
+  for (std::size_t k = 0; k < nb; ++k)
+    for (int c = 0; c < 13; ++c)
+      if (!std::isfinite((*cols[c])[k]))
+        throw SimulationError("checkpoint " + path + " not written: body " + std::to_string(k) + "'s " +
+                                  kColumnNames[c] + " is not finite (the run diverged; run it with the guard, "
+                                  "without --no-guard, to see where)");
+  for (std::size_t i = 0; i < np; ++i)
+    if (!std::isfinite(state.groundSpringX[i]) || !std::isfinite(state.groundSpringY[i]))
+      throw SimulationError("checkpoint " + path + " not written: the ground spring of particle " +
+                            std::to_string(i) + " is not finite (the run diverged)",
+                            static_cast<std::int64_t>(i));
   std::vector<std::uint8_t> buf;
   Encoder e(buf);
   e.bytes(kMagic, 8);

@@ -526,6 +526,8 @@ class SceneParser {
         sd.mass = sr.single(sr.require("mass", "sphere mass in kg, e.g. mass = 1.0"), "mass",
                             Rule::Positive);
         sd.elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
+        if (const std::string why = groundDampingOutOfRange(sd, scene.ground); !why.empty())
+          sr.fail(sr.line(), where + ", [[shape.sphere]] #" + std::to_string(i + 1) + ": " + why);
         shape.spheres.push_back(sd);
       }
       if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.line(), where + ": " + why);

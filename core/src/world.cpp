@@ -121,6 +121,17 @@ double dampingForRestitution(double e, double k, double m) {
   return 2.0 * zeta * std::sqrt(k * m);
 }
 
+std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams& ground) {
+  if (!ground.enabled) return {};
+  const double c = dampingForRestitution(sphere.elasticity, ground.stiffness, sphere.mass);
+  if (c <= double(std::numeric_limits<float>::max())) return {};
+  char buf[240];
+  std::snprintf(buf, sizeof buf, "its ground damping (elasticity %g, mass %.3g kg, ground stiffness %.3g N/m) is "
+                "%.3g N s/m, beyond single precision; use a smaller mass or [ground] stiffness", double(sphere.elasticity),
+                double(sphere.mass), double(ground.stiffness), c);
+  return buf;
+}
+
 double restitutionForDamping(double c, double k, double m) {
   const double zeta = c / (2.0 * std::sqrt(k * m));
   if (zeta >= 1.0) return 0.0;
@@ -226,6 +237,8 @@ World World::fromScene(const Scene& scene) {
     w.numParticlesOf[k] = static_cast<std::uint32_t>(sh.spheres.size());
     if (sh.spheres.size() > 1) w.hasClumps = true;
     for (const auto& sp : sh.spheres) {
+      if (const std::string why = groundDampingOutOfRange(sp, g); !why.empty())
+        throw Error("body " + std::to_string(k) + ", a sphere of shape '" + sh.name + "': " + why);
       w.radius.push_back(sp.radius);
       w.mass.push_back(sp.mass);
       w.elasticity.push_back(sp.elasticity);

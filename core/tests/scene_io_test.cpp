@@ -21,6 +21,7 @@
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/scene_io.hpp"
+#include "tumble/world.hpp"
 
 #ifndef TUMBLE_SOURCE_DIR
 #error "TUMBLE_SOURCE_DIR must name the source tree (set by core/CMakeLists.txt)"
@@ -663,6 +664,31 @@ TEST(SceneIoErrors, DerivedValuesBeyondSinglePrecision) {
   EXPECT_NO_THROW((void)tumble::parseScene(
       withExtra(heavy + "[[body]]\nshape = \"heavy\"\nposition = [0, 0, 1]\nangular_velocity = [0, 0, 1e36]\n"),
       "test.toml"));
+}
+
+// A ground damping c = 2 ζ √(k m) beyond single precision (a 3e38 kg sphere of elasticity 1e-6 on
+// a 3e38 N/m ground: 5.9e38 N s/m): refused at the sphere's table, and by World::fromScene for a
+// scene built in code. Before, the damping was infinite and the first ground contact gave NaN.
+TEST(SceneIoErrors, GroundDampingBeyondSinglePrecision) {
+  std::vector<std::string> ls = baseLines();
+  ls[7] = "mass = 3e38";
+  ls.insert(ls.begin() + 8, "elasticity = 1e-6");
+  ls.push_back("[ground]");
+  ls.push_back("stiffness = 3e38");
+  expectError(join(ls), 6, {"[[shape.sphere]] #1", "ground damping", "beyond single precision"});
+  ls.push_back("enabled = false");  // no ground, no ground damping
+  EXPECT_NO_THROW((void)tumble::parseScene(join(ls), "test.toml"));
+  ls.pop_back();
+  ls.back() = "stiffness = 1e30";
+  tumble::Scene scene = tumble::parseScene(join(ls), "test.toml");
+  EXPECT_NO_THROW((void)tumble::World::fromScene(scene));
+  scene.ground.stiffness = 3e38f;
+  try {
+    (void)tumble::World::fromScene(scene);
+    ADD_FAILURE() << "an infinite ground damping was accepted";
+  } catch (const tumble::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ground damping"), std::string::npos) << e.what();
+  }
 }
 
 // A lattice the machine could never run is refused at its count, at once, instead of ending in

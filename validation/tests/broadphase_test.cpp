@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tumble/error.hpp"
+#include "tumble/kernels/cell_key.hpp"
 #include "tumble/random.hpp"
 #include "tumble/validation/brute_force.hpp"
 #include "tumble/validation/scenes.hpp"
@@ -131,10 +132,55 @@ TEST(BroadphaseBoundsTest, HugeRecordCountsAreRefused) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("detection would need"), std::string::npos) << e.what();
   }
-  c = ParticleCloud{};
-  for (std::uint32_t i = 0; i < 124; ++i) add(2.5f * float(i), i);
-  add(1e30f, 124);
-  EXPECT_THROW(p->findPairs(c, BroadphaseParams{}), Error);
+}
+
+// One particle 1e30 m away: the rounding margin spans 10^24 m, so the automatic cell is a few
+// margins wide (at least 8) instead of a few radii, and the detection finds the oracle's pairs
+// instead of needing 10^14 cell records per particle (it was refused; before the bound, the
+// 32-bit record scan wrapped and the emission wrote past its buffers).
+TEST_P(PairsTest, OneFarParticle) {
+  ParticleCloud c;
+  for (std::uint32_t i = 0; i < 125; ++i) {
+    c.x.push_back(i < 124 ? 1.9f * float(i) : 1e30f);
+    c.y.push_back(0.0f);
+    c.z.push_back(0.01f * float(i % 3));
+    c.r.push_back(1.0f);
+    c.body.push_back(i);
+  }
+  auto p = makePipeline(GetParam());
+  expectSamePairs(*p, c, BroadphaseParams{}, "124 on a line, one 1e30 m away");
+  EXPECT_EQ(bruteForcePairs(c).size(), 123u);
+}
+
+// A coordinate near the float limit makes v / M infinite or beyond the int32 range; the cell
+// index is clamped before the conversion (found by the particle CSV fuzz target, UBSan).
+TEST(BroadphaseBoundsTest, CellIndexOfOverflowedCoordinates) {
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(cellIndex(3.0e38f, 10.0f, -5, 10), 4);
+  EXPECT_EQ(cellIndex(inf, 1.0f, -5, 10), 4);
+  EXPECT_EQ(cellIndex(-3.0e38f, 10.0f, -5, 10), -5);
+  EXPECT_EQ(cellIndex(-inf, 1.0f, -5, 10), -5);
+  EXPECT_EQ(cellIndex(std::numeric_limits<float>::quiet_NaN(), 1.0f, -5, 10), -5);
+  EXPECT_EQ(cellIndex(3.0e9f, 1.0f, 0, 4), 3);
+  EXPECT_EQ(cellIndex(-3.0e9f, 1.0f, -2147483647, 4), -2147483647);
+  EXPECT_EQ(cellIndex(2.5f, 1.0f, -5, 10), 2);
+  EXPECT_EQ(cellIndex(-0.5f, 1.0f, -5, 10), -1);
+}
+
+// Radii below the rounding margin's floor (1e-30): the automatic cell is at least 8 margins
+// wide, or every particle covers millions of cells and the detection is refused.
+TEST_P(PairsTest, RadiiBelowTheSlackFloor) {
+  ParticleCloud c;
+  for (std::uint32_t i = 0; i < 200; ++i) {
+    c.x.push_back(1.5e-33f * float(i % 20));
+    c.y.push_back(1.5e-33f * float(i / 20));
+    c.z.push_back(0.0f);
+    c.r.push_back(1e-33f);
+    c.body.push_back(i);
+  }
+  auto p = makePipeline(GetParam());
+  // (No pairs: the squared distances and radii underflow to 0 in the shared predicate.)
+  expectSamePairs(*p, c, BroadphaseParams{}, "radii of 1e-33");
 }
 
 TEST_P(PairsTest, StepPairsMatchBruteForceOnTheBenchScene) {

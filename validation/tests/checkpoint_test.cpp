@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <unistd.h>
 
@@ -188,3 +189,31 @@ TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
 
 INSTANTIATE_TEST_SUITE_P(Backends, CheckpointTest, ::testing::ValuesIn(compiledBackends()),
                          [](const auto& info) { return std::string(toString(info.param)); });
+
+// A diverged state (a run with --no-guard) is refused when written, since read() would refuse
+// it; the file already at the path stays as it was.
+TEST(Checkpoint, ADivergedStateIsNotWritten) {
+  Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
+  s.bodies.resize(4);
+  const World w = World::fromScene(s);
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  p->step(2);
+  const std::string path = tempPath("diverged.ck");
+  const Checkpoint good = Checkpoint::of(w, *p);
+  good.write(path);
+  for (std::vector<float> BodyState::*column : {&BodyState::lx, &BodyState::vz, &BodyState::groundSpringY}) {
+    Checkpoint bad = good;
+    std::vector<float>& c = bad.state.*column;
+    ASSERT_FALSE(c.empty());
+    c.back() = std::numeric_limits<float>::infinity();
+    try {
+      bad.write(path);
+      ADD_FAILURE() << "a non-finite state was written";
+    } catch (const SimulationError& e) {
+      EXPECT_NE(std::string(e.what()).find("not finite"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(Checkpoint::read(path).step, 2u);  // the previous file, intact
+  }
+  std::remove(path.c_str());
+}

@@ -69,7 +69,7 @@ struct BodyDef {
 /// Collision-detection knobs. They change speed only, never the contacts or a bit of the
 /// trajectory (the contact list is canonical, kernels/contact_list.hpp).
 struct BroadphaseParams {
-  float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (3 diameters of World::sizingRadius, at least 1/32 of the largest diameter)
+  float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (3 diameters of World::sizingRadius, at least 1/32 of the largest diameter and 8 rounding margins)
   int pcaEvery = 10;       ///< recompute the PCA axis every K detections (1 = every one)
   /// Verlet skin s: detection finds the pairs within r_i + r_j + s and the list is kept until two
   /// particles may have closed in by s (about s/2 of motion each); 0 = detect every step (the report's method); negative = automatic

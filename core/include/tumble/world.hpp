@@ -127,6 +127,11 @@ Quatf shapeOrientation(const World& world, const BodyState& state, std::size_t k
 /// spring-dashpot without gravity, contact ending when the overlap returns to zero.
 double dampingForRestitution(double e, double k, double m);
 
+/// Why the ground damping of a sphere (dampingForRestitution of its elasticity, its mass and the
+/// ground's stiffness) cannot be held in single precision, as a phrase; empty when it can or the
+/// ground is off. The scene reader reports it at the sphere's line; World::fromScene throws it.
+std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams& ground);
+
 /// Restitution of the same model for damping c: e = exp(−ζπ/√(1−ζ²)) (0 when ζ ≥ 1).
 double restitutionForDamping(double c, double k, double m);
 

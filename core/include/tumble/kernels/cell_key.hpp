@@ -59,12 +59,15 @@ struct CellRange {
   std::int32_t a0, a1, b0, b1;
 };
 
+/// Clamped to [lo, lo + n − 1] before the conversion, in double (exact for every int32), so that
+/// a product beyond the int32 range, infinite (a coordinate near the float limit) or NaN never
+/// reaches the conversion, whose result would be undefined.
 TUMBLE_HD_INLINE std::int32_t cellIndex(float v, float invCell, std::int32_t lo, std::uint32_t n) {
-  std::int32_t c = static_cast<std::int32_t>(std::floor(v * invCell));
-  if (c < lo) c = lo;  // cannot happen for points inside the frame; guards float edge cases
+  const double c = static_cast<double>(std::floor(v * invCell));
   const std::int32_t hi = lo + static_cast<std::int32_t>(n) - 1;
-  if (c > hi) c = hi;
-  return c;
+  if (!(c > static_cast<double>(lo))) return lo;  // cannot happen inside the frame; float edge cases
+  if (c >= static_cast<double>(hi)) return hi;
+  return static_cast<std::int32_t>(c);
 }
 
 TUMBLE_HD_INLINE CellRange cellRange(const SweepFrame& f, Projected pr, float r) {
