@@ -6,6 +6,7 @@
 #   ./tumble.sh build                                    install and build only
 #   ./tumble.sh sanitize                                 the tests again in an ASan + UBSan build (build-sanitize)
 #   ./tumble.sh tsan                                     the threaded tests under ThreadSanitizer (build-tsan)
+#   ./tumble.sh fuzz [SECONDS] [TARGET...]               each libFuzzer target SECONDS (default 60) on its corpus (build-fuzz)
 # Environment: BUILD_DIR (default build), JOBS (default: all cores), TUMBLE_ENABLE_CUDA (AUTO|ON|OFF).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -27,6 +28,22 @@ install_packages() {
   [ "$(id -u)" -ne 0 ] && sudo="sudo"
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+# Debian's source index (for apt-get source), from the Debian archives already configured, when
+# no deb-src line is there: /etc/apt/sources.list.d/tumble-src.{sources,list}.
+ensure_deb_src() {
+  grep -rqsE '^[[:space:]]*(Types:.*deb-src|deb-src[[:space:]])' /etc/apt/sources.list /etc/apt/sources.list.d/ && return 0
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  echo "tumble.sh: adding the deb-src lines of the configured Debian archives (/etc/apt/sources.list.d/tumble-src.*)" >&2
+  local f
+  for f in /etc/apt/sources.list.d/*.sources; do
+    [ -f "$f" ] && grep -qE '^URIs:.*/debian' "$f" && sed 's/^Types:[[:space:]]*deb[[:space:]]*$/Types: deb-src/' "$f" && echo
+  done | $sudo tee /etc/apt/sources.list.d/tumble-src.sources >/dev/null
+  [ -f /etc/apt/sources.list ] && sed -n 's/^deb[[:space:]]\(.*\/debian.*\)/deb-src \1/p' /etc/apt/sources.list |
+    $sudo tee /etc/apt/sources.list.d/tumble-src.list >/dev/null
+  $sudo apt-get update -qq
 }
 
 configure_and_build() {
@@ -80,9 +97,10 @@ case "$cmd" in
       src=$(find "$build/onetbb-src" -maxdepth 1 -mindepth 1 -type d -name 'onetbb-*' 2>/dev/null | head -n 1 || true)
       if [ -z "$src" ]; then
         mkdir -p "$build/onetbb-src"
+        ensure_deb_src
         if ! (cd "$build/onetbb-src" && apt-get source -qq onetbb >/dev/null 2>&1); then
-          echo "tumble.sh tsan: cannot get Debian's oneTBB source (apt-get source onetbb); add a deb-src line" \
-               "for bookworm to /etc/apt/sources.list.d and run apt-get update, or set TBB_SOURCE=DIR" >&2
+          echo "tumble.sh tsan: cannot get Debian's oneTBB source (apt-get source onetbb); check the deb-src" \
+               "lines for bookworm in /etc/apt/sources.list.d and run apt-get update, or set TBB_SOURCE=DIR" >&2
           exit 2
         fi
         src=$(find "$build/onetbb-src" -maxdepth 1 -mindepth 1 -type d -name 'onetbb-*' | head -n 1)
@@ -103,8 +121,40 @@ case "$cmd" in
     # whole suite under TSan takes hours on two cores.
     export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1 exitcode=66 second_deadlock_stack=1}
     exec ctest --output-on-failure -j "$jobs" -R "${TSAN_TESTS:-$tsan_tests}" ;;
+  fuzz)
+    # The readers under libFuzzer with ASan + UBSan (docs/fuzzing.md). New inputs go to
+    # build-fuzz/corpus/TARGET, findings (the input, for the regression test) to
+    # build-fuzz/findings; the seed corpus in validation/fuzz/corpus is only read.
+    packages+=(clang-14 libclang-rt-14-dev)
+    install_packages
+    seconds=60
+    if [ $# -gt 0 ] && [[ "$1" =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
+    targets=("$@")
+    [ ${#targets[@]} -eq 0 ] && targets=(scene recording checkpoint particle_csv)
+    build=${FUZZ_BUILD_DIR:-$here/build-fuzz}
+    CC=clang-14 CXX=clang++-14 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+          -DTUMBLE_ENABLE_CUDA=OFF -DTUMBLE_FUZZ=ON -DTUMBLE_SANITIZE=ON -DTUMBLE_BUILD_TESTS=OFF \
+          -DTUMBLE_BUILD_BENCH=OFF -DTUMBLE_BUILD_EXAMPLES=OFF >/dev/null
+    cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+    mkdir -p "$build/findings"
+    export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
+    status=0
+    for t in "${targets[@]}"; do
+      [ -d "$here/validation/fuzz/corpus/$t" ] || { echo "tumble.sh fuzz: no target '$t'" >&2; exit 2; }
+      mkdir -p "$build/corpus/$t"
+      echo "tumble.sh fuzz: $t for $seconds s" >&2
+      if ! "$build/validation/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 \
+             -print_final_stats=1 -artifact_prefix="$build/findings/$t-" \
+             "$build/corpus/$t" "$here/validation/fuzz/corpus/$t" >"$build/fuzz-$t.log" 2>&1; then
+        tail -n 60 "$build/fuzz-$t.log" >&2
+        echo "tumble.sh fuzz: $t found a problem; the input is in $build/findings (log: $build/fuzz-$t.log)" >&2
+        status=1
+      fi
+      grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$build/fuzz-$t.log" | sed "s/^/  $t /" >&2 || true
+    done
+    exit $status ;;
   -h|--help|help)
-    sed -n '3,9p' "$0" | sed 's/^# \{0,1\}//' ;;
+    sed -n '3,10p' "$0" | sed 's/^# \{0,1\}//' ;;
   *)
-    echo "tumble.sh: unknown command '$cmd' (expected run, test, build, sanitize or tsan)" >&2; exit 2 ;;
+    echo "tumble.sh: unknown command '$cmd' (expected run, test, build, sanitize, tsan or fuzz)" >&2; exit 2 ;;
 esac

@@ -30,3 +30,12 @@ if(TUMBLE_SANITIZE AND NOT TUMBLE_SANITIZE STREQUAL "OFF")
   target_link_options(tumble_flags INTERFACE -fsanitize=${_san})
   message(STATUS "tumble: sanitizers ${_san}")
 endif()
+# TUMBLE_FUZZ: every host target gets libFuzzer's coverage instrumentation (the fuzz targets
+# themselves link -fsanitize=fuzzer: validation/fuzz).
+if(TUMBLE_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "TUMBLE_FUZZ needs Clang (libFuzzer): configure with -DCMAKE_CXX_COMPILER=clang++-14")
+  endif()
+  target_compile_options(tumble_flags INTERFACE -fsanitize=fuzzer-no-link)
+  message(STATUS "tumble: libFuzzer instrumentation")
+endif()

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+/// @file fuzz_util.hpp
+/// Shared by the libFuzzer targets (docs/fuzzing.md): the readers that take a path get the
+/// input through a file of this process, and a property that fails aborts with a message, which
+/// libFuzzer reports as a crash and saves the input for.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <unistd.h>
+
+namespace tumble::fuzz {
+
+/// A file of this process (in /dev/shm when there is one: no disk traffic), `tag` in its name.
+inline std::string scratchPath(const char* tag) {
+  const char* dir = ::access("/dev/shm", W_OK) == 0 ? "/dev/shm" : (std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
+  return std::string(dir) + "/tumble-fuzz-" + std::to_string(::getpid()) + "-" + tag;
+}
+
+/// Writes the input to scratchPath(tag) and returns that path.
+inline std::string writeInput(const std::uint8_t* data, std::size_t size, const char* tag) {
+  const std::string path = scratchPath(tag);
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) std::abort();
+  if (size && std::fwrite(data, 1, size, f) != size) std::abort();
+  std::fclose(f);
+  return path;
+}
+
+/// A property does not hold: say which, and abort (libFuzzer keeps the input).
+[[noreturn]] inline void fail(const std::string& what) {
+  std::fprintf(stderr, "tumble fuzz: %s\n", what.c_str());
+  std::abort();
+}
+
+/// 64-bit FNV-1a over raw bytes (floats compared bit for bit).
+struct Hash {
+  std::uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, std::size_t n) {
+    const auto* b = static_cast<const std::uint8_t*>(p);
+    for (std::size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  }
+  template <class T>
+  void column(const T& v) {
+    const std::uint64_t n = v.size();
+    bytes(&n, sizeof n);
+    if (n) bytes(v.data(), n * sizeof v[0]);
+  }
+};
+
+}  // namespace tumble::fuzz
