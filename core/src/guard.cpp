@@ -95,6 +95,13 @@ RunGuard::RunGuard(const World& world, Pipeline& pipeline, GuardParams params) :
   m_lastTime = pipeline.time();
   m_initialOverlap = s.maxOverlap;
   m_scale = s.available;
+  m_sample = s.sample;
+  m_sample.step = pipeline.stepCount();
+  m_sample.time = pipeline.time();
+  m_sample.finite = s.nonFiniteBody < 0;
+  // The contacts of the state at construction: those just measured (findPairs) before the first
+  // step, else those of the last step.
+  m_sample.contacts = s.foundPairs >= 0 ? static_cast<std::uint64_t>(s.foundPairs) : pipeline.stats().numPairs;
   if (s.maxOverlap > kInitialOverlapWarning) {
     const std::string held = format(" (the contact springs hold %.3g J, released as motion when the run starts); ", s.springs);
     m_initialWarning =
@@ -155,8 +162,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // Per body (and, with pulls on, per particle), in parallel over fixed chunks combined in chunk
   // order: the same sums for any thread count.
   struct BodySums {
-    double slack = 0.0, kinetic = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
+    double slack = 0.0, kinetic = 0.0, rotation = 0.0, gravity = 0.0, pullPotential = 0.0, power = 0.0, hottest = -1.0;
     double lowest = std::numeric_limits<double>::infinity();
+    double speed2 = 0.0, p[3] = {0, 0, 0}, l[3] = {0, 0, 0};  // for the time series (ThermoSample)
     std::uint32_t hottestBody = 0;
   };
   const BodySums bs = chunkedSum<BodySums>(nb, [&](std::size_t begin, std::size_t end, BodySums& a) {
@@ -167,9 +175,19 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       const Vec3f omega =
           rotates ? angularVelocity(q, w.invInertia[k], Vec3f{s.lx[k], s.ly[k], s.lz[k]}) : Vec3f{0, 0, 0};
       const double m = w.bodyMass[k];
-      double e = 0.5 * m * (double(V.x) * V.x + double(V.y) * V.y + double(V.z) * V.z);
-      if (rotates) e += 0.5 * (double(omega.x) * s.lx[k] + double(omega.y) * s.ly[k] + double(omega.z) * s.lz[k]);
+      const double v2 = double(V.x) * V.x + double(V.y) * V.y + double(V.z) * V.z;
+      const double er =
+          rotates ? 0.5 * (double(omega.x) * s.lx[k] + double(omega.y) * s.ly[k] + double(omega.z) * s.lz[k]) : 0.0;
+      const double e = 0.5 * m * v2 + er;
       a.kinetic += e;
+      a.rotation += er;
+      a.speed2 = std::max(a.speed2, v2);
+      const double P[3] = {m * V.x, m * V.y, m * V.z};
+      const double Xw[3] = {double(X.x) + frame.x, double(X.y) + frame.y, double(X.z) + frame.z};
+      a.p[0] += P[0], a.p[1] += P[1], a.p[2] += P[2];
+      a.l[0] += Xw[1] * P[2] - Xw[2] * P[1] + s.lx[k];
+      a.l[1] += Xw[2] * P[0] - Xw[0] * P[2] + s.ly[k];
+      a.l[2] += Xw[0] * P[1] - Xw[1] * P[0] + s.lz[k];
       if (e > a.hottest) {
         a.hottest = e;
         a.hottestBody = static_cast<std::uint32_t>(k);
@@ -202,6 +220,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }, [](BodySums& l, const BodySums& r) {
     l.slack += r.slack;
     l.kinetic += r.kinetic;
+    l.rotation += r.rotation;
+    l.speed2 = std::max(l.speed2, r.speed2);
+    for (int c = 0; c < 3; ++c) l.p[c] += r.p[c], l.l[c] += r.l[c];
     l.gravity += r.gravity;
     l.pullPotential += r.pullPotential;
     l.power += r.power;
@@ -231,7 +252,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       cloud.r[i] = w.radius[i];
     }
     cloud.body = w.body;
-    contactSumsOfPairs(w, findPairsWith->findPairs(cloud, sc.broadphase), x, err, k, perBody);
+    const std::vector<Pair> found = findPairsWith->findPairs(cloud, sc.broadphase);
+    out.foundPairs = static_cast<std::int64_t>(found.size());
+    contactSumsOfPairs(w, found, x, err, k, perBody);
   } else if (!pipeline.contactSumsPerBody(k, perBody)) {
     contactSumsOfPairs(w, pipeline.pairs(), x, err, k, perBody);
   }
@@ -287,6 +310,14 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }
 
   out.energy = kinetic + gravity + pullPotential + springs;
+  ThermoSample& ts = out.sample;
+  ts.kineticTranslation = kinetic - bs.rotation;
+  ts.kineticRotation = bs.rotation;
+  ts.pullPotential = pullPotential;
+  ts.springs = springs;
+  ts.maxOverlap = out.maxOverlap;
+  ts.maxSpeed = std::sqrt(bs.speed2);
+  for (int c = 0; c < 3; ++c) ts.momentum[c] = bs.p[c], ts.angularMomentum[c] = bs.l[c];
   out.springs = springs;
   out.slack = slack;
   out.swirlPower = power;
@@ -308,6 +339,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     l.mass += r.mass;
   });
   const double drop = ds.drop, totalMass = ds.mass;
+  // Gravity in world coordinates for the time series: the local frame shifts it by −M g·o.
+  ts.gravity = gravity - totalMass * (double(g.x) * frame.x + double(g.y) * frame.y + double(g.z) * frame.z);
   // |pull potential|: an outward pull (κ < 0) has a negative potential, whose size is still the
   // energy scale of the motion it drives.
   out.available = kinetic + springs + std::abs(pullPotential) + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
@@ -341,11 +374,18 @@ GuardTrip RunGuard::trip(GuardTrip::Kind kind, std::uint32_t body, const Pipelin
 std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
   const std::uint32_t mask = pipeline.pulls();
   Snapshot s = measure(pipeline, mask);
+  const double t = pipeline.time();
+  m_totalWork += 0.5 * (m_lastPower + s.swirlPower) * (t - m_lastTime);
+  m_sample = s.sample;
+  m_sample.step = pipeline.stepCount();
+  m_sample.time = t;
+  m_sample.pullWork = m_totalWork;
+  m_sample.contacts = pipeline.stats().numPairs;
+  m_sample.finite = s.nonFiniteBody < 0;
   if (s.nonFiniteBody >= 0) {
     return trip(GuardTrip::Kind::NonFinite, static_cast<std::uint32_t>(s.nonFiniteBody), pipeline,
                 "body " + std::to_string(s.nonFiniteBody) + " has a non-finite position, velocity or orientation");
   }
-  const double t = pipeline.time();
   if (mask != m_mask) {
     // The pulls changed: their potentials and power change with them. Start the energy budget
     // afresh from the present state (the pulls' potential now counts as available energy).

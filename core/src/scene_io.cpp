@@ -480,7 +480,8 @@ class SceneParser {
   void readOutput(Scene& scene) {
     const toml::table* t = sectionOf(m_file, m_root, "output");
     if (t == nullptr) return;
-    const TableReader r(m_file, *t, "[output]", {"record", "record_steps", "debug", "steps_per_frame"});
+    const TableReader r(m_file, *t, "[output]",
+                        {"record", "record_steps", "debug", "steps_per_frame", "thermo", "thermo_every"});
     scene.recordFile = r.string("record", "");
     scene.recordSteps = static_cast<std::uint64_t>(r.integer("record_steps", 0, 0));
     scene.recordDebug = r.boolean("debug", false);
@@ -490,6 +491,8 @@ class SceneParser {
              "steps_per_frame is too large (got " + std::to_string(spf) + ")");
     }
     scene.stepsPerFrame = static_cast<int>(spf);
+    scene.thermoFile = r.string("thermo", "");
+    scene.thermoEvery = static_cast<std::uint64_t>(r.integer("thermo_every", 100, 1));
   }
 
   void readShapes(Scene& scene) {

@@ -270,5 +270,43 @@ rm -f fresh.bin
 n=$("$bin" run small.toml --steps 20 --record /dev/stdout -q 2>err.txt | wc -c)
 [ "$n" -gt 1000 ] && ok "a recording to a pipe" || bad "a recording to a pipe: $n bytes; $(cat err.txt)"
 
+# Time series (docs/thermo.md): a row at the start, every N steps and at the end; the same
+# bytes for any thread count; the scene's [output] keys; kept when the guard stops a run.
+expect_status "thermo" 0 "$bin" run small.toml --thermo th.csv --thermo-every 20 --threads 1
+expect_msg "thermo" "time series: 4 rows \(every 20 steps\) written to th.csv"
+[ "$(head -n 1 th.csv | cut -d, -f1-3)" = "step,time,kinetic_translation" ] && ok "thermo header" || bad "thermo header: $(head -n 1 th.csv)"
+[ "$(cut -d, -f1 th.csv | tail -n +2 | tr '\n' ' ')" = "0 20 40 50 " ] && ok "thermo steps" ||
+  bad "thermo steps: $(cut -d, -f1 th.csv | tr '\n' ' ')"
+"$bin" run small.toml --thermo th2.csv --thermo-every 20 --threads 2 -q 2>/dev/null
+cmp -s th.csv th2.csv && ok "thermo: same bytes for 1 and 2 threads" || bad "thermo differs between 1 and 2 threads"
+"$bin" run small.toml --thermo th3.csv --thermo-every 20 --no-guard -q 2>/dev/null
+cmp -s th.csv th3.csv && ok "thermo with --no-guard" || bad "thermo with --no-guard differs"
+printf '[output]\nthermo = "scene_th.csv"\nthermo_every = 25\n' | cat small.toml - > thscene.toml
+"$bin" run thscene.toml -q 2>/dev/null
+[ "$(cut -d, -f1 scene_th.csv | tail -n +2 | tr '\n' ' ')" = "0 25 50 " ] && ok "thermo from [output]" ||
+  bad "thermo from [output]: $(cat scene_th.csv 2>&1 | head -3)"
+expect_status "thermo-every 0" 2 "$bin" run small.toml --thermo th.csv --thermo-every 0
+expect_status "resume with thermo" 0 "$bin" run small.toml --steps 50 --resume ck.bin --thermo thr.csv --thermo-every 20 -q
+[ "$(cut -d, -f1 thr.csv | tail -n +2 | tr '\n' ' ')" = "20 40 50 " ] && ok "resumed thermo starts at the checkpoint" ||
+  bad "resumed thermo: $(cut -d, -f1 thr.csv | tr '\n' ' ')"
+# (Without the swirl pull its work is 0 in both, so the whole row of step 40 is the same.)
+[ "$(sed -n 4p th.csv)" = "$(sed -n 3p thr.csv)" ] && ok "resumed thermo row equals the straight run's" ||
+  bad "resumed thermo row: $(sed -n 3p thr.csv) vs $(sed -n 4p th.csv)"
+sed 's/dt = 1e-4/dt = 5e-2/' small.toml > unstable.toml
+expect_status "thermo kept at a guard trip" 3 "$bin" run unstable.toml --steps 400 --thermo thu.csv --thermo-every 10
+expect_msg "thermo kept at a guard trip" "kept [0-9]+ rows of the time series in thu.csv"
+[ "$(wc -l < thu.csv)" -ge 2 ] && ok "thermo rows before the trip" || bad "thermo rows before the trip: $(wc -l < thu.csv)"
+# tumble plot draws it.
+if command -v gnuplot >/dev/null; then
+  expect_status "plot" 0 "$bin" plot th.csv
+  [ "$(head -c 4 th.png | od -An -c | tr -d ' ')" = "211PNG" ] && ok "plot wrote a PNG" || bad "plot wrote no PNG"
+  expect_status "plot --columns" 0 "$bin" plot th.csv --columns energy,contacts -o cols.png --x step
+  [ -s cols.png ] && ok "plot --columns wrote cols.png" || bad "plot --columns wrote nothing"
+  expect_status "plot unknown column" 2 "$bin" plot th.csv --columns nope
+  expect_msg "plot unknown column" "th.csv:1: no column 'nope' \(--columns\); the columns are: step, time"
+  expect_status "plot a missing file" 2 "$bin" plot missing.csv
+  expect_msg "plot a missing file" "missing.csv: cannot open"
+fi
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

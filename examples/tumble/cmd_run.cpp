@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "stop_signal.hpp"
 #include "tumble/checkpoint.hpp"
+#include "tumble/thermo.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/recording.hpp"
@@ -40,6 +41,8 @@ struct RunOptions {
   std::string checkpoint;
   std::optional<std::uint64_t> checkpointEvery;
   std::string resume;
+  std::string thermo;
+  std::optional<std::uint64_t> thermoEvery;
 };
 
 // REC=<n_steps>[,<file>] (SPEC §6).
@@ -112,6 +115,8 @@ void run(RunOptions o) {
   if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;
   if (!o.recordSteps && scene.recordSteps > 0) o.recordSteps = scene.recordSteps;
   const bool debug = o.debug || scene.recordDebug;
+  if (o.thermo.empty()) o.thermo = scene.thermoFile;
+  const std::uint64_t thermoEvery = o.thermoEvery.value_or(scene.thermoEvery);
 
   World world = World::fromScene(scene);
   if (const std::string w = timeStepWarning(world); !w.empty())
@@ -171,12 +176,19 @@ void run(RunOptions o) {
   }
 
   // Guards (docs/model.md#guards): checked every guardEvery steps and before every frame and
-  // checkpoint.
+  // checkpoint. The time series (docs/thermo.md) is what the guard measures, so with --no-guard
+  // and --thermo the guard still measures, every thermoEvery steps, and never stops the run.
   std::optional<RunGuard> guard;
-  if (!o.noGuard) {
+  const bool guarding = !o.noGuard;
+  std::unique_ptr<ThermoWriter> thermo;
+  if (guarding || !o.thermo.empty()) {
     guard.emplace(world, *pipeline);
-    if (start == 0 && !guard->initialWarning().empty())
+    if (guarding && start == 0 && !guard->initialWarning().empty())
       std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), guard->initialWarning().c_str());
+  }
+  if (!o.thermo.empty()) {
+    thermo = std::make_unique<ThermoWriter>(o.thermo);
+    thermo->write(guard->sample());  // the state at the start (of the resumed part: its step)
   }
   const std::uint64_t guardEvery = o.guardEvery.value_or(kDefaultGuardEvery);
   const std::uint64_t ckEvery = o.checkpointEvery.value_or(0);
@@ -186,19 +198,32 @@ void run(RunOptions o) {
   std::uint64_t done = start;
   std::uint64_t checkedAt = start;  // the step of the last guard check
   bool frameCut = false;            // a frame's write was given up at a stop
+  bool thermoCut = false;           // a time-series row's write was given up at a stop
   try {
     while (done < scene.steps && g_stopSignal == 0) {
       std::uint64_t chunk = scene.steps - done;
       if (rec && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
-      if (guard) chunk = std::min(chunk, guardEvery - done % guardEvery);
+      if (guarding) chunk = std::min(chunk, guardEvery - done % guardEvery);
+      if (thermo) chunk = std::min(chunk, thermoEvery - done % thermoEvery);
       if (ckEvery) chunk = std::min(chunk, ckEvery - done % ckEvery);
       chunk = std::min<std::uint64_t>(chunk, 100);  // a signal is seen within 100 steps
       pipeline->step(chunk);
       done += chunk;
       const bool frameDue = rec && done <= recSteps && done % perFrame == 0;
       const bool checkpointDue = ckEvery && done % ckEvery == 0 && done < scene.steps;
-      if (guard && (frameDue || checkpointDue || done % guardEvery == 0 || done == scene.steps)) {
-        if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
+      const bool thermoDue = thermo && (done % thermoEvery == 0 || done == scene.steps);
+      if (thermoDue || (guarding && (frameDue || checkpointDue || done % guardEvery == 0 || done == scene.steps))) {
+        const auto trip = guard->check(*pipeline);
+        if (thermoDue) {
+          try {
+            thermo->write(guard->sample());
+          } catch (const Error&) {
+            if (!writeStopRequested() || g_stopSignal == 0) throw;  // as for a frame, below
+            thermoCut = true;
+            break;
+          }
+        }
+        if (trip && guarding) throw SimulationError(trip->message);
         checkedAt = done;
       }
       if (frameDue) {
@@ -222,13 +247,17 @@ void run(RunOptions o) {
         const double el = std::chrono::duration<double>(now - t0).count();
         const double ran = double(done - start);
         const double eta = el / ran * double(scene.steps - done);
-        std::fprintf(stderr, "\r  step %llu/%llu (%5.1f%%)  %.3f ms/step  elapsed %.1f s  eta %.1f s   ",
+        // The energy is that of the last guard check (at most guardEvery steps old).
+        char energy[48] = "";
+        if (guard && guard->sample().finite) std::snprintf(energy, sizeof energy, "  E %.4g J", guard->sample().energy());
+        std::fprintf(stderr, "\r  step %llu/%llu (%5.1f%%)  t %.4g s%s  %llu contacts  %.3f ms/step  elapsed %.1f s  eta %.1f s   ",
                      static_cast<unsigned long long>(done), static_cast<unsigned long long>(scene.steps),
-                     100.0 * double(done) / double(scene.steps), 1e3 * el / ran, el, eta);
+                     100.0 * double(done) / double(scene.steps), pipeline->time(), energy,
+                     static_cast<unsigned long long>(pipeline->stats().numPairs), 1e3 * el / ran, el, eta);
       }
     }
     // Interrupted: the state is checked before anything is written from it.
-    if (done < scene.steps && guard && checkedAt != done)
+    if (done < scene.steps && guarding && checkedAt != done)
       if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
   } catch (const SimulationError&) {
     if (tty) std::fprintf(stderr, "\n");
@@ -236,6 +265,11 @@ void run(RunOptions o) {
       rec->close();
       std::fprintf(stderr, "tumble run: kept %llu frames in %s\n", static_cast<unsigned long long>(rec->numFrames()),
                    rec->path().c_str());
+    }
+    if (thermo) {
+      thermo->close();
+      std::fprintf(stderr, "tumble run: kept %llu rows of the time series in %s\n",
+                   static_cast<unsigned long long>(thermo->rows()), thermo->path().c_str());
     }
     throw;
   }
@@ -248,6 +282,11 @@ void run(RunOptions o) {
       kept = "; kept " + std::to_string(rec->numFrames()) + " frames in " + rec->path();
       if (frameCut) kept += " (the next frame's write was given up: nothing read it for " +
                             std::to_string(kWriteGraceSeconds) + " s)";
+    }
+    if (thermo) {
+      thermo->close();
+      kept += "; kept " + std::to_string(thermo->rows()) + " rows of the time series in " + thermo->path();
+      if (thermoCut) kept += " (the next row's write was given up)";
     }
     if (!o.checkpoint.empty()) {
       if (!(ckEvery && done % ckEvery == 0 && done > start))  // else just written by the loop
@@ -270,6 +309,13 @@ void run(RunOptions o) {
         std::fprintf(stderr, "  watch it: tumble play %s    make a video: tumble render %s -o video.mp4\n",
                      rec->path().c_str(), rec->path().c_str());
     }
+  }
+  if (thermo) {
+    thermo->close();
+    if (!o.quiet)
+      std::fprintf(stderr, "time series: %llu rows (every %llu steps) written to %s (draw it: tumble plot %s)\n",
+                   static_cast<unsigned long long>(thermo->rows()), static_cast<unsigned long long>(thermoEvery),
+                   thermo->path().c_str(), thermo->path().c_str());
   }
   if (!o.checkpoint.empty()) {
     Checkpoint::of(world, *pipeline).write(o.checkpoint);
@@ -323,6 +369,12 @@ void addRun(CLI::App& app) {
                 "Verlet skin: detect pairs within r_i + r_j + S and reuse them until two particles may have "
                 "closed in by S (0 = detect every step; default 0.5 x the 99th-percentile radius, which is the largest radius "
                 "unless only a few spheres are larger)");
+  c->add_option("--thermo", o->thermo,
+                "Write the time series (energies, contacts, overlaps, momenta: docs/thermo.md) to FILE.csv; "
+                "default: the scene's [output] thermo");
+  c->add_option("--thermo-every", o->thermoEvery, "Steps between two rows of the time series (default: the scene's "
+                "[output] thermo_every, 100)")
+      ->check(countIn(1, kMaxSteps));
   c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_option("--guard-every", o->guardEvery,
                 "Check the guards (finite state, energy, overlaps) every N steps, and before every frame and "

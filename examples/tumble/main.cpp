@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   tumble::cli::addView(app);
   tumble::cli::addPlay(app);
   tumble::cli::addRender(app);
+  tumble::cli::addPlot(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -17,9 +17,8 @@
 #include <utility>
 #include <vector>
 
-#include <sys/wait.h>
-
 #include "tumble/error.hpp"
+#include "tumble/gnuplot.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/validation/study.hpp"
 
@@ -158,39 +157,6 @@ std::string groupLabel(const std::string& column, double v) {
   return column + " = " + num(v);
 }
 
-std::string gpString(const std::string& s) {
-  // Single quotes: gnuplot does no backquote substitution and no escapes inside them; a ' is
-  // written ''. (In double quotes a path with a backquote would run a command.)
-  std::string o = "'";
-  for (char c : s) {
-    if (c == '\'') o += '\'';
-    o += c;
-  }
-  return o + "'";
-}
-
-/// `s` as one sh word: in single quotes, with each ' written as '\'' ($, ` and \ stay literal).
-std::string shQuote(const std::string& s) {
-  std::string o = "'";
-  for (char c : s) {
-    if (c == '\'') o += "'\\''";
-    else o += c;
-  }
-  return o + "'";
-}
-
-/// What a std::system wait status means, for the report: "" for exit status 0.
-std::string systemStatus(int status) {
-  if (status == -1) return "the shell could not be started";
-  if (WIFEXITED(status)) {
-    const int code = WEXITSTATUS(status);
-    if (code == 0) return "";
-    return "exit status " + std::to_string(code) + (code == 127 ? ", gnuplot not found" : "");
-  }
-  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
-  return "wait status " + std::to_string(status);
-}
-
 /// The gnuplot commands of one plot: datablocks per (y column, group), then the plot command.
 /// Returns false (with a reason) when the plot names a missing table or column.
 bool plotScript(const CaseResult& r, const Plot& p, const fs::path& png, std::string& script, std::string& why,
@@ -243,9 +209,9 @@ bool plotScript(const CaseResult& r, const Plot& p, const fs::path& png, std::st
       series.emplace_back(block, title);
     }
   }
-  o << "set output " << gpString(png.string()) << "\n";
-  o << "set title " << gpString(p.title) << " noenhanced\n";
-  o << "set xlabel " << gpString(p.xlabel) << " noenhanced\nset ylabel " << gpString(p.ylabel) << " noenhanced\n";
+  o << "set output " << gnuplotString(png.string()) << "\n";
+  o << "set title " << gnuplotString(p.title) << " noenhanced\n";
+  o << "set xlabel " << gnuplotString(p.xlabel) << " noenhanced\nset ylabel " << gnuplotString(p.ylabel) << " noenhanced\n";
   o << (p.logx ? "set logscale x\nset format x \"%.0e\"\n" : "unset logscale x\nset format x \"% g\"\n")
     << (p.logy ? "set logscale y\nset format y \"%.0e\"\n" : "unset logscale y\nset format y \"% g\"\n");
   if (series.empty()) {
@@ -254,24 +220,11 @@ bool plotScript(const CaseResult& r, const Plot& p, const fs::path& png, std::st
     o << "plot ";
     for (std::size_t k = 0; k < series.size(); ++k)
       o << (k ? ", " : "") << series[k].first << " using 1:2 with linespoints pt " << (k % 10 + 1)
-        << " title " << gpString(series[k].second) << " noenhanced";
+        << " title " << gnuplotString(series[k].second) << " noenhanced";
     o << "\n";
   }
   script += o.str();
   return true;
-}
-
-/// The first line of `gnuplot --version`, or empty when it cannot run.
-std::string gnuplotVersion() {
-  std::FILE* f = popen("gnuplot --version 2>/dev/null", "r");
-  if (!f) return {};
-  char buf[256] = {};
-  std::string line;
-  if (std::fgets(buf, sizeof buf, f)) line = buf;
-  const int rc = pclose(f);
-  if (rc != 0) return {};
-  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-  return line;
 }
 
 std::string backendDir(Backend b) { return toString(b); }
@@ -409,11 +362,7 @@ void writeReport(StudyReport& report, const StudyOptions& o) {
       else fresh.push_back(rel);
     }
     wanted = std::move(fresh);
-    // The paths are quoted for sh (they may hold $, ` or quotes); exec lets the wait status be
-    // gnuplot's own, so a signal that kills gnuplot is reported as such.
-    const std::string cmd =
-        "exec gnuplot " + shQuote(gp.string()) + " > " + shQuote((dir / "plots.log").string()) + " 2>&1";
-    const std::string status = systemStatus(std::system(cmd.c_str()));
+    const std::string status = runGnuplot(gp.string(), (dir / "plots.log").string());
     for (const auto& rel : wanted)
       if (fs::exists(dir / rel, ec) && fs::file_size(dir / rel, ec) > 0 && !ec) drawn.insert(rel);
       else plotProblems[rel] = "gnuplot did not write it (see plots.log)";

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tumble/pipeline.hpp"
+#include "tumble/thermo.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble {
@@ -90,8 +91,12 @@ class RunGuard {
   double energy() const { return m_lastEnergy; }
   /// Largest overlap at the last check, as a fraction of the smaller radius.
   double maxOverlap() const { return m_lastOverlap; }
-  /// Work done by the swirl pull since load() (J), as integrated by the checks.
+  /// Work done by the swirl pull since the last change of the pulls (J), as integrated by the
+  /// checks (the guard's budget).
   double pullWork() const { return m_work; }
+  /// The quantities of the last check (or of the state at construction), for the time series:
+  /// its pullWork is the swirl's work since construction (trapezoid rule between checks).
+  const ThermoSample& sample() const { return m_sample; }
 
  private:
   struct Snapshot {
@@ -102,6 +107,8 @@ class RunGuard {
     double overlapContactTime = 0.0;  ///< t_c of the deepest contact (its own masses and stiffness)
     std::uint32_t hottestBody = 0;  ///< largest kinetic energy
     std::int64_t nonFiniteBody = -1;
+    std::int64_t foundPairs = -1;  ///< pairs found with findPairsWith, when given
+    ThermoSample sample;           ///< the energies and momenta (step, time, work and contacts: by the caller)
   };
   Snapshot measure(const Pipeline& pipeline, std::uint32_t pullMask, Pipeline* findPairsWith = nullptr);
   GuardTrip trip(GuardTrip::Kind kind, std::uint32_t body, const Pipeline& pipeline, const std::string& what,
@@ -117,6 +124,8 @@ class RunGuard {
   double m_referenceSlack = 0.0;
   double m_scale = 0.0;       ///< S
   double m_work = 0.0;        ///< W
+  double m_totalWork = 0.0;   ///< the swirl's work since construction (not reset with the pulls)
+  ThermoSample m_sample;
   double m_lastPower = 0.0, m_lastTime = 0.0, m_lastEnergy = 0.0;
   double m_initialOverlap = 0.0, m_lastOverlap = 0.0;
   std::uint32_t m_mask = 0;

@@ -112,10 +112,20 @@ TUMBLE_HD_INLINE Vec3f mul(const Sym3f& s, Vec3f v) {
           s.xz * v.x + s.yz * v.y + s.zz * v.z};
 }
 
-/// sin and cos of a float angle (any finite value) from our own polynomials, so that host
-/// and device give the same bits. Range reduction by a two-constant Cody–Waite split of π/2
-/// (exact for |a| up to ~1e5), then Taylor polynomials on [-π/4, π/4] (error < 1 ulp·few).
+/// sin and cos of a float angle from our own polynomials, so that host and device give the same
+/// bits. Range reduction by a two-constant Cody–Waite split of π/2 (exact for |a| up to ~1e5),
+/// then Taylor polynomials on [-π/4, π/4] (error < 1 ulp·few). Beyond 1e5 (a rotation by ω dt
+/// that large means the run has already diverged) the angle is first reduced modulo the float
+/// nearest 2π (fmodf is exact, so still the same bits everywhere): the result stays a bounded
+/// sine and cosine, and the integer conversion below stays within range. NaN for ±∞ and NaN.
 TUMBLE_HD_INLINE void sinCos(float a, float* outSin, float* outCos) {
+  if (!(fabsf(a) <= 1e5f)) {
+    if (!(fabsf(a) <= 3.40282347e38f)) {
+      *outSin = *outCos = a - a;  // NaN
+      return;
+    }
+    a = fmodf(a, 6.28318548f);
+  }
   // k = round(a · 2/π); r = a − k·π/2 computed with a split constant.
   const float kTwoOverPi = 0.636619772367581343f;
   const float kPiOver2Hi = 1.5703125f;               // 8 significant bits: k·hi is exact

@@ -114,6 +114,8 @@ struct Scene {
   std::uint64_t recordSteps = 0;   ///< 0 = the whole run
   bool recordDebug = false;
   int stepsPerFrame = 10;
+  std::string thermoFile;          ///< time series (docs/thermo.md); empty = none
+  std::uint64_t thermoEvery = 100; ///< steps between two rows of the time series
 };
 
 }  // namespace tumble

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+/// @file thermo.hpp
+/// Time series of a run (docs/thermo.md): energies, contacts, overlaps, speeds and momenta at
+/// regular steps, as RunGuard measures them, written as CSV by `tumble run --thermo FILE`.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace tumble {
+
+class OutputFile;
+
+/// The quantities of one measurement (RunGuard::sample()). Energies in J, in the conventions of
+/// the guard's energy E (guard.hpp); positions in world coordinates.
+struct ThermoSample {
+  std::uint64_t step = 0;           ///< steps since the start of the run
+  double time = 0.0;                ///< simulated time (s)
+  double kineticTranslation = 0.0;  ///< Σ ½ M |V|²
+  double kineticRotation = 0.0;     ///< Σ ½ ω·L over the bodies of more than one sphere
+  double gravity = 0.0;             ///< −Σ M g·X (zero at the world origin)
+  double pullPotential = 0.0;       ///< Σ ½ m κ x² (and y) of the x and y pulls that are on
+  double springs = 0.0;             ///< Σ ½ k δ² over the particle contacts and ground contacts
+  double pullWork = 0.0;            ///< work of the swirl pull on the bodies since the run started
+  std::uint64_t contacts = 0;       ///< particle pairs in contact (those of the last step)
+  double maxOverlap = 0.0;          ///< largest overlap δ / smaller radius (pairs and ground)
+  double maxSpeed = 0.0;            ///< largest centre-of-mass speed (m/s)
+  double momentum[3] = {0, 0, 0};   ///< Σ M V (kg m/s)
+  double angularMomentum[3] = {0, 0, 0};  ///< Σ (X × M V + L) about the world origin (kg m²/s)
+  bool finite = true;               ///< false when the state is not finite (every value is then NaN in the file)
+
+  /// The mechanical energy E: kinetic + gravity + pull potential + springs.
+  double energy() const { return kineticTranslation + kineticRotation + gravity + pullPotential + springs; }
+};
+
+/// Writes samples as CSV (header thermoHeader()), one line per sample, flushed at once so that
+/// the temporary (`FILE.part-XXXXXX` until close(): OutputFile) can be followed while the run goes.
+/// close() renames it into place; the destructor does too, so an interrupted run keeps its rows.
+/// Thread safety: none.
+class ThermoWriter {
+ public:
+  explicit ThermoWriter(const std::string& path);  ///< throws tumble::Error
+  ~ThermoWriter();
+  ThermoWriter(const ThermoWriter&) = delete;
+  ThermoWriter& operator=(const ThermoWriter&) = delete;
+  void write(const ThermoSample& s);  ///< throws tumble::Error (a full disk: with the reason)
+  void close();                       ///< throws tumble::Error
+  std::uint64_t rows() const { return m_rows; }
+  const std::string& path() const { return m_path; }
+
+ private:
+  std::string m_path;
+  std::unique_ptr<OutputFile> m_out;
+  std::uint64_t m_rows = 0;
+};
+
+/// The CSV header line, without the newline.
+const char* thermoHeader();
+
+}  // namespace tumble

@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: MIT
+// The time series (thermo.hpp, docs/thermo.md): the guard's measurements against quantities
+// computed here from the state, conservation laws of free motion, and the same bits for any
+// thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "tumble/guard.hpp"
+#include "tumble/pipeline.hpp"
+#include "tumble/scene_io.hpp"
+#include "tumble/thermo.hpp"
+#include "tumble/validation/scenes.hpp"
+#include "tumble/world.hpp"
+
+using namespace tumble;
+
+namespace {
+
+// Dumbbells spinning and flying apart far from the origin, no ground, no contacts: gravity g.
+Scene tumblers(float gz) {
+  Scene s;
+  s.dt = 1e-3f;
+  s.gravity = {0.0f, 0.0f, gz};
+  s.ground.enabled = false;
+  s.integrator.rotation = RotationScheme::Splitting;
+  s.shapes = {ShapeDef{"dumbbell", {SphereDef{{-0.2f, 0, 0}, 0.1f, 1.0f, 0.5f}, SphereDef{{0.3f, 0, 0}, 0.15f, 3.0f, 0.5f}}}};
+  for (int i = 0; i < 4; ++i) {
+    BodyDef b;
+    b.position = {1000.0f + 2.0f * float(i), -50.0f + float(i), 20.0f};
+    b.velocity = {0.5f * float(i), -0.3f, 0.2f * float(i - 2)};
+    b.angularVelocity = {1.0f + float(i), -2.0f, 0.5f * float(i)};
+    b.orientation = Quatf{1.0f, 0.1f * float(i), 0.2f, 0.0f};
+    s.bodies.push_back(b);
+  }
+  return s;
+}
+
+}  // namespace
+
+// Without forces, P, L about the origin and E stay constant (the splitting scheme keeps |L| of
+// each body exactly, its energy to rounding); with gravity, P_z falls by M g t and E drifts by
+// exactly what the kick-drift scheme gives.
+TEST(Thermo, ConservationInFreeMotion) {
+  for (const float gz : {0.0f, -9.81f}) {
+    const World w = World::fromScene(tumblers(gz));
+    auto p = makePipeline(Backend::Cpu);
+    p->load(w);
+    RunGuard guard(w, *p);
+    const ThermoSample s0 = guard.sample();
+    double mass = 0.0;
+    for (float m : w.bodyMass) mass += m;
+    EXPECT_GT(s0.kineticRotation, 1.0);
+    EXPECT_GT(s0.kineticTranslation, 1.0);
+    for (int c = 0; c < 20; ++c) {
+      p->step(50);
+      ASSERT_FALSE(guard.check(*p));
+      const ThermoSample& s = guard.sample();
+      EXPECT_EQ(s.step, std::uint64_t(50 * (c + 1)));
+      // Kick-drift sampled at whole steps: E_n = E_0 − ½ M g² dt² n exactly in free fall (v_n is
+      // the velocity of the step that ends at x_n).
+      const double drift = 0.5 * mass * double(gz) * gz * double(w.params.dt) * w.params.dt * double(s.step);
+      EXPECT_NEAR(s.energy(), s0.energy() - drift, 1e-5 * std::abs(s0.gravity) + 1e-4) << "gz " << gz << ", step " << s.step;
+      EXPECT_NEAR(s.momentum[0], s0.momentum[0], 1e-4);
+      EXPECT_NEAR(s.momentum[1], s0.momentum[1], 1e-4);
+      EXPECT_NEAR(s.momentum[2], s0.momentum[2] + mass * gz * s.time, 2e-5 * std::abs(s.momentum[2]) + 1e-4) << "gz " << gz;
+      if (gz == 0.0f) {
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(s.angularMomentum[k], s0.angularMomentum[k], 2e-3) << k;
+      }
+      EXPECT_EQ(s.contacts, 0u);
+      EXPECT_EQ(s.springs, 0.0);
+    }
+  }
+}
+
+// Each column against its definition, computed here from the state the pipeline hands out
+// (world coordinates), on a pile with contacts and the ground.
+TEST(Thermo, ColumnsAreTheirDefinitions) {
+  Scene sc = readSceneFile(validation::sourcePath("scenes/molecules.toml"));
+  sc.bodies.resize(200);
+  const World w = World::fromScene(sc);
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  RunGuard guard(w, *p);
+  p->step(2000);
+  ASSERT_FALSE(guard.check(*p));
+  const ThermoSample& s = guard.sample();
+  BodyState st;
+  p->readState(st);
+  double kt = 0.0, grav = 0.0, vmax = 0.0, P[3] = {0, 0, 0}, L[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const double m = w.bodyMass[k];
+    const double v[3] = {st.vx[k], st.vy[k], st.vz[k]}, x[3] = {st.px[k], st.py[k], st.pz[k]};
+    kt += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    grav -= m * (double(sc.gravity.x) * x[0] + double(sc.gravity.y) * x[1] + double(sc.gravity.z) * x[2]);
+    vmax = std::max(vmax, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+    for (int c = 0; c < 3; ++c) P[c] += m * v[c];
+    L[0] += m * (x[1] * v[2] - x[2] * v[1]) + st.lx[k];
+    L[1] += m * (x[2] * v[0] - x[0] * v[2]) + st.ly[k];
+    L[2] += m * (x[0] * v[1] - x[1] * v[0]) + st.lz[k];
+  }
+  EXPECT_NEAR(s.kineticTranslation, kt, 1e-9 * kt);
+  EXPECT_NEAR(s.gravity, grav, 1e-9 * std::abs(grav));
+  EXPECT_NEAR(s.maxSpeed, vmax, 1e-12);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(s.momentum[c], P[c], 1e-9);
+    EXPECT_NEAR(s.angularMomentum[c], L[c], 1e-9);
+  }
+  EXPECT_EQ(s.contacts, p->pairs().size());
+  EXPECT_GE(s.contacts, 5u);
+  EXPECT_GT(s.springs, 0.0);
+  EXPECT_GT(s.maxOverlap, 0.0);
+  EXPECT_NEAR(s.energy(), guard.energy(), 1e-9 * std::abs(guard.energy()));
+}
+
+// The samples are the same bits for 1 and 2 threads (fixed-order sums).
+TEST(Thermo, SameBitsForAnyThreadCount) {
+  Scene sc = readSceneFile(validation::sourcePath("scenes/molecules.toml"));
+  sc.bodies.resize(300);
+  sc.pulls.active = kPullSwirl;
+  const World w = World::fromScene(sc);
+  std::vector<ThermoSample> runs[2];
+  for (int t = 0; t < 2; ++t) {
+    PipelineOptions po;
+    po.threads = t + 1;
+    auto p = makePipeline(Backend::Cpu, po);
+    p->load(w);
+    RunGuard guard(w, *p);
+    for (int c = 0; c < 5; ++c) {
+      p->step(100);
+      (void)guard.check(*p);
+      runs[t].push_back(guard.sample());
+    }
+  }
+  auto fields = [](const ThermoSample& a) {
+    return std::vector<double>{double(a.step), a.time, a.kineticTranslation, a.kineticRotation, a.gravity,
+                               a.pullPotential, a.springs, a.pullWork, double(a.contacts), a.maxOverlap, a.maxSpeed,
+                               a.momentum[0], a.momentum[1], a.momentum[2], a.angularMomentum[0],
+                               a.angularMomentum[1], a.angularMomentum[2]};
+  };
+  for (std::size_t c = 0; c < runs[0].size(); ++c) {
+    const std::vector<double> a = fields(runs[0][c]), b = fields(runs[1][c]);
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << "sample " << c;
+  }
+  EXPECT_NE(runs[0].back().pullWork, 0.0);  // the swirl did work
+}
