@@ -9,7 +9,7 @@
 #include "tumble/error.hpp"
 #include "tumble/random.hpp"
 #include "tumble/pipeline.hpp"
-#include "tumble/validation/scenes.hpp"
+#include "tumble/world.hpp"
 
 int main(int argc, char** argv) {
   std::string backend = "cpu";
@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     pipeline->readState(state);
     std::printf("hello_spheres: %u spheres, 2000 steps on %s, %llu contacts, state hash %016llx\n",
                 world.numParticles(), backend.c_str(), static_cast<unsigned long long>(pipeline->stats().numPairs),
-                static_cast<unsigned long long>(tumble::validation::stateHash(state)));
+                static_cast<unsigned long long>(tumble::stateHash(state)));
   } catch (const tumble::Error& e) {
     std::fprintf(stderr, "hello_spheres: %s\n", e.what());
     return 2;

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <limits>
 #include <string>
@@ -397,6 +398,24 @@ double kineticEnergy(const World& world, const BodyState& s) {
     }
   }
   return e;
+}
+
+std::uint64_t stateHash(const BodyState& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](const std::vector<float>& col) {
+    for (float f : col) {
+      std::uint32_t u;
+      std::memcpy(&u, &f, 4);
+      for (int b = 0; b < 4; ++b) {
+        h ^= (u >> (8 * b)) & 0xFFu;
+        h *= 1099511628211ull;
+      }
+    }
+  };
+  for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz,
+                        &s.groundSpringX, &s.groundSpringY})
+    mix(*c);
+  return h;
 }
 
 }  // namespace tumble

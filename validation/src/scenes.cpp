@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 
 #include "tumble/error.hpp"
 #include "tumble/random.hpp"
@@ -11,7 +12,16 @@
 
 namespace tumble::validation {
 
-std::string sourcePath(const std::string& relative) { return std::string(TUMBLE_SOURCE_DIR) + "/" + relative; }
+std::string sourcePath(const std::string& relative) {
+  // The source tree while it is there (a build), else the installed data (share/tumble: the
+  // scenes that `tumble validate` and `tumble bench` read).
+  static const std::string base = [] {
+    std::error_code ec;
+    const std::string src = TUMBLE_SOURCE_DIR;
+    return std::filesystem::exists(src + "/scenes/molecules.toml", ec) ? src : std::string(TUMBLE_INSTALL_DATADIR);
+  }();
+  return base + "/" + relative;
+}
 
 Scene benchScene(std::uint32_t numParticles, std::uint64_t seed) {
   if (numParticles == 16000 || numParticles == 128000 || numParticles == 960000) {
@@ -160,24 +170,6 @@ std::vector<NamedCloud> hardCases(std::uint64_t seed) {
     out.push_back({"two", c});
   }
   return out;
-}
-
-std::uint64_t stateHash(const BodyState& s) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&](const std::vector<float>& col) {
-    for (float f : col) {
-      std::uint32_t u;
-      std::memcpy(&u, &f, 4);
-      for (int b = 0; b < 4; ++b) {
-        h ^= (u >> (8 * b)) & 0xFFu;
-        h *= 1099511628211ull;
-      }
-    }
-  };
-  for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz,
-                        &s.groundSpringX, &s.groundSpringY})
-    mix(*c);
-  return h;
 }
 
 }  // namespace tumble::validation

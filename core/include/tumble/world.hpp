@@ -146,4 +146,8 @@ std::string timeStepWarning(const World& world);
 /// Kinetic energy Σ ½ M V² + ½ Ω·L of the body state.
 double kineticEnergy(const World& world, const BodyState& state);
 
+/// 64-bit FNV-1a hash of every bit of a state: the bodies and the per-particle contact history
+/// (determinism tests, goldens, and a quick check that two runs agree bit for bit).
+std::uint64_t stateHash(const BodyState& state);
+
 }  // namespace tumble

@@ -32,11 +32,8 @@ ParticleCloud randomCloud(std::uint32_t n, std::uint64_t seed, float boxSize, fl
 /// negative coordinates, coincident particles, N = 0 and N = 1, all in one cell, one body.
 std::vector<NamedCloud> hardCases(std::uint64_t seed);
 
-/// 64-bit FNV-1a hash of every bit of a state: the bodies and the per-particle contact history
-/// (for determinism tests and goldens).
-std::uint64_t stateHash(const BodyState& state);
-
-/// Path of a file in the source tree (scenes/…, validation/golden/…).
+/// Path of a file in the source tree (scenes/…, validation/golden/…); when the source tree is
+/// gone (an installed tumble), of the installed data (share/tumble: the scenes).
 std::string sourcePath(const std::string& relative);
 
 }  // namespace tumble::validation

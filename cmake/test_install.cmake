@@ -1,0 +1,39 @@
+# SPDX-License-Identifier: MIT
+# The install_package test (cmake/tumble_install.cmake): install BUILD into BUILD/install-test,
+# build examples/installed against it, and check that its hello_spheres prints what the build's
+# own hello_spheres (EXPECTED) prints: the same library, the same bits.
+set(prefix ${BUILD}/install-test/prefix)
+set(out ${BUILD}/install-test/consumer)
+file(REMOVE_RECURSE ${BUILD}/install-test)
+execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix} RESULT_VARIABLE rc OUTPUT_QUIET)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "cmake --install failed (${rc})")
+endif()
+foreach(f bin/tumble include/tumble/pipeline.hpp include/tumble/config.hpp include/tumble/cpu/cpu_pipeline.hpp
+          share/tumble/scenes/molecules.toml)
+  if(NOT EXISTS ${prefix}/${f})
+    message(FATAL_ERROR "not installed: ${f}")
+  endif()
+endforeach()
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE}/examples/installed -B ${out} -G ${GENERATOR}
+                        -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "configuring examples/installed against the package failed:\n${log}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${out} RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "building examples/installed against the package failed:\n${log}")
+endif()
+execute_process(COMMAND ${out}/hello_spheres OUTPUT_VARIABLE got RESULT_VARIABLE rc)
+execute_process(COMMAND ${EXPECTED} OUTPUT_VARIABLE want)
+if(NOT rc EQUAL 0 OR NOT got STREQUAL want)
+  message(FATAL_ERROR "hello_spheres built against the package printed\n  ${got}the build's own printed\n  ${want}")
+endif()
+# The installed command runs an installed scene.
+execute_process(COMMAND ${prefix}/bin/tumble run ${prefix}/share/tumble/scenes/spheres.toml --steps 5 -q
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE log)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the installed tumble failed on an installed scene:\n${log}")
+endif()
+message(STATUS "installed, built against, same output: ${got}")
