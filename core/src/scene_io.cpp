@@ -58,8 +58,17 @@ constexpr int kDrawsPerBody = 12;
 
 constexpr float kTwoPi = 6.28318530717958647692f;
 
-long lineOf(const toml::node& n) { return static_cast<long>(n.source().begin.line); }
-long lineOf(const toml::key& k) { return static_cast<long>(k.source().begin.line); }
+/// Where a node or key was written: in the scene file (its path and line), or in a --set
+/// override, whose source path is its origin ("command line, --set ground.friction=-1").
+const toml::source_region& sourceOf(const toml::node& n) { return n.source(); }
+const toml::source_region& sourceOf(const toml::key& k) { return k.source(); }
+
+/// The error for a problem at `at`: the file and its line, or the override's origin without a
+/// line (the override is one line of its own, not a line of the file).
+InputError errorAt(const std::string& file, const toml::source_region& at, const std::string& problem) {
+  if (at.path != nullptr && *at.path != file) return InputError(*at.path, 0, problem);
+  return InputError(file, static_cast<long>(at.begin.line), problem);
+}
 
 /// Shortest round-trip text of a double, %g style ("-1", "0.0001", "1e-50", "nan").
 std::string fmt(double v) {
@@ -107,26 +116,27 @@ class TableReader {
       (void)value;
       const bool known = std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end();
       if (!known) {
-        fail(lineOf(key), "unknown key '" + std::string(key.str()) + "'; allowed keys: " +
-                              joinNames(allowed));
+        fail(sourceOf(key), "unknown key '" + std::string(key.str()) + "'; allowed keys: " +
+                                joinNames(allowed));
       }
     }
   }
 
   const std::string& where() const { return m_where; }
-  long line() const { return lineOf(m_table); }
+  /// Where the table starts (its header), for problems of the table as a whole.
+  const toml::source_region& header() const { return sourceOf(m_table); }
   const toml::node* find(std::string_view key) const { return m_table.get(key); }
   bool has(std::string_view key) const { return find(key) != nullptr; }
 
-  [[noreturn]] void fail(long line, const std::string& problem) const {
-    throw InputError(m_file, line, m_where + ": " + problem);
+  [[noreturn]] void fail(const toml::source_region& at, const std::string& problem) const {
+    throw errorAt(m_file, at, m_where + ": " + problem);
   }
 
   /// The node of a required key, or an error at the table's line.
   const toml::node& require(std::string_view key, std::string_view hint) const {
     const toml::node* n = find(key);
     if (n == nullptr) {
-      fail(line(), "missing required key '" + std::string(key) + "' (" + std::string(hint) + ")");
+      fail(header(), "missing required key '" + std::string(key) + "' (" + std::string(hint) + ")");
     }
     return *n;
   }
@@ -139,9 +149,9 @@ class TableReader {
     } else if (const auto* f = n.as_floating_point()) {
       v = f->get();
     } else {
-      fail(lineOf(n), what + " must be a number (got " + typeName(n) + ")");
+      fail(sourceOf(n), what + " must be a number (got " + typeName(n) + ")");
     }
-    if (!std::isfinite(v)) fail(lineOf(n), what + " must be a finite number (got " + fmt(v) + ")");
+    if (!std::isfinite(v)) fail(sourceOf(n), what + " must be a finite number (got " + fmt(v) + ")");
     check(n, what, v, rule);
     return v;
   }
@@ -151,7 +161,7 @@ class TableReader {
   float single(const toml::node& n, const std::string& what, Rule rule) const {
     const double v = number(n, what, rule);
     if (std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max())) {
-      fail(lineOf(n), what + " is out of single-precision range (got " + fmt(v) + ")");
+      fail(sourceOf(n), what + " is out of single-precision range (got " + fmt(v) + ")");
     }
     const float f = static_cast<float>(v);
     check(n, what, static_cast<double>(f), rule, v);
@@ -173,11 +183,11 @@ class TableReader {
     if (i == nullptr) {
       std::string got = typeName(n);
       if (const auto* f = n.as_floating_point()) got = fmt(f->get());
-      fail(lineOf(n), what + " must be an integer (got " + got + ")");
+      fail(sourceOf(n), what + " must be an integer (got " + got + ")");
     }
     const std::int64_t v = i->get();
     if (v < min) {
-      fail(lineOf(n), what + " must be >= " + std::to_string(min) + " (got " + std::to_string(v) + ")");
+      fail(sourceOf(n), what + " must be >= " + std::to_string(min) + " (got " + std::to_string(v) + ")");
     }
     return v;
   }
@@ -192,14 +202,14 @@ class TableReader {
     if (n == nullptr) return fallback;
     const auto* b = n->as_boolean();
     if (b == nullptr) {
-      fail(lineOf(*n), std::string(key) + " must be true or false (got " + typeName(*n) + ")");
+      fail(sourceOf(*n), std::string(key) + " must be true or false (got " + typeName(*n) + ")");
     }
     return b->get();
   }
 
   std::string string(const toml::node& n, const std::string& what) const {
     const auto* s = n.as_string();
-    if (s == nullptr) fail(lineOf(n), what + " must be a string (got " + typeName(n) + ")");
+    if (s == nullptr) fail(sourceOf(n), what + " must be a string (got " + typeName(n) + ")");
     return s->get();
   }
 
@@ -211,7 +221,7 @@ class TableReader {
   const toml::array& array(const toml::node& n, const std::string& what, std::string_view form) const {
     const auto* a = n.as_array();
     if (a == nullptr) {
-      fail(lineOf(n), what + " must be an array " + std::string(form) + " (got " + typeName(n) + ")");
+      fail(sourceOf(n), what + " must be an array " + std::string(form) + " (got " + typeName(n) + ")");
     }
     return *a;
   }
@@ -223,8 +233,8 @@ class TableReader {
     const std::string_view form = N == 3 ? "of 3 numbers [x, y, z]" : "of 4 numbers [w, x, y, z]";
     const toml::array& a = array(n, what, form);
     if (a.size() != N) {
-      fail(lineOf(n), what + " must be an array " + std::string(form) + " (got " +
-                          std::to_string(a.size()) + " elements)");
+      fail(sourceOf(n), what + " must be an array " + std::string(form) + " (got " +
+                            std::to_string(a.size()) + " elements)");
     }
     return a;
   }
@@ -263,15 +273,15 @@ class TableReader {
     switch (rule) {
       case Rule::Any: return;
       case Rule::Positive:
-        if (!(v > 0.0)) fail(lineOf(n), what + " must be > 0 (got " + fmt(shown) + ")");
+        if (!(v > 0.0)) fail(sourceOf(n), what + " must be > 0 (got " + fmt(shown) + ")");
         return;
       case Rule::NonNegative:
-        if (!(v >= 0.0)) fail(lineOf(n), what + " must be >= 0 (got " + fmt(shown) + ")");
+        if (!(v >= 0.0)) fail(sourceOf(n), what + " must be >= 0 (got " + fmt(shown) + ")");
         return;
       case Rule::Elasticity:
         if (!(v > 0.0 && v <= 1.0)) {
-          fail(lineOf(n), what + " must be in (0, 1] (coefficient of restitution: 1 = perfectly "
-                                 "elastic, small = very inelastic; got " + fmt(shown) + ")");
+          fail(sourceOf(n), what + " must be in (0, 1] (coefficient of restitution: 1 = perfectly "
+                                   "elastic, small = very inelastic; got " + fmt(shown) + ")");
         }
         return;
     }
@@ -288,15 +298,15 @@ std::vector<const toml::table*> tablesOf(const std::string& file, const toml::no
                                          const std::string& where, std::string_view header) {
   const auto* arr = n.as_array();
   if (arr == nullptr) {
-    throw InputError(file, lineOf(n), where + " must be an array of tables: write each entry as " +
-                                          std::string(header) + " (got " + typeName(n) + ")");
+    throw errorAt(file, sourceOf(n), where + " must be an array of tables: write each entry as " +
+                                         std::string(header) + " (got " + typeName(n) + ")");
   }
   std::vector<const toml::table*> out;
   for (const toml::node& el : *arr) {
     const auto* t = el.as_table();
     if (t == nullptr) {
-      throw InputError(file, lineOf(el), where + " entries must be tables, written as " +
-                                             std::string(header) + " (got " + typeName(el) + ")");
+      throw errorAt(file, sourceOf(el), where + " entries must be tables, written as " +
+                                            std::string(header) + " (got " + typeName(el) + ")");
     }
     out.push_back(t);
   }
@@ -309,8 +319,8 @@ const toml::table* sectionOf(const std::string& file, const toml::table& root, s
   if (n == nullptr) return nullptr;
   const auto* t = n->as_table();
   if (t == nullptr) {
-    throw InputError(file, lineOf(*n), "'" + std::string(key) + "' must be a table, written as [" +
-                                           std::string(key) + "] (got " + typeName(*n) + ")");
+    throw errorAt(file, sourceOf(*n), "'" + std::string(key) + "' must be a table, written as [" +
+                                          std::string(key) + "] (got " + typeName(*n) + ")");
   }
   return t;
 }
@@ -360,10 +370,10 @@ class SceneParser {
     for (auto&& [key, value] : m_root) {
       (void)value;
       if (std::find(kTopKeys.begin(), kTopKeys.end(), key.str()) == kTopKeys.end()) {
-        throw InputError(m_file, lineOf(key), "unknown top-level key '" + std::string(key.str()) +
-                                                  "'; allowed tables: [scene], [contact], [ground], "
-                                                  "[pulls], [broadphase], [integrator], [output], [[shape]], "
-                                                  "[[body]], [[group]]");
+        throw errorAt(m_file, sourceOf(key), "unknown top-level key '" + std::string(key.str()) +
+                                                 "'; allowed tables: [scene], [contact], [ground], "
+                                                 "[pulls], [broadphase], [integrator], [output], [[shape]], "
+                                                 "[[body]], [[group]]");
       }
     }
 
@@ -441,7 +451,7 @@ class SceneParser {
         } else if (name == "swirl") {
           p.active |= kPullSwirl;
         } else {
-          r.fail(lineOf(el), "unknown pull \"" + name + "\" in on; use \"x\", \"y\" or \"swirl\"");
+          r.fail(sourceOf(el), "unknown pull \"" + name + "\" in on; use \"x\", \"y\" or \"swirl\"");
         }
       }
     }
@@ -456,7 +466,7 @@ class SceneParser {
     b.skin = r.single("skin", b.skin, Rule::NonNegative);  // absent: automatic (negative)
     const std::int64_t every = r.integer("pca_every", b.pcaEvery, 1);
     if (every > std::numeric_limits<int>::max()) {
-      r.fail(lineOf(*r.find("pca_every")), "pca_every is too large (got " + std::to_string(every) + ")");
+      r.fail(sourceOf(*r.find("pca_every")), "pca_every is too large (got " + std::to_string(every) + ")");
     }
     b.pcaEvery = static_cast<int>(every);
   }
@@ -472,7 +482,7 @@ class SceneParser {
       } else if (name == "splitting") {
         scene.integrator.rotation = RotationScheme::Splitting;
       } else {
-        r.fail(lineOf(*n), "unknown rotation scheme \"" + name + "\"; use \"report\" or \"splitting\"");
+        r.fail(sourceOf(*n), "unknown rotation scheme \"" + name + "\"; use \"report\" or \"splitting\"");
       }
     }
   }
@@ -486,7 +496,7 @@ class SceneParser {
     scene.recordDebug = r.boolean("debug", false);
     const std::int64_t spf = r.integer("steps_per_frame", 10, 1);
     if (spf > std::numeric_limits<int>::max()) {
-      r.fail(lineOf(*r.find("steps_per_frame")),
+      r.fail(sourceOf(*r.find("steps_per_frame")),
              "steps_per_frame is too large (got " + std::to_string(spf) + ")");
     }
     scene.stepsPerFrame = static_cast<int>(spf);
@@ -501,10 +511,10 @@ class SceneParser {
       ShapeDef shape;
       const toml::node& nameNode = r.require("name", "the name that bodies and groups use, e.g. name = \"dimer\"");
       shape.name = r.string(nameNode, "name");
-      if (shape.name.empty()) r.fail(lineOf(nameNode), "name must not be empty");
+      if (shape.name.empty()) r.fail(sourceOf(nameNode), "name must not be empty");
       if (m_shapeIndex.count(shape.name) != 0) {
-        r.fail(lineOf(nameNode), "shape name \"" + shape.name +
-                                     "\" is already used by another [[shape]]; give each shape its own name");
+        r.fail(sourceOf(nameNode), "shape name \"" + shape.name +
+                                       "\" is already used by another [[shape]]; give each shape its own name");
       }
       const std::string where = "shape \"" + shape.name + "\"";
       const toml::node* spheres = r.find("sphere");
@@ -512,7 +522,7 @@ class SceneParser {
           spheres != nullptr ? tablesOf(m_file, *spheres, where + ": 'sphere'", "[[shape.sphere]]")
                              : std::vector<const toml::table*>{};
       if (sphereTables.empty()) {
-        r.fail(spheres != nullptr ? lineOf(*spheres) : r.line(),
+        r.fail(spheres != nullptr ? sourceOf(*spheres) : r.header(),
                where + " has no spheres; add at least one [[shape.sphere]] with offset, radius and mass");
       }
       for (std::size_t i = 0; i < sphereTables.size(); ++i) {
@@ -527,10 +537,10 @@ class SceneParser {
                             Rule::Positive);
         sd.elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
         if (const std::string why = groundDampingOutOfRange(sd, scene.ground); !why.empty())
-          sr.fail(sr.line(), where + ", [[shape.sphere]] #" + std::to_string(i + 1) + ": " + why);
+          sr.fail(sr.header(), where + ", [[shape.sphere]] #" + std::to_string(i + 1) + ": " + why);
         shape.spheres.push_back(sd);
       }
-      if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.line(), where + ": " + why);
+      if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.header(), where + ": " + why);
       m_shapeIndex.emplace(shape.name, static_cast<std::uint32_t>(scene.shapes.size()));
       scene.shapes.push_back(std::move(shape));
     }
@@ -544,18 +554,18 @@ class SceneParser {
     if (it == m_shapeIndex.end()) {
       std::string known;
       for (const ShapeDef& s : scene.shapes) known += (known.empty() ? "\"" : ", \"") + s.name + "\"";
-      r.fail(lineOf(n), "unknown shape \"" + name + "\"; " +
-                            (known.empty() ? std::string("no [[shape]] is defined in this file")
-                                           : "defined shapes: " + known));
+      r.fail(sourceOf(n), "unknown shape \"" + name + "\"; " +
+                              (known.empty() ? std::string("no [[shape]] is defined in this file")
+                                             : "defined shapes: " + known));
     }
     return it->second;
   }
 
-  void addParticles(const TableReader& r, long line, std::uint64_t count) {
+  void addParticles(const TableReader& r, const toml::source_region& at, std::uint64_t count) {
     m_numParticles += count;
     if (m_numParticles > kMaxParticles) {
-      r.fail(line, "the scene has more than 2^31 particles (" + std::to_string(m_numParticles) +
-                       " so far); use fewer or smaller groups");
+      r.fail(at, "the scene has more than 2^31 particles (" + std::to_string(m_numParticles) +
+                     " so far); use fewer or smaller groups");
     }
   }
 
@@ -605,16 +615,16 @@ class SceneParser {
     const double reach = shapeExtent(scene.shapes[b.shape]);
     for (float x : {b.position.x, b.position.y, b.position.z}) {
       if (!(std::fabs(double(x)) + reach <= double(std::numeric_limits<float>::max())))
-        r.fail(r.line(), "the body's spheres reach beyond single-precision range from this position");
+        r.fail(r.header(), "the body's spheres reach beyond single-precision range from this position");
     }
     b.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
     if (const toml::node* q = r.find("orientation")) {
       const std::array<double, 4> d = r.numbers<4>(*q, "orientation", Rule::Any);
       const double n2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[3] * d[3];
       if (!(n2 > 0.0)) {
-        r.fail(lineOf(*q), "orientation must not be the zero quaternion; use [1, 0, 0, 0] for no rotation");
+        r.fail(sourceOf(*q), "orientation must not be the zero quaternion; use [1, 0, 0, 0] for no rotation");
       }
-      if (!std::isfinite(n2)) r.fail(lineOf(*q), "orientation is too large to normalise");
+      if (!std::isfinite(n2)) r.fail(sourceOf(*q), "orientation is too large to normalise");
       const double inv = 1.0 / std::sqrt(n2);
       b.orientation = Quatf{static_cast<float>(d[0] * inv), static_cast<float>(d[1] * inv),
                             static_cast<float>(d[2] * inv), static_cast<float>(d[3] * inv)};
@@ -625,9 +635,9 @@ class SceneParser {
       if (const std::string why = angularVelocityOutOfRange(
               scene.shapes[b.shape], std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z));
           !why.empty())
-        r.fail(lineOf(*r.find("angular_velocity")), "angular_velocity: " + why);
+        r.fail(sourceOf(*r.find("angular_velocity")), "angular_velocity: " + why);
     }
-    addParticles(r, r.line(), scene.shapes[b.shape].spheres.size());
+    addParticles(r, r.header(), scene.shapes[b.shape].spheres.size());
     scene.bodies.push_back(b);
   }
 
@@ -640,16 +650,16 @@ class SceneParser {
     const toml::node* one = r.find("shape");
     const toml::node* many = r.find("shapes");
     if (one != nullptr && many != nullptr) {
-      r.fail(lineOf(*many), "give either shape = \"name\" or shapes = [\"a\", \"b\"], not both");
+      r.fail(sourceOf(*many), "give either shape = \"name\" or shapes = [\"a\", \"b\"], not both");
     }
     if (one != nullptr) {
       shapes.push_back(shapeNamed(r, *one, "shape", scene));
     } else if (many != nullptr) {
       const toml::array& a = r.array(*many, "shapes", "of shape names, e.g. shapes = [\"a\", \"b\"]");
-      if (a.empty()) r.fail(lineOf(*many), "shapes must name at least one [[shape]]");
+      if (a.empty()) r.fail(sourceOf(*many), "shapes must name at least one [[shape]]");
       for (const toml::node& el : a) shapes.push_back(shapeNamed(r, el, "each entry of shapes", scene));
     } else {
-      r.fail(r.line(), "missing the shape: give shape = \"name\" or shapes = [\"a\", \"b\", ...]");
+      r.fail(r.header(), "missing the shape: give shape = \"name\" or shapes = [\"a\", \"b\", ...]");
     }
 
     // Lattice size.
@@ -657,8 +667,8 @@ class SceneParser {
         r.require("count", "lattice sites along x, y and z, e.g. count = [10, 10, 4]");
     const toml::array& ca = r.array(countNode, "count", "of 3 integers [nx, ny, nz]");
     if (ca.size() != 3) {
-      r.fail(lineOf(countNode), "count must be an array of 3 integers [nx, ny, nz] (got " +
-                                    std::to_string(ca.size()) + " elements)");
+      r.fail(sourceOf(countNode), "count must be an array of 3 integers [nx, ny, nz] (got " +
+                                      std::to_string(ca.size()) + " elements)");
     }
     static constexpr std::string_view kAxes[] = {"x", "y", "z"};
     std::array<std::uint64_t, 3> count{};
@@ -668,16 +678,16 @@ class SceneParser {
       count[c] = static_cast<std::uint64_t>(v);
       // Each factor ≤ 2^31 before multiplying keeps the product below 2^62.
       if (count[c] > kMaxParticles || sites * count[c] > kMaxParticles) {
-        r.fail(lineOf(countNode), "count asks for more than 2^31 bodies; use a smaller lattice");
+        r.fail(sourceOf(countNode), "count asks for more than 2^31 bodies; use a smaller lattice");
       }
       sites *= count[c];
     }
     std::size_t minSpheres = std::numeric_limits<std::size_t>::max();
     for (std::uint32_t s : shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
     if (m_numParticles + sites * minSpheres > kMaxParticles) {
-      r.fail(lineOf(countNode), "the scene would have more than 2^31 particles (" +
-                                    std::to_string(m_numParticles + sites * minSpheres) +
-                                    " at least); use a smaller count");
+      r.fail(sourceOf(countNode), "the scene would have more than 2^31 particles (" +
+                                      std::to_string(m_numParticles + sites * minSpheres) +
+                                      " at least); use a smaller count");
     }
 
     // Memory: refused early when the run could not hold the scene (instead of bad_alloc later).
@@ -685,9 +695,9 @@ class SceneParser {
     if (const std::string shortfall = memoryShortfall(allBodies * (kRunBytesPerBody + sizeof(BodyDef)) +
                                                       allParticles * kRunBytesPerParticle);
         !shortfall.empty()) {
-      r.fail(lineOf(countNode), "a run of " + std::to_string(allBodies) + " bodies and " +
-                                    std::to_string(allParticles) + " particles needs at least " + shortfall.substr(6) +
-                                    "; use a smaller count");
+      r.fail(sourceOf(countNode), "a run of " + std::to_string(allBodies) + " bodies and " +
+                                      std::to_string(allParticles) + " particles needs at least " +
+                                      shortfall.substr(6) + "; use a smaller count");
     }
 
     // Spacing: a scalar or one value per axis; required once a lattice has two sites.
@@ -700,8 +710,8 @@ class SceneParser {
         spacing = {s, s, s};
       }
     } else if (sites > 1) {
-      r.fail(r.line(), "missing required key 'spacing' (distance between lattice sites in m, a number "
-                       "or [sx, sy, sz])");
+      r.fail(r.header(), "missing required key 'spacing' (distance between lattice sites in m, a number "
+                         "or [sx, sy, sz])");
     }
     std::array<double, 3> origin{0.0, 0.0, 0.0};
     if (const toml::node* o = r.find("origin")) origin = r.numbers<3>(*o, "origin", Rule::Any);
@@ -719,17 +729,17 @@ class SceneParser {
       const double far = origin[c] + static_cast<double>(count[c] - 1) * spacing[c];
       const double extent = std::max(std::fabs(origin[c]), std::fabs(far)) + double(jitter) + reach;
       if (!(extent <= kFloatMax)) {
-        r.fail(r.line(), "the lattice reaches beyond single-precision range along " + std::string(kAxes[c]) +
-                             " (origin, spacing, jitter and the shapes' size)");
+        r.fail(r.header(), "the lattice reaches beyond single-precision range along " + std::string(kAxes[c]) +
+                               " (origin, spacing, jitter and the shapes' size)");
       }
     }
     for (float v : {velocity.x, velocity.y, velocity.z}) {
       if (!(std::fabs(double(v)) + double(velocityJitter) <= kFloatMax))
-        r.fail(r.line(), "velocity with velocity_jitter reaches beyond single-precision range");
+        r.fail(r.header(), "velocity with velocity_jitter reaches beyond single-precision range");
     }
     for (std::uint32_t s : shapes) {
       if (const std::string why = angularVelocityOutOfRange(scene.shapes[s], spin); !why.empty())
-        r.fail(lineOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
+        r.fail(sourceOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
     }
 
     Rng rng(groupSeed(m_seed, index));
@@ -767,7 +777,7 @@ class SceneParser {
         }
       }
     }
-    addParticles(r, lineOf(countNode), particles);
+    addParticles(r, sourceOf(countNode), particles);
   }
 
   const toml::table& m_root;
