@@ -58,6 +58,25 @@ constexpr int kDrawsPerBody = 12;
 
 constexpr float kTwoPi = 6.28318530717958647692f;
 
+/// The top-level tables: the single ones (which --set can address) and the arrays of tables.
+constexpr std::array<std::string_view, 7> kSingleTables = {
+    "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output"};
+constexpr std::array<std::string_view, 3> kArrayTables = {"shape", "body", "group"};
+
+/// "[scene], [contact], …" (and ", [[shape]], [[body]], [[group]]" with `arrays`).
+std::string tableNames(bool arrays) {
+  std::string out;
+  for (std::string_view t : kSingleTables) out += (out.empty() ? "[" : ", [") + std::string(t) + "]";
+  if (arrays)
+    for (std::string_view t : kArrayTables) out += ", [[" + std::string(t) + "]]";
+  return out;
+}
+
+template <std::size_t N>
+bool isOneOf(const std::array<std::string_view, N>& names, std::string_view name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
 /// Where a node or key was written: in the scene file (its path and line), or in a --set
 /// override, whose source path is its origin ("command line, --set ground.friction=-1").
 const toml::source_region& sourceOf(const toml::node& n) { return n.source(); }
@@ -365,15 +384,11 @@ class SceneParser {
     scene.sourceFile = m_file;
     scene.name = stemOf(m_file);
 
-    static constexpr std::array<std::string_view, 10> kTopKeys = {
-        "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output", "shape", "body", "group"};
     for (auto&& [key, value] : m_root) {
       (void)value;
-      if (std::find(kTopKeys.begin(), kTopKeys.end(), key.str()) == kTopKeys.end()) {
+      if (!isOneOf(kSingleTables, key.str()) && !isOneOf(kArrayTables, key.str())) {
         throw errorAt(m_file, sourceOf(key), "unknown top-level key '" + std::string(key.str()) +
-                                                 "'; allowed tables: [scene], [contact], [ground], "
-                                                 "[pulls], [broadphase], [integrator], [output], [[shape]], "
-                                                 "[[body]], [[group]]");
+                                                 "'; allowed tables: " + tableNames(true));
       }
     }
 
@@ -839,31 +854,128 @@ void checkAsciiOutsideStrings(std::string_view t, const std::string& file) {
   }
 }
 
-}  // namespace
-
-Scene parseScene(std::string_view text, const std::string& sourceName) {
-  checkAsciiOutsideStrings(text, sourceName);
-  toml::table root;
+/// The TOML document of `text`, refused (InputError at `name` and the line) for a syntax error
+/// or a non-ASCII character outside strings and comments.
+toml::table parseToml(std::string_view text, const std::string& name) {
+  checkAsciiOutsideStrings(text, name);
 #if TOML_EXCEPTIONS
   try {
-    root = toml::parse(text, std::string_view(sourceName));
+    return toml::parse(text, std::string_view(name));
   } catch (const toml::parse_error& e) {
-    throw InputError(sourceName, static_cast<long>(e.source().begin.line),
+    throw InputError(name, static_cast<long>(e.source().begin.line),
                      "TOML syntax error: " + std::string(e.description()));
   }
 #else
-  toml::parse_result result = toml::parse(text, std::string_view(sourceName));
+  toml::parse_result result = toml::parse(text, std::string_view(name));
   if (!result) {
     const toml::parse_error& e = result.error();
-    throw InputError(sourceName, static_cast<long>(e.source().begin.line),
+    throw InputError(name, static_cast<long>(e.source().begin.line),
                      "TOML syntax error: " + std::string(e.description()));
   }
-  root = std::move(result).table();
+  return std::move(result).table();
 #endif
+}
+
+/// A --set override, parsed: the document "[SECTION]\nKEY = VALUE" whose nodes have the
+/// override's origin as their source path, so that the reader's messages name it.
+struct Override {
+  std::string origin;  // "command line, --set SPEC"
+  std::string section, key;
+  toml::table doc;
+};
+
+/// A TOML bare key: letters, digits, '_' and '-'.
+bool isBareKey(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+std::string_view trimmed(std::string_view s) {
+  const std::size_t b = s.find_first_not_of(" \t");
+  if (b == std::string_view::npos) return {};
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+Override parseOverride(const std::string& spec) {
+  Override o;
+  o.origin = "command line, --set " + spec;
+  const std::string_view text = spec;
+  const std::size_t eq = text.find('=');
+  const std::string_view name = trimmed(text.substr(0, eq));
+  const std::size_t dot = name.find('.');
+  if (eq == std::string_view::npos || dot == std::string_view::npos || !isBareKey(name.substr(0, dot)) ||
+      !isBareKey(name.substr(dot + 1))) {
+    throw InputError(o.origin, 0,
+                     "expected SECTION.KEY=VALUE, one table and one of its keys (letters, digits, _ and -) and "
+                     "a TOML value, e.g. --set ground.friction=0.3");
+  }
+  o.section = std::string(name.substr(0, dot));
+  o.key = std::string(name.substr(dot + 1));
+  if (!isOneOf(kSingleTables, o.section)) {
+    throw InputError(o.origin, 0,
+                     (isOneOf(kArrayTables, o.section)
+                          ? "[[" + o.section + "]] entries cannot be set from the command line (a scene may have "
+                                                "several: edit the file)"
+                          : "unknown section '" + o.section + "'") +
+                         "; --set can change the keys of " + tableNames(false));
+  }
+  const std::string_view value = text.substr(eq + 1);
+  try {
+    o.doc = parseToml("[" + o.section + "]\n" + o.key + " = " + std::string(value) + "\n", o.origin);
+  } catch (const InputError& e) {
+    const std::string_view v = trimmed(value);
+    const bool bare = v.empty() || std::string_view("\"'[{").find(v.front()) == std::string_view::npos;
+    throw InputError(o.origin, 0,
+                     e.problem() + (bare ? "; VALUE is TOML: a string needs quotes, e.g. --set "
+                                           "output.record='\"run.bin\"'"
+                                         : ""));
+  }
+  const toml::table* t = o.doc.get_as<toml::table>(o.section);
+  if (o.doc.size() != 1 || t == nullptr || t->size() != 1) {
+    throw InputError(o.origin, 0, "VALUE must be one TOML value, not more keys or tables");
+  }
+  return o;
+}
+
+std::vector<Override> parseOverrides(const std::vector<std::string>& specs) {
+  std::vector<Override> out;
+  out.reserve(specs.size());
+  for (const std::string& spec : specs) out.push_back(parseOverride(spec));
+  return out;
+}
+
+/// Puts the override's key into the file's table (creating the table when the file lacks it),
+/// replacing the file's value: moved, not copied, so that the nodes keep their source.
+void applyOverride(toml::table& root, Override& o, const std::string& file) {
+  toml::table& from = *o.doc.get_as<toml::table>(o.section);
+  toml::node* existing = root.get(o.section);
+  if (existing == nullptr) {
+    root.insert(o.section, std::move(from));
+    return;
+  }
+  (void)sectionOf(file, root, o.section);  // the file's own error when it is not a table there
+  toml::table& to = *existing->as_table();
+  auto [key, node] = *from.begin();
+  to.erase(o.key);
+  to.insert(key, std::move(node));
+}
+
+Scene parseWith(std::string_view text, const std::string& sourceName, std::vector<Override>& overrides) {
+  toml::table root = parseToml(text, sourceName);
+  for (Override& o : overrides) applyOverride(root, o, sourceName);
   return SceneParser(root, sourceName).run();
 }
 
-Scene readSceneFile(const std::string& path) {
+}  // namespace
+
+Scene parseScene(std::string_view text, const std::string& sourceName, const std::vector<std::string>& overrides) {
+  std::vector<Override> parsed = parseOverrides(overrides);
+  return parseWith(text, sourceName, parsed);
+}
+
+Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides) {
+  std::vector<Override> parsed = parseOverrides(overrides);  // mistakes on the command line first
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw InputError(path, 0, std::string("cannot open: ") + std::strerror(EISDIR));
@@ -879,7 +991,7 @@ Scene readSceneFile(const std::string& path) {
     const int err = errno;
     throw InputError(path, 0, std::string("cannot read: ") + std::strerror(err));
   }
-  return parseScene(text.str(), path);
+  return parseWith(text.str(), path, parsed);
 }
 
 }  // namespace tumble
