@@ -58,8 +58,36 @@ constexpr int kDrawsPerBody = 12;
 
 constexpr float kTwoPi = 6.28318530717958647692f;
 
-long lineOf(const toml::node& n) { return static_cast<long>(n.source().begin.line); }
-long lineOf(const toml::key& k) { return static_cast<long>(k.source().begin.line); }
+/// The top-level tables: the single ones (which --set can address) and the arrays of tables.
+constexpr std::array<std::string_view, 7> kSingleTables = {
+    "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output"};
+constexpr std::array<std::string_view, 3> kArrayTables = {"shape", "body", "group"};
+
+/// "[scene], [contact], …" (and ", [[shape]], [[body]], [[group]]" with `arrays`).
+std::string tableNames(bool arrays) {
+  std::string out;
+  for (std::string_view t : kSingleTables) out += (out.empty() ? "[" : ", [") + std::string(t) + "]";
+  if (arrays)
+    for (std::string_view t : kArrayTables) out += ", [[" + std::string(t) + "]]";
+  return out;
+}
+
+template <std::size_t N>
+bool isOneOf(const std::array<std::string_view, N>& names, std::string_view name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+/// Where a node or key was written: in the scene file (its path and line), or in a --set
+/// override, whose source path is its origin ("command line, --set ground.friction=-1").
+const toml::source_region& sourceOf(const toml::node& n) { return n.source(); }
+const toml::source_region& sourceOf(const toml::key& k) { return k.source(); }
+
+/// The error for a problem at `at`: the file and its line, or the override's origin without a
+/// line (the override is one line of its own, not a line of the file).
+InputError errorAt(const std::string& file, const toml::source_region& at, const std::string& problem) {
+  if (at.path != nullptr && *at.path != file) return InputError(*at.path, 0, problem);
+  return InputError(file, static_cast<long>(at.begin.line), problem);
+}
 
 /// Shortest round-trip text of a double, %g style ("-1", "0.0001", "1e-50", "nan").
 std::string fmt(double v) {
@@ -107,26 +135,27 @@ class TableReader {
       (void)value;
       const bool known = std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end();
       if (!known) {
-        fail(lineOf(key), "unknown key '" + std::string(key.str()) + "'; allowed keys: " +
-                              joinNames(allowed));
+        fail(sourceOf(key), "unknown key '" + std::string(key.str()) + "'; allowed keys: " +
+                                joinNames(allowed));
       }
     }
   }
 
   const std::string& where() const { return m_where; }
-  long line() const { return lineOf(m_table); }
+  /// Where the table starts (its header), for problems of the table as a whole.
+  const toml::source_region& header() const { return sourceOf(m_table); }
   const toml::node* find(std::string_view key) const { return m_table.get(key); }
   bool has(std::string_view key) const { return find(key) != nullptr; }
 
-  [[noreturn]] void fail(long line, const std::string& problem) const {
-    throw InputError(m_file, line, m_where + ": " + problem);
+  [[noreturn]] void fail(const toml::source_region& at, const std::string& problem) const {
+    throw errorAt(m_file, at, m_where + ": " + problem);
   }
 
   /// The node of a required key, or an error at the table's line.
   const toml::node& require(std::string_view key, std::string_view hint) const {
     const toml::node* n = find(key);
     if (n == nullptr) {
-      fail(line(), "missing required key '" + std::string(key) + "' (" + std::string(hint) + ")");
+      fail(header(), "missing required key '" + std::string(key) + "' (" + std::string(hint) + ")");
     }
     return *n;
   }
@@ -139,9 +168,9 @@ class TableReader {
     } else if (const auto* f = n.as_floating_point()) {
       v = f->get();
     } else {
-      fail(lineOf(n), what + " must be a number (got " + typeName(n) + ")");
+      fail(sourceOf(n), what + " must be a number (got " + typeName(n) + ")");
     }
-    if (!std::isfinite(v)) fail(lineOf(n), what + " must be a finite number (got " + fmt(v) + ")");
+    if (!std::isfinite(v)) fail(sourceOf(n), what + " must be a finite number (got " + fmt(v) + ")");
     check(n, what, v, rule);
     return v;
   }
@@ -151,7 +180,7 @@ class TableReader {
   float single(const toml::node& n, const std::string& what, Rule rule) const {
     const double v = number(n, what, rule);
     if (std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max())) {
-      fail(lineOf(n), what + " is out of single-precision range (got " + fmt(v) + ")");
+      fail(sourceOf(n), what + " is out of single-precision range (got " + fmt(v) + ")");
     }
     const float f = static_cast<float>(v);
     check(n, what, static_cast<double>(f), rule, v);
@@ -173,11 +202,11 @@ class TableReader {
     if (i == nullptr) {
       std::string got = typeName(n);
       if (const auto* f = n.as_floating_point()) got = fmt(f->get());
-      fail(lineOf(n), what + " must be an integer (got " + got + ")");
+      fail(sourceOf(n), what + " must be an integer (got " + got + ")");
     }
     const std::int64_t v = i->get();
     if (v < min) {
-      fail(lineOf(n), what + " must be >= " + std::to_string(min) + " (got " + std::to_string(v) + ")");
+      fail(sourceOf(n), what + " must be >= " + std::to_string(min) + " (got " + std::to_string(v) + ")");
     }
     return v;
   }
@@ -192,14 +221,14 @@ class TableReader {
     if (n == nullptr) return fallback;
     const auto* b = n->as_boolean();
     if (b == nullptr) {
-      fail(lineOf(*n), std::string(key) + " must be true or false (got " + typeName(*n) + ")");
+      fail(sourceOf(*n), std::string(key) + " must be true or false (got " + typeName(*n) + ")");
     }
     return b->get();
   }
 
   std::string string(const toml::node& n, const std::string& what) const {
     const auto* s = n.as_string();
-    if (s == nullptr) fail(lineOf(n), what + " must be a string (got " + typeName(n) + ")");
+    if (s == nullptr) fail(sourceOf(n), what + " must be a string (got " + typeName(n) + ")");
     return s->get();
   }
 
@@ -211,7 +240,7 @@ class TableReader {
   const toml::array& array(const toml::node& n, const std::string& what, std::string_view form) const {
     const auto* a = n.as_array();
     if (a == nullptr) {
-      fail(lineOf(n), what + " must be an array " + std::string(form) + " (got " + typeName(n) + ")");
+      fail(sourceOf(n), what + " must be an array " + std::string(form) + " (got " + typeName(n) + ")");
     }
     return *a;
   }
@@ -223,8 +252,8 @@ class TableReader {
     const std::string_view form = N == 3 ? "of 3 numbers [x, y, z]" : "of 4 numbers [w, x, y, z]";
     const toml::array& a = array(n, what, form);
     if (a.size() != N) {
-      fail(lineOf(n), what + " must be an array " + std::string(form) + " (got " +
-                          std::to_string(a.size()) + " elements)");
+      fail(sourceOf(n), what + " must be an array " + std::string(form) + " (got " +
+                            std::to_string(a.size()) + " elements)");
     }
     return a;
   }
@@ -263,15 +292,15 @@ class TableReader {
     switch (rule) {
       case Rule::Any: return;
       case Rule::Positive:
-        if (!(v > 0.0)) fail(lineOf(n), what + " must be > 0 (got " + fmt(shown) + ")");
+        if (!(v > 0.0)) fail(sourceOf(n), what + " must be > 0 (got " + fmt(shown) + ")");
         return;
       case Rule::NonNegative:
-        if (!(v >= 0.0)) fail(lineOf(n), what + " must be >= 0 (got " + fmt(shown) + ")");
+        if (!(v >= 0.0)) fail(sourceOf(n), what + " must be >= 0 (got " + fmt(shown) + ")");
         return;
       case Rule::Elasticity:
         if (!(v > 0.0 && v <= 1.0)) {
-          fail(lineOf(n), what + " must be in (0, 1] (coefficient of restitution: 1 = perfectly "
-                                 "elastic, small = very inelastic; got " + fmt(shown) + ")");
+          fail(sourceOf(n), what + " must be in (0, 1] (coefficient of restitution: 1 = perfectly "
+                                   "elastic, small = very inelastic; got " + fmt(shown) + ")");
         }
         return;
     }
@@ -288,15 +317,15 @@ std::vector<const toml::table*> tablesOf(const std::string& file, const toml::no
                                          const std::string& where, std::string_view header) {
   const auto* arr = n.as_array();
   if (arr == nullptr) {
-    throw InputError(file, lineOf(n), where + " must be an array of tables: write each entry as " +
-                                          std::string(header) + " (got " + typeName(n) + ")");
+    throw errorAt(file, sourceOf(n), where + " must be an array of tables: write each entry as " +
+                                         std::string(header) + " (got " + typeName(n) + ")");
   }
   std::vector<const toml::table*> out;
   for (const toml::node& el : *arr) {
     const auto* t = el.as_table();
     if (t == nullptr) {
-      throw InputError(file, lineOf(el), where + " entries must be tables, written as " +
-                                             std::string(header) + " (got " + typeName(el) + ")");
+      throw errorAt(file, sourceOf(el), where + " entries must be tables, written as " +
+                                            std::string(header) + " (got " + typeName(el) + ")");
     }
     out.push_back(t);
   }
@@ -309,8 +338,8 @@ const toml::table* sectionOf(const std::string& file, const toml::table& root, s
   if (n == nullptr) return nullptr;
   const auto* t = n->as_table();
   if (t == nullptr) {
-    throw InputError(file, lineOf(*n), "'" + std::string(key) + "' must be a table, written as [" +
-                                           std::string(key) + "] (got " + typeName(*n) + ")");
+    throw errorAt(file, sourceOf(*n), "'" + std::string(key) + "' must be a table, written as [" +
+                                          std::string(key) + "] (got " + typeName(*n) + ")");
   }
   return t;
 }
@@ -355,15 +384,11 @@ class SceneParser {
     scene.sourceFile = m_file;
     scene.name = stemOf(m_file);
 
-    static constexpr std::array<std::string_view, 10> kTopKeys = {
-        "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output", "shape", "body", "group"};
     for (auto&& [key, value] : m_root) {
       (void)value;
-      if (std::find(kTopKeys.begin(), kTopKeys.end(), key.str()) == kTopKeys.end()) {
-        throw InputError(m_file, lineOf(key), "unknown top-level key '" + std::string(key.str()) +
-                                                  "'; allowed tables: [scene], [contact], [ground], "
-                                                  "[pulls], [broadphase], [integrator], [output], [[shape]], "
-                                                  "[[body]], [[group]]");
+      if (!isOneOf(kSingleTables, key.str()) && !isOneOf(kArrayTables, key.str())) {
+        throw errorAt(m_file, sourceOf(key), "unknown top-level key '" + std::string(key.str()) +
+                                                 "'; allowed tables: " + tableNames(true));
       }
     }
 
@@ -441,7 +466,7 @@ class SceneParser {
         } else if (name == "swirl") {
           p.active |= kPullSwirl;
         } else {
-          r.fail(lineOf(el), "unknown pull \"" + name + "\" in on; use \"x\", \"y\" or \"swirl\"");
+          r.fail(sourceOf(el), "unknown pull \"" + name + "\" in on; use \"x\", \"y\" or \"swirl\"");
         }
       }
     }
@@ -456,7 +481,7 @@ class SceneParser {
     b.skin = r.single("skin", b.skin, Rule::NonNegative);  // absent: automatic (negative)
     const std::int64_t every = r.integer("pca_every", b.pcaEvery, 1);
     if (every > std::numeric_limits<int>::max()) {
-      r.fail(lineOf(*r.find("pca_every")), "pca_every is too large (got " + std::to_string(every) + ")");
+      r.fail(sourceOf(*r.find("pca_every")), "pca_every is too large (got " + std::to_string(every) + ")");
     }
     b.pcaEvery = static_cast<int>(every);
   }
@@ -472,7 +497,7 @@ class SceneParser {
       } else if (name == "splitting") {
         scene.integrator.rotation = RotationScheme::Splitting;
       } else {
-        r.fail(lineOf(*n), "unknown rotation scheme \"" + name + "\"; use \"report\" or \"splitting\"");
+        r.fail(sourceOf(*n), "unknown rotation scheme \"" + name + "\"; use \"report\" or \"splitting\"");
       }
     }
   }
@@ -487,7 +512,7 @@ class SceneParser {
     scene.recordDebug = r.boolean("debug", false);
     const std::int64_t spf = r.integer("steps_per_frame", 10, 1);
     if (spf > std::numeric_limits<int>::max()) {
-      r.fail(lineOf(*r.find("steps_per_frame")),
+      r.fail(sourceOf(*r.find("steps_per_frame")),
              "steps_per_frame is too large (got " + std::to_string(spf) + ")");
     }
     scene.stepsPerFrame = static_cast<int>(spf);
@@ -504,10 +529,10 @@ class SceneParser {
       ShapeDef shape;
       const toml::node& nameNode = r.require("name", "the name that bodies and groups use, e.g. name = \"dimer\"");
       shape.name = r.string(nameNode, "name");
-      if (shape.name.empty()) r.fail(lineOf(nameNode), "name must not be empty");
+      if (shape.name.empty()) r.fail(sourceOf(nameNode), "name must not be empty");
       if (m_shapeIndex.count(shape.name) != 0) {
-        r.fail(lineOf(nameNode), "shape name \"" + shape.name +
-                                     "\" is already used by another [[shape]]; give each shape its own name");
+        r.fail(sourceOf(nameNode), "shape name \"" + shape.name +
+                                       "\" is already used by another [[shape]]; give each shape its own name");
       }
       const std::string where = "shape \"" + shape.name + "\"";
       const toml::node* spheres = r.find("sphere");
@@ -515,7 +540,7 @@ class SceneParser {
           spheres != nullptr ? tablesOf(m_file, *spheres, where + ": 'sphere'", "[[shape.sphere]]")
                              : std::vector<const toml::table*>{};
       if (sphereTables.empty()) {
-        r.fail(spheres != nullptr ? lineOf(*spheres) : r.line(),
+        r.fail(spheres != nullptr ? sourceOf(*spheres) : r.header(),
                where + " has no spheres; add at least one [[shape.sphere]] with offset, radius and mass");
       }
       for (std::size_t i = 0; i < sphereTables.size(); ++i) {
@@ -530,10 +555,10 @@ class SceneParser {
                             Rule::Positive);
         sd.elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
         if (const std::string why = groundDampingOutOfRange(sd, scene.ground); !why.empty())
-          sr.fail(sr.line(), where + ", [[shape.sphere]] #" + std::to_string(i + 1) + ": " + why);
+          sr.fail(sr.header(), where + ", [[shape.sphere]] #" + std::to_string(i + 1) + ": " + why);
         shape.spheres.push_back(sd);
       }
-      if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.line(), where + ": " + why);
+      if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.header(), where + ": " + why);
       m_shapeIndex.emplace(shape.name, static_cast<std::uint32_t>(scene.shapes.size()));
       scene.shapes.push_back(std::move(shape));
     }
@@ -547,18 +572,18 @@ class SceneParser {
     if (it == m_shapeIndex.end()) {
       std::string known;
       for (const ShapeDef& s : scene.shapes) known += (known.empty() ? "\"" : ", \"") + s.name + "\"";
-      r.fail(lineOf(n), "unknown shape \"" + name + "\"; " +
-                            (known.empty() ? std::string("no [[shape]] is defined in this file")
-                                           : "defined shapes: " + known));
+      r.fail(sourceOf(n), "unknown shape \"" + name + "\"; " +
+                              (known.empty() ? std::string("no [[shape]] is defined in this file")
+                                             : "defined shapes: " + known));
     }
     return it->second;
   }
 
-  void addParticles(const TableReader& r, long line, std::uint64_t count) {
+  void addParticles(const TableReader& r, const toml::source_region& at, std::uint64_t count) {
     m_numParticles += count;
     if (m_numParticles > kMaxParticles) {
-      r.fail(line, "the scene has more than 2^31 particles (" + std::to_string(m_numParticles) +
-                       " so far); use fewer or smaller groups");
+      r.fail(at, "the scene has more than 2^31 particles (" + std::to_string(m_numParticles) +
+                     " so far); use fewer or smaller groups");
     }
   }
 
@@ -608,16 +633,16 @@ class SceneParser {
     const double reach = shapeExtent(scene.shapes[b.shape]);
     for (float x : {b.position.x, b.position.y, b.position.z}) {
       if (!(std::fabs(double(x)) + reach <= double(std::numeric_limits<float>::max())))
-        r.fail(r.line(), "the body's spheres reach beyond single-precision range from this position");
+        r.fail(r.header(), "the body's spheres reach beyond single-precision range from this position");
     }
     b.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
     if (const toml::node* q = r.find("orientation")) {
       const std::array<double, 4> d = r.numbers<4>(*q, "orientation", Rule::Any);
       const double n2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[3] * d[3];
       if (!(n2 > 0.0)) {
-        r.fail(lineOf(*q), "orientation must not be the zero quaternion; use [1, 0, 0, 0] for no rotation");
+        r.fail(sourceOf(*q), "orientation must not be the zero quaternion; use [1, 0, 0, 0] for no rotation");
       }
-      if (!std::isfinite(n2)) r.fail(lineOf(*q), "orientation is too large to normalise");
+      if (!std::isfinite(n2)) r.fail(sourceOf(*q), "orientation is too large to normalise");
       const double inv = 1.0 / std::sqrt(n2);
       b.orientation = Quatf{static_cast<float>(d[0] * inv), static_cast<float>(d[1] * inv),
                             static_cast<float>(d[2] * inv), static_cast<float>(d[3] * inv)};
@@ -628,9 +653,9 @@ class SceneParser {
       if (const std::string why = angularVelocityOutOfRange(
               scene.shapes[b.shape], std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z));
           !why.empty())
-        r.fail(lineOf(*r.find("angular_velocity")), "angular_velocity: " + why);
+        r.fail(sourceOf(*r.find("angular_velocity")), "angular_velocity: " + why);
     }
-    addParticles(r, r.line(), scene.shapes[b.shape].spheres.size());
+    addParticles(r, r.header(), scene.shapes[b.shape].spheres.size());
     scene.bodies.push_back(b);
   }
 
@@ -643,16 +668,16 @@ class SceneParser {
     const toml::node* one = r.find("shape");
     const toml::node* many = r.find("shapes");
     if (one != nullptr && many != nullptr) {
-      r.fail(lineOf(*many), "give either shape = \"name\" or shapes = [\"a\", \"b\"], not both");
+      r.fail(sourceOf(*many), "give either shape = \"name\" or shapes = [\"a\", \"b\"], not both");
     }
     if (one != nullptr) {
       shapes.push_back(shapeNamed(r, *one, "shape", scene));
     } else if (many != nullptr) {
       const toml::array& a = r.array(*many, "shapes", "of shape names, e.g. shapes = [\"a\", \"b\"]");
-      if (a.empty()) r.fail(lineOf(*many), "shapes must name at least one [[shape]]");
+      if (a.empty()) r.fail(sourceOf(*many), "shapes must name at least one [[shape]]");
       for (const toml::node& el : a) shapes.push_back(shapeNamed(r, el, "each entry of shapes", scene));
     } else {
-      r.fail(r.line(), "missing the shape: give shape = \"name\" or shapes = [\"a\", \"b\", ...]");
+      r.fail(r.header(), "missing the shape: give shape = \"name\" or shapes = [\"a\", \"b\", ...]");
     }
 
     // Lattice size.
@@ -660,8 +685,8 @@ class SceneParser {
         r.require("count", "lattice sites along x, y and z, e.g. count = [10, 10, 4]");
     const toml::array& ca = r.array(countNode, "count", "of 3 integers [nx, ny, nz]");
     if (ca.size() != 3) {
-      r.fail(lineOf(countNode), "count must be an array of 3 integers [nx, ny, nz] (got " +
-                                    std::to_string(ca.size()) + " elements)");
+      r.fail(sourceOf(countNode), "count must be an array of 3 integers [nx, ny, nz] (got " +
+                                      std::to_string(ca.size()) + " elements)");
     }
     static constexpr std::string_view kAxes[] = {"x", "y", "z"};
     std::array<std::uint64_t, 3> count{};
@@ -671,16 +696,16 @@ class SceneParser {
       count[c] = static_cast<std::uint64_t>(v);
       // Each factor ≤ 2^31 before multiplying keeps the product below 2^62.
       if (count[c] > kMaxParticles || sites * count[c] > kMaxParticles) {
-        r.fail(lineOf(countNode), "count asks for more than 2^31 bodies; use a smaller lattice");
+        r.fail(sourceOf(countNode), "count asks for more than 2^31 bodies; use a smaller lattice");
       }
       sites *= count[c];
     }
     std::size_t minSpheres = std::numeric_limits<std::size_t>::max();
     for (std::uint32_t s : shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
     if (m_numParticles + sites * minSpheres > kMaxParticles) {
-      r.fail(lineOf(countNode), "the scene would have more than 2^31 particles (" +
-                                    std::to_string(m_numParticles + sites * minSpheres) +
-                                    " at least); use a smaller count");
+      r.fail(sourceOf(countNode), "the scene would have more than 2^31 particles (" +
+                                      std::to_string(m_numParticles + sites * minSpheres) +
+                                      " at least); use a smaller count");
     }
 
     // Memory: refused early when the run could not hold the scene (instead of bad_alloc later).
@@ -688,9 +713,9 @@ class SceneParser {
     if (const std::string shortfall = memoryShortfall(allBodies * (kRunBytesPerBody + sizeof(BodyDef)) +
                                                       allParticles * kRunBytesPerParticle);
         !shortfall.empty()) {
-      r.fail(lineOf(countNode), "a run of " + std::to_string(allBodies) + " bodies and " +
-                                    std::to_string(allParticles) + " particles needs at least " + shortfall.substr(6) +
-                                    "; use a smaller count");
+      r.fail(sourceOf(countNode), "a run of " + std::to_string(allBodies) + " bodies and " +
+                                      std::to_string(allParticles) + " particles needs at least " +
+                                      shortfall.substr(6) + "; use a smaller count");
     }
 
     // Spacing: a scalar or one value per axis; required once a lattice has two sites.
@@ -703,8 +728,8 @@ class SceneParser {
         spacing = {s, s, s};
       }
     } else if (sites > 1) {
-      r.fail(r.line(), "missing required key 'spacing' (distance between lattice sites in m, a number "
-                       "or [sx, sy, sz])");
+      r.fail(r.header(), "missing required key 'spacing' (distance between lattice sites in m, a number "
+                         "or [sx, sy, sz])");
     }
     std::array<double, 3> origin{0.0, 0.0, 0.0};
     if (const toml::node* o = r.find("origin")) origin = r.numbers<3>(*o, "origin", Rule::Any);
@@ -722,17 +747,17 @@ class SceneParser {
       const double far = origin[c] + static_cast<double>(count[c] - 1) * spacing[c];
       const double extent = std::max(std::fabs(origin[c]), std::fabs(far)) + double(jitter) + reach;
       if (!(extent <= kFloatMax)) {
-        r.fail(r.line(), "the lattice reaches beyond single-precision range along " + std::string(kAxes[c]) +
-                             " (origin, spacing, jitter and the shapes' size)");
+        r.fail(r.header(), "the lattice reaches beyond single-precision range along " + std::string(kAxes[c]) +
+                               " (origin, spacing, jitter and the shapes' size)");
       }
     }
     for (float v : {velocity.x, velocity.y, velocity.z}) {
       if (!(std::fabs(double(v)) + double(velocityJitter) <= kFloatMax))
-        r.fail(r.line(), "velocity with velocity_jitter reaches beyond single-precision range");
+        r.fail(r.header(), "velocity with velocity_jitter reaches beyond single-precision range");
     }
     for (std::uint32_t s : shapes) {
       if (const std::string why = angularVelocityOutOfRange(scene.shapes[s], spin); !why.empty())
-        r.fail(lineOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
+        r.fail(sourceOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
     }
 
     Rng rng(groupSeed(m_seed, index));
@@ -770,7 +795,7 @@ class SceneParser {
         }
       }
     }
-    addParticles(r, lineOf(countNode), particles);
+    addParticles(r, sourceOf(countNode), particles);
   }
 
   const toml::table& m_root;
@@ -832,31 +857,128 @@ void checkAsciiOutsideStrings(std::string_view t, const std::string& file) {
   }
 }
 
-}  // namespace
-
-Scene parseScene(std::string_view text, const std::string& sourceName) {
-  checkAsciiOutsideStrings(text, sourceName);
-  toml::table root;
+/// The TOML document of `text`, refused (InputError at `name` and the line) for a syntax error
+/// or a non-ASCII character outside strings and comments.
+toml::table parseToml(std::string_view text, const std::string& name) {
+  checkAsciiOutsideStrings(text, name);
 #if TOML_EXCEPTIONS
   try {
-    root = toml::parse(text, std::string_view(sourceName));
+    return toml::parse(text, std::string_view(name));
   } catch (const toml::parse_error& e) {
-    throw InputError(sourceName, static_cast<long>(e.source().begin.line),
+    throw InputError(name, static_cast<long>(e.source().begin.line),
                      "TOML syntax error: " + std::string(e.description()));
   }
 #else
-  toml::parse_result result = toml::parse(text, std::string_view(sourceName));
+  toml::parse_result result = toml::parse(text, std::string_view(name));
   if (!result) {
     const toml::parse_error& e = result.error();
-    throw InputError(sourceName, static_cast<long>(e.source().begin.line),
+    throw InputError(name, static_cast<long>(e.source().begin.line),
                      "TOML syntax error: " + std::string(e.description()));
   }
-  root = std::move(result).table();
+  return std::move(result).table();
 #endif
+}
+
+/// A --set override, parsed: the document "[SECTION]\nKEY = VALUE" whose nodes have the
+/// override's origin as their source path, so that the reader's messages name it.
+struct Override {
+  std::string origin;  // "command line, --set SPEC"
+  std::string section, key;
+  toml::table doc;
+};
+
+/// A TOML bare key: letters, digits, '_' and '-'.
+bool isBareKey(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+std::string_view trimmed(std::string_view s) {
+  const std::size_t b = s.find_first_not_of(" \t");
+  if (b == std::string_view::npos) return {};
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+Override parseOverride(const std::string& spec) {
+  Override o;
+  o.origin = "command line, --set " + spec;
+  const std::string_view text = spec;
+  const std::size_t eq = text.find('=');
+  const std::string_view name = trimmed(text.substr(0, eq));
+  const std::size_t dot = name.find('.');
+  if (eq == std::string_view::npos || dot == std::string_view::npos || !isBareKey(name.substr(0, dot)) ||
+      !isBareKey(name.substr(dot + 1))) {
+    throw InputError(o.origin, 0,
+                     "expected SECTION.KEY=VALUE, one table and one of its keys (letters, digits, _ and -) and "
+                     "a TOML value, e.g. --set ground.friction=0.3");
+  }
+  o.section = std::string(name.substr(0, dot));
+  o.key = std::string(name.substr(dot + 1));
+  if (!isOneOf(kSingleTables, o.section)) {
+    throw InputError(o.origin, 0,
+                     (isOneOf(kArrayTables, o.section)
+                          ? "[[" + o.section + "]] entries cannot be set from the command line (a scene may have "
+                                                "several: edit the file)"
+                          : "unknown section '" + o.section + "'") +
+                         "; --set can change the keys of " + tableNames(false));
+  }
+  const std::string_view value = text.substr(eq + 1);
+  try {
+    o.doc = parseToml("[" + o.section + "]\n" + o.key + " = " + std::string(value) + "\n", o.origin);
+  } catch (const InputError& e) {
+    const std::string_view v = trimmed(value);
+    const bool bare = v.empty() || std::string_view("\"'[{").find(v.front()) == std::string_view::npos;
+    throw InputError(o.origin, 0,
+                     e.problem() + (bare ? "; VALUE is TOML: a string needs quotes, e.g. --set "
+                                           "output.record='\"run.bin\"'"
+                                         : ""));
+  }
+  const toml::table* t = o.doc.get_as<toml::table>(o.section);
+  if (o.doc.size() != 1 || t == nullptr || t->size() != 1) {
+    throw InputError(o.origin, 0, "VALUE must be one TOML value, not more keys or tables");
+  }
+  return o;
+}
+
+std::vector<Override> parseOverrides(const std::vector<std::string>& specs) {
+  std::vector<Override> out;
+  out.reserve(specs.size());
+  for (const std::string& spec : specs) out.push_back(parseOverride(spec));
+  return out;
+}
+
+/// Puts the override's key into the file's table (creating the table when the file lacks it),
+/// replacing the file's value: moved, not copied, so that the nodes keep their source.
+void applyOverride(toml::table& root, Override& o, const std::string& file) {
+  toml::table& from = *o.doc.get_as<toml::table>(o.section);
+  toml::node* existing = root.get(o.section);
+  if (existing == nullptr) {
+    root.insert(o.section, std::move(from));
+    return;
+  }
+  (void)sectionOf(file, root, o.section);  // the file's own error when it is not a table there
+  toml::table& to = *existing->as_table();
+  auto [key, node] = *from.begin();
+  to.erase(o.key);
+  to.insert(key, std::move(node));
+}
+
+Scene parseWith(std::string_view text, const std::string& sourceName, std::vector<Override>& overrides) {
+  toml::table root = parseToml(text, sourceName);
+  for (Override& o : overrides) applyOverride(root, o, sourceName);
   return SceneParser(root, sourceName).run();
 }
 
-Scene readSceneFile(const std::string& path) {
+}  // namespace
+
+Scene parseScene(std::string_view text, const std::string& sourceName, const std::vector<std::string>& overrides) {
+  std::vector<Override> parsed = parseOverrides(overrides);
+  return parseWith(text, sourceName, parsed);
+}
+
+Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides) {
+  std::vector<Override> parsed = parseOverrides(overrides);  // mistakes on the command line first
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw InputError(path, 0, std::string("cannot open: ") + std::strerror(EISDIR));
@@ -872,7 +994,7 @@ Scene readSceneFile(const std::string& path) {
     const int err = errno;
     throw InputError(path, 0, std::string("cannot read: ") + std::strerror(err));
   }
-  return parseScene(text.str(), path);
+  return parseWith(text.str(), path, parsed);
 }
 
 }  // namespace tumble

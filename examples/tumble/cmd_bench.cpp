@@ -22,6 +22,7 @@ namespace {
 struct BenchOptions {
   std::vector<std::uint32_t> sizes{16000, 128000, 960000};
   std::vector<std::string> scenes;  // scene files instead of the bench scene
+  std::vector<std::string> sets;    // overrides of the scene files' keys
   std::vector<int> threads{0};
   std::vector<std::string> pipelines{"cpu"};
   std::optional<float> skin;
@@ -70,8 +71,12 @@ void bench(BenchOptions o) {
   if (o.steps < 1) throw Error("--steps must be >= 1");
   std::vector<std::pair<std::string, World>> worlds;
   if (!o.scenes.empty()) {
-    for (const auto& f : o.scenes) worlds.emplace_back(f, World::fromScene(readSceneFile(f)));
+    for (const auto& f : o.scenes) worlds.emplace_back(f, World::fromScene(readSceneFile(f, o.sets)));
   } else {
+    // The bench scene is built in code, not read: there is no file for --set to change.
+    if (!o.sets.empty())
+      throw Error("--set changes the keys of scene files and needs --scene FILE; the bench scene is built in code "
+                  "(scenes/bench-16k.toml, bench-128k.toml and bench-960k.toml are the same scenes as files)");
     for (std::uint32_t n : o.sizes) {
       if (n == 0 || n % 8 != 0) throw Error("--sizes: " + std::to_string(n) + " is not a positive multiple of 8");
       worlds.emplace_back("bench-" + std::to_string(n), World::fromScene(validation::benchScene(n)));
@@ -123,6 +128,7 @@ void addBench(CLI::App& app) {
   c->add_option("--sizes", o->sizes, "Particle counts of the bench scene (multiples of 8)")->delimiter(',')
       ->check(countIn(8, 100000000));
   c->add_option("--scene", o->scenes, "Time these scene files instead of the bench scene")->delimiter(',');
+  addSetOption(c, o->sets, "; applies to every --scene file (and needs one); --skin wins over it");
   c->add_option("--threads", o->threads, "Thread counts to sweep, 0 = all cores")->delimiter(',')
       ->check(countIn(0, kMaxThreads));
   c->add_option("--pipeline", o->pipelines, "Pipelines: cpu and/or cuda")->delimiter(',')

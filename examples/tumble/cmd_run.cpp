@@ -25,6 +25,7 @@ namespace {
 
 struct RunOptions {
   std::string scene;
+  std::vector<std::string> sets;
   std::optional<std::uint64_t> steps;
   int threads = 0;
   std::string pipeline = "cpu";
@@ -97,7 +98,7 @@ void checkContinues(const RecordingWriter& rec, std::uint64_t start, std::uint64
 
 void run(RunOptions o) {
   applyRecEnv(o);
-  Scene scene = readSceneFile(o.scene);
+  Scene scene = readSceneFile(o.scene, o.sets);
   if (o.steps) scene.steps = *o.steps;
   if (o.cellSize) {
     if (!(*o.cellSize >= 0.0f) || !std::isfinite(*o.cellSize)) throw Error("--cell-size must be >= 0 (0 = automatic)");
@@ -346,6 +347,7 @@ void addRun(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   CLI::App* c = app.add_subcommand("run", "Simulate a scene file (TOML, see docs/scenes.md)");
   c->add_option("scene", o->scene, "Scene file, e.g. scenes/molecules.toml")->required();
+  addSetOption(c, o->sets, "; options such as --steps, --record and --skin (and REC) win over it");
   c->add_option("--steps", o->steps, "Step to run to, counted from the start of the run (default: the scene's steps)")
       ->check(countIn(1, kMaxSteps));
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores (results do not depend on it)")

@@ -23,6 +23,7 @@ namespace {
 struct ValidateOptions {
   std::vector<std::string> pipelines{"cpu"};
   std::string scene;
+  std::vector<std::string> sets;
   std::uint64_t steps = 300;
   std::uint64_t seed = 20261122;
   int random = 20;
@@ -83,6 +84,9 @@ void validate(const ValidateOptions& o) {
       throw Error("--pipelines cuda: this build of tumble has no CUDA pipeline or no CUDA device");
     backends.push_back(b);
   }
+  // The scene of the side-by-side run, read (with its --set overrides) before any work.
+  const Scene scene = readSceneFile(o.scene.empty() ? validation::sourcePath("scenes/molecules.toml") : o.scene, o.sets);
+  const World world = World::fromScene(scene);
   bool ok = true;
   std::printf("## Pair sets against the brute-force oracle (seed %llu)\n\n| case | oracle pairs |",
               static_cast<unsigned long long>(o.seed));
@@ -99,8 +103,6 @@ void validate(const ValidateOptions& o) {
     std::printf("\n");
   }
 
-  const Scene scene = readSceneFile(o.scene.empty() ? validation::sourcePath("scenes/molecules.toml") : o.scene);
-  const World world = World::fromScene(scene);
   std::unique_ptr<Pipeline> a, b;
   std::string what;
   if (backends.size() >= 2) {
@@ -151,6 +153,7 @@ void addValidate(CLI::App& app) {
   c->add_option("--pipelines", o->pipelines, "Pipelines to compare, e.g. cpu,cuda")->delimiter(',')
       ->check(CLI::IsMember({"cpu", "cuda"}));
   c->add_option("--scene", o->scene, "Scene for the side-by-side run (default scenes/molecules.toml)");
+  addSetOption(c, o->sets, "; applies to the --scene (or the default) of the side-by-side run");
   c->add_option("--steps", o->steps, "Steps of the side-by-side run")->check(countIn(1, kMaxSteps));
   c->add_option("--seed", o->seed, "Seed of the random clouds and hard cases")
       ->check(countIn(0, 9999999999999999999ull));

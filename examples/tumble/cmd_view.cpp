@@ -31,6 +31,7 @@ namespace {
 
 struct ViewOptions {
   std::string scene;
+  std::vector<std::string> sets;
   std::string pipeline = "cpu";
   int threads = 0;
   std::string record;
@@ -61,7 +62,7 @@ void view(const ViewOptions& o) {
   int w = 0, h = 0;
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
-  const Scene scene = readSceneFile(o.scene);
+  const Scene scene = readSceneFile(o.scene, o.sets);
   const World world = World::fromScene(scene);
   if (const std::string warn = timeStepWarning(world); !warn.empty())
     std::fprintf(stderr, "tumble view: warning: %s: %s\n", o.scene.c_str(), warn.c_str());
@@ -257,6 +258,7 @@ void addView(CLI::App& app) {
   auto o = std::make_shared<ViewOptions>();
   CLI::App* c = app.add_subcommand("view", "Live window: simulate a scene and draw it, with the pulls on the keys");
   c->add_option("scene", o->scene, "Scene file, e.g. scenes/molecules.toml")->required();
+  addSetOption(c, o->sets, "");
   c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores")->check(countIn(0, kMaxThreads));
   c->add_option("--record", o->record,

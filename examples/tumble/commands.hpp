@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace tumble::cli {
 
@@ -54,6 +55,11 @@ std::optional<std::uint64_t> parseCount(const std::string& text, std::uint64_t l
 
 /// The CLI11 check of a count option: parseCount(text, lo, hi) must succeed.
 CLI::Validator countIn(std::uint64_t lo, std::uint64_t hi);
+
+/// Adds `--set SECTION.KEY=VALUE` (repeatable, one override per --set) to a command that reads
+/// scene files: the overrides are passed to readSceneFile (tumble/scene_io.hpp). `note` ends the
+/// help text.
+CLI::Option* addSetOption(CLI::App* command, std::vector<std::string>& sets, const std::string& note);
 
 }  // namespace tumble::cli
 

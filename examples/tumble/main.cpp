@@ -25,6 +25,16 @@ CLI::Validator tumble::cli::countIn(std::uint64_t lo, std::uint64_t hi) {
       "INT " + range);
 }
 
+CLI::Option* tumble::cli::addSetOption(CLI::App* command, std::vector<std::string>& sets, const std::string& note) {
+  return command
+      ->add_option("--set", sets,
+                   "Override a scene key, SECTION.KEY=VALUE with VALUE in TOML (strings in quotes), e.g. --set "
+                   "ground.friction=0.3 --set output.record='\"r.bin\"'; repeatable, the last of a key wins; "
+                   "checked as the file is (docs/scenes.md)" + note)
+      ->type_name("SECTION.KEY=VALUE")
+      ->allow_extra_args(false);
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"tumble " TUMBLE_VERSION_STRING
                ": rigid bodies made of spheres, with sweep-and-prune collision detection along the PCA axis"};

@@ -4,6 +4,7 @@
 #pragma once
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "tumble/scene.hpp"
 
@@ -12,9 +13,20 @@ namespace tumble {
 /// Reads and validates a scene file. Throws tumble::InputError naming the file, the line and
 /// the problem (missing file, TOML syntax, unknown key, wrong type, NaN/inf, radius ≤ 0,
 /// mass ≤ 0, elasticity outside (0, 1], empty scene, unknown shape name).
-Scene readSceneFile(const std::string& path);
+///
+/// `overrides` change keys of the file, as `tumble run --set` does (docs/scenes.md, "Overriding
+/// keys on the command line"): each is "SECTION.KEY=VALUE", SECTION one of the single tables
+/// ([scene], [contact], [ground], [pulls], [broadphase], [integrator], [output]) and VALUE a TOML
+/// value ("0.3", "[0, 0, -9.8]", "true", "\"run.bin\""). They are applied in order, so the last
+/// one of a key wins, replacing the file's value or adding the key (and its table, when the file
+/// has none); the result is then checked as a file is. A problem with an override is reported
+/// with file() "command line, --set SPEC" and line() 0; malformed ones (no '=', not one section
+/// and one key, a [[shape]], [[body]] or [[group]] key, a VALUE that is not one TOML value) are
+/// reported before the file is read.
+Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides = {});
 
 /// Same as readSceneFile() on text already in memory; `sourceName` is used in messages.
-Scene parseScene(std::string_view text, const std::string& sourceName);
+Scene parseScene(std::string_view text, const std::string& sourceName,
+                 const std::vector<std::string>& overrides = {});
 
 }  // namespace tumble

@@ -692,6 +692,19 @@ stiffness = 2e4
     for (float z : f.pz) ASSERT_TRUE(std::isfinite(z));
 }
 
+// Under Xvfb: --set changes the scene the window simulates (here its steps per frame), as the
+// same key in the file would.
+TEST_F(Cli, ViewUnderXvfbTakesSetOverrides) {
+  if (!have("xvfb-run") || !have("xauth")) GTEST_SKIP() << "xvfb-run/xauth not installed";
+  scene("small.toml");
+  const Result plain = run("view small.toml --frames 3 --size 160x120", xvfbRun());
+  ASSERT_EQ(plain.status, 0) << plain.err << plain.out;
+  EXPECT_NE(plain.out.find("4 frames, 30 steps"), std::string::npos) << plain.out;
+  const Result set = run("view small.toml --set output.steps_per_frame=5 --frames 3 --size 160x120", xvfbRun());
+  ASSERT_EQ(set.status, 0) << set.err << set.out;
+  EXPECT_NE(set.out.find("4 frames, 15 steps"), std::string::npos) << set.out;
+}
+
 // Under Xvfb, with real X key events (xdotool): the GLFW key callback path. Arrow-left is held
 // for about a second, then Escape closes the window; the recording must show the x pull on some
 // frames and off before it, and the run must have ended by Escape, not by --frames.
