@@ -39,9 +39,12 @@ ensure_deb_src() {
   echo "tumble.sh: adding the deb-src lines of the configured Debian archives (/etc/apt/sources.list.d/tumble-src.*)" >&2
   local f
   for f in /etc/apt/sources.list.d/*.sources; do
-    [ -f "$f" ] && grep -qE '^URIs:.*/debian' "$f" && sed 's/^Types:[[:space:]]*deb[[:space:]]*$/Types: deb-src/' "$f" && echo
+    if [ -f "$f" ] && grep -qE '^URIs:.*/debian' "$f"; then
+      sed 's/^Types:[[:space:]]*deb[[:space:]]*$/Types: deb-src/' "$f"
+      echo
+    fi
   done | $sudo tee /etc/apt/sources.list.d/tumble-src.sources >/dev/null
-  [ -f /etc/apt/sources.list ] && sed -n 's/^deb[[:space:]]\(.*\/debian.*\)/deb-src \1/p' /etc/apt/sources.list |
+  [ ! -f /etc/apt/sources.list ] || sed -n 's/^deb[[:space:]]\(.*\/debian.*\)/deb-src \1/p' /etc/apt/sources.list |
     $sudo tee /etc/apt/sources.list.d/tumble-src.list >/dev/null
   $sudo apt-get update -qq
 }

@@ -6,9 +6,11 @@
 // the host compiler with the project's flags, as the CPU twins are. Keep the two in step: a
 // change to the CPU's frame or axis must be copied here (REVIEW.md lists the pairs).
 #include "tumble/sweep_frame.hpp"
+#include "tumble/error.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cstdio>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -77,6 +79,15 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cell
     half[k] = std::max(double(b.hi[k]) - c[k], double(c[k]) - b.lo[k]);
   }
   f.center = {c[0], c[1], c[2]};
+  // Projected coordinates (and their differences in the sweep) must stay finite floats: beyond
+  // this, a pair's test would compare inf − inf and drop it. Refused instead (found by review
+  // with the particle CSV fuzz target: clouds at ±2.5e38).
+  if (!(half[0] + half[1] + half[2] + double(maxRadius) <= 1.0e38)) {
+    char buf[300];
+    std::snprintf(buf, sizeof buf, "the particles are spread over more than single precision can sweep (half-extents "
+                  "%.3g, %.3g, %.3g m; at most 1e38 in all); bring them closer together", half[0], half[1], half[2]);
+    throw Error(buf);
+  }
   const double u = std::ldexp(1.0, -24);
   const double slack = 32.0 * u * (half[0] + half[1] + half[2]) + 1e-30;
   f.slack = static_cast<float>(slack);

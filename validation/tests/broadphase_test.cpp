@@ -134,6 +134,23 @@ TEST(BroadphaseBoundsTest, HugeRecordCountsAreRefused) {
   }
 }
 
+// Coordinates spread beyond what a float projection holds (±2.5e38): refused, not pairs
+// silently dropped (the sweep compared inf − inf).
+TEST(BroadphaseBoundsTest, CoordinatesBeyondSinglePrecisionAreRefused) {
+  auto p = makePipeline(Backend::Cpu);
+  ParticleCloud c;
+  for (const float v : {2.5e38f, 2.5e38f, -2.5e38f}) {
+    c.x.push_back(v), c.y.push_back(v), c.z.push_back(0.0f), c.r.push_back(1.0f);
+    c.body.push_back(static_cast<std::uint32_t>(c.body.size()));
+  }
+  try {
+    p->findPairs(c, BroadphaseParams{});
+    ADD_FAILURE() << "a cloud spread over 5e38 m must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("single precision"), std::string::npos) << e.what();
+  }
+}
+
 // One particle 1e30 m away: the rounding margin spans 10^24 m, so the automatic cell is a few
 // margins wide (at least 8) instead of a few radii, and the detection finds the oracle's pairs
 // instead of needing 10^14 cell records per particle (it was refused; before the bound, the
