@@ -351,6 +351,11 @@ if command -v gnuplot >/dev/null; then
   [ -s cols.png ] && ok "plot --columns wrote cols.png" || bad "plot --columns wrote nothing"
   expect_status "plot unknown column" 2 "$bin" plot th.csv --columns nope
   expect_msg "plot unknown column" "th.csv:1: no column 'nope' \(--columns\); the columns are: step, time"
+  # gnuplot runs a name that starts with '<' or '|': the paths reach it as ./NAME.
+  cp th.csv '<touch injected; cat th.csv'
+  expect_status "plot a name gnuplot would run" 0 "$bin" plot '<touch injected; cat th.csv' -o '|touch piped; cat > sink'
+  [ ! -e injected ] && [ ! -e piped ] && [ -s '|touch piped; cat > sink' ] && ok "plot ran no command from a name" ||
+    bad "plot ran a command from a file name"
   expect_status "plot a missing file" 2 "$bin" plot missing.csv
   expect_msg "plot a missing file" "missing.csv: cannot open"
 fi

@@ -35,6 +35,11 @@ std::vector<std::string> headerOf(const std::string& path) {
   return cols;
 }
 
+// A path as gnuplot must get it: it reads a name starting with '<' as a command to run and one
+// starting with '|' (for `set output`) as a pipe, and '-' as inline data, so a relative path
+// gets "./" in front.
+std::string gnuplotPath(const std::string& p) { return gnuplotString(!p.empty() && p[0] == '/' ? p : "./" + p); }
+
 struct Panel {
   std::string ylabel;
   std::vector<std::string> columns;
@@ -78,7 +83,7 @@ void plot(const PlotOptions& o) {
   OutputFile png(out);  // gnuplot writes the temporary; commit() renames it into place
   std::ostringstream gp;
   gp << "set terminal pngcairo size " << width << "," << height << " noenhanced font 'sans,10'\n"
-     << "set output " << gnuplotString(png.writingTo()) << "\n"
+     << "set output " << gnuplotPath(png.writingTo()) << "\n"
      << "set datafile separator ','\nset datafile columnheaders\nset grid\nset key top right\n"
      << "set autoscale xfix\n";
   if (panels.size() > 1) gp << "set multiplot layout " << panels.size() << ",1 title " << gnuplotString(o.file) << "\n";
@@ -92,7 +97,7 @@ void plot(const PlotOptions& o) {
     gp << "plot ";
     bool first = true;
     auto series = [&](const std::string& c, const char* axes) {
-      gp << (first ? "" : ", ") << gnuplotString(o.file) << " using (column(" << gnuplotString(o.x) << ")):(column("
+      gp << (first ? "" : ", ") << gnuplotPath(o.file) << " using (column(" << gnuplotString(o.x) << ")):(column("
          << gnuplotString(c) << ")) axes " << axes << " with lines lw 1.5 title " << gnuplotString(c);
       first = false;
     };
