@@ -134,6 +134,10 @@ case "$cmd" in
     if [ $# -gt 0 ] && [[ "$1" =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
     targets=("$@")
     [ ${#targets[@]} -eq 0 ] && targets=(scene recording checkpoint particle_csv)
+    for t in "${targets[@]}"; do
+      [ -d "$here/validation/fuzz/corpus/$t" ] ||
+        { echo "tumble.sh fuzz: no target '$t' (expected scene, recording, checkpoint or particle_csv)" >&2; exit 2; }
+    done
     build=${FUZZ_BUILD_DIR:-$here/build-fuzz}
     CC=clang-14 CXX=clang++-14 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
           -DTUMBLE_ENABLE_CUDA=OFF -DTUMBLE_FUZZ=ON -DTUMBLE_SANITIZE=ON -DTUMBLE_BUILD_TESTS=OFF \
@@ -143,7 +147,6 @@ case "$cmd" in
     export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
     status=0
     for t in "${targets[@]}"; do
-      [ -d "$here/validation/fuzz/corpus/$t" ] || { echo "tumble.sh fuzz: no target '$t'" >&2; exit 2; }
       mkdir -p "$build/corpus/$t"
       echo "tumble.sh fuzz: $t for $seconds s" >&2
       if ! "$build/validation/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 \

@@ -555,7 +555,7 @@ class SceneParser {
                             Rule::Positive);
         sd.elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
         if (const std::string why = groundDampingOutOfRange(sd, scene.ground); !why.empty())
-          sr.fail(sr.header(), where + ", [[shape.sphere]] #" + std::to_string(i + 1) + ": " + why);
+          sr.fail(sr.header(), why);  // sr names the shape and the sphere
         shape.spheres.push_back(sd);
       }
       if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.header(), where + ": " + why);

@@ -675,7 +675,13 @@ TEST(SceneIoErrors, GroundDampingBeyondSinglePrecision) {
   ls.insert(ls.begin() + 8, "elasticity = 1e-6");
   ls.push_back("[ground]");
   ls.push_back("stiffness = 3e38");
-  expectError(join(ls), 6, {"[[shape.sphere]] #1", "ground damping", "beyond single precision"});
+  expectError(join(ls), 6, {"[[shape.sphere]] #1: its ground damping", "beyond single precision"});
+  try {
+    (void)tumble::parseScene(join(ls), "test.toml");
+  } catch (const tumble::InputError& e) {  // the place is named once
+    const std::string m = e.what();
+    EXPECT_EQ(m.find("[[shape.sphere]]"), m.rfind("[[shape.sphere]]")) << m;
+  }
   ls.push_back("enabled = false");  // no ground, no ground damping
   EXPECT_NO_THROW((void)tumble::parseScene(join(ls), "test.toml"));
   ls.pop_back();
