@@ -11,6 +11,11 @@ include(CMakePackageConfigHelpers)
 add_library(tumble_all INTERFACE)
 target_link_libraries(tumble_all INTERFACE tumble_core tumble_cpu)
 set_target_properties(tumble_all PROPERTIES EXPORT_NAME tumble)
+# tumble::flags is the build's own (BUILD_INTERFACE); but a sanitized build's libraries need the
+# sanitizer runtimes, so a program linking them from the install links those too.
+if(TUMBLE_SANITIZE_LINK)
+  target_link_options(tumble_all INTERFACE $<INSTALL_INTERFACE:${TUMBLE_SANITIZE_LINK}>)
+endif()
 set(_tumble_targets tumble_all tumble_core tumble_cpu)
 if(TARGET tumble_gpu)
   set_target_properties(tumble_gpu PROPERTIES EXPORT_NAME cuda)

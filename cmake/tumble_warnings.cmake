@@ -28,6 +28,7 @@ if(TUMBLE_SANITIZE AND NOT TUMBLE_SANITIZE STREQUAL "OFF")
     target_compile_options(tumble_flags INTERFACE -fno-sanitize-recover=undefined)
   endif()
   target_link_options(tumble_flags INTERFACE -fsanitize=${_san})
+  set(TUMBLE_SANITIZE_LINK -fsanitize=${_san})  # what a consumer of the installed library links too
   message(STATUS "tumble: sanitizers ${_san}")
 endif()
 # TUMBLE_FUZZ: every host target gets libFuzzer's coverage instrumentation (the fuzz targets
