@@ -16,6 +16,8 @@ packages=(g++ cmake ninja-build pkg-config libtbb-dev libeigen3-dev libtomlplusp
           libgtest-dev libgmock-dev libbenchmark-dev
           libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev libpng-dev
           ffmpeg xvfb xauth xdotool gnuplot-nox fonts-dejavu-core)
+# What only the tests need: VTK's reader for the export test.
+test_packages=(python3-vtk9 python3-numpy)
 
 install_packages() {
   local missing=()
@@ -69,11 +71,13 @@ case "$cmd" in
     if [ $# -gt 0 ] && [[ "$1" != -* ]]; then scene=$1; shift; fi
     exec "$build/examples/tumble" run "$scene" "$@" ;;
   test)
+    packages+=("${test_packages[@]}")
     install_packages; configure_and_build
     cd "$build"
     exec ctest --output-on-failure -j "$jobs" ;;
   sanitize)
     # Address and undefined-behaviour sanitizers on every test (CI runs this after `test`).
+    packages+=("${test_packages[@]}")
     install_packages
     build=${SANITIZE_BUILD_DIR:-$here/build-sanitize}
     cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTUMBLE_ENABLE_CUDA=OFF \

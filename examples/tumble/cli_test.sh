@@ -360,5 +360,27 @@ if command -v gnuplot >/dev/null; then
   expect_msg "plot a missing file" "missing.csv: cannot open"
 fi
 
+# tumble export (the files themselves are read back by VTK in export_test.py).
+"$bin" run small.toml --steps 30 --record ex.bin -q
+expect_status "export" 0 "$bin" export ex.bin exdir
+[ -s exdir/ex.pvd ] && [ -s exdir/ex_000003.vtp ] && [ -s exdir/ex_ground.vtp ] && [ ! -e exdir/ex_000004.vtp ] &&
+  ok "export wrote 4 frames, the ground and the collection" || bad "export files: $(ls exdir)"
+expect_msg "export says where" "4 frames of ex.bin into exdir/, exdir/ex.pvd"
+expect_msg "export says what next" "open in ParaView: paraview exdir/ex.pvd"
+expect_status "export csv" 0 "$bin" export ex.bin exdir --format csv --name c -q
+[ "$(head -n 1 exdir/c_000000.csv)" = "particle,body,x,y,z,r,mass,elasticity" ] && [ "$(wc -l < exdir/c_000000.csv)" = 33 ] &&
+  [ "$(sed -n 2p exdir/c_frames.csv)" = "0,0,0,c_000000.csv" ] && ok "export csv rows and index" ||
+  bad "export csv: $(head -n 2 exdir/c_000000.csv) / $(head -n 2 exdir/c_frames.csv)"
+expect_status "export a missing recording" 2 "$bin" export nope.bin exdir2
+expect_msg "export a missing recording" "nope.bin: cannot open"
+[ ! -e exdir2 ] && ok "export of a missing recording made no folder" || bad "export made exdir2"
+expect_status "export bad format" 2 "$bin" export ex.bin exdir2 --format vtu
+expect_status "export --every 0" 2 "$bin" export ex.bin exdir2 --every 0
+touch afile
+expect_status "export into a file" 2 "$bin" export ex.bin afile
+expect_msg "export into a file" "afile: cannot create the export folder"
+expect_status "export a name with a slash" 2 "$bin" export ex.bin exdir2 --name a/b
+expect_msg "export a name with a slash" "without '/'"
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

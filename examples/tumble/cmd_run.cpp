@@ -307,8 +307,10 @@ void run(RunOptions o) {
                    static_cast<unsigned long long>(perFrame), rec->path().c_str());
       std::error_code ec;
       if (!namesDescriptor(rec->path()) && std::filesystem::is_regular_file(rec->path(), ec))  // what next
-        std::fprintf(stderr, "  watch it: tumble play %s    make a video: tumble render %s -o video.mp4\n",
-                     rec->path().c_str(), rec->path().c_str());
+        std::fprintf(stderr,
+                     "  watch it: tumble play %s    make a video: tumble render %s -o video.mp4    "
+                     "for ParaView: tumble export %s DIR\n",
+                     rec->path().c_str(), rec->path().c_str(), rec->path().c_str());
     }
   }
   if (thermo) {

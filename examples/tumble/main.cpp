@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
   tumble::cli::addPlay(app);
   tumble::cli::addRender(app);
   tumble::cli::addPlot(app);
+  tumble::cli::addExport(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

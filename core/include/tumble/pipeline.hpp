@@ -82,9 +82,12 @@ struct StepStats {
 };
 
 /// Per-particle debug data for the debug recording: velocity and the five forces.
+/// The five force kinds of ParticleDebug::force, in its order.
+inline constexpr const char* kDebugForceNames[5] = {"repulsion", "damping", "shear", "ground", "friction"};
+
 struct ParticleDebug {
   std::vector<float> v;          ///< 3 per particle
-  std::vector<float> force[5];   ///< repulsion, damping, shear, ground, friction; 3 per particle
+  std::vector<float> force[5];   ///< kDebugForceNames: repulsion, damping, shear, ground, friction; 3 per particle
   std::vector<Pair> contacts;    ///< sorted pairs
 };
 

@@ -7,9 +7,11 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "tumble/error.hpp"
+#include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
 
 namespace tumble::viewer {
@@ -105,8 +107,8 @@ ColorMode nextColorMode(ColorMode m) {
 }
 
 const char* forceName(int kind) {
-  static constexpr const char* kNames[kNumForces] = {"repulsion", "damping", "shear", "ground", "friction"};
-  return kind >= 0 && kind < kNumForces ? kNames[kind] : "?";
+  static_assert(std::size(kDebugForceNames) == kNumForces);
+  return kind >= 0 && kind < kNumForces ? kDebugForceNames[kind] : "?";
 }
 
 Rgb forceColor(int kind) {

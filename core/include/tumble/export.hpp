@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+/// @file export.hpp
+/// A recording as files other tools read (docs/export.md): one VTK XML PolyData file (.vtp) per
+/// frame plus a ParaView collection (.pvd), or one CSV per frame plus an index.
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "tumble/recording.hpp"
+
+namespace tumble {
+
+enum class ExportFormat { Vtk, Csv };
+
+struct ExportOptions {
+  ExportFormat format = ExportFormat::Vtk;
+  /// Every k-th frame from the first (frames 0, k, 2k, …), k ≥ 1.
+  std::size_t every = 1;
+  /// File names start with this (default "frame"; `tumble export` passes the recording's name
+  /// without its extension).
+  std::string name;
+  /// Called after each frame file with (frames written, frames to write).
+  std::function<void(std::size_t, std::size_t)> progress;
+  /// Polled before each frame; true stops the export (the files written so far stay, the
+  /// collection or index is written for them).
+  std::function<bool()> stop;
+};
+
+/// What exportRecording wrote.
+struct ExportResult {
+  std::size_t frames = 0;   ///< frame files
+  std::string index;        ///< the .pvd collection or the CSV index
+  bool stopped = false;     ///< options.stop asked to stop
+};
+
+/// The name exportRecording gives frame k's file when there are `numFrames` frames to write:
+/// NAME_k with k zero-padded to at least 6 digits, then ".vtp" or ".csv".
+std::string exportFrameName(const std::string& name, std::size_t k, std::size_t numFrames, ExportFormat format);
+
+/// Writes the selected frames of `reader` into the folder `dir` (created when missing, with its
+/// parents). Particle positions are x = X + R(Q) u, the expression every pipeline uses
+/// (kernels/integrate.hpp particlePosition), so they are the simulation's own bits. Each file is
+/// written atomically (output_file.hpp); files of the same names are replaced, others are left
+/// alone. Throws tumble::Error (a frame the reader rejects: tumble::InputError).
+ExportResult exportRecording(RecordingReader& reader, const std::string& dir, const ExportOptions& options);
+
+}  // namespace tumble

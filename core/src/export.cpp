@@ -1,0 +1,300 @@
+// SPDX-License-Identifier: MIT
+// VTK XML PolyData and CSV output of a recording (export.hpp, docs/export.md).
+//
+// The VTK files are written here rather than through Debian's VTK: the format of one .vtp
+// (a few XML elements and raw little-endian arrays, "VTK File Formats" in the VTK book) takes
+// less code than adapting our columns to vtkPolyData, and a ~100 MB library with Qt and MPI
+// behind it would be a dependency of the core library for one command. The test reads the files
+// back with VTK's own reader (validation/tests/export_vtk_test.py).
+#include "tumble/export.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include "binary_io.hpp"
+#include "tumble/error.hpp"
+#include "tumble/kernels/integrate.hpp"
+#include "tumble/output_file.hpp"
+
+namespace tumble {
+namespace {
+
+std::string xmlEscaped(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// The shortest text that reads back to the same value (std::to_chars): a float as a float.
+template <class T>
+std::string number(T v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+void writeAll(OutputFile& out, const void* data, std::size_t size) {
+  if (!writeFully(out.file(), data, size))
+    throw Error(out.path() + ": cannot write: " + detail::errnoText(errno));
+}
+
+void writeAll(OutputFile& out, const std::string& s) { writeAll(out, s.data(), s.size()); }
+
+// One .vtp file: the XML head lists each array with its offset into the appended block, which
+// holds for each array a UInt64 byte count and then the values (header_type="UInt64").
+class VtpFile {
+ public:
+  void array(const char* type, const std::string& name, int components,
+             const std::function<void(detail::Encoder&)>& values) {
+    m_xml += "        <DataArray type=\"" + std::string(type) + "\" Name=\"" + xmlEscaped(name) + "\"";
+    if (components > 1) m_xml += " NumberOfComponents=\"" + std::to_string(components) + "\"";
+    m_xml += " format=\"appended\" offset=\"" + std::to_string(m_data.size()) + "\"/>\n";
+    const std::size_t at = m_data.size();
+    detail::Encoder enc(m_data);
+    enc.u64(0);
+    values(enc);
+    const std::uint64_t bytes = m_data.size() - at - 8;
+    for (int k = 0; k < 8; ++k) m_data[at + k] = static_cast<std::uint8_t>(bytes >> (8 * k));
+  }
+  void xml(const std::string& s) { m_xml += s; }
+  void write(const std::string& path) {
+    OutputFile out(path);
+    writeAll(out,
+             "<?xml version=\"1.0\"?>\n"
+             "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+             "  <PolyData>\n" +
+                 m_xml + "  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _");
+    writeAll(out, m_data.data(), m_data.size());
+    writeAll(out, "\n  </AppendedData>\n</VTKFile>\n");
+    out.commit();
+  }
+
+ private:
+  std::string m_xml;
+  std::vector<std::uint8_t> m_data;
+};
+
+void f32s(detail::Encoder& e, const std::vector<float>& v) {
+  for (const float x : v) e.f32(x);
+}
+
+std::string pieceHead(std::size_t points, std::size_t verts, std::size_t lines, std::size_t polys) {
+  return "    <Piece NumberOfPoints=\"" + std::to_string(points) + "\" NumberOfVerts=\"" + std::to_string(verts) +
+         "\" NumberOfLines=\"" + std::to_string(lines) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"" +
+         std::to_string(polys) + "\">\n";
+}
+
+// Cells of one kind: `cells` cells of `size` points each, point indices from `point(k)`.
+void cellBlock(VtpFile& f, const char* tag, std::size_t cells, int size, const std::function<std::int64_t(std::size_t)>& point) {
+  f.xml("      <" + std::string(tag) + ">\n");
+  f.array("Int64", "connectivity", 1, [&](detail::Encoder& e) {
+    for (std::size_t k = 0; k < cells * static_cast<std::size_t>(size); ++k) e.u64(static_cast<std::uint64_t>(point(k)));
+  });
+  f.array("Int64", "offsets", 1, [&](detail::Encoder& e) {
+    for (std::size_t k = 1; k <= cells; ++k) e.u64(k * static_cast<std::uint64_t>(size));
+  });
+  f.xml("      </" + std::string(tag) + ">\n");
+}
+
+void writeFrameVtp(const std::string& path, const Recording& table, const RecordedFrame& frame,
+                   const std::vector<float>& x) {
+  const std::size_t n = table.radius.size();
+  const bool debug = frame.debug.v.size() == 3 * n;
+  const std::size_t contacts = debug ? frame.debug.contacts.size() : 0;
+  VtpFile f;
+  // The data set's field data (before its piece): ParaView takes "TimeValue" as the time of a
+  // file opened on its own.
+  f.xml("    <FieldData>\n");
+  f.xml("      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">" +
+        number(frame.time) + "</DataArray>\n");
+  f.xml("      <DataArray type=\"UInt64\" Name=\"step\" NumberOfTuples=\"1\" format=\"ascii\">" +
+        std::to_string(frame.step) + "</DataArray>\n");
+  f.xml("    </FieldData>\n");
+  f.xml(pieceHead(n, n, contacts, 0));
+  f.xml("      <PointData Scalars=\"radius\"" + std::string(debug ? " Vectors=\"velocity\"" : "") + ">\n");
+  f.array("Float32", "radius", 1, [&](detail::Encoder& e) { f32s(e, table.radius); });
+  f.array("UInt32", "body", 1, [&](detail::Encoder& e) {
+    for (const std::uint32_t b : table.body) e.u32(b);
+  });
+  f.array("Float32", "mass", 1, [&](detail::Encoder& e) { f32s(e, table.mass); });
+  f.array("Float32", "elasticity", 1, [&](detail::Encoder& e) { f32s(e, table.elasticity); });
+  if (debug) {
+    f.array("Float32", "velocity", 3, [&](detail::Encoder& e) { f32s(e, frame.debug.v); });
+    for (int k = 0; k < 5; ++k)
+      f.array("Float32", kDebugForceNames[k], 3, [&](detail::Encoder& e) { f32s(e, frame.debug.force[k]); });
+  }
+  f.xml("      </PointData>\n      <Points>\n");
+  f.array("Float32", "Points", 3, [&](detail::Encoder& e) { f32s(e, x); });
+  f.xml("      </Points>\n");
+  cellBlock(f, "Verts", n, 1, [](std::size_t k) { return static_cast<std::int64_t>(k); });
+  if (contacts > 0)
+    cellBlock(f, "Lines", contacts, 2, [&](std::size_t k) {
+      const Pair& p = frame.debug.contacts[k / 2];
+      return static_cast<std::int64_t>(k % 2 == 0 ? p.i : p.j);
+    });
+  f.xml("    </Piece>\n");
+  f.write(path);
+}
+
+// The ground as one square at z = height under everything exported, with a margin.
+void writeGroundVtp(const std::string& path, float height, const float lo[2], const float hi[2]) {
+  const float span = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-3f});
+  const float m = 0.25f * span;
+  const float corners[4][2] = {{lo[0] - m, lo[1] - m}, {hi[0] + m, lo[1] - m}, {hi[0] + m, hi[1] + m}, {lo[0] - m, hi[1] + m}};
+  VtpFile f;
+  f.xml(pieceHead(4, 0, 0, 1));
+  f.xml("      <Points>\n");
+  f.array("Float32", "Points", 3, [&](detail::Encoder& e) {
+    for (const auto& c : corners) {
+      e.f32(c[0]);
+      e.f32(c[1]);
+      e.f32(height);
+    }
+  });
+  f.xml("      </Points>\n");
+  cellBlock(f, "Polys", 1, 4, [](std::size_t k) { return static_cast<std::int64_t>(k); });
+  f.xml("    </Piece>\n");
+  f.write(path);
+}
+
+void writeFrameCsv(const std::string& path, const Recording& table, const RecordedFrame& frame,
+                   const std::vector<float>& x) {
+  const std::size_t n = table.radius.size();
+  const bool debug = frame.debug.v.size() == 3 * n;
+  std::string s = "particle,body,x,y,z,r,mass,elasticity";
+  if (debug) {
+    s += ",vx,vy,vz";
+    for (const char* name : kDebugForceNames) s += std::string(",") + name + "_x," + name + "_y," + name + "_z";
+  }
+  s += "\n";
+  OutputFile out(path);
+  const auto field = [&s](float v) {
+    s += ',';
+    s += number(v);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    s += std::to_string(i);
+    s += ',';
+    s += std::to_string(table.body[i]);
+    for (int c = 0; c < 3; ++c) field(x[3 * i + c]);
+    field(table.radius[i]);
+    field(table.mass[i]);
+    field(table.elasticity[i]);
+    if (debug) {
+      for (int c = 0; c < 3; ++c) field(frame.debug.v[3 * i + c]);
+      for (const auto& force : frame.debug.force)
+        for (int c = 0; c < 3; ++c) field(force[3 * i + c]);
+    }
+    s += "\n";
+    if (s.size() > (1u << 20)) {
+      writeAll(out, s);
+      s.clear();
+    }
+  }
+  writeAll(out, s);
+  out.commit();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  OutputFile out(path);
+  writeAll(out, text);
+  out.commit();
+}
+
+}  // namespace
+
+std::string exportFrameName(const std::string& name, std::size_t k, std::size_t numFrames, ExportFormat format) {
+  int width = 6;
+  for (std::size_t m = numFrames > 0 ? numFrames - 1 : 0; m >= 1000000; m /= 10) ++width;
+  char digits[32];
+  std::snprintf(digits, sizeof digits, "%0*zu", width, k);
+  return name + "_" + digits + (format == ExportFormat::Vtk ? ".vtp" : ".csv");
+}
+
+ExportResult exportRecording(RecordingReader& reader, const std::string& dir, const ExportOptions& options) {
+  if (options.every < 1) throw Error("export: every must be at least 1");
+  const std::string name = options.name.empty() ? "frame" : options.name;
+  if (name.find('/') != std::string::npos) throw Error("export: the name '" + name + "' must not contain '/'");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir))
+    throw Error(dir + ": cannot create the export folder" + (ec ? ": " + ec.message() : ": a file of that name is in the way"));
+  const std::filesystem::path folder(dir);
+
+  const Recording& table = reader.header();
+  const std::size_t n = table.radius.size();
+  const std::size_t total = reader.numFrames() == 0 ? 0 : (reader.numFrames() - 1) / options.every + 1;
+  RecordedFrame frame;
+  std::vector<float> x(3 * n);
+  float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  ExportResult result;
+  std::vector<std::pair<double, std::string>> sets;  // the .pvd's (time, file)
+  std::string rows;                                  // the CSV index's
+  for (std::size_t k = 0; k < reader.numFrames(); k += options.every) {
+    if (options.stop && options.stop()) {
+      result.stopped = true;
+      break;
+    }
+    reader.readFrame(k, frame);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t b = table.body[i];
+      const Mat3f R = rotationMatrix(Quatf{frame.qw[b], frame.qx[b], frame.qy[b], frame.qz[b]});
+      const Vec3f p = particlePosition(Vec3f{frame.px[b], frame.py[b], frame.pz[b]}, R,
+                                       Vec3f{table.ux[i], table.uy[i], table.uz[i]});
+      x[3 * i] = p.x;
+      x[3 * i + 1] = p.y;
+      x[3 * i + 2] = p.z;
+      lo[0] = std::min(lo[0], p.x - table.radius[i]);
+      lo[1] = std::min(lo[1], p.y - table.radius[i]);
+      hi[0] = std::max(hi[0], p.x + table.radius[i]);
+      hi[1] = std::max(hi[1], p.y + table.radius[i]);
+    }
+    const std::string file = exportFrameName(name, result.frames, total, options.format);
+    if (options.format == ExportFormat::Vtk) {
+      writeFrameVtp((folder / file).string(), table, frame, x);
+      sets.emplace_back(frame.time, file);
+    } else {
+      writeFrameCsv((folder / file).string(), table, frame, x);
+      rows += std::to_string(k) + "," + std::to_string(frame.step) + "," + number(frame.time) + "," + file + "\n";
+    }
+    ++result.frames;
+    if (options.progress) options.progress(result.frames, total);
+  }
+
+  if (options.format == ExportFormat::Vtk) {
+    // The ground is part 1 of every time step (a .pvd lists each part per time).
+    const bool ground = reader.info().groundEnabled && result.frames > 0;
+    const std::string groundFile = name + "_ground.vtp";
+    if (ground) writeGroundVtp((folder / groundFile).string(), reader.info().groundHeight, lo, hi);
+    std::string xml;
+    for (const auto& [time, file] : sets) {
+      xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"0\" file=\"" + xmlEscaped(file) + "\"/>\n";
+      if (ground)
+        xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"1\" file=\"" + xmlEscaped(groundFile) + "\"/>\n";
+    }
+    result.index = (folder / (name + ".pvd")).string();
+    writeText(result.index, "<?xml version=\"1.0\"?>\n"
+                            "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+                            "  <Collection>\n" + xml + "  </Collection>\n</VTKFile>\n");
+  } else {
+    result.index = (folder / (name + "_frames.csv")).string();
+    writeText(result.index, "frame,step,time,file\n" + rows);
+  }
+  return result;
+}
+
+}  // namespace tumble

@@ -1,0 +1,214 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""`tumble export` read back by independent readers (ctest export_vtk).
+
+The recording is parsed here from its documented byte layout (docs/recording.md), not through
+tumble; the .vtp files are read with VTK's own XML reader (Debian: python3-vtk9), the .pvd and
+the CSV files with Python's standard library. Particle positions are recomputed in float32 with
+the formula of kernels/integrate.hpp (x = X + R(Q) u, the same operations in the same order), so
+they must match the exported ones bit for bit.
+
+usage: export_test.py TUMBLE SOURCE_DIR WORK_DIR
+"""
+import csv
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+SKIP = 77  # ctest SKIP_RETURN_CODE
+
+try:
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+except ImportError as e:
+    print(f"export_test: skipped, {e} (Debian: apt-get install python3-vtk9 python3-numpy)")
+    sys.exit(SKIP)
+
+tumble, source, work = sys.argv[1:4]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def run(*args):
+    p = subprocess.run([tumble, *args], capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"tumble {' '.join(args)} failed ({p.returncode}):\n{p.stderr}")
+    return p.stderr
+
+
+def read_recording(path):
+    """The recording per docs/recording.md, version 1."""
+    b = open(path, "rb").read()
+    assert b[:8] == b"TUMBLREC", "magic"
+    version, H, N, B, spf = struct.unpack_from("<5I", b, 8)
+    dt, fps = struct.unpack_from("<2f", b, 28)
+    flags, = struct.unpack_from("<I", b, 36)
+    ground_h, = struct.unpack_from("<f", b, 40)
+    assert version == 1
+    at = H
+    f32 = lambda count: np.frombuffer(b, "<f4", count, at)
+    table = {}
+    for name in ("radius", "mass", "elasticity"):
+        table[name] = f32(N).copy()
+        at += 4 * N
+    table["body"] = np.frombuffer(b, "<u4", N, at).copy()
+    at += 4 * N
+    for name in ("ux", "uy", "uz"):
+        table[name] = f32(N).copy()
+        at += 4 * N
+    at += 4  # table checksum
+    debug = bool(flags & 1)
+    frames = []
+    while at < len(b):
+        S, = struct.unpack_from("<I", b, at)
+        p = at + 4
+        step, time, pulls = struct.unpack_from("<QdI", b, p)
+        p += 20
+        fr = {"step": step, "time": time}
+        for name in ("px", "py", "pz", "qw", "qx", "qy", "qz"):
+            fr[name] = np.frombuffer(b, "<f4", B, p).copy()
+            p += 4 * B
+        if debug:
+            fr["v"] = np.frombuffer(b, "<f4", 3 * N, p).reshape(N, 3).copy()
+            p += 12 * N
+            fr["forces"] = []
+            for _ in range(5):
+                fr["forces"].append(np.frombuffer(b, "<f4", 3 * N, p).reshape(N, 3).copy())
+                p += 12 * N
+            C, = struct.unpack_from("<I", b, p)
+            fr["contacts"] = np.frombuffer(b, "<u4", 2 * C, p + 4).reshape(C, 2).copy()
+        frames.append(fr)
+        at += 4 + S + 4
+    return {"N": N, "B": B, "ground": bool(flags & 2), "ground_h": ground_h, "debug": debug, "table": table,
+            "frames": frames}
+
+
+def positions(rec, fr):
+    """x = X + R(Q) u in float32, kernels/integrate.hpp's operations in their order."""
+    t = rec["table"]
+    k = t["body"]
+    one = np.float32(1)
+    w, x, y, z = (fr[n][k] for n in ("qw", "qx", "qy", "qz"))
+    x2, y2, z2 = x + x, y + y, z + z
+    xx, yy, zz = x * x2, y * y2, z * z2
+    xy, xz, yz = x * y2, x * z2, y * z2
+    wx, wy, wz = w * x2, w * y2, w * z2
+    R = [[one - (yy + zz), xy - wz, xz + wy], [xy + wz, one - (xx + zz), yz - wx], [xz - wy, yz + wx, one - (xx + yy)]]
+    u = (t["ux"], t["uy"], t["uz"])
+    X = (fr["px"][k], fr["py"][k], fr["pz"][k])
+    return np.stack([X[r] + (R[r][0] * u[0] + R[r][1] * u[1] + R[r][2] * u[2]) for r in range(3)], axis=1)
+
+
+def read_vtp(path):
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(path)
+    r.Update()
+    if r.GetErrorCode() != 0:
+        raise RuntimeError(f"VTK could not read {path}")
+    return r.GetOutput()
+
+
+def point_array(pd, name):
+    a = pd.GetPointData().GetArray(name)
+    check(a is not None, f"array {name} present")
+    return vtk_to_numpy(a) if a is not None else None
+
+
+def check_vtk(rec, out, name, every=1):
+    pvd = ET.parse(os.path.join(out, name + ".pvd")).getroot()
+    sets = pvd.find("Collection").findall("DataSet")
+    parts = {}
+    for s in sets:
+        parts.setdefault(s.get("part"), []).append(s)
+    want = rec["frames"][::every]
+    check(len(parts["0"]) == len(want), f"{name}.pvd lists {len(parts['0'])} frames, the recording has {len(want)}")
+    if rec["ground"]:
+        check(len(parts.get("1", [])) == len(want), "the ground is part 1 of every time step")
+        g = read_vtp(os.path.join(out, parts["1"][0].get("file")))
+        gp = vtk_to_numpy(g.GetPoints().GetData())
+        check(g.GetNumberOfPolys() == 1 and np.all(gp[:, 2] == rec["ground_h"]), "ground square at its height")
+    t = rec["table"]
+    for s, fr in zip(parts["0"], want):
+        check(float(s.get("timestep")) == fr["time"], f"time of {s.get('file')}")
+        pd = read_vtp(os.path.join(out, s.get("file")))
+        check(pd.GetNumberOfPoints() == rec["N"], "number of points")
+        check(pd.GetNumberOfVerts() == rec["N"], "one vertex cell per particle")
+        got = vtk_to_numpy(pd.GetPoints().GetData())
+        exp = positions(rec, fr)
+        check(np.array_equal(got, exp), f"{s.get('file')}: positions equal the recomputed ones bit for bit "
+              f"(largest difference {np.max(np.abs(got - exp)) if got.shape == exp.shape else 'shape'})")
+        for col in ("radius", "mass", "elasticity", "body"):
+            a = point_array(pd, col)
+            check(a is not None and np.array_equal(a, t[col]), f"{s.get('file')}: {col}")
+        check(pd.GetFieldData().GetArray("TimeValue").GetValue(0) == fr["time"], "TimeValue field")
+        check(int(pd.GetFieldData().GetArray("step").GetValue(0)) == fr["step"], "step field")
+        if rec["debug"]:
+            v = point_array(pd, "velocity")
+            check(v is not None and np.array_equal(v, fr["v"]), "velocity")
+            for kname, f in zip(("repulsion", "damping", "shear", "ground", "friction"), fr["forces"]):
+                a = point_array(pd, kname)
+                check(a is not None and np.array_equal(a, f), kname)
+            lines = pd.GetLines()
+            check(pd.GetNumberOfLines() == len(fr["contacts"]), "one line per contact")
+            if len(fr["contacts"]):
+                conn = vtk_to_numpy(lines.GetConnectivityArray()).reshape(-1, 2)
+                check(np.array_equal(conn, fr["contacts"]), "lines join the contact pairs")
+        else:
+            check(pd.GetPointData().GetArray("velocity") is None, "no velocity without a debug recording")
+
+
+def check_csv(rec, out, name):
+    with open(os.path.join(out, name + "_frames.csv")) as f:
+        index = list(csv.DictReader(f))
+    check(len(index) == len(rec["frames"]), "the CSV index lists every frame")
+    t = rec["table"]
+    for row, fr in zip(index, rec["frames"]):
+        check(int(row["step"]) == fr["step"] and float(row["time"]) == fr["time"], "index step and time")
+        with open(os.path.join(out, row["file"])) as f:
+            rows = list(csv.DictReader(f))
+        check(len(rows) == rec["N"], "one row per particle")
+        exp = positions(rec, fr)
+        got = np.array([[float(r["x"]), float(r["y"]), float(r["z"])] for r in rows], dtype=np.float32)
+        check(np.array_equal(got, exp), f"{row['file']}: positions (the shortest text of each float reads back to it)")
+        check(np.array_equal(np.array([float(r["r"]) for r in rows], dtype=np.float32), t["radius"]), "r")
+        check(np.array_equal(np.array([int(r["body"]) for r in rows]), t["body"]), "body")
+        if rec["debug"]:
+            got = np.array([[float(r["vx"]), float(r["vy"]), float(r["vz"])] for r in rows], dtype=np.float32)
+            check(np.array_equal(got, fr["v"]), "vx,vy,vz")
+
+
+scene = os.path.join(source, "scenes", "molecules.toml")
+plain = os.path.join(work, "mol.bin")
+debug = os.path.join(work, "dbg.bin")
+run("run", scene, "--steps", "200", "--record", plain, "-q")
+run("run", scene, "--steps", "200", "--record", debug, "--debug-record", "-q")
+rec, drec = read_recording(plain), read_recording(debug)
+check(len(rec["frames"]) == 21 and len(drec["frames"]) == 20, "frame counts")
+
+run("export", plain, os.path.join(work, "vtk"), "-q")
+check_vtk(rec, os.path.join(work, "vtk"), "mol")
+run("export", plain, os.path.join(work, "vtk5"), "--every", "5", "--name", "m", "-q")
+check_vtk(rec, os.path.join(work, "vtk5"), "m", every=5)
+run("export", debug, os.path.join(work, "dvtk"), "-q")
+check_vtk(drec, os.path.join(work, "dvtk"), "dbg")
+check(any(len(f["contacts"]) for f in drec["frames"]), "the debug recording has contacts to export")
+run("export", plain, os.path.join(work, "csv"), "--format", "csv", "-q")
+check_csv(rec, os.path.join(work, "csv"), "mol")
+run("export", debug, os.path.join(work, "dcsv"), "--format", "csv", "-q")
+check_csv(drec, os.path.join(work, "dcsv"), "dbg")
+
+if failures:
+    sys.exit(f"export_test: {len(failures)} checks failed")
+print(f"export_test: {rec['N']} particles, {len(rec['frames'])} + {len(drec['frames'])} frames read back by VTK "
+      f"{__import__('vtkmodules').__version__ if hasattr(__import__('vtkmodules'), '__version__') else ''}: all equal")
