@@ -382,5 +382,28 @@ expect_msg "export into a file" "afile: cannot create the export folder"
 expect_status "export a name with a slash" 2 "$bin" export ex.bin exdir2 --name a/b
 expect_msg "export a name with a slash" "without '/'"
 
+# Two outputs (or an output and an input) that are one file are refused before anything is written.
+"$bin" run small.toml --steps 10 --state-out keep.csv -q
+cp keep.csv keep0.csv
+expect_status "record and thermo into one file" 2 "$bin" run small.toml --steps 10 --record same.out --thermo same.out
+expect_msg "record and thermo into one file" "^tumble: --record same.out and --thermo same.out are the same file"
+[ ! -e same.out ] && ok "nothing written to the shared name" || bad "same.out was written"
+ln -sf keep.csv keeplink.csv
+expect_status "state-out into the checkpoint through a link" 2 "$bin" run small.toml --steps 10 --checkpoint keep.csv --state-out keeplink.csv
+cmp -s keep.csv keep0.csv && ok "the linked file is untouched" || bad "keep.csv changed"
+expect_status "record over the scene" 2 "$bin" run small.toml --steps 10 --record ./small.toml
+expect_msg "record over the scene" "record ./small.toml and scene small.toml are the same file"
+expect_status "resume into the checkpoint" 0 "$bin" run small.toml --steps 20 --checkpoint ck2.bin -q
+expect_status "resume and keep checkpointing into one file" 0 "$bin" run small.toml --steps 30 --resume ck2.bin --checkpoint ck2.bin -q
+expect_status "resume from the recording" 2 "$bin" run small.toml --steps 30 --resume ck2.bin --record ck2.bin
+ln -sf ex.bin ex.mp4
+expect_status "render over its recording" 2 "$bin" render ex.bin -o ex.mp4
+expect_msg "render over its recording" "recording ex.bin and -o ex.mp4 are the same file"
+if command -v gnuplot >/dev/null; then
+  expect_status "plot over its time series" 2 "$bin" plot th.csv -o th.csv
+  head -n 1 th.csv | grep -q '^step,time' && ok "the time series is untouched" || bad "th.csv overwritten"
+fi
+expect_status "record and thermo to /dev/null" 0 "$bin" run small.toml --steps 10 --record /dev/null --thermo /dev/null -q
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

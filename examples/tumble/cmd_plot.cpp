@@ -80,6 +80,7 @@ void plot(const PlotOptions& o) {
                                                ? o.file.substr(0, o.file.size() - 4) + ".png"
                                                : o.file + ".png")
                                         : o.out;
+  refuseSameFile({{"time series", o.file}, {"-o", out}});
   OutputFile png(out);  // gnuplot writes the temporary; commit() renames it into place
   std::ostringstream gp;
   gp << "set terminal pngcairo size " << width << "," << height << " noenhanced font 'sans,10'\n"

@@ -189,6 +189,7 @@ void render(const RenderOptions& o) {
   }
 
   // Frame by frame: memory is one frame whatever the recording's length.
+  refuseSameFile({{"recording", o.file}, {"-o", o.out}});
   RecordingReader reader(o.file);
   const Recording& rec = reader.header();
   if (reader.numFrames() == 0) throw InputError(o.file, 0, "the recording holds no frames");

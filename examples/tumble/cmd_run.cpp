@@ -118,6 +118,10 @@ void run(RunOptions o) {
   const bool debug = o.debug || scene.recordDebug;
   if (o.thermo.empty()) o.thermo = scene.thermoFile;
   const std::uint64_t thermoEvery = o.thermoEvery.value_or(scene.thermoEvery);
+  // --resume may name the --checkpoint file (a run that goes on checkpointing into it).
+  refuseSameFile({{"--record", o.record}, {"--thermo", o.thermo}, {"--checkpoint", o.checkpoint},
+                  {"--state-out", o.stateOut}, {"scene", o.scene}});
+  refuseSameFile({{"--resume", o.resume}, {"--record", o.record}, {"--thermo", o.thermo}, {"--state-out", o.stateOut}});
 
   World world = World::fromScene(scene);
   if (const std::string w = timeStepWarning(world); !w.empty())

@@ -62,6 +62,17 @@ CLI::Validator countIn(std::uint64_t lo, std::uint64_t hi);
 /// help text.
 CLI::Option* addSetOption(CLI::App* command, std::vector<std::string>& sets, const std::string& note);
 
+/// One file a command reads or writes: the option that names it ("--record") and the path.
+struct NamedFile {
+  const char* option;
+  std::string path;
+};
+
+/// Throws tumble::Error when two of `files` (empty paths skipped) are the same regular file, or
+/// would become it (the same path, links followed, that does not exist yet): one output would
+/// overwrite the other, or an input. Devices and FIFOs may be shared (--record /dev/null).
+void refuseSameFile(const std::vector<NamedFile>& files);
+
 }  // namespace tumble::cli
 
 #include "tumble/error.hpp"
