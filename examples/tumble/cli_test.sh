@@ -356,6 +356,11 @@ if command -v gnuplot >/dev/null; then
   expect_status "plot a name gnuplot would run" 0 "$bin" plot '<touch injected; cat th.csv' -o '|touch piped; cat > sink'
   [ ! -e injected ] && [ ! -e piped ] && [ -s '|touch piped; cat > sink' ] && ok "plot ran no command from a name" ||
     bad "plot ran a command from a file name"
+  expect_status "plot --size beyond 32 bits" 2 "$bin" plot th.csv --size 4294967396x200
+  expect_msg "plot --size beyond 32 bits" "expected WIDTHxHEIGHT, each from 100 to 10000"
+  head -n 1 th.csv > header_only.csv
+  expect_status "plot a header without rows" 2 "$bin" plot header_only.csv
+  expect_msg "plot a header without rows" "^tumble: header_only.csv:2: no data rows after the header"
   expect_status "plot a missing file" 2 "$bin" plot missing.csv
   expect_msg "plot a missing file" "missing.csv: cannot open"
 fi

@@ -23,7 +23,8 @@ struct PlotOptions {
   std::string size = "1000x900";
 };
 
-std::vector<std::string> headerOf(const std::string& path) {
+// The header's column names; `rows` counts the data lines after it.
+std::vector<std::string> headerOf(const std::string& path, std::size_t& rows) {
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "cannot open the time series (write one with tumble run --thermo FILE.csv)");
   std::string line;
@@ -32,6 +33,8 @@ std::vector<std::string> headerOf(const std::string& path) {
   std::vector<std::string> cols;
   std::stringstream ss(line);
   for (std::string c; std::getline(ss, c, ',');) cols.push_back(c);
+  rows = 0;
+  for (std::string row; std::getline(in, row);) rows += row.empty() ? 0 : 1;
   return cols;
 }
 
@@ -48,7 +51,8 @@ struct Panel {
 };
 
 void plot(const PlotOptions& o) {
-  const std::vector<std::string> header = headerOf(o.file);
+  std::size_t rows = 0;
+  const std::vector<std::string> header = headerOf(o.file, rows);
   std::string list;
   for (const auto& c : header) list += (list.empty() ? "" : ", ") + c;
   auto need = [&](const std::string& c, const char* what) {
@@ -57,6 +61,7 @@ void plot(const PlotOptions& o) {
     throw InputError(o.file, 1, std::string("no column '") + c + "' (" + what + "); the columns are: " + list);
   };
   need(o.x, "--x");
+  if (rows == 0) throw InputError(o.file, 2, "no data rows after the header: nothing to draw");
   std::vector<Panel> panels;
   if (!o.columns.empty()) {
     panels.push_back(Panel{"", o.columns, {}, ""});
@@ -69,11 +74,10 @@ void plot(const PlotOptions& o) {
     for (const auto& c : p.columns) need(c, o.columns.empty() ? "a thermo file from tumble run --thermo has it" : "--columns");
     for (const auto& c : p.y2) need(c, "a thermo file from tumble run --thermo has it");
   }
-  unsigned width = 0, height = 0;
-  char tail = 0;
-  if (std::sscanf(o.size.c_str(), "%ux%u%c", &width, &height, &tail) != 2 || width < 100 || height < 100 ||
-      width > 10000 || height > 10000)
-    throw Error("--size " + o.size + ": expected WIDTHxHEIGHT, each from 100 to 10000, e.g. 1000x900");
+  const std::size_t xAt = o.size.find('x');
+  const auto width = parseCount(o.size.substr(0, xAt), 100, 10000);
+  const auto height = xAt == std::string::npos ? std::nullopt : parseCount(o.size.substr(xAt + 1), 100, 10000);
+  if (!width || !height) throw Error("--size " + o.size + ": expected WIDTHxHEIGHT, each from 100 to 10000, e.g. 1000x900");
   if (gnuplotVersion().empty()) throw Error("tumble plot needs gnuplot (Debian: apt-get install gnuplot-nox)");
 
   const std::string out = o.out.empty() ? (o.file.size() > 4 && o.file.substr(o.file.size() - 4) == ".csv"
@@ -83,7 +87,7 @@ void plot(const PlotOptions& o) {
   refuseSameFile({{"time series", o.file}, {"-o", out}});
   OutputFile png(out);  // gnuplot writes the temporary; commit() renames it into place
   std::ostringstream gp;
-  gp << "set terminal pngcairo size " << width << "," << height << " noenhanced font 'sans,10'\n"
+  gp << "set terminal pngcairo size " << *width << "," << *height << " noenhanced font 'sans,10'\n"
      << "set output " << gnuplotPath(png.writingTo()) << "\n"
      << "set datafile separator ','\nset datafile columnheaders\nset grid\nset key top right\n"
      << "set autoscale xfix\n";
