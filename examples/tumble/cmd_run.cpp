@@ -294,9 +294,13 @@ void run(RunOptions o) {
       if (thermoCut) kept += " (the next row's write was given up)";
     }
     if (!o.checkpoint.empty()) {
-      if (!(ckEvery && done % ckEvery == 0 && done > start))  // else just written by the loop
-        Checkpoint::of(world, *pipeline).write(o.checkpoint);
-      kept += "; checkpoint written to " + o.checkpoint + " (continue with --resume " + o.checkpoint + ")";
+      try {
+        if (!(ckEvery && done % ckEvery == 0 && done > start))  // else just written by the loop
+          Checkpoint::of(world, *pipeline).write(o.checkpoint);
+        kept += "; checkpoint written to " + o.checkpoint + " (continue with --resume " + o.checkpoint + ")";
+      } catch (const Error& e) {  // a diverged state (--no-guard) or a write error: said with the rest
+        kept += "; " + std::string(e.what());
+      }
     }
     std::fprintf(stderr, "tumble run: interrupted (%s) at step %llu of %llu%s; no final state written\n",
                  sig == SIGTERM ? "SIGTERM" : "SIGINT", static_cast<unsigned long long>(done),
@@ -325,7 +329,12 @@ void run(RunOptions o) {
                    thermo->path().c_str(), thermo->path().c_str());
   }
   if (!o.checkpoint.empty()) {
-    Checkpoint::of(world, *pipeline).write(o.checkpoint);
+    try {
+      Checkpoint::of(world, *pipeline).write(o.checkpoint);
+    } catch (const SimulationError& e) {  // a diverged state (--no-guard): nothing more is written from it
+      throw SimulationError(std::string(e.what()) + (o.stateOut.empty() ? "" : "; no --state-out written either"),
+                            e.particle());
+    }
     if (!o.quiet)
       std::fprintf(stderr, "checkpoint at step %llu written to %s (continue with --resume %s)\n",
                    static_cast<unsigned long long>(done), o.checkpoint.c_str(), o.checkpoint.c_str());
