@@ -8,15 +8,28 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 #include <string>
 #include <unistd.h>
 
 namespace tumble::fuzz {
 
 /// A file of this process (in /dev/shm when there is one: no disk traffic), `tag` in its name.
+/// The files are removed when the process exits normally (libFuzzer's -max_total_time and
+/// -runs end by exit()); a crash leaves them, next to the input libFuzzer saves.
 inline std::string scratchPath(const char* tag) {
+  static std::set<std::string> made;
+  static const bool cleanup = [] {
+    std::atexit([] {
+      for (const std::string& p : made) std::remove(p.c_str());
+    });
+    return true;
+  }();
+  (void)cleanup;
   const char* dir = ::access("/dev/shm", W_OK) == 0 ? "/dev/shm" : (std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
-  return std::string(dir) + "/tumble-fuzz-" + std::to_string(::getpid()) + "-" + tag;
+  const std::string path = std::string(dir) + "/tumble-fuzz-" + std::to_string(::getpid()) + "-" + tag;
+  made.insert(path);
+  return path;
 }
 
 /// Writes the input to scratchPath(tag) and returns that path.
