@@ -5,7 +5,7 @@
 // (a few XML elements and raw little-endian arrays, "VTK File Formats" in the VTK book) takes
 // less code than adapting our columns to vtkPolyData, and a ~100 MB library with Qt and MPI
 // behind it would be a dependency of the core library for one command. The test reads the files
-// back with VTK's own reader (validation/tests/export_vtk_test.py).
+// back with VTK's own reader (examples/tumble/export_test.py, ctest export_vtk).
 #include "tumble/export.hpp"
 
 #include <algorithm>
@@ -37,6 +37,14 @@ std::string xmlEscaped(const std::string& s) {
     }
   }
   return out;
+}
+
+// A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180).
+std::string csvField(const std::string& v) {
+  if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
+  std::string out = "\"";
+  for (const char c : v) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
 }
 
 // The shortest text that reads back to the same value (std::to_chars): a float as a float.
@@ -225,15 +233,43 @@ std::string exportFrameName(const std::string& name, std::size_t k, std::size_t 
   return name + "_" + digits + (format == ExportFormat::Vtk ? ".vtp" : ".csv");
 }
 
+std::string exportNameProblem(const std::string& name) {
+  if (name.empty()) return "is empty";
+  if (name.size() > kMaxExportName)
+    return "is " + std::to_string(name.size()) + " bytes long: at most " + std::to_string(kMaxExportName) +
+           " (a frame's file name and its temporary must fit the file system's 255)";
+  for (std::size_t k = 0; k < name.size();) {
+    const auto c = static_cast<unsigned char>(name[k]);
+    if (c == '/') return "contains '/'";
+    if (c < 0x20 || c == 0x7f) return "contains a control character (XML cannot hold it)";
+    // UTF-8: the length from the lead byte, then continuation bytes 10xxxxxx (no overlong forms
+    // checked beyond the lead bytes C0, C1 and F5–FF, which never occur).
+    const std::size_t len = c < 0x80 ? 1 : (c >= 0xc2 && c < 0xe0) ? 2 : (c >= 0xe0 && c < 0xf0) ? 3 : (c >= 0xf0 && c < 0xf5) ? 4 : 0;
+    if (len == 0 || k + len > name.size()) return "is not UTF-8 text (XML needs it)";
+    for (std::size_t j = 1; j < len; ++j)
+      if ((static_cast<unsigned char>(name[k + j]) & 0xc0) != 0x80) return "is not UTF-8 text (XML needs it)";
+    k += len;
+  }
+  return "";
+}
+
 ExportResult exportRecording(RecordingReader& reader, const std::string& dir, const ExportOptions& options) {
   if (options.every < 1) throw Error("export: every must be at least 1");
   const std::string name = options.name.empty() ? "frame" : options.name;
-  if (name.find('/') != std::string::npos) throw Error("export: the name '" + name + "' must not contain '/'");
+  if (const std::string why = exportNameProblem(name); !why.empty()) throw Error("export: the name '" + name + "' " + why);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir))
-    throw Error(dir + ": cannot create the export folder" + (ec ? ": " + ec.message() : ": a file of that name is in the way"));
+    throw Error(dir + ": cannot create the export folder: " +
+                (std::filesystem::symlink_status(dir, ec).type() == std::filesystem::file_type::not_found
+                     ? std::string(ec ? ec.message() : "not found")
+                     : std::string("a file or a dangling link of that name is in the way")));
   const std::filesystem::path folder(dir);
+  const std::string indexPath =
+      (folder / (options.format == ExportFormat::Vtk ? name + ".pvd" : name + "_frames.csv")).string();
+  // An index from an earlier export of this name would list frames this one replaces: it goes
+  // first, and comes back only for this export's frames.
+  std::remove(indexPath.c_str());
 
   const Recording& table = reader.header();
   const std::size_t n = table.radius.size();
@@ -244,56 +280,68 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
   ExportResult result;
   std::vector<std::pair<double, std::string>> sets;  // the .pvd's (time, file)
   std::string rows;                                  // the CSV index's
-  for (std::size_t k = 0; k < reader.numFrames(); k += options.every) {
-    if (options.stop && options.stop()) {
-      result.stopped = true;
-      break;
-    }
-    reader.readFrame(k, frame);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t b = table.body[i];
-      const Mat3f R = rotationMatrix(Quatf{frame.qw[b], frame.qx[b], frame.qy[b], frame.qz[b]});
-      const Vec3f p = particlePosition(Vec3f{frame.px[b], frame.py[b], frame.pz[b]}, R,
-                                       Vec3f{table.ux[i], table.uy[i], table.uz[i]});
-      x[3 * i] = p.x;
-      x[3 * i + 1] = p.y;
-      x[3 * i + 2] = p.z;
-      lo[0] = std::min(lo[0], p.x - table.radius[i]);
-      lo[1] = std::min(lo[1], p.y - table.radius[i]);
-      hi[0] = std::max(hi[0], p.x + table.radius[i]);
-      hi[1] = std::max(hi[1], p.y + table.radius[i]);
-    }
-    const std::string file = exportFrameName(name, result.frames, total, options.format);
+  const auto writeIndex = [&] {
     if (options.format == ExportFormat::Vtk) {
-      writeFrameVtp((folder / file).string(), table, frame, x);
-      sets.emplace_back(frame.time, file);
+      // The ground is part 1 of every time step (a .pvd lists each part per time).
+      const bool ground = reader.info().groundEnabled && result.frames > 0;
+      const std::string groundFile = name + "_ground.vtp";
+      if (ground) writeGroundVtp((folder / groundFile).string(), reader.info().groundHeight, lo, hi);
+      std::string xml;
+      for (const auto& [time, file] : sets) {
+        xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"0\" file=\"" + xmlEscaped(file) + "\"/>\n";
+        if (ground)
+          xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"1\" file=\"" + xmlEscaped(groundFile) + "\"/>\n";
+      }
+      writeText(indexPath, "<?xml version=\"1.0\"?>\n"
+                           "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+                           "  <Collection>\n" + xml + "  </Collection>\n</VTKFile>\n");
     } else {
-      writeFrameCsv((folder / file).string(), table, frame, x);
-      rows += std::to_string(k) + "," + std::to_string(frame.step) + "," + number(frame.time) + "," + file + "\n";
+      writeText(indexPath, "frame,step,time,file\n" + rows);
     }
-    ++result.frames;
-    if (options.progress) options.progress(result.frames, total);
-  }
-
-  if (options.format == ExportFormat::Vtk) {
-    // The ground is part 1 of every time step (a .pvd lists each part per time).
-    const bool ground = reader.info().groundEnabled && result.frames > 0;
-    const std::string groundFile = name + "_ground.vtp";
-    if (ground) writeGroundVtp((folder / groundFile).string(), reader.info().groundHeight, lo, hi);
-    std::string xml;
-    for (const auto& [time, file] : sets) {
-      xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"0\" file=\"" + xmlEscaped(file) + "\"/>\n";
-      if (ground)
-        xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"1\" file=\"" + xmlEscaped(groundFile) + "\"/>\n";
+  };
+  try {
+    for (std::size_t k = 0; k < reader.numFrames(); k += options.every) {
+      if (options.stop && options.stop()) {
+        result.stopped = true;
+        break;
+      }
+      reader.readFrame(k, frame);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t b = table.body[i];
+        const Mat3f R = rotationMatrix(Quatf{frame.qw[b], frame.qx[b], frame.qy[b], frame.qz[b]});
+        const Vec3f p = particlePosition(Vec3f{frame.px[b], frame.py[b], frame.pz[b]}, R,
+                                         Vec3f{table.ux[i], table.uy[i], table.uz[i]});
+        x[3 * i] = p.x;
+        x[3 * i + 1] = p.y;
+        x[3 * i + 2] = p.z;
+        lo[0] = std::min(lo[0], p.x - table.radius[i]);
+        lo[1] = std::min(lo[1], p.y - table.radius[i]);
+        hi[0] = std::max(hi[0], p.x + table.radius[i]);
+        hi[1] = std::max(hi[1], p.y + table.radius[i]);
+      }
+      const std::string file = exportFrameName(name, result.frames, total, options.format);
+      if (options.format == ExportFormat::Vtk) {
+        writeFrameVtp((folder / file).string(), table, frame, x);
+        sets.emplace_back(frame.time, file);
+      } else {
+        writeFrameCsv((folder / file).string(), table, frame, x);
+        rows += std::to_string(k) + "," + std::to_string(frame.step) + "," + number(frame.time) + "," + csvField(file) + "\n";
+      }
+      ++result.frames;
+      if (options.progress) options.progress(result.frames, total);
     }
-    result.index = (folder / (name + ".pvd")).string();
-    writeText(result.index, "<?xml version=\"1.0\"?>\n"
-                            "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-                            "  <Collection>\n" + xml + "  </Collection>\n</VTKFile>\n");
-  } else {
-    result.index = (folder / (name + "_frames.csv")).string();
-    writeText(result.index, "frame,step,time,file\n" + rows);
+  } catch (...) {
+    // The frames written so far are this recording's: the index lists them, if it can be written.
+    try {
+      if (result.frames > 0) writeIndex();
+    } catch (...) {
+      std::remove(indexPath.c_str());
+    }
+    throw;
   }
+  // A stop before the first frame leaves no index (not an empty one).
+  if (result.frames > 0 || !result.stopped) writeIndex();
+  result.index = indexPath;
   return result;
 }
 

@@ -385,7 +385,19 @@ touch afile
 expect_status "export into a file" 2 "$bin" export ex.bin afile
 expect_msg "export into a file" "afile: cannot create the export folder"
 expect_status "export a name with a slash" 2 "$bin" export ex.bin exdir2 --name a/b
-expect_msg "export a name with a slash" "without '/'"
+expect_msg "export a name with a slash" "^tumble: --name 'a/b' contains '/'"
+expect_status "export a name with a newline" 2 "$bin" export ex.bin exdir2 --name $'a\nb'
+expect_msg "export a name with a newline" "contains a control character"
+[ ! -e exdir2 ] && ok "refused exports made no folder" || bad "a refused export made exdir2"
+expect_status "export csv, a comma in the name" 0 "$bin" export ex.bin exdir --format csv --name 'a,b' -q
+[ "$(sed -n 2p exdir/a,b_frames.csv)" = '0,0,0,"a,b_000000.csv"' ] && ok "the CSV index quotes the file" ||
+  bad "CSV index row: $(sed -n 2p exdir/a,b_frames.csv)"
+# A recording that fails at its last frame: the earlier export's index goes, the new one lists
+# the frames written before the error.
+cp ex.bin cut.bin && printf 'X' | dd of=cut.bin bs=1 seek=$(( $(stat -c %s cut.bin) - 10 )) conv=notrunc status=none
+expect_status "export a damaged recording" 2 "$bin" export cut.bin exdir --name ex
+expect_msg "export a damaged recording" "3 frames written to exdir/ before the error; the index lists them"
+[ "$(grep -c 'part="0"' exdir/ex.pvd)" = 3 ] && ok "the index lists the 3 frames written" || bad "ex.pvd: $(cat exdir/ex.pvd)"
 
 # Two outputs (or an output and an input) that are one file are refused before anything is written.
 "$bin" run small.toml --steps 10 --state-out keep.csv -q

@@ -31,16 +31,24 @@ void run(const ExportCliOptions& o) {
   else if (o.format == "csv") opts.format = ExportFormat::Csv;
   else throw Error("--format " + o.format + ": expected vtk or csv");
   opts.every = static_cast<std::size_t>(o.every);
-  opts.name = o.name.empty() ? std::filesystem::path(o.recording).stem().string() : o.name;
-  if (opts.name.empty() || opts.name.find('/') != std::string::npos)
-    throw Error("--name '" + opts.name + "': expected a file name prefix without '/'");
+  if (!o.name.empty())
+    if (const std::string why = exportNameProblem(o.name); !why.empty()) throw Error("--name '" + o.name + "' " + why);
 
   RecordingReader reader(o.recording);
   if (reader.numFrames() == 0) throw InputError(o.recording, 0, "the recording holds no frame: nothing to export");
+  opts.name = o.name;
+  if (opts.name.empty()) {  // the recording's name, when it makes one
+    opts.name = std::filesystem::path(o.recording).stem().string();
+    if (!exportNameProblem(opts.name).empty()) opts.name = "frame";
+  }
+  std::string shownDir = o.dir;  // for messages: "out/", never "out//"
+  while (shownDir.size() > 1 && shownDir.back() == '/') shownDir.pop_back();
   const bool tty = isatty(fileno(stderr)) && !o.quiet;
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;
+  std::size_t written = 0;
   opts.progress = [&](std::size_t done, std::size_t total) {
+    written = done;
     const auto now = std::chrono::steady_clock::now();
     if (!tty || (now - lastPrint < std::chrono::milliseconds(200) && done != total)) return;
     lastPrint = now;
@@ -55,20 +63,26 @@ void run(const ExportCliOptions& o) {
       return exportRecording(reader, o.dir, opts);
     } catch (...) {
       if (tty) std::fprintf(stderr, "\n");
+      if (written > 0)
+        std::fprintf(stderr, "tumble export: %zu frame%s written to %s/ before the error; the index lists them\n",
+                     written, written == 1 ? "" : "s", shownDir.c_str());
       throw;
     }
   }();
   if (tty) std::fprintf(stderr, "\n");
+  if (r.stopped) {
+    if (r.frames > 0)
+      std::fprintf(stderr, "tumble export: interrupted after %zu frames (%s lists those)\n", r.frames, r.index.c_str());
+    else
+      std::fprintf(stderr, "tumble export: interrupted before the first frame; nothing written\n");
+    dieOfSignal(g_stopSignal);
+  }
   if (!o.quiet) {
     std::fprintf(stderr, "tumble export: %zu frame%s of %s into %s/, %s\n", r.frames, r.frames == 1 ? "" : "s",
-                 o.recording.c_str(), o.dir.c_str(), r.index.c_str());
+                 o.recording.c_str(), shownDir.c_str(), r.index.c_str());
     if (!reader.info().debug)
       std::fprintf(stderr, "  (velocities, forces and contacts are in debug recordings only: tumble run --debug-record)\n");
     if (opts.format == ExportFormat::Vtk) std::fprintf(stderr, "  open in ParaView: paraview %s\n", r.index.c_str());
-  }
-  if (r.stopped) {
-    std::fprintf(stderr, "tumble export: interrupted after %zu frames (%s lists those)\n", r.frames, r.index.c_str());
-    dieOfSignal(g_stopSignal);
   }
 }
 

@@ -34,6 +34,14 @@ struct ExportResult {
   bool stopped = false;     ///< options.stop asked to stop
 };
 
+/// The longest name prefix: NAME_0000000.vtp and its temporary (.part-XXXXXX) fit in 255 bytes
+/// with room for a billion frames.
+inline constexpr std::size_t kMaxExportName = 200;
+
+/// Why `name` cannot be a file name prefix ('/', a control character, not UTF-8, empty, longer
+/// than kMaxExportName), or "" when it can.
+std::string exportNameProblem(const std::string& name);
+
 /// The name exportRecording gives frame k's file when there are `numFrames` frames to write:
 /// NAME_k with k zero-padded to at least 6 digits, then ".vtp" or ".csv".
 std::string exportFrameName(const std::string& name, std::size_t k, std::size_t numFrames, ExportFormat format);
@@ -42,7 +50,10 @@ std::string exportFrameName(const std::string& name, std::size_t k, std::size_t 
 /// parents). Particle positions are x = X + R(Q) u, the expression every pipeline uses
 /// (kernels/integrate.hpp particlePosition), so they are the simulation's own bits. Each file is
 /// written atomically (output_file.hpp); files of the same names are replaced, others are left
-/// alone. Throws tumble::Error (a frame the reader rejects: tumble::InputError).
+/// alone. An index of the same name from an earlier export is removed first; it is written for
+/// this export's frames at the end, and also when a frame fails (for the frames written before),
+/// so it never lists another recording's frames. Throws tumble::Error (a frame the reader rejects:
+/// tumble::InputError).
 ExportResult exportRecording(RecordingReader& reader, const std::string& dir, const ExportOptions& options);
 
 }  // namespace tumble
