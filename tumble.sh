@@ -15,9 +15,10 @@ jobs=${JOBS:-$(nproc)}
 packages=(g++ cmake ninja-build pkg-config libtbb-dev libeigen3-dev libtomlplusplus-dev libcli11-dev
           libgtest-dev libgmock-dev libbenchmark-dev
           libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev libpng-dev
-          ffmpeg xvfb xauth xdotool gnuplot-nox fonts-dejavu-core)
-# What only the tests need: VTK's reader for the export test.
-test_packages=(python3-vtk9 python3-numpy)
+          ffmpeg xvfb xauth xdotool gnuplot-nox fonts-dejavu-core
+          python3-dev pybind11-dev python3-numpy)
+# What only the tests need: pytest for the Python module, VTK's reader for the export test.
+test_packages=(python3-pytest python3-vtk9)
 
 install_packages() {
   local missing=()

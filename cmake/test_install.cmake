@@ -36,4 +36,13 @@ execute_process(COMMAND ${prefix}/bin/tumble run ${prefix}/share/tumble/scenes/s
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the installed tumble failed on an installed scene:\n${log}")
 endif()
+# The installed Python module imports and runs an installed scene (when it was built).
+if(PYTHON)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${prefix}/${PYTHON_DIR} ${PYTHON} -c
+                          "import tumble; s = tumble.Simulation(tumble.Scene.load('${prefix}/share/tumble/scenes/spheres.toml')); s.step(5); print(tumble.__file__)"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE where ERROR_VARIABLE log)
+  if(NOT rc EQUAL 0 OR NOT where MATCHES "^${prefix}/")
+    message(FATAL_ERROR "the installed Python module failed (${rc}): ${where}${log}")
+  endif()
+endif()
 message(STATUS "installed, built against, same output: ${got}")

@@ -54,6 +54,8 @@ if(TUMBLE_BUILD_TESTS AND TUMBLE_BUILD_EXAMPLES)
   add_test(NAME install_package
            COMMAND ${CMAKE_COMMAND} -DBUILD=${PROJECT_BINARY_DIR} -DSOURCE=${PROJECT_SOURCE_DIR}
                    -DGENERATOR=${CMAKE_GENERATOR} -DCXX=${CMAKE_CXX_COMPILER}
-                   -DEXPECTED=$<TARGET_FILE:hello_spheres> -P ${PROJECT_SOURCE_DIR}/cmake/test_install.cmake)
+                   -DEXPECTED=$<TARGET_FILE:hello_spheres>
+                   "-DPYTHON=$<$<TARGET_EXISTS:tumble_python>:${TUMBLE_PYTHON_FOR_TESTS}>"
+                   -DPYTHON_DIR=${TUMBLE_PYTHON_INSTALL_DIR} -P ${PROJECT_SOURCE_DIR}/cmake/test_install.cmake)
   set_tests_properties(install_package PROPERTIES LABELS examples TIMEOUT 600)
 endif()

@@ -3,6 +3,7 @@
 /// Time series of a run (docs/thermo.md): energies, contacts, overlaps, speeds and momenta at
 /// regular steps, as RunGuard measures them, written as CSV by `tumble run --thermo FILE`.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -54,7 +55,14 @@ class ThermoWriter {
   std::uint64_t m_rows = 0;
 };
 
-/// The CSV header line, without the newline.
+/// The CSV header line, without the newline: kThermoColumns names.
 const char* thermoHeader();
+
+inline constexpr std::size_t kThermoColumns = 18;
+inline constexpr std::size_t kThermoStepColumn = 0, kThermoContactsColumn = 9;  ///< the two counts
+
+/// A row's values in thermoHeader()'s order; NaN, except for the step and the time, when the
+/// state is not finite.
+std::array<double, kThermoColumns> thermoRow(const ThermoSample& s);
 
 }  // namespace tumble

@@ -1,0 +1,72 @@
+# SPDX-License-Identifier: MIT
+"""tumble: rigid bodies made of spheres, from Python (docs/python.md).
+
+    import tumble
+    scene = tumble.Scene.load("scenes/molecules.toml", set=["ground.friction=0.3"])
+    with tumble.Simulation(scene, threads=2) as sim:
+        sim.step(1000)
+        print(sim.time, sim.thermo()["energy"], len(sim.contacts()))
+        x = sim.particles()["x"]          # (N, 3) NumPy array
+
+A scene can also be built from Python objects: scene_from_dict({...}) takes the tables of a
+scene file as dicts and lists (the layout of docs/scenes.md) and checks them as the file is.
+"""
+from ._tumble import (PULL_SWIRL, PULL_X, PULL_Y, Error, InputError, Scene, Simulation, SimulationError,
+                      __version__, find_pairs)
+
+__all__ = ["Scene", "Simulation", "find_pairs", "scene_from_dict", "to_toml", "Error", "InputError",
+           "SimulationError", "PULL_X", "PULL_Y", "PULL_SWIRL", "__version__"]
+
+
+def _value(v, where):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        r = repr(v)
+        if r in ("inf", "-inf", "nan"):
+            raise Error(f"{where}: {r} is not a value a scene takes")
+        return r
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_value(x, where) for x in v) + "]"
+    if hasattr(v, "tolist"):  # a NumPy scalar or array
+        return _value(v.tolist(), where)
+    raise Error(f"{where}: cannot write a {type(v).__name__} into a scene")
+
+
+def _table(lines, path, table):
+    subs = []
+    for key, v in table.items():
+        if isinstance(v, dict):
+            subs.append(("table", key, v))
+        elif isinstance(v, (list, tuple)) and v and all(isinstance(x, dict) for x in v):
+            subs.append(("array", key, v))
+        else:
+            lines.append(f"{key} = {_value(v, '.'.join(path + [key]))}")
+    for kind, key, v in subs:
+        name = ".".join(path + [key])
+        if kind == "table":
+            lines.append(f"\n[{name}]")
+            _table(lines, path + [key], v)
+        else:
+            for item in v:
+                lines.append(f"\n[[{name}]]")
+                _table(lines, path + [key], item)
+
+
+def to_toml(scene):
+    """The TOML text of a scene given as dicts and lists (the tables of docs/scenes.md)."""
+    if not isinstance(scene, dict):
+        raise Error("a scene is a dict of tables, e.g. {'scene': {...}, 'shape': [...], 'group': [...]}")
+    lines = []
+    _table(lines, [], scene)
+    return "\n".join(lines).lstrip("\n") + "\n"
+
+
+def scene_from_dict(scene, name="<python>", set=()):
+    """A Scene from dicts and lists laid out as a scene file (docs/scenes.md), checked as the file
+    is: errors name `name` and the line of the generated TOML (to_toml(scene) shows it)."""
+    return Scene.parse(to_toml(scene), name, list(set))

@@ -1,0 +1,386 @@
+// SPDX-License-Identifier: MIT
+// The Python module `tumble` (its compiled part, tumble._tumble; docs/python.md): scenes from
+// files or text, a simulation on either pipeline, its state as NumPy arrays, pulls, recordings,
+// checkpoints and the time series. Every value comes from the same library calls as the
+// `tumble` command's, so a script and `tumble run` give the same bits.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tumble/checkpoint.hpp"
+#include "tumble/config.hpp"
+#include "tumble/error.hpp"
+#include "tumble/guard.hpp"
+#include "tumble/kernels/integrate.hpp"
+#include "tumble/pipeline.hpp"
+#include "tumble/recording.hpp"
+#include "tumble/scene_io.hpp"
+#include "tumble/thermo.hpp"
+#include "tumble/world.hpp"
+
+namespace py = pybind11;
+using namespace tumble;
+
+namespace {
+
+constexpr std::uint64_t kMaxStepsPerCall = 1000000000000000ull;  // as tumble run --steps
+
+template <class T>
+py::array_t<T> array1(const std::vector<T>& v) {
+  py::array_t<T> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+// Columns c[0..k) of length n as one (n, k) array.
+py::array_t<float> columns(std::initializer_list<const std::vector<float>*> cols) {
+  const std::size_t n = (*cols.begin())->size(), k = cols.size();
+  py::array_t<float> a({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(k)});
+  float* out = a.mutable_data();
+  std::size_t c = 0;
+  for (const auto* col : cols) {
+    for (std::size_t i = 0; i < n; ++i) out[i * k + c] = (*col)[i];
+    ++c;
+  }
+  return a;
+}
+
+py::array_t<std::uint32_t> pairArray(const std::vector<Pair>& pairs) {
+  py::array_t<std::uint32_t> a({static_cast<py::ssize_t>(pairs.size()), py::ssize_t{2}});
+  std::uint32_t* out = a.mutable_data();
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    out[2 * k] = pairs[k].i;
+    out[2 * k + 1] = pairs[k].j;
+  }
+  return a;
+}
+
+// A float column from a 1-D array-like of n values.
+std::vector<float> floatColumn(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, std::size_t n,
+                               const char* what) {
+  if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != n)
+    throw Error(std::string(what) + ": expected " + std::to_string(n) + " values in one dimension");
+  return {a.data(), a.data() + n};
+}
+
+// The time-series row as {column: value}, the columns of the CSV file (docs/thermo.md).
+py::dict thermoDict(const ThermoSample& s) {
+  const std::array<double, kThermoColumns> row = thermoRow(s);
+  py::dict d;
+  std::string header = thermoHeader();
+  std::size_t at = 0;
+  for (std::size_t c = 0; c < kThermoColumns; ++c) {
+    const std::size_t end = std::min(header.find(',', at), header.size());
+    const std::string name = header.substr(at, end - at);
+    if (c == kThermoStepColumn) d[name.c_str()] = s.step;
+    else if (c == kThermoContactsColumn) d[name.c_str()] = s.contacts;
+    else d[name.c_str()] = row[c];
+    at = end + 1;
+  }
+  return d;
+}
+
+// One run: the world it was loaded with, its pipeline, the guard that measures it (and, unless
+// guard=False, stops it with tumble.SimulationError), and the optional outputs.
+class Simulation {
+ public:
+  Simulation(const Scene& scene, const std::string& pipeline, int threads, const std::optional<std::string>& resume,
+             bool guard, std::uint64_t guardEvery)
+      : m_world(World::fromScene(scene)), m_guarding(guard), m_guardEvery(guardEvery) {
+    if (guardEvery < 1) throw Error("guard_every must be at least 1");
+    if (resume) {
+      const Checkpoint ck = Checkpoint::read(*resume);
+      try {
+        m_world = ck.resume(m_world, &m_warning);
+      } catch (const InputError&) {
+        throw;
+      } catch (const Error& e) {
+        throw Error(*resume + ": cannot resume " + scene.name + ": " + e.what());
+      }
+    }
+    PipelineOptions po;
+    po.threads = threads;
+    m_pipeline = makePipeline(backendFromString(pipeline), po);
+    m_pipeline->load(m_world);
+    m_guard.emplace(m_world, *m_pipeline);
+    if (m_warning.empty()) m_warning = m_guard->initialWarning();
+  }
+
+  // Steps n times; frames, thermo rows and guard checks fall on the same steps as in tumble run.
+  void step(std::uint64_t n) {
+    if (n > kMaxStepsPerCall) throw Error("step: n = " + std::to_string(n) + " is more than 10^15 steps");
+    const std::uint64_t end = m_pipeline->stepCount() + n;
+    while (m_pipeline->stepCount() < end) {
+      std::uint64_t done = m_pipeline->stepCount();
+      std::uint64_t chunk = end - done;
+      if (m_rec) chunk = std::min(chunk, m_perFrame - done % m_perFrame);
+      if (m_thermo) chunk = std::min(chunk, m_thermoEvery - done % m_thermoEvery);
+      if (m_guarding) chunk = std::min(chunk, m_guardEvery - done % m_guardEvery);
+      {
+        py::gil_scoped_release release;
+        m_pipeline->step(chunk);
+      }
+      done += chunk;
+      const bool frameDue = m_rec && done % m_perFrame == 0;
+      const bool thermoDue = m_thermo && done % m_thermoEvery == 0;
+      if (frameDue || thermoDue || (m_guarding && (done % m_guardEvery == 0 || done == end))) {
+        const auto trip = m_guard->check(*m_pipeline);
+        if (thermoDue) m_thermo->write(m_guard->sample());
+        if (trip && m_guarding) throw SimulationError(trip->message);
+      }
+      if (frameDue) writeFrame();
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C between chunks
+    }
+  }
+
+  py::dict bodies() const {
+    BodyState s;
+    m_pipeline->readState(s);
+    py::dict d;
+    d["x"] = columns({&s.px, &s.py, &s.pz});
+    d["v"] = columns({&s.vx, &s.vy, &s.vz});
+    d["q"] = columns({&s.qw, &s.qx, &s.qy, &s.qz});
+    d["l"] = columns({&s.lx, &s.ly, &s.lz});
+    d["mass"] = array1(m_world.bodyMass);
+    return d;
+  }
+
+  py::dict particles() const {
+    BodyState s;
+    m_pipeline->readState(s);
+    const std::size_t n = m_world.numParticles();
+    py::array_t<float> x({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+    float* out = x.mutable_data();
+    for (std::size_t i = 0; i < n; ++i) {  // x = X + R(Q) u, the pipelines' own expression
+      const std::uint32_t b = m_world.body[i];
+      const Vec3f p = particlePosition(Vec3f{s.px[b], s.py[b], s.pz[b]},
+                                       rotationMatrix(Quatf{s.qw[b], s.qx[b], s.qy[b], s.qz[b]}),
+                                       Vec3f{m_world.ux[i], m_world.uy[i], m_world.uz[i]});
+      out[3 * i] = p.x;
+      out[3 * i + 1] = p.y;
+      out[3 * i + 2] = p.z;
+    }
+    py::dict d;
+    d["x"] = x;
+    d["radius"] = array1(m_world.radius);
+    d["body"] = array1(m_world.body);
+    d["mass"] = array1(m_world.mass);
+    d["elasticity"] = array1(m_world.elasticity);
+    return d;
+  }
+
+  py::array_t<std::uint32_t> contacts() const { return pairArray(m_pipeline->pairs()); }
+
+  py::dict thermo() {
+    m_guard->check(*m_pipeline);
+    return thermoDict(m_guard->sample());
+  }
+
+  void checkpoint(const std::string& path) const { Checkpoint::of(m_world, *m_pipeline).write(path); }
+
+  void record(const std::string& path, std::optional<int> perFrame, bool debug) {
+    const int stepsPerFrame = perFrame.value_or(m_world.params.stepsPerFrame);
+    if (stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
+    closeRecording();
+    m_rec = std::make_unique<RecordingWriter>(path, m_world, debug, stepsPerFrame);
+    m_perFrame = static_cast<std::uint64_t>(stepsPerFrame);
+    m_debug = debug;
+    m_pipeline->setDebugCapture(debug);
+    if (!debug) writeFrame();  // the state now (a debug recording starts after a step)
+  }
+
+  void closeRecording() {
+    if (!m_rec) return;
+    std::unique_ptr<RecordingWriter> rec = std::move(m_rec);
+    m_pipeline->setDebugCapture(false);
+    rec->close();
+  }
+
+  void writeThermo(const std::string& path, std::uint64_t every) {
+    if (every < 1) throw Error("every must be at least 1");
+    closeThermo();
+    m_thermo = std::make_unique<ThermoWriter>(path);
+    m_thermoEvery = every;
+    m_guard->check(*m_pipeline);
+    m_thermo->write(m_guard->sample());
+  }
+
+  void closeThermo() {
+    if (!m_thermo) return;
+    std::unique_ptr<ThermoWriter> t = std::move(m_thermo);
+    t->close();
+  }
+
+  void close() {
+    closeRecording();
+    closeThermo();
+  }
+
+  std::uint64_t stepCount() const { return m_pipeline->stepCount(); }
+  double time() const { return m_pipeline->time(); }
+  std::uint32_t pulls() const { return m_pipeline->pulls(); }
+  void setPulls(std::uint32_t mask) {
+    if (mask & ~std::uint32_t{kPullX | kPullY | kPullSwirl})
+      throw Error("pulls: unknown bits in " + std::to_string(mask) + " (PULL_X = 1, PULL_Y = 2, PULL_SWIRL = 4)");
+    m_pipeline->setPulls(mask);
+  }
+  std::uint32_t numBodies() const { return m_world.numBodies(); }
+  std::uint32_t numParticles() const { return m_world.numParticles(); }
+  const std::string& warning() const { return m_warning; }
+  std::string pipelineName() const { return toString(m_pipeline->backend()); }
+  py::dict stats() const {
+    const StepStats& st = m_pipeline->stats();
+    py::dict d;
+    d["steps"] = st.steps;
+    d["rebuilds"] = st.numRebuilds;
+    d["candidates"] = st.numCandidates;
+    d["pairs"] = st.numPairs;
+    d["skin"] = st.skin;
+    d["cell_size"] = st.cellSize;
+    d["seconds"] = st.totalSeconds();
+    return d;
+  }
+
+ private:
+  void writeFrame() {
+    BodyState s;
+    m_pipeline->readState(s);
+    if (m_debug) {
+      ParticleDebug dbg;
+      m_pipeline->readDebug(dbg);
+      m_rec->writeFrame(m_pipeline->stepCount(), m_pipeline->time(), m_pipeline->pulls(), s, &dbg);
+    } else {
+      m_rec->writeFrame(m_pipeline->stepCount(), m_pipeline->time(), m_pipeline->pulls(), s);
+    }
+  }
+
+  World m_world;
+  std::unique_ptr<Pipeline> m_pipeline;
+  std::optional<RunGuard> m_guard;
+  bool m_guarding;
+  std::uint64_t m_guardEvery;
+  std::string m_warning;
+  std::unique_ptr<RecordingWriter> m_rec;
+  std::uint64_t m_perFrame = 10;
+  bool m_debug = false;
+  std::unique_ptr<ThermoWriter> m_thermo;
+  std::uint64_t m_thermoEvery = 100;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_tumble, m) {
+  m.doc() = "tumble: rigid bodies made of spheres (the compiled part; import tumble)";
+  m.attr("__version__") = TUMBLE_VERSION_STRING;
+  m.attr("PULL_X") = std::uint32_t{kPullX};
+  m.attr("PULL_Y") = std::uint32_t{kPullY};
+  m.attr("PULL_SWIRL") = std::uint32_t{kPullSwirl};
+
+  // Translators run newest first: the base class is registered before the classes derived from it.
+  static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+  static py::exception<InputError> inputError(m, "InputError", error.ptr());
+  static py::exception<SimulationError> simulationError(m, "SimulationError", error.ptr());
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      PyErr_SetString(inputError.ptr(), e.what());
+    } catch (const SimulationError& e) {
+      PyErr_SetString(simulationError.ptr(), e.what());
+    } catch (const Error& e) {
+      PyErr_SetString(error.ptr(), e.what());
+    }
+  });
+
+  py::class_<Scene>(m, "Scene", "A scene: bodies, shapes and parameters (docs/scenes.md)")
+      .def_static(
+          "load", [](const std::string& path, const std::vector<std::string>& set) { return readSceneFile(path, set); },
+          py::arg("path"), py::arg("set") = std::vector<std::string>{},
+          "Reads a scene file; set: overrides 'SECTION.KEY=VALUE' as tumble run --set takes them")
+      .def_static(
+          "parse",
+          [](const std::string& text, const std::string& name, const std::vector<std::string>& set) {
+            return parseScene(text, name, set);
+          },
+          py::arg("text"), py::arg("name") = "<python>", py::arg("set") = std::vector<std::string>{},
+          "Parses a scene from TOML text; name: what error messages call it")
+      .def_property_readonly("name", [](const Scene& s) { return s.name; })
+      .def_property_readonly("dt", [](const Scene& s) { return s.dt; })
+      .def_property_readonly("steps", [](const Scene& s) { return s.steps; })
+      .def_property_readonly("num_bodies", [](const Scene& s) { return s.bodies.size(); })
+      .def("__repr__", [](const Scene& s) {
+        return "<tumble.Scene '" + s.name + "': " + std::to_string(s.bodies.size()) + " bodies, dt " +
+               std::to_string(s.dt) + " s, " + std::to_string(s.steps) + " steps>";
+      });
+
+  py::class_<Simulation>(m, "Simulation", "A run of a scene on one pipeline (docs/python.md)")
+      .def(py::init<const Scene&, const std::string&, int, const std::optional<std::string>&, bool, std::uint64_t>(),
+           py::arg("scene"), py::arg("pipeline") = "cpu", py::arg("threads") = 0, py::arg("resume") = py::none(),
+           py::arg("guard") = true, py::arg("guard_every") = kDefaultGuardEvery)
+      .def("step", &Simulation::step, py::arg("n") = 1,
+           "Advances n steps (raises tumble.SimulationError when a guard trips, unless guard=False)")
+      .def("bodies", &Simulation::bodies, "Body state: x (B,3), v (B,3), q (B,4) w,x,y,z, l (B,3), mass (B,)")
+      .def("particles", &Simulation::particles,
+           "Particles: x (N,3) world positions, radius, body, mass, elasticity (N,)")
+      .def("contacts", &Simulation::contacts, "The touching pairs (i, j), i < j, of the last step: (C,2) uint32")
+      .def("thermo", &Simulation::thermo, "The time-series quantities now (docs/thermo.md) as a dict")
+      .def("checkpoint", &Simulation::checkpoint, py::arg("path"), "Writes a checkpoint (resume with resume=path)")
+      .def("record", &Simulation::record, py::arg("path"), py::arg("steps_per_frame") = py::none(),
+           py::arg("debug") = false,
+           "Starts a recording: a frame every steps_per_frame steps (default: the scene's), counted from the start "
+           "of the run")
+      .def("close_recording", &Simulation::closeRecording)
+      .def("write_thermo", &Simulation::writeThermo, py::arg("path"), py::arg("every") = 100,
+           "Writes the time series to a CSV file, a row every `every` steps (as tumble run --thermo)")
+      .def("close_thermo", &Simulation::closeThermo)
+      .def("close", &Simulation::close, "Finishes the recording and the time series")
+      .def("__enter__", [](Simulation& s) -> Simulation& { return s; }, py::return_value_policy::reference)
+      .def("__exit__", [](Simulation& s, py::args) { s.close(); })
+      .def_property_readonly("step_count", &Simulation::stepCount, "Steps since the start of the run")
+      .def_property_readonly("time", &Simulation::time, "Simulated time (s)")
+      .def_property("pulls", &Simulation::pulls, &Simulation::setPulls, "PULL_X | PULL_Y | PULL_SWIRL bits on")
+      .def_property_readonly("num_bodies", &Simulation::numBodies)
+      .def_property_readonly("num_particles", &Simulation::numParticles)
+      .def_property_readonly("pipeline", &Simulation::pipelineName)
+      .def_property_readonly("warning", &Simulation::warning, "A warning about the start (pressed bodies), or ''")
+      .def("stats", &Simulation::stats, "Detection counters and the time spent stepping");
+
+  m.def(
+      "find_pairs",
+      [](const py::array_t<float, py::array::c_style | py::array::forcecast>& x,
+         const py::array_t<float, py::array::c_style | py::array::forcecast>& radius,
+         const py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>& body, const std::string& pipeline,
+         int threads) {
+        if (x.ndim() != 2 || x.shape(1) != 3) throw Error("find_pairs: x must have shape (N, 3)");
+        const std::size_t n = static_cast<std::size_t>(x.shape(0));
+        ParticleCloud cloud;
+        for (std::size_t i = 0; i < n; ++i) {
+          cloud.x.push_back(x.data()[3 * i]);
+          cloud.y.push_back(x.data()[3 * i + 1]);
+          cloud.z.push_back(x.data()[3 * i + 2]);
+        }
+        cloud.r = floatColumn(radius, n, "find_pairs: radius");
+        if (body.ndim() != 1 || static_cast<std::size_t>(body.shape(0)) != n)
+          throw Error("find_pairs: body: expected " + std::to_string(n) + " values in one dimension");
+        cloud.body.assign(body.data(), body.data() + n);
+        checkCloud(cloud);
+        PipelineOptions po;
+        po.threads = threads;
+        auto p = makePipeline(backendFromString(pipeline), po);
+        std::vector<Pair> pairs;
+        {
+          py::gil_scoped_release release;
+          pairs = p->findPairs(cloud, BroadphaseParams{});
+        }
+        return pairArray(pairs);
+      },
+      py::arg("x"), py::arg("radius"), py::arg("body"), py::arg("pipeline") = "cpu", py::arg("threads") = 0,
+      "The overlapping pairs (i, j), i < j, of particles of different bodies, sorted, as tumble pairs finds them");
+}
