@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -25,6 +27,7 @@
 
 #include "tumble/recording.hpp"
 #include "tumble/viewer/draw_data.hpp"
+#include "tumble/viewer/label.hpp"
 #include "tumble/viewer/offscreen.hpp"
 #include "tumble/viewer/renderer.hpp"
 #endif
@@ -64,6 +67,8 @@ struct RenderOptions {
   std::string forces;
   std::optional<double> yaw, pitch;
   double zoom = 1.0;
+  bool realtime = false;
+  bool noLabel = false;
   bool quiet = false;
 };
 
@@ -73,6 +78,65 @@ using namespace tumble::viewer;
 bool endsWith(const std::string& s, const char* suffix) {
   const std::size_t n = std::strlen(suffix);
   return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
+}
+
+// A number in at most three significant digits: 5.56, 0.18, 12.
+std::string compact(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// A time with four decimals, the label's.
+std::string fixed(double t) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.4f", t);
+  return buf;
+}
+
+void printProgress(std::size_t done, std::size_t total, double elapsed) {
+  std::fprintf(stderr, "\r  frame %zu/%zu (%5.1f%%)  %.1f frames/s  eta %.1f s   ", done, total,
+               100.0 * double(done) / double(total), double(done) / elapsed,
+               elapsed / double(done) * double(total - done));
+}
+
+// -o DIR/: one PNG per video frame, DIR/frame_000000.png …, each written atomically; Ctrl-C stops
+// after the frame under way (the frames written stay).
+template <class Draw>
+void writePngSequence(const RenderOptions& o, const std::vector<std::size_t>& sequence, Draw&& drawFrame) {
+  std::error_code ec;
+  std::filesystem::create_directories(o.out, ec);
+  if (!std::filesystem::is_directory(o.out))
+    throw Error(o.out + ": cannot create the folder for the PNG sequence" + (ec ? ": " + ec.message() : ""));
+  const StopOnSignal stopOnSignal(/*restart=*/true);
+  const bool tty = isatty(fileno(stderr)) && !o.quiet;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto lastPrint = t0;
+  std::size_t k = 0;
+  for (; k < sequence.size() && g_stopSignal == 0; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06zu.png", k);
+    writeImage((std::filesystem::path(o.out) / name).string(), drawFrame(sequence[k]));
+    const auto now = std::chrono::steady_clock::now();
+    if (tty && (now - lastPrint > std::chrono::milliseconds(200) || k + 1 == sequence.size())) {
+      lastPrint = now;
+      printProgress(k + 1, sequence.size(), std::chrono::duration<double>(now - t0).count());
+    }
+  }
+  if (tty) std::fprintf(stderr, "\n");
+  if (g_stopSignal != 0) {
+    std::fprintf(stderr, "tumble render: interrupted after %zu frames in %s\n", k, o.out.c_str());
+    dieOfSignal(g_stopSignal);
+  }
+  if (!o.quiet)
+    std::fprintf(stderr, "tumble render: %zu frames to %sframe_000000.png … (ffmpeg -framerate FPS -i %sframe_%%06d.png "
+                 "makes a video of them)\n", k, o.out.c_str(), o.out.c_str());
+}
+
+// The summary's second line: how fast the video plays.
+void printSpeed(const std::string& speedText, double speed, bool realtime) {
+  std::fprintf(stderr, "  %s: a second of video shows %s s of simulated time%s\n", speedText.c_str(),
+               compact(speed).c_str(), realtime ? "" : " (--realtime plays it at the simulation's speed)");
 }
 
 // The ffmpeg on PATH (or $TUMBLE_FFMPEG), empty when there is none.
@@ -173,23 +237,25 @@ void render(const RenderOptions& o) {
 
   // Decide everything about the output before any expensive work.
   std::string muxer, codec;
-  if (!o.still) {
+  const bool pngs = !o.still && !o.out.empty() && o.out.back() == '/';  // a PNG sequence into a folder
+  if (!o.still && !pngs) {
     if (endsWith(o.out, ".mp4")) muxer = "mp4", codec = "libx264";
     else if (endsWith(o.out, ".mkv")) muxer = "matroska", codec = "libx264";
     else if (endsWith(o.out, ".mov")) muxer = "mov", codec = "libx264";
     else if (endsWith(o.out, ".webm")) muxer = "webm", codec = "libvpx-vp9";
-    else throw Error("-o " + o.out + ": expected a video name ending in .mp4, .mkv, .mov or .webm (use --still N for one image)");
+    else throw Error("-o " + o.out + ": expected a video name ending in .mp4, .mkv, .mov or .webm, a folder ending in / "
+                     "for a PNG sequence, or --still N for one image");
     if (w % 2 || h % 2) throw Error("--size " + o.size + ": a video needs an even width and height");
   }
-  const std::string ffmpeg = o.still ? std::string() : findFfmpeg();
-  if (!o.still && ffmpeg.empty()) {
+  const std::string ffmpeg = o.still || pngs ? std::string() : findFfmpeg();
+  if (!o.still && !pngs && ffmpeg.empty()) {
     std::fprintf(stderr, "tumble render: ffmpeg was not found on PATH; install it (Debian: apt-get install ffmpeg) "
                          "or write single frames with --still N -o FRAME.png\n");
     throw Exit{kExitBadInput};
   }
 
   // Frame by frame: memory is one frame whatever the recording's length.
-  refuseSameFile({{"recording", o.file}, {"-o", o.out}});
+  if (!pngs) refuseSameFile({{"recording", o.file}, {"-o", o.out}});
   RecordingReader reader(o.file);
   const Recording& rec = reader.header();
   if (reader.numFrames() == 0) throw InputError(o.file, 0, "the recording holds no frames");
@@ -207,7 +273,8 @@ void render(const RenderOptions& o) {
 
   // One pass over every frame (each checked) frames the camera before anything is drawn.
   const ParticleTable table = ParticleTable::from(rec);
-  Camera cam = Camera::framing(recordingBounds(reader, table));
+  std::vector<double> times;
+  Camera cam = Camera::framing(recordingBounds(reader, table, &times));
   OffscreenContext ctx;
   Renderer renderer;
   Framebuffer fb(w, h);
@@ -219,6 +286,30 @@ void render(const RenderOptions& o) {
   d.groundHeight = rec.info.groundHeight;
   d.colors = particleColors(table, *mode);
 
+  // How fast the video plays: simulated seconds per second of video. Without --realtime one
+  // recorded frame is one video frame; with it, video frame k shows the last recorded frame at or
+  // before t0 + k / fps, so the video runs at the simulation's speed.
+  const double fps = o.fps ? *o.fps : rec.info.fps;
+  const double span = times.back() - times.front();
+  const double speed = o.realtime || numFrames < 2 ? 1.0 : span / double(numFrames - 1) * fps;
+  std::vector<std::size_t> sequence;
+  if (o.still) {
+    sequence = {first};
+  } else if (!o.realtime) {
+    for (std::size_t i = first; i <= last; ++i) sequence.push_back(i);
+  } else {
+    const auto count = static_cast<std::size_t>(std::floor(span * fps * (1.0 + 1e-12))) + 1;
+    std::size_t i = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      const double t = times.front() + double(k) / fps;
+      while (i + 1 < numFrames && times[i + 1] <= t * (1.0 + 1e-12)) ++i;
+      sequence.push_back(i);
+    }
+  }
+  const std::string speedText = o.realtime || std::abs(speed - 1.0) < 0.01 ? std::string("real time")
+                                : speed < 1.0 ? "slow motion x" + compact(1.0 / speed)
+                                              : "fast motion x" + compact(speed);
+
   RecordedFrame f;
   const auto drawFrame = [&](std::size_t i) {
     reader.readFrame(i, f);
@@ -228,7 +319,13 @@ void render(const RenderOptions& o) {
     if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);
     fb.bind();
     renderer.draw(d, cam, w, h);
-    return fb.read();
+    Image img = fb.read();
+    if (!o.noLabel) {
+      const int scale = labelScale(h), margin = 4 * scale;
+      drawLabel(img, margin, margin, "t = " + fixed(f.time) + " s", scale);
+      if (!o.still) drawLabel(img, margin, margin + 10 * scale, speedText, scale);
+    }
+    return img;
   };
 
   if (o.still) {
@@ -240,7 +337,11 @@ void render(const RenderOptions& o) {
     return;
   }
 
-  const double fps = o.fps ? *o.fps : rec.info.fps;
+  if (pngs) {
+    writePngSequence(o, sequence, drawFrame);
+    if (!o.quiet) printSpeed(speedText, speed, o.realtime);
+    return;
+  }
   // ffmpeg writes the temporary by name (output_file.hpp: created exclusively next to the target,
   // or the target itself when it is a device or a FIFO); it is renamed into place at the end.
   OutputFile out(o.out);
@@ -265,20 +366,17 @@ void render(const RenderOptions& o) {
   int status = 0;
   try {
     FfmpegPipe pipe(ffmpeg, args);
-    for (std::size_t i = first; i <= last && failure.empty(); ++i) {
+    for (std::size_t k = 0; k < sequence.size() && failure.empty(); ++k) {
       if (g_stopSignal) {
         failure = "interrupted";
         break;
       }
-      const Image img = drawFrame(i);
+      const Image img = drawFrame(sequence[k]);
       if (!pipe.write(img.rgb.data(), img.rgb.size())) failure = "ffmpeg stopped reading frames";
       const auto now = std::chrono::steady_clock::now();
-      if (tty && (now - lastPrint > std::chrono::milliseconds(200) || i == last)) {
+      if (tty && (now - lastPrint > std::chrono::milliseconds(200) || k + 1 == sequence.size())) {
         lastPrint = now;
-        const double el = std::chrono::duration<double>(now - t0).count();
-        const double done = double(i - first + 1), total = double(last - first + 1);
-        std::fprintf(stderr, "\r  frame %zu/%zu (%5.1f%%)  %.1f frames/s  eta %.1f s   ", i - first + 1,
-                     last - first + 1, 100.0 * done / total, done / el, el / done * (total - done));
+        printProgress(k + 1, sequence.size(), std::chrono::duration<double>(now - t0).count());
       }
     }
     if (tty) std::fprintf(stderr, "\n");
@@ -311,8 +409,9 @@ void render(const RenderOptions& o) {
   if (!o.quiet) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "tumble render: %zu frames of %s (%dx%d, %g frames/s, %s) to %s in %.1f s (%s, EGL %s)\n",
-                 last - first + 1, o.file.c_str(), w, h, fps, toString(*mode), o.out.c_str(), el,
+                 sequence.size(), o.file.c_str(), w, h, fps, toString(*mode), o.out.c_str(), el,
                  Renderer::glRenderer().c_str(), ctx.platform().c_str());
+    printSpeed(speedText, speed, o.realtime);
   }
 }
 #endif
@@ -324,7 +423,9 @@ void addRender(CLI::App& app) {
   CLI::App* c = app.add_subcommand(
       "render", "Render a recording to a video (through ffmpeg) or one frame to an image, off-screen: no X server needed");
   c->add_option("file", o->file, "Recording (tumble run --record, docs/recording.md)")->required();
-  c->add_option("-o,--output", o->out, "Output: OUT.mp4 / .mkv / .mov / .webm, or with --still an image .png / .ppm")
+  c->add_option("-o,--output", o->out,
+                "Output: OUT.mp4 / .mkv / .mov / .webm, DIR/ (ending in /) for a PNG sequence DIR/frame_000000.png …, "
+                "or with --still an image .png / .ppm")
       ->required();
   c->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720; even for a video)");
   c->add_option("--fps", o->fps, "Video frames per second (default: the recording's, 60)");
@@ -335,7 +436,11 @@ void addRender(CLI::App& app) {
                 "Debug recordings: draw force lines, digits 1-5 (1 repulsion, 2 damping, 3 shear, 4 ground, 5 friction)");
   c->add_option("--yaw", o->yaw, "Camera direction about the vertical, degrees (default -57)");
   c->add_option("--pitch", o->pitch, "Camera elevation, degrees (default 26)");
-  c->add_option("--zoom", o->zoom, "Zoom factor (default 1: the whole recording fits)");
+  c->add_option("--zoom", o->zoom, "Zoom factor (default 1: the bulk of the bodies over the recording fits)");
+  c->add_flag("--realtime", o->realtime,
+              "Play at the simulation's speed: frames resampled to the simulated time at --fps (default: one "
+              "recorded frame per video frame, and the summary and the label say how much slow motion that is)");
+  c->add_flag("--no-label", o->noLabel, "No time label (and speed) in the top-left corner");
   c->add_flag("-q,--quiet", o->quiet, "No progress and no summary");
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER

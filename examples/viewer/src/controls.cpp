@@ -19,7 +19,7 @@ namespace {
 
 constexpr const char* kKeyNames[kNumKeys] = {
     "left", "right", "up", "down", "space", "lshift", "w", "a", "s", "d", "q", "z", "e", "r",
-    "0",    "1",     "2",  "3",    "4",     "5",      "p", "n", "c", "h", "escape"};
+    "0",    "1",     "2",  "3",    "4",     "5",      "p", "n", "c", "h", "l", "escape"};
 
 // GCC 12 at -O3 reports a false -Wrestrict in InputError's inlined `":" + std::to_string(line)`
 // here (GCC bug 105329, std::string operator+ on an rvalue); CMakeLists.txt turns that one
@@ -149,6 +149,8 @@ const std::vector<KeyHelp>& liveKeyHelp() {
 
 std::vector<KeyHelp> playKeyHelp(bool debug) {
   std::vector<KeyHelp> h = {
+      {"space", "play / pause"},
+      {"L", "loop on / off"},
       {"arrow-right (hold)", "play forwards"},
       {"arrow-left (hold)", "play backwards"},
       {"arrow-up / arrow-down", "one frame forwards / backwards"},
@@ -179,6 +181,11 @@ void PlaybackControls::keyEvent(Key k, bool pressed) {
     case Key::Up: m_position = std::min(last, double(frame()) + 1.0); break;
     case Key::Down: m_position = std::max(0.0, double(frame()) - 1.0); break;
     case Key::LeftShift: m_speedIndex = (m_speedIndex + 1) % kSpeeds.size(); break;
+    case Key::Space:
+      m_playing = !m_playing;
+      if (m_playing && !m_loop && frame() + 1 >= m_numFrames) m_position = 0.0;  // play again from the start
+      break;
+    case Key::L: m_loop = !m_loop; break;
     case Key::Num0: m_color = nextColorMode(m_color); break;
     case Key::Num1: case Key::Num2: case Key::Num3: case Key::Num4: case Key::Num5:
       if (m_debug) {
@@ -193,10 +200,17 @@ void PlaybackControls::keyEvent(Key k, bool pressed) {
 }
 
 void PlaybackControls::advance(const Keyboard& kb, double seconds, double fps) {
-  const int dir = int(kb.down(Key::Right)) - int(kb.down(Key::Left));
+  const int held = int(kb.down(Key::Right)) - int(kb.down(Key::Left));
+  const int dir = held != 0 ? held : int(m_playing);
   if (dir == 0 || m_numFrames == 0) return;
   const double last = double(m_numFrames - 1);
-  m_position = std::clamp(m_position + dir * seconds * fps * speed(), 0.0, last);
+  const double next = m_position + dir * seconds * fps * speed();
+  if (dir > 0 && next > last && m_loop && m_numFrames > 1) {
+    m_position = std::fmod(next, double(m_numFrames));  // after the last frame, the first
+  } else {
+    m_position = std::clamp(next, 0.0, last);
+    if (m_playing && held == 0 && m_position >= last) m_playing = false;  // the end, without the loop
+  }
 }
 
 std::string PlaybackControls::describe() const {
@@ -209,7 +223,7 @@ std::string PlaybackControls::describe() const {
       if (!f.empty()) f += ',';
       f += std::to_string(i + 1);
     }
-  s << (f.empty() ? "none" : f);
+  s << (f.empty() ? "none" : f) << (m_playing ? " playing" : "") << (m_loop ? " loop" : "");
   return s.str();
 }
 
@@ -259,7 +273,7 @@ std::vector<ScriptEvent> parseScript(const std::string& text, const std::string&
     } else if (verb == "press" || verb == "release" || verb == "tap") {
       if (!(ls >> keyName)) fail("expected a key name after '" + verb + "'");
       const auto key = keyFromString(keyName);
-      if (!key) fail("unknown key '" + keyName + "' (keys: left right up down space lshift w a s d q z e r 0-5 p n c h escape)");
+      if (!key) fail("unknown key '" + keyName + "' (keys: left right up down space lshift w a s d q z e r 0-5 p n c h l escape)");
       e.key = *key;
       e.kind = verb == "release" ? ScriptEvent::Kind::Release : ScriptEvent::Kind::Press;
     } else {

@@ -116,14 +116,37 @@ Bounds sphereBounds(const std::vector<float>& spheres) {
   return b;
 }
 
-Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table) {
+Bounds robustBounds(const std::vector<float>& spheres) {
+  const std::size_t n = spheres.size() / 4;
+  if (n < 100) return sphereBounds(spheres);
+  const std::size_t lo = n / 100, hi = n - 1 - n / 100;
+  Bounds b;
+  std::vector<float> v(n);
+  float out[2][3];
+  for (int a = 0; a < 3; ++a) {
+    for (int side = 0; side < 2; ++side) {
+      const float sign = side == 0 ? -1.0f : 1.0f;
+      for (std::size_t i = 0; i < n; ++i) v[i] = spheres[4 * i + a] + sign * spheres[4 * i + 3];
+      const auto at = v.begin() + static_cast<std::ptrdiff_t>(side == 0 ? lo : hi);
+      std::nth_element(v.begin(), at, v.end());
+      out[side][a] = *at;
+    }
+  }
+  b.add(Vec3f{out[0][0], out[0][1], out[0][2]}, 0.0f);
+  b.add(Vec3f{out[1][0], out[1][1], out[1][2]}, 0.0f);
+  return b;
+}
+
+Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times) {
   Bounds b;
   std::vector<float> s;
   RecordedFrame f;
+  if (times) times->clear();
   for (std::size_t k = 0; k < rec.numFrames(); ++k) {
     rec.readFrame(k, f);
+    if (times) times->push_back(f.time);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(), s);
-    const Bounds fb = sphereBounds(s);
+    const Bounds fb = robustBounds(s);
     if (!fb.empty) {
       b.add(fb.lo, 0.0f);
       b.add(fb.hi, 0.0f);

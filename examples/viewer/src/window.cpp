@@ -46,6 +46,7 @@ std::optional<Key> mapKey(int key) {
     case GLFW_KEY_N: return Key::N;
     case GLFW_KEY_C: return Key::C;
     case GLFW_KEY_H: return Key::H;
+    case GLFW_KEY_L: return Key::L;
     case GLFW_KEY_ESCAPE: return Key::Escape;
     default: return std::nullopt;
   }

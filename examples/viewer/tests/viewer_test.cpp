@@ -112,6 +112,30 @@ TEST(Controls, PlaybackStepsAndPlaysContinuously) {
   EXPECT_EQ(p.speed(), 1.0) << "the speeds cycle";
 }
 
+TEST(Controls, SpacePlaysAndLLoops) {
+  Keyboard kb;
+  PlaybackControls p(10, false);
+  p.keyEvent(Key::Space, true);
+  EXPECT_TRUE(p.playing());
+  p.advance(kb, 4.0 / 60.0, 60.0);  // no key held: plays forwards
+  EXPECT_EQ(p.frame(), 4u);
+  p.advance(kb, 100.0, 60.0);
+  EXPECT_EQ(p.frame(), 9u) << "stops at the last frame";
+  EXPECT_FALSE(p.playing()) << "and the play ends there without the loop";
+  p.keyEvent(Key::Space, true);  // again: from the start
+  EXPECT_EQ(p.frame(), 0u);
+  p.keyEvent(Key::L, true);
+  EXPECT_TRUE(p.looping());
+  p.advance(kb, 12.0 / 60.0, 60.0);  // 12 frames of 10: wraps to frame 2
+  EXPECT_EQ(p.frame(), 2u);
+  EXPECT_TRUE(p.playing());
+  EXPECT_EQ(p.describe(), "frame 2/9 speed 1x colour plain forces none playing loop");
+  p.keyEvent(Key::Space, true);
+  p.advance(kb, 1.0, 60.0);
+  EXPECT_EQ(p.frame(), 2u) << "paused";
+  EXPECT_EQ(keyFromString("l"), Key::L);
+}
+
 TEST(Controls, ColouringAndForceLines) {
   PlaybackControls plain(5, false);
   EXPECT_EQ(plain.colorMode(), ColorMode::Plain);

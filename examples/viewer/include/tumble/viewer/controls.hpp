@@ -18,13 +18,13 @@ enum class Key {
   Left, Right, Up, Down, Space, LeftShift,
   W, A, S, D, Q, Z, E, R,
   Num0, Num1, Num2, Num3, Num4, Num5,
-  P, N, C, H, Escape,
+  P, N, C, H, L, Escape,
   Count
 };
 inline constexpr int kNumKeys = static_cast<int>(Key::Count);
 
 /// Name used in scripts and messages: "left", "right", "up", "down", "space", "lshift", "w", …,
-/// "0" … "5", "p", "n", "c", "h", "escape".
+/// "0" … "5", "p", "n", "c", "h", "l", "escape".
 const char* toString(Key k);
 /// Inverse of toString() (case-insensitive); empty when the name is unknown.
 std::optional<Key> keyFromString(const std::string& name);
@@ -105,7 +105,9 @@ class PlaybackControls {
   /// Reacts to a key press (pressed = true) or release; `kb` already holds the new state.
   void keyEvent(Key k, bool pressed);
   /// Advances continuous play by `seconds` of wall time at `fps` recorded frames per second
-  /// times the speed, while left or right is held; stops at the first and last frame.
+  /// times the speed: backwards while left is held, forwards while right is held or while
+  /// playing (Space). Stops at the first and last frame; playing forwards with the loop on (L)
+  /// goes on from the first frame after the last.
   void advance(const Keyboard& kb, double seconds, double fps);
 
   std::size_t frame() const;
@@ -115,7 +117,10 @@ class PlaybackControls {
   bool forceShown(int kind) const { return m_forces[static_cast<std::size_t>(kind)]; }
   bool helpShown() const { return m_help; }
   bool quit() const { return m_quit; }
-  /// One line: "frame 12/31 speed 2x colour mass forces 1,3" (used by --script runs).
+  bool playing() const { return m_playing; }
+  bool looping() const { return m_loop; }
+  /// One line: "frame 12/31 speed 2x colour mass forces 1,3" and " playing", " loop" when on
+  /// (used by --script runs).
   std::string describe() const;
 
  private:
@@ -127,6 +132,8 @@ class PlaybackControls {
   std::array<bool, kNumForces> m_forces{};
   bool m_help = true;
   bool m_quit = false;
+  bool m_playing = false;
+  bool m_loop = false;
 };
 
 /// State of the live window `tumble view` other than the pulls (those follow the held keys):

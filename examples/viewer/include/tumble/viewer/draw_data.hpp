@@ -50,9 +50,14 @@ void particleSpheres(const ParticleTable& table, const float* px, const float* p
 void forceLines(const ParticleTable& table, const std::vector<float>& spheres, const ParticleDebug& debug,
                 const bool show[kNumForces], std::vector<float>& outLines);
 
-/// Bounds of every particle over every frame of a recording (for framing a video), and the ground.
-/// One pass over the file, one frame in memory.
-Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table);
+/// What the camera frames (for a video or the player): over every frame, the box of the bulk of
+/// the particles (robustBounds), and the ground. One pass over the file, one frame in memory;
+/// `times`, when given, gets each frame's simulated time.
+Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times = nullptr);
+/// The bulk of the given spheres (x, y, z, r per particle): per axis from the 1st to the 99th
+/// percentile of the sphere extents, so that a few escaping bodies do not shrink the rest (all
+/// of them below 100 spheres).
+Bounds robustBounds(const std::vector<float>& spheres);
 /// Bounds of the given spheres (x, y, z, r per particle).
 Bounds sphereBounds(const std::vector<float>& spheres);
 
