@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <system_error>
 #include <vector>
 
 #include "tumble/error.hpp"
@@ -180,6 +181,37 @@ std::string OutputFile::keep() noexcept {
   if (m_file != nullptr) std::fclose(m_file);
   m_file = nullptr;
   return m_writing;
+}
+
+namespace {
+
+// The file `path` names once its links are followed: whether it exists and is a regular file,
+// and a canonical path to compare (for a path that does not exist yet, its folder made canonical).
+struct FileKey {
+  bool exists = false, regular = false;
+  std::filesystem::path key;
+};
+
+FileKey fileKey(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path target = outputTarget(path);
+  const fs::file_status st = fs::status(target, ec);
+  FileKey k;
+  k.exists = !ec && fs::exists(st);
+  k.regular = k.exists && fs::is_regular_file(st);
+  k.key = fs::weakly_canonical(fs::absolute(target, ec), ec);
+  if (ec) k.key = fs::absolute(target).lexically_normal();
+  return k;
+}
+
+}  // namespace
+
+bool sameFile(const std::string& a, const std::string& b) {
+  const FileKey ka = fileKey(a), kb = fileKey(b);
+  std::error_code ec;
+  if (ka.exists && kb.exists) return ka.regular && kb.regular && std::filesystem::equivalent(ka.key, kb.key, ec);
+  return !ka.exists && !kb.exists && ka.key == kb.key;
 }
 
 }  // namespace tumble

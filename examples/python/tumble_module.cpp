@@ -9,7 +9,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +22,7 @@
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/output_file.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/recording.hpp"
 #include "tumble/scene_io.hpp"
@@ -31,6 +35,10 @@ using namespace tumble;
 namespace {
 
 constexpr std::uint64_t kMaxStepsPerCall = 1000000000000000ull;  // as tumble run --steps
+constexpr std::uint64_t kStepsBetweenSignalChecks = 100;           // as tumble run: Ctrl-C within 100 steps
+
+// A path argument: a str or any os.PathLike (pathlib.Path).
+std::string pathOf(const py::object& p) { return py::str(py::module_::import("os").attr("fspath")(p)); }
 
 template <class T>
 py::array_t<T> array1(const std::vector<T>& v) {
@@ -66,7 +74,7 @@ py::array_t<std::uint32_t> pairArray(const std::vector<Pair>& pairs) {
 std::vector<float> floatColumn(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, std::size_t n,
                                const char* what) {
   if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != n)
-    throw Error(std::string(what) + ": expected " + std::to_string(n) + " values in one dimension");
+    throw InputError("find_pairs", 0, std::string(what) + ": expected " + std::to_string(n) + " values in one dimension");
   return {a.data(), a.data() + n};
 }
 
@@ -91,18 +99,20 @@ py::dict thermoDict(const ThermoSample& s) {
 // guard=False, stops it with tumble.SimulationError), and the optional outputs.
 class Simulation {
  public:
-  Simulation(const Scene& scene, const std::string& pipeline, int threads, const std::optional<std::string>& resume,
-             bool guard, std::uint64_t guardEvery)
+  Simulation(const Scene& scene, const std::string& pipeline, int threads, const py::object& resume, bool guard,
+             std::uint64_t guardEvery)
       : m_world(World::fromScene(scene)), m_guarding(guard), m_guardEvery(guardEvery) {
     if (guardEvery < 1) throw Error("guard_every must be at least 1");
-    if (resume) {
-      const Checkpoint ck = Checkpoint::read(*resume);
+    const std::string dtWarning = timeStepWarning(m_world);
+    if (!resume.is_none()) {
+      const std::string from = pathOf(resume);
+      const Checkpoint ck = Checkpoint::read(from);
       try {
         m_world = ck.resume(m_world, &m_warning);
       } catch (const InputError&) {
         throw;
       } catch (const Error& e) {
-        throw Error(*resume + ": cannot resume " + scene.name + ": " + e.what());
+        throw Error(from + ": cannot resume " + scene.name + ": " + e.what());
       }
     }
     PipelineOptions po;
@@ -111,15 +121,19 @@ class Simulation {
     m_pipeline->load(m_world);
     m_guard.emplace(m_world, *m_pipeline);
     if (m_warning.empty()) m_warning = m_guard->initialWarning();
+    if (!dtWarning.empty()) m_warning = dtWarning + (m_warning.empty() ? "" : "; " + m_warning);
   }
 
-  // Steps n times; frames, thermo rows and guard checks fall on the same steps as in tumble run.
+  // Steps n times. Frames, thermo rows and the guard's checks fall on multiples of their intervals
+  // (counted from the start of the run), as in tumble run, however the steps are split into
+  // calls; the end of a call is checked on a copy of the guard, which changes nothing.
   void step(std::uint64_t n) {
+    const auto lock = exclusive();
     if (n > kMaxStepsPerCall) throw Error("step: n = " + std::to_string(n) + " is more than 10^15 steps");
     const std::uint64_t end = m_pipeline->stepCount() + n;
     while (m_pipeline->stepCount() < end) {
       std::uint64_t done = m_pipeline->stepCount();
-      std::uint64_t chunk = end - done;
+      std::uint64_t chunk = std::min(end - done, kStepsBetweenSignalChecks);
       if (m_rec) chunk = std::min(chunk, m_perFrame - done % m_perFrame);
       if (m_thermo) chunk = std::min(chunk, m_thermoEvery - done % m_thermoEvery);
       if (m_guarding) chunk = std::min(chunk, m_guardEvery - done % m_guardEvery);
@@ -130,10 +144,13 @@ class Simulation {
       done += chunk;
       const bool frameDue = m_rec && done % m_perFrame == 0;
       const bool thermoDue = m_thermo && done % m_thermoEvery == 0;
-      if (frameDue || thermoDue || (m_guarding && (done % m_guardEvery == 0 || done == end))) {
+      if (frameDue || thermoDue || (m_guarding && done % m_guardEvery == 0)) {
         const auto trip = m_guard->check(*m_pipeline);
         if (thermoDue) m_thermo->write(m_guard->sample());
         if (trip && m_guarding) throw SimulationError(trip->message);
+      } else if (m_guarding && done == end) {
+        RunGuard probe(*m_guard);
+        if (const auto trip = probe.check(*m_pipeline)) throw SimulationError(trip->message);
       }
       if (frameDue) writeFrame();
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C between chunks
@@ -141,6 +158,7 @@ class Simulation {
   }
 
   py::dict bodies() const {
+    const auto lock = exclusive();
     BodyState s;
     m_pipeline->readState(s);
     py::dict d;
@@ -153,6 +171,7 @@ class Simulation {
   }
 
   py::dict particles() const {
+    const auto lock = exclusive();
     BodyState s;
     m_pipeline->readState(s);
     const std::size_t n = m_world.numParticles();
@@ -176,20 +195,35 @@ class Simulation {
     return d;
   }
 
-  py::array_t<std::uint32_t> contacts() const { return pairArray(m_pipeline->pairs()); }
-
-  py::dict thermo() {
-    m_guard->check(*m_pipeline);
-    return thermoDict(m_guard->sample());
+  py::array_t<std::uint32_t> contacts() const {
+    const auto lock = exclusive();
+    return pairArray(m_pipeline->pairs());
   }
 
-  void checkpoint(const std::string& path) const { Checkpoint::of(m_world, *m_pipeline).write(path); }
+  // The quantities now, measured on a copy of the guard (the run's own checks stay where they fall).
+  py::dict thermo() const {
+    const auto lock = exclusive();
+    return thermoDict(sampleNow());
+  }
 
-  void record(const std::string& path, std::optional<int> perFrame, bool debug) {
+  void checkpoint(const py::object& path) const {
+    const auto lock = exclusive();
+    const std::string p = pathOf(path);
+    refuseOpenOutput(p, "checkpoint");
+    Checkpoint::of(m_world, *m_pipeline).write(p);
+  }
+
+  void record(const py::object& pathArg, std::optional<int> perFrame, bool debug) {
+    const auto lock = exclusive();
+    const std::string path = pathOf(pathArg);
     const int stepsPerFrame = perFrame.value_or(m_world.params.stepsPerFrame);
     if (stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
-    closeRecording();
-    m_rec = std::make_unique<RecordingWriter>(path, m_world, debug, stepsPerFrame);
+    if (m_thermo && sameFile(path, m_thermo->path()))
+      throw Error("record: " + path + " is the time series' file (write_thermo): name another file");
+    // The new writer first: when it cannot be opened, the recording under way goes on.
+    auto rec = std::make_unique<RecordingWriter>(path, m_world, debug, stepsPerFrame);
+    closeRecordingLocked();
+    m_rec = std::move(rec);
     m_perFrame = static_cast<std::uint64_t>(stepsPerFrame);
     m_debug = debug;
     m_pipeline->setDebugCapture(debug);
@@ -197,36 +231,53 @@ class Simulation {
   }
 
   void closeRecording() {
+    const auto lock = exclusive();
+    closeRecordingLocked();
+  }
+
+  void closeRecordingLocked() {
     if (!m_rec) return;
     std::unique_ptr<RecordingWriter> rec = std::move(m_rec);
     m_pipeline->setDebugCapture(false);
     rec->close();
   }
 
-  void writeThermo(const std::string& path, std::uint64_t every) {
+  void writeThermo(const py::object& pathArg, std::optional<std::uint64_t> everyArg) {
+    const auto lock = exclusive();
+    const std::string path = pathOf(pathArg);
+    const std::uint64_t every = everyArg.value_or(m_world.params.thermoEvery);
     if (every < 1) throw Error("every must be at least 1");
-    closeThermo();
-    m_thermo = std::make_unique<ThermoWriter>(path);
+    if (m_rec && sameFile(path, m_rec->path()))
+      throw Error("write_thermo: " + path + " is the recording's file (record): name another file");
+    auto thermo = std::make_unique<ThermoWriter>(path);  // first: a failure keeps the series under way
+    closeThermoLocked();
+    m_thermo = std::move(thermo);
     m_thermoEvery = every;
-    m_guard->check(*m_pipeline);
-    m_thermo->write(m_guard->sample());
+    m_thermo->write(sampleNow());
   }
 
   void closeThermo() {
+    const auto lock = exclusive();
+    closeThermoLocked();
+  }
+
+  void closeThermoLocked() {
     if (!m_thermo) return;
     std::unique_ptr<ThermoWriter> t = std::move(m_thermo);
     t->close();
   }
 
   void close() {
-    closeRecording();
-    closeThermo();
+    const auto lock = exclusive();
+    closeRecordingLocked();
+    closeThermoLocked();
   }
 
   std::uint64_t stepCount() const { return m_pipeline->stepCount(); }
   double time() const { return m_pipeline->time(); }
   std::uint32_t pulls() const { return m_pipeline->pulls(); }
   void setPulls(std::uint32_t mask) {
+    const auto lock = exclusive();
     if (mask & ~std::uint32_t{kPullX | kPullY | kPullSwirl})
       throw Error("pulls: unknown bits in " + std::to_string(mask) + " (PULL_X = 1, PULL_Y = 2, PULL_SWIRL = 4)");
     m_pipeline->setPulls(mask);
@@ -249,6 +300,27 @@ class Simulation {
   }
 
  private:
+  // One call at a time: step() lets go of the GIL, and another Python thread must not read or
+  // change the pipeline meanwhile (it gets tumble.Error instead of a torn state).
+  std::unique_lock<std::mutex> exclusive() const {
+    std::unique_lock<std::mutex> lock(m_busy, std::try_to_lock);
+    if (!lock.owns_lock())
+      throw Error("this Simulation is in use by another thread (step() runs there); use one Simulation per thread");
+    return lock;
+  }
+
+  ThermoSample sampleNow() const {
+    if (m_guard->sample().step == m_pipeline->stepCount()) return m_guard->sample();  // checked at this step
+    RunGuard probe(*m_guard);
+    probe.check(*m_pipeline);
+    return probe.sample();
+  }
+
+  void refuseOpenOutput(const std::string& path, const char* what) const {
+    if ((m_rec && sameFile(path, m_rec->path())) || (m_thermo && sameFile(path, m_thermo->path())))
+      throw Error(std::string(what) + ": " + path + " is a file this Simulation is writing (record, write_thermo)");
+  }
+
   void writeFrame() {
     BodyState s;
     m_pipeline->readState(s);
@@ -261,6 +333,7 @@ class Simulation {
     }
   }
 
+  mutable std::mutex m_busy;
   World m_world;
   std::unique_ptr<Pipeline> m_pipeline;
   std::optional<RunGuard> m_guard;
@@ -301,7 +374,7 @@ PYBIND11_MODULE(_tumble, m) {
 
   py::class_<Scene>(m, "Scene", "A scene: bodies, shapes and parameters (docs/scenes.md)")
       .def_static(
-          "load", [](const std::string& path, const std::vector<std::string>& set) { return readSceneFile(path, set); },
+          "load", [](const py::object& path, const std::vector<std::string>& set) { return readSceneFile(pathOf(path), set); },
           py::arg("path"), py::arg("set") = std::vector<std::string>{},
           "Reads a scene file; set: overrides 'SECTION.KEY=VALUE' as tumble run --set takes them")
       .def_static(
@@ -316,12 +389,14 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("steps", [](const Scene& s) { return s.steps; })
       .def_property_readonly("num_bodies", [](const Scene& s) { return s.bodies.size(); })
       .def("__repr__", [](const Scene& s) {
-        return "<tumble.Scene '" + s.name + "': " + std::to_string(s.bodies.size()) + " bodies, dt " +
-               std::to_string(s.dt) + " s, " + std::to_string(s.steps) + " steps>";
+        char dt[32];
+        std::snprintf(dt, sizeof dt, "%g", static_cast<double>(s.dt));
+        return "<tumble.Scene '" + s.name + "': " + std::to_string(s.bodies.size()) + " bodies, dt " + dt + " s, " +
+               std::to_string(s.steps) + " steps>";
       });
 
   py::class_<Simulation>(m, "Simulation", "A run of a scene on one pipeline (docs/python.md)")
-      .def(py::init<const Scene&, const std::string&, int, const std::optional<std::string>&, bool, std::uint64_t>(),
+      .def(py::init<const Scene&, const std::string&, int, const py::object&, bool, std::uint64_t>(),
            py::arg("scene"), py::arg("pipeline") = "cpu", py::arg("threads") = 0, py::arg("resume") = py::none(),
            py::arg("guard") = true, py::arg("guard_every") = kDefaultGuardEvery)
       .def("step", &Simulation::step, py::arg("n") = 1,
@@ -337,8 +412,9 @@ PYBIND11_MODULE(_tumble, m) {
            "Starts a recording: a frame every steps_per_frame steps (default: the scene's), counted from the start "
            "of the run")
       .def("close_recording", &Simulation::closeRecording)
-      .def("write_thermo", &Simulation::writeThermo, py::arg("path"), py::arg("every") = 100,
-           "Writes the time series to a CSV file, a row every `every` steps (as tumble run --thermo)")
+      .def("write_thermo", &Simulation::writeThermo, py::arg("path"), py::arg("every") = py::none(),
+           "Writes the time series to a CSV file, a row now and every `every` steps (default: the scene's "
+           "thermo_every), as tumble run --thermo")
       .def("close_thermo", &Simulation::closeThermo)
       .def("close", &Simulation::close, "Finishes the recording and the time series")
       .def("__enter__", [](Simulation& s) -> Simulation& { return s; }, py::return_value_policy::reference)
@@ -356,9 +432,8 @@ PYBIND11_MODULE(_tumble, m) {
       "find_pairs",
       [](const py::array_t<float, py::array::c_style | py::array::forcecast>& x,
          const py::array_t<float, py::array::c_style | py::array::forcecast>& radius,
-         const py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>& body, const std::string& pipeline,
-         int threads) {
-        if (x.ndim() != 2 || x.shape(1) != 3) throw Error("find_pairs: x must have shape (N, 3)");
+         const py::array& body, const std::string& pipeline, int threads) {
+        if (x.ndim() != 2 || x.shape(1) != 3) throw InputError("find_pairs", 0, "x must have shape (N, 3)");
         const std::size_t n = static_cast<std::size_t>(x.shape(0));
         ParticleCloud cloud;
         for (std::size_t i = 0; i < n; ++i) {
@@ -366,11 +441,32 @@ PYBIND11_MODULE(_tumble, m) {
           cloud.y.push_back(x.data()[3 * i + 1]);
           cloud.z.push_back(x.data()[3 * i + 2]);
         }
-        cloud.r = floatColumn(radius, n, "find_pairs: radius");
+        cloud.r = floatColumn(radius, n, "radius");
         if (body.ndim() != 1 || static_cast<std::size_t>(body.shape(0)) != n)
-          throw Error("find_pairs: body: expected " + std::to_string(n) + " values in one dimension");
-        cloud.body.assign(body.data(), body.data() + n);
-        checkCloud(cloud);
+          throw InputError("find_pairs", 0, "body: expected " + std::to_string(n) + " values in one dimension");
+        const char kind = body.dtype().kind();
+        if (kind != 'i' && kind != 'u' && n > 0)
+          throw InputError("find_pairs", 0, "body: expected whole numbers (an integer array), got dtype " +
+                                                std::string(py::str(body.dtype())));
+        const auto ids = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(body);
+        if (!ids && n > 0) throw InputError("find_pairs", 0, "body: ids beyond 64 bits");
+        for (std::size_t i = 0; i < n; ++i) {
+          const std::int64_t b = ids.data()[i];
+          if (b < 0 || b > std::int64_t{0xffffffff})
+            throw InputError("find_pairs", 0, "body[" + std::to_string(i) + "] = " + std::to_string(b) +
+                                                  ": expected 0 to 2^32 - 1");
+          cloud.body.push_back(static_cast<std::uint32_t>(b));
+        }
+        for (std::size_t i = 0; i < n; ++i)
+          if (!std::isfinite(cloud.x[i]) || !std::isfinite(cloud.y[i]) || !std::isfinite(cloud.z[i]))
+            throw InputError("find_pairs", 0, "x[" + std::to_string(i) + "] is not finite");
+        try {
+          checkCloud(cloud);
+        } catch (const InputError&) {
+          throw;
+        } catch (const Error& e) {
+          throw InputError("find_pairs", 0, e.what());
+        }
         PipelineOptions po;
         po.threads = threads;
         auto p = makePipeline(backendFromString(pipeline), po);

@@ -3,8 +3,6 @@
 // and show, play back or render the animation.
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <filesystem>
-#include <system_error>
 
 #include "commands.hpp"
 #include "tumble/config.hpp"
@@ -38,46 +36,12 @@ CLI::Option* tumble::cli::addSetOption(CLI::App* command, std::vector<std::strin
       ->allow_extra_args(false);
 }
 
-namespace {
-
-// The file `path` names once its links are followed, for comparing: {exists, regular, key}, the
-// key a canonical path (a path that does not exist yet: its folder made canonical).
-struct FileKey {
-  bool exists = false, regular = false;
-  std::filesystem::path key;
-};
-
-FileKey fileKey(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path target = tumble::outputTarget(path);
-  const fs::file_status st = fs::status(target, ec);
-  FileKey k;
-  k.exists = !ec && fs::exists(st);
-  k.regular = k.exists && fs::is_regular_file(st);
-  k.key = fs::weakly_canonical(fs::absolute(target, ec), ec);
-  if (ec) k.key = fs::absolute(target).lexically_normal();
-  return k;
-}
-
-}  // namespace
-
 void tumble::cli::refuseSameFile(const std::vector<NamedFile>& files) {
-  std::vector<FileKey> keys;
-  for (const NamedFile& f : files) keys.push_back(f.path.empty() ? FileKey{} : fileKey(f.path));
-  for (std::size_t a = 0; a < files.size(); ++a) {
-    for (std::size_t b = a + 1; b < files.size(); ++b) {
-      if (files[a].path.empty() || files[b].path.empty()) continue;
-      const FileKey &ka = keys[a], &kb = keys[b];
-      bool same = false;
-      std::error_code ec;
-      if (ka.exists && kb.exists) same = ka.regular && kb.regular && std::filesystem::equivalent(ka.key, kb.key, ec);
-      else if (!ka.exists && !kb.exists) same = ka.key == kb.key;
-      if (same)
+  for (std::size_t a = 0; a < files.size(); ++a)
+    for (std::size_t b = a + 1; b < files.size(); ++b)
+      if (!files[a].path.empty() && !files[b].path.empty() && sameFile(files[a].path, files[b].path))
         throw Error(std::string(files[a].option) + " " + files[a].path + " and " + files[b].option + " " + files[b].path +
                     " are the same file: one would overwrite the other; name two different files");
-    }
-  }
 }
 
 int main(int argc, char** argv) {

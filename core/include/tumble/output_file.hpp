@@ -42,6 +42,11 @@ bool writeFully(std::FILE* file, const void* data, std::size_t size);
 /// /proc/self/fd/N), which OutputFile writes through.
 bool namesDescriptor(const std::string& path);
 
+/// Whether `a` and `b` are one regular file, or would become one (the same path, links followed,
+/// that does not exist yet): two outputs of one command that would overwrite each other, or an
+/// output over an input. Devices and FIFOs are never "the same" (--record /dev/null twice is fine).
+bool sameFile(const std::string& a, const std::string& b);
+
 class OutputFile {
  public:
   /// Opens the temporary (or the non-regular target) for writing. Throws tumble::Error naming

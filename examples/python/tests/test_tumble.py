@@ -177,3 +177,93 @@ def test_a_diverging_run_raises(tmp_path):
     sim = tumble.Simulation(scene)
     with pytest.raises(tumble.SimulationError, match="use dt <="):
         sim.step(2000)
+
+
+def test_splitting_the_steps_changes_nothing(tmp_path):
+    """Guard checks, frames and rows fall on multiples of their intervals however step() is called
+    (the swirl's work, which the checks integrate, is the sensitive column)."""
+    scene = tumble.Scene.load(MOLECULES, set=['pulls.on=["swirl"]'])
+    outs = []
+    for k, calls in enumerate([[100], [37, 63], [7] * 14 + [2]]):
+        with tumble.Simulation(scene) as sim:
+            sim.record(tmp_path / f"r{k}.bin")
+            sim.write_thermo(tmp_path / f"t{k}.csv", every=30)
+            for n in calls:
+                sim.step(n)
+                sim.thermo()  # asking changes nothing either
+        outs.append(((tmp_path / f"r{k}.bin").read_bytes(), (tmp_path / f"t{k}.csv").read_text()))
+    assert outs[0] == outs[1] == outs[2]
+    subprocess.run([BIN, "run", MOLECULES, "--set", 'pulls.on=["swirl"]', "--steps", "100", "--thermo",
+                    str(tmp_path / "cli.csv"), "--thermo-every", "30", "-q"], check=True)
+    cli = (tmp_path / "cli.csv").read_text().splitlines()
+    assert outs[0][1].splitlines() == cli[:-1]  # tumble run adds the last step's row (100)
+
+
+def test_one_simulation_is_not_shared_between_threads():
+    import threading
+    sim = tumble.Simulation(tumble.Scene.load(MOLECULES), threads=2, guard=False)
+    errors, done = [], []
+
+    def run():
+        try:
+            sim.step(400)
+            done.append(1)
+        except tumble.Error as e:
+            errors.append(str(e))
+
+    ts = [threading.Thread(target=run) for _ in range(3)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    assert sim.step_count == 400 * len(done)
+    assert all("in use by another thread" in e for e in errors)
+
+
+def test_find_pairs_refuses_bad_body_ids_and_values():
+    x = np.zeros((3, 3), dtype=np.float32)
+    x[:, 0] = [0.0, 0.1, 5.0]
+    r = np.full(3, 0.1, dtype=np.float32)
+    for bad in ([2**32, 0, 1], [-1, 0, 1], [0.5, 1.7, 2.2]):
+        with pytest.raises(tumble.InputError, match="body"):
+            tumble.find_pairs(x, r, np.array(bad))
+    x[2, 1] = np.nan
+    with pytest.raises(tumble.InputError, match="not finite"):
+        tumble.find_pairs(x, r, np.arange(3))
+    with pytest.raises(tumble.InputError, match="radius"):
+        tumble.find_pairs(x[:2], np.array([0.1, -1.0]), np.arange(2))
+
+
+def test_to_toml_quotes_keys_and_escapes_strings():
+    tables = {"output": {"thermo_every = 5\nx": 1, "a.b": "q\"uote\\ \r\x00\x7f\b é"}, "t a": {"k]": True}}
+    assert tomllib.loads(tumble.to_toml(tables)) == tables
+    with pytest.raises(tumble.Error, match="key must be a string"):
+        tumble.to_toml({"scene": {1: 2}})
+    with open(MOLECULES, "rb") as f:
+        scene = tomllib.load(f)
+    scene.setdefault("output", {})["thermo_every = 5\nx"] = 1  # one odd key, not two lines
+    with pytest.raises(tumble.InputError, match="unknown key"):
+        tumble.scene_from_dict(scene)
+
+
+def test_outputs_are_not_clobbered(tmp_path):
+    sim = tumble.Simulation(tumble.Scene.load(MOLECULES))
+    sim.record(tmp_path / "same.out")
+    with pytest.raises(tumble.Error, match="recording's file"):
+        sim.write_thermo(tmp_path / "same.out")
+    with pytest.raises(tumble.Error, match="writing"):
+        sim.checkpoint(tmp_path / "same.out")
+    with pytest.raises(tumble.Error):
+        sim.record(tmp_path / "no" / "such" / "dir" / "x.bin")
+    sim.step(20)  # the recording under way goes on
+    sim.close()
+    assert len((tmp_path / "same.out").read_bytes()) > 0
+    subprocess.run([BIN, "export", str(tmp_path / "same.out"), str(tmp_path / "ex"), "-q"], check=True)
+    assert len(list((tmp_path / "ex").glob("same_0*.vtp"))) == 3  # frames 0, 10, 20
+
+
+def test_warnings_and_names():
+    sim = tumble.Simulation(tumble.Scene.load(MOLECULES, set=["scene.dt=0.01"]))
+    assert "use dt <=" in sim.warning
+    assert tumble.SimulationError.__module__ == "tumble"
+    assert "dt 1e-07 s" in repr(tumble.Scene.load(MOLECULES, set=["scene.dt=1e-7"]))

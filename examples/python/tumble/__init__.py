@@ -14,6 +14,9 @@ scene file as dicts and lists (the layout of docs/scenes.md) and checks them as 
 from ._tumble import (PULL_SWIRL, PULL_X, PULL_Y, Error, InputError, Scene, Simulation, SimulationError,
                       __version__, find_pairs)
 
+for _e in (Error, InputError, SimulationError):
+    _e.__module__ = "tumble"
+
 __all__ = ["Scene", "Simulation", "find_pairs", "scene_from_dict", "to_toml", "Error", "InputError",
            "SimulationError", "PULL_X", "PULL_Y", "PULL_SWIRL", "__version__"]
 
@@ -29,12 +32,34 @@ def _value(v, where):
             raise Error(f"{where}: {r} is not a value a scene takes")
         return r
     if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+        return _string(v)
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_value(x, where) for x in v) + "]"
     if hasattr(v, "tolist"):  # a NumPy scalar or array
         return _value(v.tolist(), where)
     raise Error(f"{where}: cannot write a {type(v).__name__} into a scene")
+
+
+def _string(v):
+    """A TOML basic string: backslash, quote and every control character escaped."""
+    out = []
+    for c in v:
+        if c == "\\" or c == '"':
+            out.append("\\" + c)
+        elif ord(c) < 0x20 or ord(c) == 0x7f:
+            out.append({"\n": "\\n", "\t": "\\t", "\r": "\\r"}.get(c, f"\\u{ord(c):04x}"))
+        else:
+            out.append(c)
+    return '"' + "".join(out) + '"'
+
+
+def _key(k, where):
+    """A TOML key: bare when it can be (A-Z a-z 0-9 _ -), else quoted."""
+    if not isinstance(k, str):
+        raise Error(f"{where}: a key must be a string, got {k!r}")
+    if k and all(c.isascii() and (c.isalnum() or c in "_-") for c in k):
+        return k
+    return _string(k)
 
 
 def _table(lines, path, table):
@@ -45,16 +70,16 @@ def _table(lines, path, table):
         elif isinstance(v, (list, tuple)) and v and all(isinstance(x, dict) for x in v):
             subs.append(("array", key, v))
         else:
-            lines.append(f"{key} = {_value(v, '.'.join(path + [key]))}")
+            lines.append(f"{_key(key, '.'.join(path))} = {_value(v, '.'.join(path + [str(key)]))}")
     for kind, key, v in subs:
-        name = ".".join(path + [key])
+        name = ".".join(path + [_key(key, ".".join(path))])
         if kind == "table":
             lines.append(f"\n[{name}]")
-            _table(lines, path + [key], v)
+            _table(lines, path + [_key(key, "")], v)
         else:
             for item in v:
                 lines.append(f"\n[[{name}]]")
-                _table(lines, path + [key], item)
+                _table(lines, path + [_key(key, "")], item)
 
 
 def to_toml(scene):
@@ -69,4 +94,4 @@ def to_toml(scene):
 def scene_from_dict(scene, name="<python>", set=()):
     """A Scene from dicts and lists laid out as a scene file (docs/scenes.md), checked as the file
     is: errors name `name` and the line of the generated TOML (to_toml(scene) shows it)."""
-    return Scene.parse(to_toml(scene), name, list(set))
+    return Scene.parse(to_toml(scene), name, [set] if isinstance(set, str) else list(set))
