@@ -4,7 +4,10 @@
 // drawn once per particle with glDrawElementsInstanced; the per-instance attributes are
 // centre + radius and colour. The ground is one large quad whose
 // fragment shader draws a faint grid and fades into the sky with distance, so the horizon has
-// no hard edge. Everything is lit by one directional light plus a hemisphere ambient term.
+// no hard edge. Under each sphere a soft blob shadow on the ground (one instanced quad per
+// sphere, its darkness fading and its size growing with the height above the ground) shows
+// what rests on the ground and what is in the air. Everything is lit by one directional light
+// plus a hemisphere ambient term.
 #include "tumble/output_file.hpp"
 #include "tumble/viewer/renderer.hpp"
 
@@ -89,6 +92,33 @@ void main() {
   vec3 c = uColor * (0.55 + 0.45 * max(uLight.z, 0.0)) * (1.0 - 0.12 * line);
   float d = length(vWorld.xy - uCenter.xy);
   oColor = vec4(mix(c, uSky, smoothstep(0.6 * uFade, uFade, d)), 1.0);
+}
+)";
+
+const char* kShadowVs = R"(#version 330 core
+layout(location = 0) in vec2 aPos;
+layout(location = 1) in vec4 iSphere;
+uniform mat4 uViewProj;
+uniform float uHeight;
+out vec2 vLocal;
+out float vStrength;
+void main() {
+  float r = iSphere.w;
+  float h = max(iSphere.z - r - uHeight, 0.0) / r;  // gap to the ground, in radii
+  float size = r * (1.0 + 0.5 * min(h, 4.0));
+  vStrength = iSphere.z < uHeight ? 0.0 : 0.6 / ((1.0 + 0.25 * h) * (1.0 + 0.25 * h));
+  vLocal = aPos;
+  gl_Position = uViewProj * vec4(iSphere.xy + size * aPos, uHeight, 1.0);
+}
+)";
+
+const char* kShadowFs = R"(#version 330 core
+in vec2 vLocal;
+in float vStrength;
+out vec4 oColor;
+void main() {
+  float a = vStrength * (1.0 - smoothstep(0.35, 1.0, length(vLocal)));
+  oColor = vec4(0.0, 0.0, 0.0, a);  // blended as dst * (1 - a)
 }
 )";
 
@@ -215,7 +245,8 @@ struct SphereMesh {
 }  // namespace
 
 struct Renderer::Impl {
-  GLuint sphereProg = 0, groundProg = 0, lineProg = 0;
+  GLuint sphereProg = 0, groundProg = 0, lineProg = 0, shadowProg = 0;
+  GLuint shadowVao = 0;
   SphereMesh fine, coarse;  // 320 and 80 triangles
   GLuint instSphereVbo = 0, instColorVbo = 0;
   GLuint groundVao = 0, groundVbo = 0;
@@ -226,6 +257,7 @@ Renderer::Renderer() : m(std::make_unique<Impl>()) {
   m->sphereProg = program(kSphereVs, kSphereFs, "sphere");
   m->groundProg = program(kGroundVs, kGroundFs, "ground");
   m->lineProg = program(kLineVs, kLineFs, "lines");
+  m->shadowProg = program(kShadowVs, kShadowFs, "shadow");
 
   glGenBuffers(1, &m->instSphereVbo);
   glGenBuffers(1, &m->instColorVbo);
@@ -240,6 +272,17 @@ Renderer::Renderer() : m(std::make_unique<Impl>()) {
   glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+
+  // The shadows: the ground's quad per vertex, the spheres' centre and radius per instance.
+  glGenVertexArrays(1, &m->shadowVao);
+  glBindVertexArray(m->shadowVao);
+  glBindBuffer(GL_ARRAY_BUFFER, m->groundVbo);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+  glBindBuffer(GL_ARRAY_BUFFER, m->instSphereVbo);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+  glVertexAttribDivisor(1, 1);
 
   glGenVertexArrays(1, &m->lineVao);
   glBindVertexArray(m->lineVao);
@@ -261,6 +304,8 @@ Renderer::~Renderer() {
   glDeleteBuffers(1, &m->lineVbo);
   glDeleteVertexArrays(1, &m->groundVao);
   glDeleteVertexArrays(1, &m->lineVao);
+  glDeleteVertexArrays(1, &m->shadowVao);
+  glDeleteProgram(m->shadowProg);
   glDeleteProgram(m->sphereProg);
   glDeleteProgram(m->groundProg);
   glDeleteProgram(m->lineProg);
@@ -312,6 +357,26 @@ void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
   }
 
   const std::size_t n = d.numSpheres();
+  if (n > 0) {
+    glBindBuffer(GL_ARRAY_BUFFER, m->instSphereVbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(4 * n * sizeof(float)), d.spheres.data(), GL_STREAM_DRAW);
+  }
+  if (d.groundEnabled && n > 0) {
+    // On the ground, under the spheres: no depth test or write (the spheres, drawn next, cover
+    // them where they are in front), darkening what is there.
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
+    glUseProgram(m->shadowProg);
+    glUniformMatrix4fv(glGetUniformLocation(m->shadowProg, "uViewProj"), 1, GL_FALSE, vp.m.data());
+    glUniform1f(glGetUniformLocation(m->shadowProg, "uHeight"), d.groundHeight);
+    glBindVertexArray(m->shadowVao);
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, static_cast<GLsizei>(n));
+    glDisable(GL_BLEND);
+    glEnable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+  }
   if (n > 0 && d.colors.size() >= 3 * n) {
     glUseProgram(m->sphereProg);
     glUniformMatrix4fv(glGetUniformLocation(m->sphereProg, "uViewProj"), 1, GL_FALSE, vp.m.data());
@@ -324,8 +389,6 @@ void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
     const float pixelsPerUnit = float(h) / (2.0f * std::tan(camera.fovY / 2.0f) * camera.distance);
     const SphereMesh& mesh = maxR * pixelsPerUnit < 8.0f ? m->coarse : m->fine;
     glBindVertexArray(mesh.vao);
-    glBindBuffer(GL_ARRAY_BUFFER, m->instSphereVbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(4 * n * sizeof(float)), d.spheres.data(), GL_STREAM_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, m->instColorVbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(3 * n * sizeof(float)), d.colors.data(), GL_STREAM_DRAW);
     glDrawElementsInstanced(GL_TRIANGLES, mesh.numIndices, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(n));

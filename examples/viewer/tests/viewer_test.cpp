@@ -379,6 +379,25 @@ TEST_F(Offscreen, GroundColourShowsThePulls) {
   EXPECT_NE(all.r + 256 * all.g + 65536 * all.b, none.r + 256 * none.g + 65536 * none.b) << all << none;
 }
 
+TEST_F(Offscreen, ShadowsShowWhatRestsOnTheGround) {
+  // A ground point 0.3 radii beside sphere 0's foot, across the view (not hidden by the sphere).
+  const Camera cam = camera();
+  const Vec3f side{-std::sin(cam.yaw), std::cos(cam.yaw), 0.0f};
+  float x = 0, y = 0;
+  ASSERT_TRUE(cam.project(0.15f * side, 320, 240, x, y));
+  const auto at = [&](float z) {
+    DrawData d = data(ColorMode::Plain, 0);
+    d.spheres[0] = z > 0.0f ? 0.0f : -50.0f;  // z <= 0: sphere 0 far away
+    d.spheres[2] = z > 0.0f ? z : 0.5f;
+    const Px p = pixel(render(d), int(x), int(y));
+    return p.r + p.g + p.b;
+  };
+  const int none = at(0.0f), resting = at(0.5f), flying = at(1.5f);
+  EXPECT_LT(resting, none - 90) << "a resting sphere darkens the ground beside its foot";
+  EXPECT_LT(flying, none - 20) << "a sphere two radii up casts a fainter shadow";
+  EXPECT_GT(flying, resting + 30);
+}
+
 TEST_F(Offscreen, ForceLinesAreDrawn) {
   DrawData d = data(ColorMode::Plain, 0);
   d.groundEnabled = false;
