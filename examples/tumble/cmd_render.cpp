@@ -324,6 +324,11 @@ void render(const RenderOptions& o) {
       const int scale = labelScale(h), margin = 4 * scale;
       drawLabel(img, margin, margin, "t = " + fixed(f.time) + " s", scale);
       if (!o.still) drawLabel(img, margin, margin + 10 * scale, speedText, scale);
+      if (*mode != ColorMode::Plain) {
+        const std::vector<float>& v = *mode == ColorMode::Mass ? table.mass : table.elasticity;
+        const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+        drawLegend(img, *mode, *lo, *hi, *mode == ColorMode::Mass ? "mass kg" : "elasticity", scale);
+      }
     }
     return img;
   };

@@ -28,6 +28,11 @@ std::vector<float> normalised(const std::vector<float>& v) {
 
 }  // namespace
 
+Rgb rampColor(ColorMode mode, float t) {
+  if (mode == ColorMode::Mass) return lerp({1.0f, 0.93f, 0.70f}, {0.55f, 0.05f, 0.05f}, t);     // cream → dark red
+  return lerp({0.80f, 0.95f, 1.0f}, {0.05f, 0.15f, 0.55f}, t);                                // ice → navy
+}
+
 ParticleTable ParticleTable::from(const Recording& rec) {
   return {rec.radius, rec.mass, rec.elasticity, rec.body, rec.ux, rec.uy, rec.uz};
 }
@@ -45,12 +50,8 @@ std::vector<float> particleColors(const ParticleTable& table, ColorMode mode) {
   if (mode == ColorMode::Mass) t = normalised(table.mass);
   if (mode == ColorMode::Elasticity) t = normalised(table.elasticity);
   for (std::size_t i = 0; i < n; ++i) {
-    Rgb c;
-    switch (mode) {
-      case ColorMode::Plain: c = kPalette[(table.body[i] * 7u + 3u) % std::size(kPalette)]; break;
-      case ColorMode::Mass: c = lerp({1.0f, 0.93f, 0.70f}, {0.55f, 0.05f, 0.05f}, t[i]); break;       // cream → dark red
-      case ColorMode::Elasticity: c = lerp({0.80f, 0.95f, 1.0f}, {0.05f, 0.15f, 0.55f}, t[i]); break;  // ice → navy
-    }
+    const Rgb c = mode == ColorMode::Plain ? kPalette[(table.body[i] * 7u + 3u) % std::size(kPalette)]
+                                           : rampColor(mode, t[i]);
     out[3 * i] = c.r;
     out[3 * i + 1] = c.g;
     out[3 * i + 2] = c.b;

@@ -2,7 +2,11 @@
 #include "tumble/viewer/label.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+
+#include "tumble/viewer/draw_data.hpp"
 
 namespace tumble::viewer {
 namespace {
@@ -68,6 +72,29 @@ void drawLabel(Image& img, int x, int y, const std::string& text, int scale) {
       cx += 6 * scale;
     }
   }
+}
+
+void drawLegend(Image& img, ColorMode mode, float lo, float hi, const std::string& name, int scale) {
+  scale = std::max(1, scale);
+  const int barW = 60 * scale, barH = 5 * scale, margin = 4 * scale;
+  const int x0 = img.width - margin - barW, y0 = margin;
+  for (int y = std::max(0, y0 - 1); y < std::min(img.height, y0 + barH + 1); ++y)
+    for (int x = std::max(0, x0 - 1); x < std::min(img.width, x0 + barW + 1); ++x) {
+      std::uint8_t* p = &img.rgb[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) +
+                                      static_cast<std::size_t>(x))];
+      const bool edge = y < y0 || y >= y0 + barH || x < x0 || x >= x0 + barW;
+      const Rgb c = edge ? Rgb{0.1f, 0.1f, 0.1f} : rampColor(mode, float(x - x0) / float(std::max(1, barW - 1)));
+      p[0] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(c.r, 0.0f, 1.0f)));
+      p[1] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(c.g, 0.0f, 1.0f)));
+      p[2] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(c.b, 0.0f, 1.0f)));
+    }
+  char a[32], b[32];
+  std::snprintf(a, sizeof a, "%.3g", static_cast<double>(lo));
+  std::snprintf(b, sizeof b, "%.3g", static_cast<double>(hi));
+  const int ty = y0 + barH + 2 * scale;
+  drawLabel(img, x0, ty, a, scale);
+  drawLabel(img, x0 + barW - 6 * scale * static_cast<int>(std::string(b).size()), ty, b, scale);
+  drawLabel(img, x0, ty + 9 * scale, name, scale);
 }
 
 int labelScale(int height) { return std::max(1, height / 240); }

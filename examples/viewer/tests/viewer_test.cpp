@@ -23,6 +23,7 @@
 #include "tumble/viewer/camera.hpp"
 #include "tumble/viewer/controls.hpp"
 #include "tumble/viewer/draw_data.hpp"
+#include "tumble/viewer/label.hpp"
 #include "tumble/viewer/offscreen.hpp"
 #include "tumble/viewer/renderer.hpp"
 
@@ -110,6 +111,25 @@ TEST(Controls, PlaybackStepsAndPlaysContinuously) {
     key(Key::LeftShift, false);
   }
   EXPECT_EQ(p.speed(), 1.0) << "the speeds cycle";
+}
+
+TEST(Label, TextAndLegendAreDrawnWhereAsked) {
+  Image img;
+  img.width = 320;
+  img.height = 240;
+  img.rgb.assign(3 * 320 * 240, 100);
+  drawLabel(img, 4, 4, "t = 1.5 s", 1);
+  int white = 0;
+  for (int y = 4; y < 11; ++y)
+    for (int x = 4; x < 60; ++x) white += img.at(x, y)[0] == 255;
+  EXPECT_GT(white, 20) << "the text is drawn in white";
+  EXPECT_EQ(img.at(200, 100)[0], 100) << "and nothing else is touched";
+  drawLegend(img, ColorMode::Mass, 0.2f, 0.6f, "mass kg", 1);
+  const std::uint8_t* light = img.at(320 - 4 - 60 + 1, 6);
+  const std::uint8_t* dark = img.at(320 - 4 - 2, 6);
+  EXPECT_GT(light[0] + light[1] + light[2], 600) << "the ramp starts cream";
+  EXPECT_LT(dark[1], 40) << "and ends dark red";
+  EXPECT_GT(dark[0], dark[2] + 80);
 }
 
 TEST(Controls, SpacePlaysAndLLoops) {

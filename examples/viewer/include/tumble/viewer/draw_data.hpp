@@ -39,6 +39,9 @@ struct DrawData {
 /// palette; mass and elasticity map the particle's value from the table's range to a colour
 /// ramp (light = smallest, dark = largest; mass in warm, elasticity in cool colours).
 std::vector<float> particleColors(const ParticleTable& table, ColorMode mode);
+/// The colour ramp of the mass and elasticity modes at t in [0, 1] (0: the smallest value, light;
+/// 1: the largest, dark): cream to dark red for mass, ice blue to navy for elasticity.
+Rgb rampColor(ColorMode mode, float t);
 
 /// Particle centres x = X + R(Q) u from per-body columns (writes x, y, z, radius per particle).
 void particleSpheres(const ParticleTable& table, const float* px, const float* py, const float* pz,
