@@ -87,10 +87,10 @@ std::string compact(double v) {
   return buf;
 }
 
-// A time with four decimals, the label's.
-std::string fixed(double t) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.4f", t);
+// A time with `decimals` decimals, the label's.
+std::string fixed(double t, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, t);
   return buf;
 }
 
@@ -103,7 +103,7 @@ void printProgress(std::size_t done, std::size_t total, double elapsed) {
 // -o DIR/: one PNG per video frame, DIR/frame_000000.png …, each written atomically; Ctrl-C stops
 // after the frame under way (the frames written stay).
 template <class Draw>
-void writePngSequence(const RenderOptions& o, const std::vector<std::size_t>& sequence, Draw&& drawFrame) {
+void writePngSequence(const RenderOptions& o, const std::vector<std::size_t>& sequence, double fps, Draw&& drawFrame) {
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
   if (!std::filesystem::is_directory(o.out))
@@ -128,9 +128,19 @@ void writePngSequence(const RenderOptions& o, const std::vector<std::size_t>& se
     std::fprintf(stderr, "tumble render: interrupted after %zu frames in %s\n", k, o.out.c_str());
     dieOfSignal(g_stopSignal);
   }
+  // Frames of an earlier, longer render into this folder would follow these in a video: they go.
+  std::size_t stale = 0;
+  for (std::size_t j = k;; ++j) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06zu.png", j);
+    if (!std::filesystem::remove(std::filesystem::path(o.out) / name, ec)) break;
+    ++stale;
+  }
   if (!o.quiet)
-    std::fprintf(stderr, "tumble render: %zu frames to %sframe_000000.png … (ffmpeg -framerate FPS -i %sframe_%%06d.png "
-                 "makes a video of them)\n", k, o.out.c_str(), o.out.c_str());
+    std::fprintf(stderr, "tumble render: %zu frames to %sframe_000000.png …%s (ffmpeg -framerate %g -i %sframe_%%06d.png "
+                 "makes a video of them)\n", k, o.out.c_str(),
+                 stale ? (" (" + std::to_string(stale) + " later frames of an earlier render removed)").c_str() : "", fps,
+                 o.out.c_str());
 }
 
 // The summary's second line: how fast the video plays.
@@ -298,17 +308,24 @@ void render(const RenderOptions& o) {
   } else if (!o.realtime) {
     for (std::size_t i = first; i <= last; ++i) sequence.push_back(i);
   } else {
-    const auto count = static_cast<std::size_t>(std::floor(span * fps * (1.0 + 1e-12))) + 1;
+    // A thousandth of a video frame of slack: frame times carry the rounding of the time steps.
+    const double tol = 1e-3 / fps;
+    const auto count = static_cast<std::size_t>(std::floor((span + tol) * fps)) + 1;
     std::size_t i = 0;
     for (std::size_t k = 0; k < count; ++k) {
       const double t = times.front() + double(k) / fps;
-      while (i + 1 < numFrames && times[i + 1] <= t * (1.0 + 1e-12)) ++i;
+      while (i + 1 < numFrames && times[i + 1] <= t + tol) ++i;
       sequence.push_back(i);
     }
   }
-  const std::string speedText = o.realtime || std::abs(speed - 1.0) < 0.01 ? std::string("real time")
+  const std::string speedText = numFrames < 2 ? std::string("one frame")
+                                : o.realtime || std::abs(speed - 1.0) < 0.01 ? std::string("real time")
                                 : speed < 1.0 ? "slow motion x" + compact(1.0 / speed)
                                               : "fast motion x" + compact(speed);
+  // Enough decimals in the time label to tell the frames apart (at least 4).
+  const int decimals = numFrames < 2 || !(span > 0.0)
+                           ? 4
+                           : std::clamp(static_cast<int>(std::ceil(-std::log10(span / double(numFrames - 1)))) + 1, 4, 12);
 
   RecordedFrame f;
   const auto drawFrame = [&](std::size_t i) {
@@ -322,7 +339,7 @@ void render(const RenderOptions& o) {
     Image img = fb.read();
     if (!o.noLabel) {
       const int scale = labelScale(h), margin = 4 * scale;
-      drawLabel(img, margin, margin, "t = " + fixed(f.time) + " s", scale);
+      drawLabel(img, margin, margin, "t = " + fixed(f.time, decimals) + " s", scale);
       if (!o.still) drawLabel(img, margin, margin + 10 * scale, speedText, scale);
       if (*mode != ColorMode::Plain) {
         const std::vector<float>& v = *mode == ColorMode::Mass ? table.mass : table.elasticity;
@@ -343,8 +360,8 @@ void render(const RenderOptions& o) {
   }
 
   if (pngs) {
-    writePngSequence(o, sequence, drawFrame);
-    if (!o.quiet) printSpeed(speedText, speed, o.realtime);
+    writePngSequence(o, sequence, fps, drawFrame);
+    if (!o.quiet && numFrames > 1) printSpeed(speedText, speed, o.realtime);
     return;
   }
   // ffmpeg writes the temporary by name (output_file.hpp: created exclusively next to the target,
@@ -416,7 +433,7 @@ void render(const RenderOptions& o) {
     std::fprintf(stderr, "tumble render: %zu frames of %s (%dx%d, %g frames/s, %s) to %s in %.1f s (%s, EGL %s)\n",
                  sequence.size(), o.file.c_str(), w, h, fps, toString(*mode), o.out.c_str(), el,
                  Renderer::glRenderer().c_str(), ctx.platform().c_str());
-    printSpeed(speedText, speed, o.realtime);
+    if (numFrames > 1) printSpeed(speedText, speed, o.realtime);
   }
 }
 #endif
@@ -445,7 +462,7 @@ void addRender(CLI::App& app) {
   c->add_flag("--realtime", o->realtime,
               "Play at the simulation's speed: frames resampled to the simulated time at --fps (default: one "
               "recorded frame per video frame, and the summary and the label say how much slow motion that is)");
-  c->add_flag("--no-label", o->noLabel, "No time label (and speed) in the top-left corner");
+  c->add_flag("--no-label", o->noLabel, "No time and speed label (top left) and no colour legend (bottom right)");
   c->add_flag("-q,--quiet", o->quiet, "No progress and no summary");
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER

@@ -125,8 +125,9 @@ TEST(Label, TextAndLegendAreDrawnWhereAsked) {
   EXPECT_GT(white, 20) << "the text is drawn in white";
   EXPECT_EQ(img.at(200, 100)[0], 100) << "and nothing else is touched";
   drawLegend(img, ColorMode::Mass, 0.2f, 0.6f, "mass kg", 1);
-  const std::uint8_t* light = img.at(320 - 4 - 60 + 1, 6);
-  const std::uint8_t* dark = img.at(320 - 4 - 2, 6);
+  const int barY = 240 - 4 - 18 - 5 + 2;  // bottom right
+  const std::uint8_t* light = img.at(320 - 4 - 60 + 1, barY);
+  const std::uint8_t* dark = img.at(320 - 4 - 2, barY);
   EXPECT_GT(light[0] + light[1] + light[2], 600) << "the ramp starts cream";
   EXPECT_LT(dark[1], 40) << "and ends dark red";
   EXPECT_GT(dark[0], dark[2] + 80);

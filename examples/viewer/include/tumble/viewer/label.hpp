@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file label.hpp
 /// Text burnt into a rendered image (tumble render's time label): a 5×7 bitmap font of the
-/// digits, `. = - x ( ) /` and the lower-case letters, white with a dark shadow.
+/// digits, `. = - + x ( ) /` and the lower-case letters, white with a dark shadow.
 #pragma once
 #include <string>
 
@@ -14,7 +14,7 @@ namespace tumble::viewer {
 /// pixels wide; characters the font lacks are drawn as blanks. Clipped to the image.
 void drawLabel(Image& img, int x, int y, const std::string& text, int scale);
 
-/// The colour legend of the mass or elasticity colouring, top-right: a ramp (rampColor) from
+/// The colour legend of the mass or elasticity colouring, bottom right: a ramp (rampColor) from
 /// `lo` to `hi`, their values and `name` ("mass kg", "elasticity") under it.
 void drawLegend(Image& img, ColorMode mode, float lo, float hi, const std::string& name, int scale);
 
