@@ -432,6 +432,10 @@ else
   "$bin" render ex.bin --still 1 -o lab.png --size 320x240 -q
   "$bin" render ex.bin --still 1 -o nolab.png --size 320x240 --no-label -q
   ! cmp -s lab.png nolab.png && ok "the label changes the image" || bad "the label is not drawn"
+  "$bin" render ex.bin --still 1 -o look.png --size 320x240 --no-label --look-at 1,0,0.2 -q
+  ! cmp -s look.png nolab.png && ok "--look-at moves the camera" || bad "--look-at changed nothing"
+  expect_status "render --look-at with two values" 2 "$bin" render ex.bin --still 1 -o x.png --look-at 1,2
+  expect_status "render --look-at nan" 2 "$bin" render ex.bin --still 1 -o x.png --look-at 1,nan,0
 fi
 if command -v gnuplot >/dev/null; then
   expect_status "plot over its time series" 2 "$bin" plot th.csv -o th.csv

@@ -66,6 +66,7 @@ struct RenderOptions {
   std::optional<long> still;
   std::string forces;
   std::optional<double> yaw, pitch;
+  std::vector<double> lookAt;
   double zoom = 1.0;
   bool realtime = false;
   bool noLabel = false;
@@ -238,6 +239,8 @@ void render(const RenderOptions& o) {
   if (!mode) throw Error("--color " + o.color + ": expected plain, mass or elasticity");
   if (o.fps && !(*o.fps > 0.0 && *o.fps <= 1000.0)) throw Error("--fps must be in (0, 1000]");
   if (!(o.zoom > 0.0)) throw Error("--zoom must be positive");
+  for (const double v : o.lookAt)
+    if (!std::isfinite(v) || std::abs(v) > 1e30) throw Error("--look-at: expected three finite coordinates X,Y,Z in m");
   bool show[kNumForces] = {};
   for (char c : o.forces) {
     if (c == ',' || c == ' ') continue;
@@ -291,6 +294,8 @@ void render(const RenderOptions& o) {
   if (o.yaw) cam.yaw = static_cast<float>(*o.yaw * 3.14159265358979 / 180.0);
   if (o.pitch) cam.pitch = static_cast<float>(std::max(-85.0, std::min(85.0, *o.pitch)) * 3.14159265358979 / 180.0);
   cam.distance /= static_cast<float>(o.zoom);
+  if (o.lookAt.size() == 3)
+    cam.target = {static_cast<float>(o.lookAt[0]), static_cast<float>(o.lookAt[1]), static_cast<float>(o.lookAt[2])};
   DrawData d;
   d.groundEnabled = rec.info.groundEnabled;
   d.groundHeight = rec.info.groundHeight;
@@ -459,6 +464,9 @@ void addRender(CLI::App& app) {
   c->add_option("--yaw", o->yaw, "Camera direction about the vertical, degrees (default -57)");
   c->add_option("--pitch", o->pitch, "Camera elevation, degrees (default 26)");
   c->add_option("--zoom", o->zoom, "Zoom factor (default 1: the bulk of the bodies over the recording fits)");
+  c->add_option("--look-at", o->lookAt, "Point the camera at X,Y,Z (m; default: the centre of the framed box)")
+      ->expected(3)
+      ->delimiter(',');
   c->add_flag("--realtime", o->realtime,
               "Play at the simulation's speed: frames resampled to the simulated time at --fps (default: one "
               "recorded frame per video frame, and the summary and the label say how much slow motion that is)");
