@@ -439,6 +439,23 @@ else
   ! cmp -s look.png nolab.png && ok "--look-at moves the camera" || bad "--look-at changed nothing"
   expect_status "render --look-at with two values" 2 render_ ex.bin --still 1 -o x.png --look-at 1,2
   expect_status "render --look-at nan" 2 render_ ex.bin --still 1 -o x.png --look-at 1,nan,0
+  # A camera path that gives the camera --look-at, --yaw and --pitch give draws the same image;
+  # one that moves away draws another.
+  render_ ex.bin --still 1 -o opts.png --size 320x240 --no-label --look-at 1,0,0.2 --yaw 30 --pitch 20 -q
+  printf 'time,x,y,z,yaw,pitch,distance\n0, 1, 0, 0.2, 30, 20\n' > same.csv
+  render_ ex.bin --still 1 -o pathed.png --size 320x240 --no-label --camera-path same.csv -q
+  cmp -s opts.png pathed.png && ok "a camera path sets the camera the options set" || bad "the path's camera differs"
+  printf '0,,,,,,50\n' > far.csv
+  render_ ex.bin --still 1 -o far.png --size 320x240 --no-label --camera-path far.csv -q
+  ! cmp -s far.png nolab.png && ok "a path's distance moves the camera" || bad "the path's distance changed nothing"
+  expect_status "render --camera follow" 0 render_ ex.bin -o fol/ --size 64x48 --camera follow --camera-path same.csv -q
+  [ "$(ls fol | wc -l)" = 4 ] && ok "--camera follow: 4 images" || bad "fol: $(ls fol)"
+  printf '0,1\n0,2\n' > back.csv
+  expect_status "render a camera path going back in time" 2 render_ ex.bin --still 1 -o x.png --camera-path back.csv
+  expect_msg "render a camera path going back in time" "^tumble: back.csv:2: time: key times must increase"
+  expect_status "render --camera-smooth -1" 2 render_ ex.bin --still 1 -o x.png --camera follow --camera-smooth -1
+  expect_status "render --camera orbit" 2 render_ ex.bin --still 1 -o x.png --camera orbit
+  [ ! -e x.png ] && ok "refused renders wrote nothing" || bad "a refused render wrote x.png"
 fi
 if command -v gnuplot >/dev/null; then
   expect_status "plot over its time series" 2 "$bin" plot th.csv -o th.csv

@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "tumble/recording.hpp"
+#include "tumble/viewer/camera_path.hpp"
 #include "tumble/viewer/draw_data.hpp"
 #include "tumble/viewer/label.hpp"
 #include "tumble/viewer/offscreen.hpp"
@@ -68,6 +69,9 @@ struct RenderOptions {
   std::optional<double> yaw, pitch;
   std::vector<double> lookAt;
   double zoom = 1.0;
+  std::string camera = "fixed";
+  double cameraSmooth = 0.5;
+  std::string cameraPath;
   bool realtime = false;
   bool noLabel = false;
   bool quiet = false;
@@ -117,7 +121,7 @@ void writePngSequence(const RenderOptions& o, const std::vector<std::size_t>& se
   for (; k < sequence.size() && g_stopSignal == 0; ++k) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%06zu.png", k);
-    writeImage((std::filesystem::path(o.out) / name).string(), drawFrame(sequence[k]));
+    writeImage((std::filesystem::path(o.out) / name).string(), drawFrame(k));
     const auto now = std::chrono::steady_clock::now();
     if (tty && (now - lastPrint > std::chrono::milliseconds(200) || k + 1 == sequence.size())) {
       lastPrint = now;
@@ -241,6 +245,10 @@ void render(const RenderOptions& o) {
   if (!(o.zoom > 0.0)) throw Error("--zoom must be positive");
   for (const double v : o.lookAt)
     if (!std::isfinite(v) || std::abs(v) > 1e30) throw Error("--look-at: expected three finite coordinates X,Y,Z in m");
+  if (!(o.cameraSmooth >= 0.0 && o.cameraSmooth <= 3600.0))
+    throw Error("--camera-smooth must be from 0 to 3600 seconds of video");
+  const bool follow = o.camera == "follow";
+  const std::vector<CameraKey> path = o.cameraPath.empty() ? std::vector<CameraKey>() : readCameraPath(o.cameraPath);
   bool show[kNumForces] = {};
   for (char c : o.forces) {
     if (c == ',' || c == ' ') continue;
@@ -287,15 +295,11 @@ void render(const RenderOptions& o) {
   // One pass over every frame (each checked) frames the camera before anything is drawn.
   const ParticleTable table = ParticleTable::from(rec);
   std::vector<double> times;
-  Camera cam = Camera::framing(recordingBounds(reader, table, &times));
+  std::vector<Bounds> boxes;
+  const Camera fixedCamera = Camera::framing(recordingBounds(reader, table, &times, follow ? &boxes : nullptr));
   OffscreenContext ctx;
   Renderer renderer;
   Framebuffer fb(w, h);
-  if (o.yaw) cam.yaw = static_cast<float>(*o.yaw * 3.14159265358979 / 180.0);
-  if (o.pitch) cam.pitch = static_cast<float>(std::max(-85.0, std::min(85.0, *o.pitch)) * 3.14159265358979 / 180.0);
-  cam.distance /= static_cast<float>(o.zoom);
-  if (o.lookAt.size() == 3)
-    cam.target = {static_cast<float>(o.lookAt[0]), static_cast<float>(o.lookAt[1]), static_cast<float>(o.lookAt[2])};
   DrawData d;
   d.groundEnabled = rec.info.groundEnabled;
   d.groundHeight = rec.info.groundHeight;
@@ -323,6 +327,29 @@ void render(const RenderOptions& o) {
       sequence.push_back(i);
     }
   }
+  // The camera of each video frame: the fixed framing or the following one, then the options, then
+  // the path. A still is framed as it is in a video of one recorded frame per video frame.
+  std::vector<Camera> cams;
+  if (follow) {
+    std::vector<Bounds> seqBoxes;
+    if (o.still) seqBoxes = boxes;
+    else
+      for (const std::size_t i : sequence) seqBoxes.push_back(boxes[i]);
+    cams = followCameras(seqBoxes, o.cameraSmooth * fps);
+    if (o.still) cams = {cams[first]};
+  } else {
+    cams.assign(sequence.size(), fixedCamera);
+  }
+  for (std::size_t k = 0; k < cams.size(); ++k) {
+    Camera& c = cams[k];
+    if (o.yaw) c.yaw = static_cast<float>(*o.yaw * 3.14159265358979 / 180.0);
+    if (o.pitch) c.pitch = static_cast<float>(std::max(-85.0, std::min(85.0, *o.pitch)) * 3.14159265358979 / 180.0);
+    c.distance /= static_cast<float>(o.zoom);
+    if (o.lookAt.size() == 3)
+      c.target = {static_cast<float>(o.lookAt[0]), static_cast<float>(o.lookAt[1]), static_cast<float>(o.lookAt[2])};
+    if (!path.empty()) c = cameraOnPath(path, times[sequence[k]], c);
+  }
+
   const std::string speedText = numFrames < 2 ? std::string("one frame")
                                 : o.realtime || std::abs(speed - 1.0) < 0.01 ? std::string("real time")
                                 : speed < 1.0 ? "slow motion x" + compact(1.0 / speed)
@@ -333,14 +360,15 @@ void render(const RenderOptions& o) {
                            : std::clamp(static_cast<int>(std::ceil(-std::log10(span / double(numFrames - 1)))) + 1, 4, 12);
 
   RecordedFrame f;
-  const auto drawFrame = [&](std::size_t i) {
+  const auto drawFrame = [&](std::size_t k) {
+    const std::size_t i = sequence[k];
     reader.readFrame(i, f);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
                     d.spheres);
     d.pulls = f.pulls;
     if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);
     fb.bind();
-    renderer.draw(d, cam, w, h);
+    renderer.draw(d, cams[k], w, h);
     Image img = fb.read();
     if (!o.noLabel) {
       const int scale = labelScale(h), margin = 4 * scale;
@@ -356,7 +384,7 @@ void render(const RenderOptions& o) {
   };
 
   if (o.still) {
-    writeImage(o.out, drawFrame(first));
+    writeImage(o.out, drawFrame(0));
     if (!o.quiet)
       std::fprintf(stderr, "tumble render: frame %zu (step %llu, t = %.4f s) of %s, %dx%d, %s, to %s\n", first,
                    static_cast<unsigned long long>(f.step), f.time, o.file.c_str(), w,
@@ -398,7 +426,7 @@ void render(const RenderOptions& o) {
         failure = "interrupted";
         break;
       }
-      const Image img = drawFrame(sequence[k]);
+      const Image img = drawFrame(k);
       if (!pipe.write(img.rgb.data(), img.rgb.size())) failure = "ffmpeg stopped reading frames";
       const auto now = std::chrono::steady_clock::now();
       if (tty && (now - lastPrint > std::chrono::milliseconds(200) || k + 1 == sequence.size())) {
@@ -467,6 +495,16 @@ void addRender(CLI::App& app) {
   c->add_option("--look-at", o->lookAt, "Point the camera at X,Y,Z (m; default: the centre of the framed box)")
       ->expected(3)
       ->delimiter(',');
+  c->add_option("--camera", o->camera,
+                "fixed: one framing for the whole recording (the bulk of the bodies over all frames; default); "
+                "follow: the camera follows the bulk of each frame, smoothed over --camera-smooth")
+      ->check(CLI::IsMember({"fixed", "follow"}));
+  c->add_option("--camera-smooth", o->cameraSmooth,
+                "With --camera follow: seconds of video the following camera averages over (Gaussian sigma; "
+                "default 0.5, 0 = none)");
+  c->add_option("--camera-path", o->cameraPath,
+                "Key frames of the camera: lines of time,x,y,z,yaw,pitch,distance (simulated s, m, degrees, m), "
+                "interpolated linearly; an empty field is automatic (docs/animation.md)");
   c->add_flag("--realtime", o->realtime,
               "Play at the simulation's speed: frames resampled to the simulated time at --fps (default: one "
               "recorded frame per video frame, and the summary and the label say how much slow motion that is)");

@@ -138,22 +138,27 @@ Bounds robustBounds(const std::vector<float>& spheres) {
   return b;
 }
 
-Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times) {
+Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times,
+                       std::vector<Bounds>* perFrame) {
   Bounds b;
   std::vector<float> s;
   RecordedFrame f;
   if (times) times->clear();
+  if (perFrame) perFrame->clear();
+  const bool ground = rec.info().groundEnabled;
   for (std::size_t k = 0; k < rec.numFrames(); ++k) {
     rec.readFrame(k, f);
     if (times) times->push_back(f.time);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(), s);
-    const Bounds fb = robustBounds(s);
+    Bounds fb = robustBounds(s);
     if (!fb.empty) {
       b.add(fb.lo, 0.0f);
       b.add(fb.hi, 0.0f);
+      if (ground) fb.lo.z = std::min(std::max(fb.lo.z, rec.info().groundHeight), fb.hi.z);
     }
+    if (perFrame) perFrame->push_back(fb);
   }
-  if (rec.info().groundEnabled && !b.empty) b.lo.z = std::max(b.lo.z, rec.info().groundHeight);
+  if (ground && !b.empty) b.lo.z = std::min(std::max(b.lo.z, rec.info().groundHeight), b.hi.z);
   return b;
 }
 

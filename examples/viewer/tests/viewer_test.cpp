@@ -21,6 +21,7 @@
 #include "tumble/recording.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/viewer/camera.hpp"
+#include "tumble/viewer/camera_path.hpp"
 #include "tumble/viewer/controls.hpp"
 #include "tumble/viewer/draw_data.hpp"
 #include "tumble/viewer/label.hpp"
@@ -263,6 +264,99 @@ TEST(Camera, ProjectsTheTargetToTheImageCentre) {
   ASSERT_TRUE(c.project(c.target + Vec3f{0, 0, 1}, 200, 100, x, y));
   EXPECT_LT(y, 50.0f) << "up is up in the image";
   EXPECT_FALSE(c.project(c.eye() + (c.eye() - c.target), 200, 100, x, y)) << "behind the camera";
+}
+
+Bounds box(float cx, float cy, float cz, float half) {
+  Bounds b;
+  b.add({cx, cy, cz}, half);
+  return b;
+}
+
+TEST(CameraPath, FollowingFramesEachBoxAndSmoothsWithoutLag) {
+  std::vector<Bounds> boxes;
+  for (int k = 0; k < 40; ++k) boxes.push_back(box(0.1f * float(k), 0.0f, 1.0f, 1.0f + 0.01f * float(k)));
+  const std::vector<Camera> raw = followCameras(boxes, 0.0);
+  ASSERT_EQ(raw.size(), boxes.size());
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    const Camera f = Camera::framing(boxes[k]);
+    EXPECT_EQ(raw[k].target.x, f.target.x);
+    EXPECT_EQ(raw[k].distance, f.distance);
+  }
+  // A Gaussian is symmetric: a box moving and growing at a constant rate is followed without
+  // lag away from the ends (3 sigma = 6 frames).
+  const std::vector<Camera> smooth = followCameras(boxes, 2.0);
+  for (std::size_t k = 6; k + 6 < boxes.size(); ++k) {
+    EXPECT_NEAR(smooth[k].target.x, raw[k].target.x, 1e-4f) << "frame " << k;
+    EXPECT_NEAR(smooth[k].distance, raw[k].distance, 1e-4f) << "frame " << k;
+  }
+  // A jump is spread over the neighbouring frames, not followed at once.
+  std::vector<Bounds> jump(20, box(0, 0, 1, 1));
+  for (std::size_t k = 10; k < jump.size(); ++k) jump[k] = box(10, 0, 1, 1);
+  const std::vector<Camera> j = followCameras(jump, 2.0);
+  EXPECT_NEAR(j[0].target.x, 0.0f, 1e-6f);
+  EXPECT_GT(j[10].target.x, 1.0f);
+  EXPECT_LT(j[10].target.x, 9.0f);
+  EXPECT_LT(j[9].target.x, j[10].target.x);
+  EXPECT_NEAR(j[19].target.x, 10.0f, 1e-5f);
+  // An empty box keeps the previous framing.
+  std::vector<Bounds> gap = {box(3, 0, 1, 1), Bounds{}};
+  EXPECT_EQ(followCameras(gap, 0.0)[1].target.x, 3.0f);
+}
+
+TEST(CameraPath, ParsesKeysHeaderCommentsAndAutomaticFields) {
+  const std::vector<CameraKey> k = parseCameraPath(
+      "time, x, y, z, yaw, pitch, distance\n"
+      "# a comment\n"
+      "\n"
+      "0, 1, 2, 3, 10, 20, 5\n"
+      "0.5, , , , 370,   # only the yaw\n"
+      "1.5,,,,,,8\n",
+      "p.csv");
+  ASSERT_EQ(k.size(), 3u);
+  EXPECT_EQ(k[0].time, 0.0);
+  EXPECT_EQ(k[0].x, 1.0f);
+  EXPECT_EQ(k[0].distance, 5.0f);
+  EXPECT_EQ(k[1].yawDeg, 370.0f);
+  EXPECT_TRUE(std::isnan(k[1].x) && std::isnan(k[1].pitchDeg) && std::isnan(k[1].distance));
+  EXPECT_EQ(k[2].distance, 8.0f);
+  EXPECT_TRUE(std::isnan(k[2].yawDeg));
+}
+
+TEST(CameraPath, RejectsBadKeysWithTheLine) {
+  const auto message = [](const std::string& text) {
+    try {
+      parseCameraPath(text, "p.csv");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("0,1\n1,x\n").find("p.csv:2: x: expected a number, got 'x'"), std::string::npos) << message("0,1\n1,x\n");
+  EXPECT_NE(message("0\n1\n1\n").find("p.csv:3: time: key times must increase"), std::string::npos);
+  EXPECT_NE(message("0,1,2,3,4,5,6,7\n").find("p.csv:1: expected at most 7 fields"), std::string::npos);
+  EXPECT_NE(message("0,,,,,90\n").find("p.csv:1: pitch: must be within -85 to 85 degrees"), std::string::npos);
+  EXPECT_NE(message("0,,,,,,0\n").find("p.csv:1: distance: must be positive"), std::string::npos);
+  EXPECT_NE(message("0\n,1\n").find("p.csv:2: time: every key needs a time"), std::string::npos);
+  EXPECT_NE(message("0,nan\n").find("p.csv:1: x: expected a number, got 'nan'"), std::string::npos);
+  EXPECT_NE(message("time,x\n# nothing\n").find("p.csv: the camera path holds no keys"), std::string::npos);
+  EXPECT_THROW(readCameraPath("/nonexistent/path.csv"), InputError);
+}
+
+TEST(CameraPath, InterpolatesEachGivenValueAndKeepsTheRest) {
+  const std::vector<CameraKey> keys = parseCameraPath("0,0,,,0\n1,,,,,,\n2,4,,,360,,\n", "p.csv");
+  Camera automatic;
+  automatic.target = {7, 8, 9};
+  automatic.pitch = 0.3f;
+  automatic.distance = 12.0f;
+  const Camera mid = cameraOnPath(keys, 1.0, automatic);
+  EXPECT_NEAR(mid.target.x, 2.0f, 1e-6f) << "between the keys that give x (key 1 gives none)";
+  EXPECT_EQ(mid.target.y, 8.0f);
+  EXPECT_EQ(mid.pitch, 0.3f);
+  EXPECT_EQ(mid.distance, 12.0f);
+  EXPECT_NEAR(mid.yaw, 3.14159265f, 1e-5f) << "yaw is not wrapped: 0 to 360 degrees is a full turn";
+  EXPECT_EQ(cameraOnPath(keys, -1.0, automatic).target.x, 0.0f) << "held before the first key";
+  EXPECT_EQ(cameraOnPath(keys, 5.0, automatic).target.x, 4.0f) << "held after the last key";
+  EXPECT_NEAR(cameraOnPath(keys, 5.0, automatic).yaw, 2.0f * 3.14159265f, 1e-5f);
 }
 
 // ---------------------------------------------------------------------------------------------

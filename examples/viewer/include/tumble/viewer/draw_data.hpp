@@ -54,9 +54,11 @@ void forceLines(const ParticleTable& table, const std::vector<float>& spheres, c
                 const bool show[kNumForces], std::vector<float>& outLines);
 
 /// What the camera frames (for a video or the player): over every frame, the box of the bulk of
-/// the particles (robustBounds), and the ground. One pass over the file, one frame in memory;
-/// `times`, when given, gets each frame's simulated time.
-Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times = nullptr);
+/// the particles (robustBounds), and the ground (the box starts no lower than the ground). One
+/// pass over the file, one frame in memory; `times`, when given, gets each frame's simulated time
+/// and `perFrame` each frame's own box (cut at the ground in the same way).
+Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times = nullptr,
+                       std::vector<Bounds>* perFrame = nullptr);
 /// The bulk of the given spheres (x, y, z, r per particle): per axis from the 1st to the 99th
 /// percentile of the sphere extents, so that a few escaping bodies do not shrink the rest (all
 /// of them below 100 spheres).
