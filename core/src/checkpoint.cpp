@@ -81,7 +81,16 @@ std::uint64_t physicsFingerprint(const Scene& s) {
   Fingerprint f;
   f.add(s.dt);
   f.add(s.gravity);
-  f.add(s.contact);
+  f.add(s.contact.stiffness);
+  f.add(s.contact.damping);
+  f.add(s.contact.shear);
+  if (s.contact.law != ContactLaw::Report) {  // the report's law keeps its fingerprints
+    f.add(static_cast<std::uint32_t>(s.contact.law));
+    f.add(s.contact.tangentialStiffness);
+    f.add(s.contact.gammaN);
+    f.add(s.contact.gammaT);
+    f.add(s.contact.friction);
+  }
   f.add(s.ground.enabled);
   f.add(s.ground.height);
   f.add(s.ground.stiffness);
@@ -120,6 +129,12 @@ void Checkpoint::write(const std::string& path) const {
         throw SimulationError("checkpoint " + path + " not written: body " + std::to_string(k) + "'s " +
                                   kColumnNames[c] + " is not finite (the run diverged; run it with the guard, "
                                   "without --no-guard, to see where)");
+  if (state.contacts.size() > 0xFFFFFFFFu) throw Error("checkpoint " + path + ": too many contact histories");
+  for (const ContactHistory& h : state.contacts)
+    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+      throw SimulationError("checkpoint " + path + " not written: the contact history of particles " +
+                            std::to_string(h.i) + " and " + std::to_string(h.j) + " is not finite (the run diverged)",
+                            static_cast<std::int64_t>(h.i));
   for (std::size_t i = 0; i < np; ++i)
     if (!std::isfinite(state.groundSpringX[i]) || !std::isfinite(state.groundSpringY[i]))
       throw SimulationError("checkpoint " + path + " not written: the ground spring of particle " +
@@ -135,7 +150,7 @@ void Checkpoint::write(const std::string& path) const {
   e.u64(step);
   e.f64(time);
   e.u32(pulls);
-  e.u32(0);
+  e.u32(static_cast<std::uint32_t>(state.contacts.size()));
   e.f64(frame.x);
   e.f64(frame.y);
   e.f64(frame.z);
@@ -146,6 +161,13 @@ void Checkpoint::write(const std::string& path) const {
   for (const auto* c : bodyColumns(state)) e.f32s(*c, nb);
   e.f32s(state.groundSpringX, np);
   e.f32s(state.groundSpringY, np);
+  for (const ContactHistory& h : state.contacts) {
+    e.u32(h.i);
+    e.u32(h.j);
+    e.f32(h.x);
+    e.f32(h.y);
+    e.f32(h.z);
+  }
   e.u32(fnv1a(buf.data() + stateStart, buf.size() - stateStart));
 
   OutputFile out(path);  // a temporary renamed into place (output_file.hpp)
@@ -180,7 +202,7 @@ Checkpoint Checkpoint::read(const std::string& path) {
   if (!std::isfinite(c.time) || c.time < 0.0) in.fail(timeAt, "the simulated time is not a finite number >= 0");
   c.pulls = d.u32();
   if (c.pulls > 7u) in.fail(timeAt + 8, "unknown pull bits " + hex32(c.pulls));
-  d.u32();
+  const std::uint64_t nc = d.u32();  // contact histories
   const std::uint64_t frameAt = d.fileOffset();
   c.frame.x = d.f64();
   c.frame.y = d.f64();
@@ -193,11 +215,11 @@ Checkpoint Checkpoint::read(const std::string& path) {
 
   // The state block: its size follows from the counts; checked before anything is read.
   const std::uint64_t stateAt = in.offset();
-  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np);
+  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc;
   if (stateBytes + 4 != in.remaining())
-    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies and " + std::to_string(np) +
-                         " particles needs " + std::to_string(stateBytes + 4) + " bytes, the file has " +
-                         std::to_string(in.remaining()) + " left");
+    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " particles and " +
+                         std::to_string(nc) + " contact histories needs " + std::to_string(stateBytes + 4) +
+                         " bytes, the file has " + std::to_string(in.remaining()) + " left");
   buf.clear();
   in.read(buf, stateBytes + 4, "state");
   checkChecksum(in, buf, 0, static_cast<std::size_t>(stateBytes), stateAt + stateBytes, "state");
@@ -206,6 +228,21 @@ Checkpoint Checkpoint::read(const std::string& path) {
   for (int k = 0; k < 13; ++k) sd.finiteColumn(*cols[k], static_cast<std::size_t>(nb), kColumnNames[k]);
   sd.finiteColumn(c.state.groundSpringX, static_cast<std::size_t>(np), "groundSpringX");
   sd.finiteColumn(c.state.groundSpringY, static_cast<std::size_t>(np), "groundSpringY");
+  c.state.contacts.resize(static_cast<std::size_t>(nc));
+  for (std::size_t k = 0; k < nc; ++k) {
+    const std::uint64_t at = sd.fileOffset();
+    ContactHistory& h = c.state.contacts[k];
+    h.i = sd.u32();
+    h.j = sd.u32();
+    h.x = sd.f32();
+    h.y = sd.f32();
+    h.z = sd.f32();
+    if (!(h.i < h.j) || (k > 0 && !(c.state.contacts[k - 1].i < h.i ||
+                                     (c.state.contacts[k - 1].i == h.i && c.state.contacts[k - 1].j < h.j))))
+      in.fail(at, "contact history " + std::to_string(k) + ": expected pairs i < j sorted by (i, j)");
+    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+      in.fail(at, "contact history " + std::to_string(k) + " is not finite");
+  }
   return c;
 }
 
@@ -216,6 +253,9 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
   if (!state.groundSpringX.empty() && state.groundSpringX.size() != world.numParticles())
     throw Error("the checkpoint holds " + std::to_string(state.groundSpringX.size()) + " particles, the scene has " +
                 std::to_string(world.numParticles()) + ": it was written by a run of another scene");
+  if (!state.contacts.empty() && state.contacts.back().j >= world.numParticles())
+    throw Error("the checkpoint's contact histories name particle " + std::to_string(state.contacts.back().j) +
+                ", the scene has " + std::to_string(world.numParticles()) + ": it was written by a run of another scene");
   if (sceneFingerprint != tumble::sceneFingerprint(world))
     throw Error("the checkpoint was written by a run of another scene (the same counts, but other shapes, "
                 "masses, radii or rotation scheme)");

@@ -423,11 +423,32 @@ class SceneParser {
   void readContact(Scene& scene) {
     const toml::table* t = sectionOf(m_file, m_root, "contact");
     if (t == nullptr) return;
-    const TableReader r(m_file, *t, "[contact]", {"stiffness", "damping", "shear"});
+    const TableReader r(m_file, *t, "[contact]",
+                        {"law", "stiffness", "damping", "shear", "tangential_stiffness", "gamma_n", "gamma_t",
+                         "friction"});
     ContactParams& c = scene.contact;
+    if (const toml::node* law = r.find("law")) {
+      const std::string name = r.string(*law, "law");
+      if (name == "report") c.law = ContactLaw::Report;
+      else if (name == "hooke-history") c.law = ContactLaw::HookeHistory;
+      else r.fail(sourceOf(*law), "unknown law \"" + name + "\"; use \"report\" or \"hooke-history\"");
+    }
+    // Each law reads its own keys; another law's key is a mistake worth naming.
+    const bool report = c.law == ContactLaw::Report;
+    static const std::vector<std::string> kHistoryKeys = {"tangential_stiffness", "gamma_n", "gamma_t", "friction"};
+    static const std::vector<std::string> kReportKeys = {"damping", "shear"};
+    for (const std::string& key : report ? kHistoryKeys : kReportKeys)
+      if (const toml::node* n = r.find(key))
+        r.fail(sourceOf(*n), key + " is not a parameter of law = \"" + toString(c.law) + "\" (" +
+                                 (report ? "it belongs to law = \"hooke-history\"" : "it belongs to the report's law; hooke-history uses gamma_n, gamma_t") +
+                                 "; docs/scenes.md)");
     c.stiffness = r.single("stiffness", c.stiffness, Rule::Positive);
     c.damping = r.single("damping", c.damping, Rule::NonNegative);
     c.shear = r.single("shear", c.shear, Rule::NonNegative);
+    c.tangentialStiffness = r.single("tangential_stiffness", c.tangentialStiffness, Rule::NonNegative);
+    c.gammaN = r.single("gamma_n", c.gammaN, Rule::NonNegative);
+    if (r.has("gamma_t")) c.gammaT = r.single("gamma_t", 0.0f, Rule::NonNegative);
+    c.friction = r.single("friction", c.friction, Rule::NonNegative);
   }
 
   void readGround(Scene& scene) {

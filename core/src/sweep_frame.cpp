@@ -159,12 +159,12 @@ void initialRows(const World& w, std::vector<BodyRow>* outBodies, std::vector<Bo
   for (std::uint32_t i = 0; i < n; ++i) (*outOwn)[i] = OwnRow{Vec3f{w.ux[i], w.uy[i], w.uz[i]}, w.groundDamping[i]};
 }
 
-// Twin: cpu/src/cpu_pipeline.cpp CpuPipeline::load(), the m_omega loop.
 std::vector<Vec3f> initialOmega(const World& world) {
   const BodyState& s = world.state;
   std::vector<Vec3f> omega(world.numBodies(), Vec3f{0, 0, 0});
   for (std::uint32_t k = 0; k < world.numBodies(); ++k)
-    if (world.numParticlesOf[k] > 1)  // single-sphere bodies do not rotate: Ω stays 0 for them
+    // Single-sphere bodies rotate only under a law that turns them; otherwise Ω stays 0.
+    if (world.numParticlesOf[k] > 1 || world.params.contact.rotatesSpheres())
       omega[k] = angularVelocity(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, world.invInertia[k],
                                Vec3f{s.lx[k], s.ly[k], s.lz[k]});
   return omega;

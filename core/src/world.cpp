@@ -83,6 +83,17 @@ World localWorld(const World& world, LocalFrame* outFrame) {
   for (const auto* c : {&s.groundSpringX, &s.groundSpringY})
     if (!c->empty() && c->size() != np)
       throw Error("the ground springs have " + std::to_string(c->size()) + " rows for " + std::to_string(np) + " particles");
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const ContactHistory& c = s.contacts[k];
+    if (!(c.i < c.j && c.j < np) || (k > 0 && !(s.contacts[k - 1].i < c.i || (s.contacts[k - 1].i == c.i && s.contacts[k - 1].j < c.j))))
+      throw Error("contact history " + std::to_string(k) + " (" + std::to_string(c.i) + ", " + std::to_string(c.j) +
+                  "): expected pairs i < j < " + std::to_string(np) + " sorted by (i, j)");
+    if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+      throw Error("contact history " + std::to_string(k) + " is not finite");
+  }
+  if (!s.contacts.empty() && !world.params.contact.hasHistory())
+    throw Error(std::string("the state holds contact histories, but the scene's law (") +
+                toString(world.params.contact.law) + ") keeps none");
   World w;
   if (world.frame) {
     *outFrame = *world.frame;
@@ -113,6 +124,7 @@ Quatf shapeOrientation(const World& world, const BodyState& s, std::size_t k) {
 }
 
 const char* toString(RotationScheme s) { return s == RotationScheme::Report ? "report" : "splitting"; }
+const char* toString(ContactLaw law) { return law == ContactLaw::Report ? "report" : "hooke-history"; }
 
 double dampingForRestitution(double e, double k, double m) {
   if (!(e > 0.0) || e > 1.0) throw Error("elasticity must be in (0, 1], got " + std::to_string(e));
@@ -402,19 +414,31 @@ double kineticEnergy(const World& world, const BodyState& s) {
 
 std::uint64_t stateHash(const BodyState& s) {
   std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&](const std::vector<float>& col) {
-    for (float f : col) {
-      std::uint32_t u;
-      std::memcpy(&u, &f, 4);
-      for (int b = 0; b < 4; ++b) {
-        h ^= (u >> (8 * b)) & 0xFFu;
-        h *= 1099511628211ull;
-      }
+  auto mixWord = [&](std::uint32_t u) {
+    for (int b = 0; b < 4; ++b) {
+      h ^= (u >> (8 * b)) & 0xFFu;
+      h *= 1099511628211ull;
     }
+  };
+  auto mixFloat = [&](float f) {
+    std::uint32_t u;
+    std::memcpy(&u, &f, 4);
+    mixWord(u);
+  };
+  auto mix = [&](const std::vector<float>& col) {
+    for (float f : col) mixFloat(f);
   };
   for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz,
                         &s.groundSpringX, &s.groundSpringY})
     mix(*c);
+  // Contact histories (none under the report's law, whose hashes therefore stay as they were).
+  for (const ContactHistory& c : s.contacts) {
+    mixWord(c.i);
+    mixWord(c.j);
+    mixFloat(c.x);
+    mixFloat(c.y);
+    mixFloat(c.z);
+  }
   return h;
 }
 

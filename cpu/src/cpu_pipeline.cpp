@@ -80,8 +80,10 @@ class CpuPipeline final : public Pipeline {
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
-    m_clumps = w.hasClumps;
+    m_clumps = w.hasClumps || w.params.contact.rotatesSpheres();  // the rotating path
     m_ground = w.params.ground.enabled;
+    m_law = w.params.contact.law;
+    m_history = w.params.contact.hasHistory();
     tumble::detail::initialRows(w, &m_bodies, &m_bodyStatic, &m_own);
     m_bodiesNext.resize(nb);
     m_radius = w.radius;
@@ -102,7 +104,11 @@ class CpuPipeline final : public Pipeline {
     m_fullLimit = skinClosureLimit(m_skin, w.maxRadius);
     m_nearSkin = kNearSkinFraction * m_skin;
     m_nearLimit = skinClosureLimit(m_nearSkin, w.maxRadius);
-    if (!(m_nearLimit > 0.0f)) m_nearSkin = 0.0f;  // too thin to help: the forces read the candidate list
+    // Too thin to help, or a law whose history lives beside the candidate list: the forces read
+    // the candidate list.
+    if (!(m_nearLimit > 0.0f) || m_history) m_nearSkin = 0.0f;
+    m_listBuilt = false;
+    if (m_history) keepLoadedHistory(s.contacts);
     m_closed = 0.0;
     m_needRefresh = false;
     m_needRebuild = true;
@@ -148,6 +154,7 @@ class CpuPipeline final : public Pipeline {
         out.groundSpringY[m_orig[i]] = m_gty[i];
       });
     });
+    readHistory(out.contacts);
   }
 
   void readLocalPositions(std::vector<float>& out) const override {
@@ -307,10 +314,12 @@ class CpuPipeline final : public Pipeline {
     if (m_debug) {
       for (auto& d : m_dbg) tumble::detail::grow(d, 3 * std::size_t(m_world.numParticles()));
       tumble::detail::grow(m_dbgVel, 3 * std::size_t(m_world.numParticles()));
-      tot = m_clumps ? advance<true, true>() : advance<true, false>();
+      tot = m_history ? advance<true, true, ContactLaw::HookeHistory>()
+            : m_clumps ? advance<true, true>() : advance<true, false>();
       m_hasDebug = true;
     } else {
-      tot = m_clumps ? advance<false, true>() : advance<false, false>();
+      tot = m_history ? advance<false, true, ContactLaw::HookeHistory>()
+            : m_clumps ? advance<false, true>() : advance<false, false>();
     }
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
@@ -327,7 +336,7 @@ class CpuPipeline final : public Pipeline {
   }
 
   // Stages 3–7 and the next step's stage 1, one pass over the bodies (see the design notes).
-  template <bool kDebug, bool kClumps>
+  template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report>
   StepTotals advance() {
     const StepView v = stepView();
     const ForceParams fp = makeForceParams(m_world.params, m_pulls);
@@ -346,7 +355,7 @@ class CpuPipeline final : public Pipeline {
             const BodyRow& self = v.bodies[k];
             Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
             for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
-              const ParticleForce pf = particleForce<kDebug, kClumps>(v, fp, dbg, self, i);
+              const ParticleForce pf = particleForce<kDebug, kClumps, kLaw>(v, fp, dbg, self, i);
               addToBody<kClumps>(F, T, pf);
               acc.contacts += pf.contacts;
             }
@@ -367,6 +376,7 @@ class CpuPipeline final : public Pipeline {
     double* sec = m_stats.seconds;
     const std::uint32_t n = m_world.numParticles();
     auto t0 = Clock::now();
+    if (m_history && m_listBuilt) keepHistory();  // by scene index: survives the renumbering
     if (m_reorder) reorder();
     sec[int(Phase::Reorder)] += since(t0);
 
@@ -401,6 +411,8 @@ class CpuPipeline final : public Pipeline {
 
     t0 = Clock::now();
     buildList();
+    if (m_history) restoreHistory();
+    m_listBuilt = true;
     m_closed = 0.0;
     if (m_nearSkin > 0.0f) fillNearList();
     sec[int(Phase::List)] += since(t0);
@@ -488,6 +500,108 @@ class CpuPipeline final : public Pipeline {
     });
   }
 
+  // Contact histories across a rebuild (laws with a history). Before it, the non-zero ξ of the
+  // candidate list are kept per particle by scene index (both directions, each row in ascending
+  // partner, as the list's rows); after it, each row of the new list takes the ξ of its
+  // partners there, by a merge of the two sorted rows, and zero for the others. So the history
+  // depends on the contacts only, not on the list, the skin or the numbering.
+  void keepHistory() {
+    const std::uint32_t n = m_world.numParticles();
+    std::uint32_t* count = tumble::detail::grow(m_keepCount, std::size_t(n) + 1);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      std::uint32_t c = 0;
+      for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e) c += isZero(m_hist[e]) ? 0u : 1u;
+      count[m_orig[i]] = c;
+    });
+    count[n] = 0;
+    m_keepOffsets.resize(std::size_t(n) + 1);
+    std::size_t bytes = 0;
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_keepOffsets.data(), std::size_t(n) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_keepOffsets.data(), std::size_t(n) + 1);
+    m_keepPartner.resize(m_keepOffsets[n]);
+    m_keepHist.resize(m_keepOffsets[n]);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      std::uint32_t at = m_keepOffsets[m_orig[i]];
+      for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e)
+        if (!isZero(m_hist[e])) {
+          m_keepPartner[at] = m_orig[m_cand[e]];
+          m_keepHist[at++] = m_hist[e];
+        }
+    });
+  }
+
+  // The histories of a loaded state (BodyState::contacts, i < j sorted) in the same form.
+  void keepLoadedHistory(const std::vector<ContactHistory>& contacts) {
+    const std::uint32_t n = m_world.numParticles();
+    m_keepOffsets.assign(std::size_t(n) + 1, 0u);
+    for (const ContactHistory& c : contacts) {
+      ++m_keepOffsets[c.i + 1];
+      ++m_keepOffsets[c.j + 1];
+    }
+    for (std::uint32_t i = 0; i < n; ++i) m_keepOffsets[i + 1] += m_keepOffsets[i];
+    m_keepPartner.resize(m_keepOffsets[n]);
+    m_keepHist.resize(m_keepOffsets[n]);
+    // In (i, j) order, row p receives its partners below p before those above, each ascending.
+    std::vector<std::uint32_t> at(m_keepOffsets.begin(), m_keepOffsets.end() - 1);
+    for (const ContactHistory& c : contacts) {
+      m_keepPartner[at[c.i]] = c.j;
+      m_keepHist[at[c.i]++] = Vec3f{c.x, c.y, c.z};
+      m_keepPartner[at[c.j]] = c.i;
+      m_keepHist[at[c.j]++] = Vec3f{-c.x, -c.y, -c.z};
+    }
+  }
+
+  void restoreHistory() {
+    const std::uint32_t n = m_world.numParticles();
+    m_hist.resize(m_cand.size());
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      const std::uint32_t o = m_orig[i];
+      std::uint32_t k = m_keepOffsets[o];
+      const std::uint32_t kEnd = m_keepOffsets[o + 1];
+      for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e) {
+        const std::uint32_t partner = m_orig[m_cand[e]];
+        while (k < kEnd && m_keepPartner[k] < partner) ++k;
+        m_hist[e] = k < kEnd && m_keepPartner[k] == partner ? m_keepHist[k] : Vec3f{0.0f, 0.0f, 0.0f};
+      }
+    });
+  }
+
+  // BodyState::contacts: the non-zero ξ of the pairs i < j (scene indices), sorted.
+  void readHistory(std::vector<ContactHistory>& out) const {
+    out.clear();
+    if (!m_history) return;
+    if (!m_listBuilt) {  // loaded, not stepped: as loaded
+      for (std::uint32_t i = 0; i < m_world.numParticles(); ++i)
+        for (std::uint32_t k = m_keepOffsets[i]; k < m_keepOffsets[i + 1]; ++k)
+          if (m_keepPartner[k] > i) out.push_back({i, m_keepPartner[k], m_keepHist[k].x, m_keepHist[k].y, m_keepHist[k].z});
+      return;
+    }
+    const std::uint32_t n = m_world.numParticles();
+    std::vector<std::uint32_t> count(std::size_t(n) + 1, 0u);
+    m_arena.execute([&] {
+      forEach(n, kGrain, [&](std::uint32_t i) {
+        std::uint32_t c = 0;
+        for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e)
+          c += m_orig[m_cand[e]] > m_orig[i] && !isZero(m_hist[e]) ? 1u : 0u;
+        count[m_orig[i] + 1] = c;
+      });
+    });
+    for (std::uint32_t i = 0; i < n; ++i) count[i + 1] += count[i];
+    out.resize(count[n]);
+    m_arena.execute([&] {
+      forEach(n, kGrain, [&](std::uint32_t i) {
+        const std::uint32_t me = m_orig[i];
+        std::uint32_t at = count[me];
+        for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e) {
+          const std::uint32_t other = m_orig[m_cand[e]];
+          if (other > me && !isZero(m_hist[e])) out[at++] = ContactHistory{me, other, m_hist[e].x, m_hist[e].y, m_hist[e].z};
+        }
+      });
+    });
+  }
+
+  static bool isZero(Vec3f h) { return h.x == 0.0f && h.y == 0.0f && h.z == 0.0f; }
+
   // Renumbers the bodies in Morton order of their centres; particles follow their bodies.
   void reorder() {
     const std::uint32_t nb = static_cast<std::uint32_t>(m_bodies.size());
@@ -572,7 +686,9 @@ class CpuPipeline final : public Pipeline {
                     m_buildPos.data(),
                     contactListView(),
                     m_touching.data(),
-                    m_world.numParticles()};
+                    m_world.numParticles(),
+                    m_history ? m_hist.data() : nullptr,
+                    m_world.params.contact.rotatesSpheres()};
   }
 
   mutable tbb::task_arena m_arena;
@@ -581,6 +697,9 @@ class CpuPipeline final : public Pipeline {
   LocalFrame m_frame;
   bool m_clumps = false;
   bool m_ground = false;
+  ContactLaw m_law = ContactLaw::Report;
+  bool m_history = false;   // the law keeps a tangential history per contact
+  bool m_listBuilt = false; // a candidate list (and m_hist) exists since the load
 
   // Internal numbering (see the design notes).
   std::vector<BodyRow> m_bodies, m_bodiesNext;  // double-buffered: neighbours read this step's
@@ -596,6 +715,10 @@ class CpuPipeline final : public Pipeline {
   std::vector<PosRow> m_rebuildPos;  // positions at the last rebuild
   std::vector<std::uint32_t> m_candOffsets, m_cand;
   std::vector<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
+  std::vector<Vec3f> m_hist;             // laws with a history: ξ per candidate-list entry
+  // The histories kept across a rebuild (or from the load): CSR by scene index (keepHistory).
+  std::vector<std::uint32_t> m_keepOffsets, m_keepPartner, m_keepCount;
+  std::vector<Vec3f> m_keepHist;
   float m_skin = 0.0f;
   bool m_needRebuild = true;
   // The near list (kernels/contact_list.hpp fillNear): rows at the candidate list's offsets.

@@ -206,6 +206,9 @@ class CudaPipeline final : public Pipeline {
   // As CpuPipeline::load.
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
+    if (world.params.contact.law != ContactLaw::Report)
+      throw Error(std::string("the CUDA pipeline runs the report's contact law only so far; [contact] law = \"") +
+                  toString(world.params.contact.law) + "\" runs on the CPU pipeline (--pipeline cpu)");
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;

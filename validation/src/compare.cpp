@@ -62,9 +62,9 @@ std::vector<PairCase> comparePairSets(const std::vector<Backend>& pipelines, std
 
 std::string StateDifference::describe() const {
   char buf[160];
-  const bool particle = quantity.rfind("ground", 0) == 0;
-  std::snprintf(buf, sizeof buf, "%s of %s %u: %.9g vs %.9g", quantity.c_str(), particle ? "particle" : "body", index,
-                a, b);
+  const bool particle = quantity.rfind("ground", 0) == 0, contact = quantity.rfind("contact", 0) == 0;
+  std::snprintf(buf, sizeof buf, "%s of %s %u: %.9g vs %.9g", quantity.c_str(),
+                particle ? "particle" : contact ? "entry" : "body", index, a, b);
   return buf;
 }
 
@@ -81,6 +81,18 @@ std::optional<StateDifference> firstDifference(const BodyState& a, const BodySta
     if (ca.size() != cb.size()) return StateDifference{std::string(names[c]) + " (length)", 0, float(ca.size()), float(cb.size())};
     for (std::size_t k = 0; k < ca.size(); ++k)
       if (!sameBits(ca[k], cb[k])) return StateDifference{names[c], static_cast<std::uint32_t>(k), ca[k], cb[k]};
+  }
+  // Contact histories: the same pairs with the same bits (index: the entry).
+  if (a.contacts.size() != b.contacts.size())
+    return StateDifference{"contacts (count)", 0, float(a.contacts.size()), float(b.contacts.size())};
+  for (std::size_t k = 0; k < a.contacts.size(); ++k) {
+    const ContactHistory &ha = a.contacts[k], &hb = b.contacts[k];
+    const auto at = static_cast<std::uint32_t>(k);
+    if (ha.i != hb.i) return StateDifference{"contact i", at, float(ha.i), float(hb.i)};
+    if (ha.j != hb.j) return StateDifference{"contact j", at, float(ha.j), float(hb.j)};
+    if (!sameBits(ha.x, hb.x)) return StateDifference{"contact history x", at, ha.x, hb.x};
+    if (!sameBits(ha.y, hb.y)) return StateDifference{"contact history y", at, ha.y, hb.y};
+    if (!sameBits(ha.z, hb.z)) return StateDifference{"contact history z", at, ha.z, hb.z};
   }
   return std::nullopt;
 }

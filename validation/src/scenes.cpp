@@ -12,6 +12,13 @@
 
 namespace tumble::validation {
 
+Scene withHookeHistory(Scene s, float gammaN, float friction) {
+  s.contact.law = ContactLaw::HookeHistory;
+  s.contact.gammaN = gammaN;
+  s.contact.friction = friction;
+  return s;
+}
+
 std::string sourcePath(const std::string& relative) {
   // The source tree while it is there (a build), else the installed data (share/tumble: the
   // scenes that `tumble validate` and `tumble bench` read).

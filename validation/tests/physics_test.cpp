@@ -332,3 +332,147 @@ TEST_P(PhysicsTest, CoincidentCentresNeverProduceNaN) {
 
 INSTANTIATE_TEST_SUITE_P(Backends, PhysicsTest, ::testing::ValuesIn(compiledBackends()),
                          [](const auto& info) { return std::string(toString(info.param)); });
+
+// ---------------------------------------------------------------------------------------------
+// hooke-history (LAMMPS gran/hooke/history): analytic results for its normal and tangential laws
+
+namespace {
+
+struct Pair2 {
+  BodyState before, after;
+};
+
+// Two unit-mass spheres of radius r touching at the origin along x (centres ∓r, just touching),
+// closing at vn and sliding past each other at vt along y; no gravity or ground. Runs until
+// 20 % past the contact's end and returns the state at the start and at the end.
+Pair2 collide(Backend b, float vn, float vt, float gammaN, float friction, float gammaT = -1.0f, float kn = 1.0e4f,
+              float dt = 1e-5f) {
+  const float r = 0.1f;
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.dt = dt;
+  s.contact.law = ContactLaw::HookeHistory;
+  s.contact.stiffness = kn;
+  s.contact.gammaN = gammaN;
+  s.contact.gammaT = gammaT;
+  s.contact.friction = friction;
+  s.shapes = {sphereShape(r, 1.0f, 0.5f)};
+  BodyDef a, c;
+  a.position = {-r, 0, 0};
+  a.velocity = {0.5f * vn, 0.5f * vt, 0};
+  c.position = {r, 0, 0};
+  c.velocity = {-0.5f * vn, -0.5f * vt, 0};
+  s.bodies = {a, c};
+  const World w = World::fromScene(s);
+  auto p = makePipeline(b);
+  p->load(w);
+  Pair2 out;
+  p->readState(out.before);
+  const double tc = 3.14159265358979 / std::sqrt(kn / 0.5);  // undamped contact time, m_eff = 0.5
+  p->step(static_cast<std::uint64_t>(1.2 * tc / dt) + 10);
+  p->readState(out.after);
+  return out;
+}
+
+// The tangential velocity of the contact point of sphere 1 relative to sphere 0 (y), with
+// ω = L / (2/5 m r²).
+double contactSlip(const BodyState& s) {
+  const double r = 0.1, inertia = 0.4 * 1.0 * r * r;
+  // contact point at +r x from sphere 0, −r x from sphere 1: (ω × arm)_y = ω_z arm_x
+  const double u0 = s.vy[0] + s.lz[0] / inertia * r, u1 = s.vy[1] + s.lz[1] / inertia * (-r);
+  return u1 - u0;
+}
+
+}  // namespace
+
+// The linear spring-dashpot has a closed-form restitution: e = exp(−π ζ / √(1 − ζ²)),
+// ζ = γ_n / (2 √(k_n / m_eff)) (the damping force is m_eff γ_n w_n).
+TEST_P(PhysicsTest, HookeHistoryNormalRestitutionIsAnalytic) {
+  for (const float gammaN : {0.0f, 30.0f, 60.95f, 150.0f}) {
+    const Pair2 c = collide(GetParam(), 1.0f, 0.0f, gammaN, 0.5f);
+    const double zeta = gammaN / (2.0 * std::sqrt(1.0e4 / 0.5));
+    const double expected = std::exp(-3.14159265358979 * zeta / std::sqrt(1.0 - zeta * zeta));
+    const double e = (c.after.vx[1] - c.after.vx[0]) / 1.0;
+    std::printf("gamma_n %6.2f: e %.6f vs analytic %.6f (error %.2e)\n", gammaN, e, expected, e - expected);
+    EXPECT_NEAR(e, expected, 2e-3 * expected + 1e-4) << "gamma_n " << gammaN;
+  }
+}
+
+// Gross sliding: the tangential impulse is μ times the normal one, and friction spins the
+// spheres; the contact forces act at one point, so linear and angular momentum are conserved.
+// The normal turns a little while the spheres slide along each other, so the impulses are taken
+// in the contact's frame: the tangential one from the spin (only the tangential force has a
+// moment about the centre, J_t = ΔL / r to δ/r), the normal one from what remains of m Δv.
+TEST_P(PhysicsTest, HookeHistorySlidingImpulseIsMuTimesTheNormalOne) {
+  const float mu = 0.3f;
+  const Pair2 c = collide(GetParam(), 1.0f, 3.0f, 200.0f, mu, -1.0f, 1.0e6f, 1e-6f);
+  const double r = 0.1;
+  const double jx = c.after.vx[0] - c.before.vx[0], jy = c.after.vy[0] - c.before.vy[0];  // unit mass
+  const double jt = c.after.lz[0] / r, jn = std::sqrt(jx * jx + jy * jy - jt * jt);
+  std::printf("sliding: J_t / J_n = %.5f vs mu %.2f (J_n %.4f, J_t %.4f, m dv_y %.4f)\n", std::abs(jt) / jn, mu, jn, jt,
+              jy);
+  EXPECT_LT(jx, 0.0) << "sphere 0 bounces back";
+  EXPECT_NEAR(std::abs(jt) / jn, mu, 0.01 * mu) << "Coulomb: sliding all through the contact (lever r - delta/2: +0.2 %)";
+  EXPECT_NEAR(c.after.lz[0], c.after.lz[1], 1e-6) << "both spin alike";
+  EXPECT_NEAR(c.after.vy[0] + c.after.vy[1], 0.0, 1e-6) << "linear momentum";
+  // Angular momentum about the origin: L_body + x × m v, z component.
+  double lz = 0.0;
+  for (int k = 0; k < 2; ++k) lz += c.after.lz[k] + c.after.px[k] * c.after.vy[k] - c.after.py[k] * c.after.vx[k];
+  const double lz0 = c.before.px[0] * c.before.vy[0] + c.before.px[1] * c.before.vy[1];
+  EXPECT_NEAR(lz, lz0, 1e-4 * std::abs(lz0)) << "angular momentum (float positions and velocities)";
+}
+
+// The stick regime, which a viscous shear cannot show: with k_t = 2/7 k_n the tangential
+// oscillation of two equal spheres has the normal one's period (the tangential effective mass is
+// 2/7 m_eff), so a contact that sticks throughout reverses its slip velocity: −1 without damping.
+TEST_P(PhysicsTest, HookeHistoryStickingContactReversesItsSlip) {
+  const Pair2 c = collide(GetParam(), 1.0f, 0.05f, 0.0f, 10.0f, 0.0f);
+  const double in = contactSlip(c.before), out = contactSlip(c.after);
+  std::printf("stick: slip velocity %.5f in, %.5f out (ratio %.4f, expected -1)\n", in, out, out / in);
+  EXPECT_NEAR(out / in, -1.0, 0.02);
+  EXPECT_NEAR(c.after.vx[1] - c.after.vx[0], 1.0, 1e-3) << "no normal damping: e = 1";
+}
+
+// A ball thrown along a frictional ground at v0 without spin slides, friction spins it up, and
+// it rolls at 5/7 v0 once ω r = v, after sliding 12 v0² / (49 μ g). Under the report's law a
+// single sphere does not rotate (and slides to a stop); under a law with tangential forces it
+// does, and its angular_velocity is honoured.
+TEST_P(PhysicsTest, HookeHistoryBallRollsAtFiveSeventhsAfterSlipping) {
+  const double g = 9.81, mu = 0.3, v0 = 2.0, r = 0.05, m = 0.1, k = 1.0e5;
+  Scene s;
+  s.dt = 1e-4f;
+  s.contact.law = ContactLaw::HookeHistory;
+  s.ground.enabled = true;
+  s.ground.stiffness = float(k);
+  s.ground.friction = float(mu);
+  s.shapes = {sphereShape(float(r), float(m), 0.5f)};
+  BodyDef ball;
+  ball.position = {0, 0, float(r - m * g / k)};
+  ball.velocity = {float(v0), 0, 0};
+  s.bodies = {ball};
+  auto p = makePipeline(GetParam());
+  p->load(World::fromScene(s));
+  BodyState st;
+  double slipX = -1.0;
+  for (int n = 0; n < 4000; ++n) {
+    p->step(1);
+    p->readState(st);
+    const double slip = st.vx[0] - st.ly[0] / (0.4 * m * r * r) * r;
+    if (slipX < 0.0 && slip < 1e-3 * v0) slipX = st.px[0];
+  }
+  const double expectedX = 12.0 * v0 * v0 / (49.0 * mu * g);
+  std::printf("ball: v %.5f vs 5/7 v0 = %.5f, omega r / v %.5f, slid %.4f m vs 12 v0^2/(49 mu g) = %.4f m\n", st.vx[0],
+              5.0 / 7.0 * v0, st.ly[0] / (0.4 * m * r * r) * r / st.vx[0], slipX, expectedX);
+  EXPECT_NEAR(st.vx[0], 5.0 / 7.0 * v0, 0.005 * v0);
+  EXPECT_NEAR(st.ly[0] / (0.4 * m * r * r) * r, st.vx[0], 0.005 * v0) << "rolling: omega r = v";
+  EXPECT_NEAR(slipX, expectedX, 0.02 * expectedX);
+
+  // A spinning ball set down at rest: friction drives it along (the report's law ignores the spin).
+  s.bodies[0].velocity = {0, 0, 0};
+  s.bodies[0].angularVelocity = {0, 20.0f, 0};
+  p->load(World::fromScene(s));
+  p->step(3000);
+  p->readState(st);
+  std::printf("spinning ball: v %.4f vs 2/7 omega0 r = %.4f\n", st.vx[0], 2.0 / 7.0 * 20.0 * r);
+  EXPECT_NEAR(st.vx[0], 2.0 / 7.0 * 20.0 * r, 0.01 * 20.0 * r) << "the spin is honoured";
+}

@@ -11,11 +11,34 @@
 
 namespace tumble {
 
-/// Particle–particle contact (SPEC §2.3): f_s = k_s δ n, f_d = η w, f_t = k_t (w − (w·n) n).
+/// The particle–particle contact law of a scene (docs/model.md#contact-laws).
+enum class ContactLaw : std::uint8_t {
+  /// The report's (SPEC §2.3): f_s = k_s δ n, f_d = η w, f_t = k_t (w − (w·n) n); no memory,
+  /// and single-sphere bodies do not rotate.
+  Report,
+  /// LAMMPS gran/hooke/history: normal spring k_n δ and dashpot m_eff γ_n w_n, tangential spring
+  /// k_t ξ on the sliding displacement ξ carried while the pair touches (Cundall–Strack) and
+  /// dashpot m_eff γ_t w_t, Coulomb limit μ |F_n|. Every body rotates.
+  HookeHistory,
+};
+
+/// "report" / "hooke-history".
+const char* toString(ContactLaw law);
+
+/// Particle–particle contact (SPEC §2.3 for the report's law; docs/model.md for the others).
 struct ContactParams {
-  float stiffness = 2.0e4f;  ///< k_s [N/m]
-  float damping = 10.0f;     ///< η [N s/m]
-  float shear = 5.0f;        ///< k_t [N s/m]
+  float stiffness = 2.0e4f;  ///< k_s (report) or k_n (hooke-history) [N/m]
+  float damping = 10.0f;     ///< report: η [N s/m]
+  float shear = 5.0f;        ///< report: k_t [N s/m]
+  ContactLaw law = ContactLaw::Report;
+  float tangentialStiffness = 0.0f;  ///< hooke-history: k_t [N/m]; 0 = 2/7 k_n
+  float gammaN = 0.0f;               ///< hooke-history: γ_n [1/s]
+  float gammaT = -1.0f;              ///< hooke-history: γ_t [1/s]; negative = γ_n / 2
+  float friction = 0.5f;             ///< hooke-history: Coulomb μ between particles
+  /// Whether the law has forces that turn a sphere (then single-sphere bodies rotate too).
+  bool rotatesSpheres() const { return law != ContactLaw::Report; }
+  /// Whether the law keeps a tangential history per contact.
+  bool hasHistory() const { return law == ContactLaw::HookeHistory; }
 };
 
 /// Ground plane z = height with normal +z (SPEC §2.4).

@@ -93,6 +93,10 @@ struct StepView {
   std::uint8_t* touching;        ///< written by the forces: min(255, contacts) per particle, so that
                                  ///< pairs() need not test the particles that touch nothing
   std::uint32_t numParticles;
+  /// Contact laws with a history: ξ of each entry of `list` (the candidate list), zero for a
+  /// pair that does not touch; nullptr otherwise.
+  Vec3f* history = nullptr;
+  bool rotateSpheres = false;    ///< single-sphere bodies rotate too (ContactParams::rotatesSpheres)
 };
 
 }  // namespace tumble

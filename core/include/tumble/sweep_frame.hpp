@@ -94,8 +94,9 @@ MortonGrid mortonGridOf(const BoundsPartial& bodyCentres);
 void initialRows(const World& world, std::vector<BodyRow>* outBodies, std::vector<BodyStatic>* outStatic,
                  std::vector<OwnRow>* outOwn);
 
-/// Ω = R I0⁻¹ Rᵀ L of every clump, and 0 for single-sphere bodies (they do not rotate; their L
-/// is kept but never used). The pipelines' load().
+/// Ω = R I0⁻¹ Rᵀ L of every body that rotates: every clump, and the single-sphere bodies too
+/// under a law that turns spheres (ContactParams::rotatesSpheres); 0 for the others (they do
+/// not rotate; their L is kept but never used). The pipelines' load().
 std::vector<Vec3f> initialOmega(const World& world);
 
 /// Pairs (i < j), sorted, from the forward half of the CSR contact list (the CPU's

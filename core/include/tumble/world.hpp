@@ -16,6 +16,14 @@ namespace tumble {
 
 /// Everything that carries from one step to the next: the integrated state of every body (one
 /// column per component, scene order) and the contact history of every particle.
+/// The tangential history of one touching contact (contact laws with a history): the sliding
+/// displacement ξ of particle i relative to particle j (scene indices, i < j); that of j
+/// relative to i is −ξ exactly.
+struct ContactHistory {
+  std::uint32_t i, j;
+  float x, y, z;
+};
+
 struct BodyState {
   std::vector<float> px, py, pz;      ///< centre of mass X
   std::vector<float> vx, vy, vz;      ///< V
@@ -24,6 +32,9 @@ struct BodyState {
   /// Per particle (scene order): the ground stick spring's elongation ξ (x, y), zero out of
   /// contact. Empty in a scene without ground, or (on input) for zero everywhere.
   std::vector<float> groundSpringX, groundSpringY;
+  /// Laws with a history (ContactParams::hasHistory): the contacts whose ξ is not zero, sorted
+  /// by (i, j). Empty otherwise, or (on input) for no history.
+  std::vector<ContactHistory> contacts;
   /// Resizes the body columns to n bodies (the particle columns are left alone).
   void resize(std::size_t n);
   std::size_t size() const { return px.size(); }

@@ -43,44 +43,108 @@ struct ContactSide {
   Vec3f offset, v, omega;
 };
 
-/// Forces on particle i from an overlapping particle j (SPEC §2.3), given d = x_i − x_j and
+/// The geometry and kinematics of a contact as i sees it: the unit normal n (from j to i), the
+/// overlap δ, the arm of the forces on i's body (contact point − X_i; the contact point is the
+/// middle of the overlap) and the velocity w of j's material relative to i's there.
+struct ContactKinematics {
+  Vec3f n;
+  float delta;
+  Vec3f arm;
+  Vec3f w;
+};
+
+/// Contact kinematics of particle i and an overlapping particle j, given d = x_i − x_j and
 /// |d|² from the overlap test (spheresOverlap). `iBeforeJ` breaks the tie for coincident
 /// centres (|d| = 0): the normal is then +z for the lower scene index and −z for the other, so
 /// the pair still separates and no NaN appears; it is not read otherwise.
 ///
-/// The damping and shear use the relative velocity of the two bodies' material at the contact
-/// point, u = V + Ω × (c − X) on each side. kRotating false (single-sphere scenes): Ω = 0 and
-/// the offsets are 0, so u = V.
+/// w is the relative velocity of the two bodies' material at the contact point,
+/// u = V + Ω × (c − X) on each side. kRotating false (no body rotates): Ω = 0 and the offsets
+/// are 0, so u = V. Seen from j every output but δ is negated exactly.
+template <bool kRotating>
+TUMBLE_HD_INLINE ContactKinematics contactKinematics(Vec3f d, float d2, float ri, float rj, const ContactSide& si,
+                                                     const ContactSide& sj, bool iBeforeJ) {
+  const float dist = std::sqrt(d2);
+  ContactKinematics k;
+  if (dist > 0.0f) {
+    const float inv = 1.0f / dist;
+    k.n = d * inv;
+  } else {
+    k.n = Vec3f{0.0f, 0.0f, iBeforeJ ? 1.0f : -1.0f};
+  }
+  k.delta = (ri + rj) - dist;
+  // Levers from each centre to the contact point. Seen from j, n is negated, so both levers
+  // (and the contact-point velocities) come out with the same bits: w is negated exactly.
+  const Vec3f leverI = -(ri - 0.5f * k.delta) * k.n;
+  const Vec3f leverJ = (rj - 0.5f * k.delta) * k.n;
+  if (kRotating) {
+    k.arm = si.offset + leverI;
+    const Vec3f armJ = sj.offset + leverJ;
+    k.w = pointVelocity(sj.v, sj.omega, armJ) - pointVelocity(si.v, si.omega, k.arm);
+  } else {
+    k.arm = leverI;
+    k.w = sj.v - si.v;
+  }
+  return k;
+}
+
+/// Forces of the report's law on particle i from an overlapping particle j (SPEC §2.3):
+/// f_s = k_s δ n, f_d = η w, f_t = k_t (w − (w·n) n); arguments as contactKinematics().
 template <bool kRotating>
 TUMBLE_HD_INLINE ContactForces contactForces(Vec3f d, float d2, float ri, float rj, const ContactSide& si,
                                              const ContactSide& sj, bool iBeforeJ, const ContactCoeffs& c) {
-  const float dist = std::sqrt(d2);
-  Vec3f n;
-  if (dist > 0.0f) {
-    const float inv = 1.0f / dist;
-    n = d * inv;
-  } else {
-    n = Vec3f{0.0f, 0.0f, iBeforeJ ? 1.0f : -1.0f};
-  }
-  const float delta = (ri + rj) - dist;
-  // Levers from each centre to the contact point. Seen from j, n is negated, so both levers
-  // (and the contact-point velocities) come out with the same bits: w is negated exactly.
-  const Vec3f leverI = -(ri - 0.5f * delta) * n;
-  const Vec3f leverJ = (rj - 0.5f * delta) * n;
+  const ContactKinematics k = contactKinematics<kRotating>(d, d2, ri, rj, si, sj, iBeforeJ);
   ContactForces f;
-  Vec3f w;
-  if (kRotating) {
-    f.arm = si.offset + leverI;
-    const Vec3f armJ = sj.offset + leverJ;
-    w = pointVelocity(sj.v, sj.omega, armJ) - pointVelocity(si.v, si.omega, f.arm);
-  } else {
-    f.arm = leverI;
-    w = sj.v - si.v;
+  f.arm = k.arm;
+  const float wn = dot(k.w, k.n);
+  f.repulsion = (c.stiffness * k.delta) * k.n;
+  f.damping = c.damping * k.w;
+  f.shear = c.shear * (k.w - wn * k.n);
+  return f;
+}
+
+/// Coefficients of hooke-history as the kernels see them.
+struct HistoryCoeffs {
+  float kn;      ///< normal stiffness [N/m]
+  float kt;      ///< tangential stiffness [N/m]
+  float gammaN;  ///< normal damping per effective mass [1/s]
+  float gammaT;  ///< tangential damping per effective mass [1/s]
+  float mu;      ///< Coulomb friction coefficient
+};
+
+/// Forces of hooke-history (LAMMPS gran/hooke/history) on particle i from an overlapping
+/// particle j; arguments as contactKinematics(), meff = M_i M_j / (M_i + M_j) of the two bodies,
+/// *xi (in/out) i's sliding displacement relative to j carried over the contact's life:
+///   F_n = (k_n δ + m_eff γ_n w_n) n                               (repulsion, damping)
+///   ξ ← ξ − w_t dt, then ξ ← ξ − (ξ·n) n                           (w_t = w − w_n n)
+///   F_t = m_eff γ_t w_t − k_t ξ, capped at μ |F_n|; when capped, ξ ← (m_eff γ_t w_t − F_t)/k_t
+/// (the shear). Seen from j every input is negated, so are the forces and ξ: the two sides of a
+/// contact keep exact negations of one history.
+template <bool kRotating>
+TUMBLE_HD_INLINE ContactForces hookeHistoryForces(Vec3f d, float d2, float ri, float rj, const ContactSide& si,
+                                                  const ContactSide& sj, bool iBeforeJ, float meff,
+                                                  const HistoryCoeffs& c, float dt, Vec3f* xi) {
+  const ContactKinematics k = contactKinematics<kRotating>(d, d2, ri, rj, si, sj, iBeforeJ);
+  ContactForces f;
+  f.arm = k.arm;
+  const float wn = dot(k.w, k.n);
+  const Vec3f wt = k.w - wn * k.n;
+  const float elastic = c.kn * k.delta, viscous = (meff * c.gammaN) * wn;
+  f.repulsion = elastic * k.n;
+  f.damping = viscous * k.n;
+  Vec3f x = *xi - dt * wt;
+  x = x - dot(x, k.n) * k.n;
+  const Vec3f drag = (meff * c.gammaT) * wt;
+  Vec3f ft = drag - c.kt * x;
+  const float fn = elastic + viscous;
+  const float limit = c.mu * (fn < 0.0f ? -fn : fn);
+  const float f2 = dot(ft, ft);
+  if (f2 > limit * limit) {
+    ft = (limit / std::sqrt(f2)) * ft;
+    if (c.kt > 0.0f) x = (1.0f / c.kt) * (drag - ft);
   }
-  const float wn = dot(w, n);
-  f.repulsion = (c.stiffness * delta) * n;
-  f.damping = c.damping * w;
-  f.shear = c.shear * (w - wn * n);
+  *xi = x;
+  f.shear = ft;
   return f;
 }
 

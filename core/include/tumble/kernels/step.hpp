@@ -35,6 +35,7 @@ struct ForceParams {
   float dt;
   std::uint32_t pulls;
   bool hasGround;
+  HistoryCoeffs history;  ///< hooke-history only
 };
 
 /// The force-stage constants of a scene with the given pulls on (host side).
@@ -49,7 +50,12 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                      p.pulls.centre,
                      p.dt,
                      pulls,
-                     p.ground.enabled};
+                     p.ground.enabled,
+                     HistoryCoeffs{p.contact.stiffness,
+                                   p.contact.tangentialStiffness > 0.0f ? p.contact.tangentialStiffness
+                                                                        : p.contact.stiffness * (2.0f / 7.0f),
+                                   p.contact.gammaN, p.contact.gammaT >= 0.0f ? p.contact.gammaT : 0.5f * p.contact.gammaN,
+                                   p.contact.friction}};
 }
 
 /// Debug capture (internal numbering, 3 floats per particle each): the five forces
@@ -92,8 +98,12 @@ struct ParticleForce {
 /// the list's order (ascending scene index of the partner); then the ground (its stick spring
 /// updated in place), then the pulls. Each force adds arm × f to the torque about the body's
 /// centre. Gravity is the body's (finishBody). Each pair is computed from both sides;
-/// contactForces is exactly antisymmetric, so the two sides agree to the bit.
-template <bool kDebug, bool kClumps>
+/// the contact laws are exactly antisymmetric, so the two sides agree to the bit.
+///
+/// kClumps: bodies rotate (some have several particles, or the law turns spheres). kLaw: the
+/// contact law; with a history (hooke-history) the view's `history` holds ξ per list entry (the
+/// list is then the candidate list), updated in place and zeroed when the pair does not touch.
+template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report>
 TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                              const BodyRow& self, std::uint32_t i) {
   const PosRow pi = v.pos[i];
@@ -116,11 +126,23 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     const PosRow pj = v.pos[j];
     Vec3f d;
     float d2;
-    if (!spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2)) continue;
+    if (!spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2)) {
+      if constexpr (kLaw == ContactLaw::HookeHistory) {  // an open contact forgets its history
+        const Vec3f h = v.history[e];
+        if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) v.history[e] = Vec3f{0.0f, 0.0f, 0.0f};
+      }
+      continue;
+    }
     const BodyRow& other = v.bodies[kClumps ? v.bodyOf[j] : j];
     const ContactSide sj = kClumps ? sideOf(other, v.own[j].u) : ContactSide{Vec3f{0, 0, 0}, other.v, Vec3f{0, 0, 0}};
     const bool iBeforeJ = d2 > 0.0f || v.orig[i] < v.orig[j];  // read only for coincident centres
-    const ContactForces cf = contactForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, fp.contact);
+    ContactForces cf;
+    if constexpr (kLaw == ContactLaw::HookeHistory) {
+      const float meff = 1.0f / (self.invMass + other.invMass);
+      cf = hookeHistoryForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, meff, fp.history, fp.dt, &v.history[e]);
+    } else {
+      cf = contactForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, fp.contact);
+    }
     const Vec3f fc = total(cf);
     out.f += fc;
     if (kClumps) out.t += cross(cf.arm, fc);
@@ -185,7 +207,7 @@ TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f grav
   const BodyStatic bs = v.bodyStatic[k];
   F += bs.mass * gravity;
   integrateTranslation(F, b.invMass, dt, &b.x, &b.v);
-  if (kClumps && b.count > 1)  // single-sphere bodies do not rotate: q and R stay
+  if (kClumps && (b.count > 1 || v.rotateSpheres))  // else a single sphere that does not rotate: q and R stay
     b.omega = scheme == RotationScheme::Splitting ? integrateRotationSplitting(T, bs.invInertia, dt, &b.l, &b.q, &b.rot)
                                                   : integrateRotation(T, bs.invInertia, dt, &b.l, &b.q, &b.rot);
   v.bodiesNext[k] = b;

@@ -32,6 +32,10 @@ ParticleCloud randomCloud(std::uint32_t n, std::uint64_t seed, float boxSize, fl
 /// negative coordinates, coincident particles, N = 0 and N = 1, all in one cell, one body.
 std::vector<NamedCloud> hardCases(std::uint64_t seed);
 
+/// The scene with hooke-history contacts (k_n its stiffness, k_t = 2/7 k_n, γ_t = γ_n / 2):
+/// the friction and rotating spheres of the granular laws, for the tests that also hold for them.
+Scene withHookeHistory(Scene s, float gammaN = 100.0f, float friction = 0.5f);
+
 /// Path of a file in the source tree (scenes/…, validation/golden/…); when the source tree is
 /// gone (an installed tumble), of the installed data (share/tumble: the scenes).
 std::string sourcePath(const std::string& relative);
