@@ -90,6 +90,8 @@ std::uint64_t physicsFingerprint(const Scene& s) {
     f.add(s.contact.gammaN);
     f.add(s.contact.gammaT);
     f.add(s.contact.friction);
+    f.add(s.contact.rollingFriction);
+    f.add(s.groundRollingFriction());
   }
   f.add(s.ground.enabled);
   f.add(s.ground.height);

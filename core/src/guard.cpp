@@ -171,7 +171,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     for (std::size_t k = begin; k < end; ++k) {
       const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
       const Vec3f X{s.px[k], s.py[k], s.pz[k]}, V{s.vx[k], s.vy[k], s.vz[k]};
-      const bool rotates = w.numParticlesOf[k] > 1;
+      const bool rotates = w.bodyRotates(k);
       const Vec3f omega =
           rotates ? angularVelocity(q, w.invInertia[k], Vec3f{s.lx[k], s.ly[k], s.lz[k]}) : Vec3f{0, 0, 0};
       const double m = w.bodyMass[k];

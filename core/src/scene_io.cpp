@@ -425,7 +425,7 @@ class SceneParser {
     if (t == nullptr) return;
     const TableReader r(m_file, *t, "[contact]",
                         {"law", "stiffness", "damping", "shear", "tangential_stiffness", "gamma_n", "gamma_t",
-                         "friction"});
+                         "friction", "rolling_friction"});
     ContactParams& c = scene.contact;
     if (const toml::node* law = r.find("law")) {
       const std::string name = r.string(*law, "law");
@@ -435,7 +435,8 @@ class SceneParser {
     }
     // Each law reads its own keys; another law's key is a mistake worth naming.
     const bool report = c.law == ContactLaw::Report;
-    static const std::vector<std::string> kHistoryKeys = {"tangential_stiffness", "gamma_n", "gamma_t", "friction"};
+    static const std::vector<std::string> kHistoryKeys = {"tangential_stiffness", "gamma_n", "gamma_t", "friction",
+                                                          "rolling_friction"};
     static const std::vector<std::string> kReportKeys = {"damping", "shear"};
     for (const std::string& key : report ? kHistoryKeys : kReportKeys)
       if (const toml::node* n = r.find(key))
@@ -449,6 +450,7 @@ class SceneParser {
     c.gammaN = r.single("gamma_n", c.gammaN, Rule::NonNegative);
     if (r.has("gamma_t")) c.gammaT = r.single("gamma_t", 0.0f, Rule::NonNegative);
     c.friction = r.single("friction", c.friction, Rule::NonNegative);
+    c.rollingFriction = r.single("rolling_friction", c.rollingFriction, Rule::NonNegative);
   }
 
   void readGround(Scene& scene) {
@@ -459,12 +461,18 @@ class SceneParser {
       return;
     }
     const TableReader r(m_file, *t, "[ground]",
-                        {"enabled", "height", "stiffness", "friction", "tangential_stiffness"});
+                        {"enabled", "height", "stiffness", "friction", "tangential_stiffness", "rolling_friction"});
     g.enabled = r.boolean("enabled", true);
     g.height = r.single("height", 0.0f, Rule::Any);
     g.stiffness = r.single("stiffness", scene.contact.stiffness, Rule::Positive);
     g.friction = r.single("friction", g.friction, Rule::NonNegative);
     g.tangentialStiffness = r.single("tangential_stiffness", 0.0f, Rule::NonNegative);
+    if (const toml::node* n = r.find("rolling_friction")) {
+      if (!scene.contact.rotatesSpheres())
+        r.fail(sourceOf(*n), "rolling_friction needs a contact law that turns spheres ([contact] law = "
+                             "\"hooke-history\"); under the report's law single spheres do not rotate");
+      g.rollingFriction = r.single("rolling_friction", 0.0f, Rule::NonNegative);
+    }
   }
 
   void readPulls(Scene& scene) {

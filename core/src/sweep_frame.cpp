@@ -164,7 +164,7 @@ std::vector<Vec3f> initialOmega(const World& world) {
   std::vector<Vec3f> omega(world.numBodies(), Vec3f{0, 0, 0});
   for (std::uint32_t k = 0; k < world.numBodies(); ++k)
     // Single-sphere bodies rotate only under a law that turns them; otherwise Ω stays 0.
-    if (world.numParticlesOf[k] > 1 || world.params.contact.rotatesSpheres())
+    if (world.bodyRotates(k))
       omega[k] = angularVelocity(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, world.invInertia[k],
                                Vec3f{s.lx[k], s.ly[k], s.lz[k]});
   return omega;

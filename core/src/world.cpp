@@ -402,7 +402,7 @@ double kineticEnergy(const World& world, const BodyState& s) {
   for (std::size_t k = 0; k < s.size(); ++k) {
     const double m = world.bodyMass[k];
     e += 0.5 * m * (double(s.vx[k]) * s.vx[k] + double(s.vy[k]) * s.vy[k] + double(s.vz[k]) * s.vz[k]);
-    if (world.numParticlesOf[k] > 1) {
+    if (world.bodyRotates(k)) {
       const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
       const Vec3f Lb = rotateInv(q, Vec3f{s.lx[k], s.ly[k], s.lz[k]});
       const Vec3f wb = mul(world.invInertia[k], Lb);

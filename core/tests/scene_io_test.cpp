@@ -540,6 +540,37 @@ TEST(SceneIoErrors, UnknownKeys) {
               {"[[group]] #1", "unknown key 'velocity_jiter'", "velocity_jitter"});
 }
 
+TEST(SceneIo, ContactLaws) {
+  const Scene report = tumble::parseScene(join(baseLines()), "test.toml");
+  EXPECT_EQ(report.contact.law, tumble::ContactLaw::Report);
+  EXPECT_FALSE(report.contact.rotatesSpheres());
+  EXPECT_EQ(report.groundRollingFriction(), 0.0f);
+  const Scene h = tumble::parseScene(
+      withExtra("[contact]\nlaw = \"hooke-history\"\nstiffness = 3e4\ngamma_n = 50\nfriction = 0.4\n"
+                "rolling_friction = 0.05\n[ground]\nrolling_friction = 0.2\n"),
+      "test.toml");
+  EXPECT_EQ(h.contact.law, tumble::ContactLaw::HookeHistory);
+  EXPECT_TRUE(h.contact.hasHistory());
+  EXPECT_EQ(h.contact.stiffness, 3e4f);
+  EXPECT_EQ(h.contact.gammaN, 50.0f);
+  EXPECT_LT(h.contact.gammaT, 0.0f) << "gamma_t unset: gamma_n / 2 in the kernels";
+  EXPECT_EQ(h.contact.friction, 0.4f);
+  EXPECT_EQ(h.contact.rollingFriction, 0.05f);
+  EXPECT_EQ(h.groundRollingFriction(), 0.2f);
+  const Scene g = tumble::parseScene(withExtra("[contact]\nlaw = \"hooke-history\"\nrolling_friction = 0.05\n[ground]\n"),
+                                     "test.toml");
+  EXPECT_EQ(g.groundRollingFriction(), 0.05f) << "the ground takes the contact's by default";
+}
+
+TEST(SceneIoErrors, ContactLaws) {
+  expectError(withExtra("[contact]\nlaw = \"hertz\"\n"), 13, {"unknown law \"hertz\"", "hooke-history"});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\nshear = 5\n"), 14,
+              {"shear is not a parameter of law = \"hooke-history\"", "gamma_n, gamma_t"});
+  expectError(withExtra("[contact]\ngamma_n = 5\n"), 13, {"gamma_n is not a parameter of law = \"report\""});
+  expectError(withExtra("[ground]\nrolling_friction = 0.1\n"), 13, {"rolling_friction needs a contact law that turns spheres"});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\nfriction = -1\n"), 14, {"friction"});
+}
+
 TEST(SceneIoErrors, WrongTypes) {
   expectError(withLine(2, "dt = \"fast\""), 2, {"dt must be a number (got a string)"});
   expectError(withLine(3, "steps = 1.5"), 3, {"steps must be an integer (got 1.5)"});

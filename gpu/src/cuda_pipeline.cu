@@ -424,7 +424,9 @@ class CudaPipeline final : public Pipeline {
                     m_buildPos.data(),
                     compactList(m_candOffsets.data(), m_cand.data()),
                     m_touching.data(),
-                    m_world.numParticles()};
+                    m_world.numParticles(),
+                    nullptr,   // no contact history: the report's law only (load())
+                    false};
   }
 
   // As CpuPipeline::stepOnce.

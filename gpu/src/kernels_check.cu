@@ -26,7 +26,7 @@ __global__ void kernelsCheckKernel(SweepFrame f, const float* x, float* out, std
   const ContactSide side{p, p, p};
   const ContactForces cf = contactForces<true>(p, 0.25f, 0.5f, 0.5f, side, side, ov, ContactCoeffs{1, 1, 1});
   float tx = 0.0f, ty = 0.0f;
-  const GroundForces gf = groundForces<true>(p, 0.5f, side, 1.0f, GroundCoeffs{0, 1, 1, 0.5f}, 1e-3f, &tx, &ty);
+  const GroundForces gf = groundForces<true>(p, 0.5f, side, 1.0f, GroundCoeffs{0, 1, 1, 0.5f, 0.0f}, 1e-3f, &tx, &ty);
   const Vec3f pull = pullForce(p, 1.0f, 1, 1, 1, 7u, p);
   Vec3f X = p, V = p, L = p;
   Quatf q{1, 0, 0, 0};

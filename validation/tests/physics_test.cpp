@@ -476,3 +476,65 @@ TEST_P(PhysicsTest, HookeHistoryBallRollsAtFiveSeventhsAfterSlipping) {
   std::printf("spinning ball: v %.4f vs 2/7 omega0 r = %.4f\n", st.vx[0], 2.0 / 7.0 * 20.0 * r);
   EXPECT_NEAR(st.vx[0], 2.0 / 7.0 * 20.0 * r, 0.01 * 20.0 * r) << "the spin is honoured";
 }
+
+// Rolling resistance (constant torque μ_r r |F_n|): a ball rolling at v0 without slip decelerates
+// at μ_r g / (1 + 2/5) and stops after v0² / (2 a), then stays at rest (the torque's cap keeps it
+// from chattering about rest).
+TEST_P(PhysicsTest, HookeHistoryRollingResistanceStopsABall) {
+  const double g = 9.81, muR = 0.1, v0 = 1.0, r = 0.05, m = 0.1, k = 1.0e5;
+  Scene s;
+  s.dt = 1e-4f;
+  s.contact.law = ContactLaw::HookeHistory;
+  s.contact.rollingFriction = float(muR);
+  s.ground.enabled = true;
+  s.ground.stiffness = float(k);
+  s.ground.friction = 0.5f;
+  s.shapes = {sphereShape(float(r), float(m), 0.5f)};
+  BodyDef ball;
+  ball.position = {0, 0, float(r - m * g / k)};
+  ball.velocity = {float(v0), 0, 0};
+  ball.angularVelocity = {0, float(v0 / r), 0};  // rolling from the start
+  s.bodies = {ball};
+  auto p = makePipeline(GetParam());
+  p->load(World::fromScene(s));
+  const double a = muR * g / 1.4, expected = v0 * v0 / (2.0 * a);
+  p->step(static_cast<std::uint64_t>(1.2 * v0 / a / 1e-4));
+  BodyState st;
+  p->readState(st);
+  const double x1 = st.px[0];
+  p->step(2000);
+  p->readState(st);
+  std::printf("rolling resistance: stopped after %.4f m vs v0^2 / (2 mu_r g / 1.4) = %.4f m; then moved %.2e m\n", x1,
+              expected, st.px[0] - x1);
+  EXPECT_NEAR(x1, expected, 0.01 * expected);
+  EXPECT_LT(std::abs(st.px[0] - x1), 1e-5) << "at rest it stays at rest";
+  EXPECT_LT(std::abs(st.vx[0]), 1e-4);
+}
+
+// Rolling resistance between two particles is a pair of opposite pure torques: two touching
+// spheres spinning against each other (no gravity, no ground) slow their relative spin and keep
+// their total angular momentum.
+TEST_P(PhysicsTest, HookeHistoryRollingTorquesAreOpposite) {
+  Scene s;
+  s.gravity = {0, 0, 0};
+  s.dt = 1e-5f;
+  s.contact.law = ContactLaw::HookeHistory;
+  s.contact.stiffness = 1e4f;
+  s.contact.friction = 0.0f;  // only the rolling torque couples the spins
+  s.contact.rollingFriction = 0.2f;
+  s.shapes = {sphereShape(0.1f, 1.0f, 0.5f)};
+  BodyDef a, b;
+  a.position = {-0.0995f, 0, 0};  // overlapping by 1 mm, held by nothing: they part slowly
+  b.position = {0.0995f, 0, 0};
+  a.angularVelocity = {0, 0, 10.0f};
+  b.angularVelocity = {0, 0, -10.0f};
+  s.bodies = {a, b};
+  auto p = makePipeline(GetParam());
+  p->load(World::fromScene(s));
+  p->step(200);
+  BodyState st;
+  p->readState(st);
+  std::printf("rolling pair: L_z %.6e and %.6e, sum %.2e\n", st.lz[0], st.lz[1], double(st.lz[0]) + st.lz[1]);
+  EXPECT_LT(st.lz[0], 0.4f * 0.01f * 10.0f) << "the relative spin slowed";
+  EXPECT_EQ(st.lz[0], -st.lz[1]) << "opposite torques, bit for bit";
+}

@@ -35,6 +35,7 @@ struct ContactParams {
   float gammaN = 0.0f;               ///< hooke-history: γ_n [1/s]
   float gammaT = -1.0f;              ///< hooke-history: γ_t [1/s]; negative = γ_n / 2
   float friction = 0.5f;             ///< hooke-history: Coulomb μ between particles
+  float rollingFriction = 0.0f;      ///< hooke-history: rolling resistance μ_r (0 = none)
   /// Whether the law has forces that turn a sphere (then single-sphere bodies rotate too).
   bool rotatesSpheres() const { return law != ContactLaw::Report; }
   /// Whether the law keeps a tangential history per contact.
@@ -48,6 +49,7 @@ struct GroundParams {
   float stiffness = 2.0e4f;          ///< normal spring k_g [N/m]
   float friction = 0.5f;             ///< Coulomb μ (static = kinetic)
   float tangentialStiffness = 0.0f;  ///< stick spring k_t,g [N/m]; 0 = 2/7 k_g
+  float rollingFriction = -1.0f;     ///< rolling resistance μ_r; negative = the contact's (laws that turn spheres)
 };
 
 /// Bits of PullParams::active / Pipeline::setPulls().
@@ -138,6 +140,11 @@ struct Scene {
   bool recordDebug = false;
   int stepsPerFrame = 10;
   std::string thermoFile;          ///< time series (docs/thermo.md); empty = none
+  /// The ground's rolling resistance as the kernels use it: 0 unless the law turns spheres.
+  float groundRollingFriction() const {
+    if (!contact.rotatesSpheres()) return 0.0f;
+    return ground.rollingFriction >= 0.0f ? ground.rollingFriction : contact.rollingFriction;
+  }
   std::uint64_t thermoEvery = 100; ///< steps between two rows of the time series
 };
 

@@ -87,6 +87,8 @@ struct World {
   std::optional<LocalFrame> frame;
 
   bool hasClumps = false;  ///< some body has more than one particle
+  /// Whether body k rotates: a clump, or any body under a law that turns spheres.
+  bool bodyRotates(std::size_t k) const { return numParticlesOf[k] > 1 || params.contact.rotatesSpheres(); }
   float maxRadius = 0.0f;
   /// The 99th percentile of the radii (detail::sizingRadius): what the automatic skin and cell
   /// size are sized from, so that a few large spheres do not set them for all the small ones.

@@ -35,6 +35,8 @@ struct ContactForces {
   /// contact point − X_i (the centre of i's body): the arm of the forces' torque on that body.
   /// The contact point is the middle of the overlap, x_i − n (r_i − δ/2), common to i and j.
   Vec3f arm;
+  Vec3f n;       ///< hooke-history: the unit normal (from j to i)
+  float normal;  ///< hooke-history: F_n along n (repulsion + damping)
 };
 
 /// One side of a contact as the forces see it: the particle's offset from its body's centre
@@ -137,6 +139,8 @@ TUMBLE_HD_INLINE ContactForces hookeHistoryForces(Vec3f d, float d2, float ri, f
   const Vec3f drag = (meff * c.gammaT) * wt;
   Vec3f ft = drag - c.kt * x;
   const float fn = elastic + viscous;
+  f.n = k.n;
+  f.normal = fn;
   const float limit = c.mu * (fn < 0.0f ? -fn : fn);
   const float f2 = dot(ft, ft);
   if (f2 > limit * limit) {
@@ -156,12 +160,32 @@ TUMBLE_HD_INLINE ContactForces hookeHistoryForces(Vec3f d, float d2, float ri, f
 /// arm × f with arm = contact point − X.
 TUMBLE_HD_INLINE Vec3f total(const ContactForces& f) { return (f.repulsion + f.damping) + f.shear; }
 
+/// Rolling resistance, constant-torque model (Zhou et al. 1999, "model A"): a pure torque on i
+///   M_i = −min(μ_r R* |F_n|, I* |ω_r| / dt) ω_r / |ω_r|,  ω_r = (ω_i − ω_j) − ((ω_i − ω_j)·n) n
+/// against the rolling of i on j (the twist about n is left alone), j receiving −M_i; R* and m*
+/// are the effective radius and mass of the pair and I* = 2/5 m* R*². The cap is the torque that
+/// stops the relative rolling of two such spheres within one step: without it the torque would
+/// flip sign every step about rest (the model's chatter). With ω_j = 0 and n = +z it is the
+/// ground's. Seen from j every input is negated, and so is the torque.
+TUMBLE_HD_INLINE Vec3f rollingTorque(Vec3f omegaI, Vec3f omegaJ, Vec3f n, float fn, float reff, float meff, float muR,
+                                     float dt) {
+  const Vec3f rel = omegaI - omegaJ;
+  const Vec3f wr = rel - dot(rel, n) * n;
+  const float w2 = dot(wr, wr);
+  if (!(w2 > 0.0f)) return Vec3f{0.0f, 0.0f, 0.0f};
+  const float w = std::sqrt(w2);
+  const float limit = muR * reff * (fn < 0.0f ? -fn : fn);
+  const float stop = (0.4f * meff * reff * reff) * w / dt;
+  return (-(limit < stop ? limit : stop) / w) * wr;
+}
+
 /// Ground coefficients as the kernels see them.
 struct GroundCoeffs {
   float height;
   float stiffness;             ///< k_g
   float tangentialStiffness;   ///< k_t,g of the stick spring
   float friction;              ///< μ
+  float rollingFriction;       ///< μ_r (0: none; laws that turn spheres only)
 };
 
 /// Depth δ = r − (z − h) of a particle below the ground's surface: in contact when δ > 0.

@@ -36,13 +36,14 @@ struct ForceParams {
   std::uint32_t pulls;
   bool hasGround;
   HistoryCoeffs history;  ///< hooke-history only
+  float rollingFriction;  ///< μ_r between particles (0: none; hooke-history only)
 };
 
 /// The force-stage constants of a scene with the given pulls on (host side).
 inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
   const float kt = p.ground.tangentialStiffness > 0.0f ? p.ground.tangentialStiffness : p.ground.stiffness * (2.0f / 7.0f);
   return ForceParams{ContactCoeffs{p.contact.stiffness, p.contact.damping, p.contact.shear},
-                     GroundCoeffs{p.ground.height, p.ground.stiffness, kt, p.ground.friction},
+                     GroundCoeffs{p.ground.height, p.ground.stiffness, kt, p.ground.friction, p.groundRollingFriction()},
                      p.gravity,
                      p.pulls.x,
                      p.pulls.y,
@@ -55,7 +56,8 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                                    p.contact.tangentialStiffness > 0.0f ? p.contact.tangentialStiffness
                                                                         : p.contact.stiffness * (2.0f / 7.0f),
                                    p.contact.gammaN, p.contact.gammaT >= 0.0f ? p.contact.gammaT : 0.5f * p.contact.gammaN,
-                                   p.contact.friction}};
+                                   p.contact.friction},
+                     p.contact.rollingFriction};
 }
 
 /// Debug capture (internal numbering, 3 floats per particle each): the five forces
@@ -140,6 +142,9 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     if constexpr (kLaw == ContactLaw::HookeHistory) {
       const float meff = 1.0f / (self.invMass + other.invMass);
       cf = hookeHistoryForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, meff, fp.history, fp.dt, &v.history[e]);
+      if (fp.rollingFriction > 0.0f)
+        out.t += rollingTorque(side().omega, sj.omega, cf.n, cf.normal, (pi.r * pj.r) / (pi.r + pj.r), meff,
+                               fp.rollingFriction, fp.dt);
     } else {
       cf = contactForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, fp.contact);
     }
@@ -164,6 +169,9 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
       const Vec3f fg = gf.normal + gf.friction;
       out.f += fg;
       if (kClumps) out.t += cross(gf.arm, fg);
+      if (kClumps && fp.ground.rollingFriction > 0.0f)
+        out.t += rollingTorque(side().omega, Vec3f{0.0f, 0.0f, 0.0f}, Vec3f{0.0f, 0.0f, 1.0f}, gf.normal.z, pi.r,
+                               1.0f / self.invMass, fp.ground.rollingFriction, fp.dt);
     } else {  // out of contact the stick spring is released
       v.ground.tx[i] = 0.0f;
       v.ground.ty[i] = 0.0f;
