@@ -255,9 +255,10 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
   if (!state.groundSpringX.empty() && state.groundSpringX.size() != world.numParticles())
     throw Error("the checkpoint holds " + std::to_string(state.groundSpringX.size()) + " particles, the scene has " +
                 std::to_string(world.numParticles()) + ": it was written by a run of another scene");
-  if (!state.contacts.empty() && state.contacts.back().j >= world.numParticles())
-    throw Error("the checkpoint's contact histories name particle " + std::to_string(state.contacts.back().j) +
-                ", the scene has " + std::to_string(world.numParticles()) + ": it was written by a run of another scene");
+  for (const ContactHistory& h : state.contacts)  // sorted by (i, j): the largest j may be anywhere
+    if (h.j >= world.numParticles())
+      throw Error("the checkpoint's contact histories name particle " + std::to_string(h.j) + ", the scene has " +
+                  std::to_string(world.numParticles()) + ": it was written by a run of another scene");
   if (sceneFingerprint != tumble::sceneFingerprint(world))
     throw Error("the checkpoint was written by a run of another scene (the same counts, but other shapes, "
                 "masses, radii or rotation scheme)");

@@ -376,7 +376,10 @@ class CpuPipeline final : public Pipeline {
     double* sec = m_stats.seconds;
     const std::uint32_t n = m_world.numParticles();
     auto t0 = Clock::now();
-    if (m_history && m_listBuilt) keepHistory();  // by scene index: survives the renumbering
+    if (m_history && m_listBuilt) {
+      keepHistory();       // by scene index: survives the renumbering
+      m_listBuilt = false; // until the new list holds them (a failed rebuild keeps the kept ones)
+    }
     if (m_reorder) reorder();
     sec[int(Phase::Reorder)] += since(t0);
 

@@ -290,6 +290,7 @@ class CudaPipeline final : public Pipeline {
       out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
       out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
     }
+    out.contacts.clear();  // no contact history: the report's law only (load())
     out.groundSpringX.resize(tx.size());
     out.groundSpringY.resize(ty.size());
     for (std::size_t i = 0; i < tx.size(); ++i) {

@@ -118,6 +118,10 @@ TEST_P(CheckpointTest, ResumeCarriesTheContactHistories) {
   std::printf("molecules, hooke-history: resumed at 1200 equals 2400 straight; %zu contact histories at the checkpoint\n",
               ck.state.contacts.size());
   ASSERT_GT(ck.state.contacts.size(), 20u);
+  // A history naming a particle the scene lacks is refused at resume, wherever it sits in the list.
+  Checkpoint alien = ck;
+  alien.state.contacts.front().j = static_cast<std::uint32_t>(w.numParticles());
+  EXPECT_THROW(alien.resume(w, nullptr), Error);
   Checkpoint forgetful = ck;
   forgetful.state.contacts.clear();
   auto p = makePipeline(GetParam());
