@@ -72,6 +72,7 @@ std::uint64_t sceneFingerprint(const World& w) {
   f.add(w.numParticles());
   for (const auto* c : {&w.radius, &w.mass, &w.elasticity, &w.ux, &w.uy, &w.uz, &w.bodyMass}) f.addAll(*c);
   f.addAll(w.body);
+  if (!w.material.empty()) f.addAll(w.material);  // hertz-mindlin only: other scenes keep their fingerprints
   for (const Sym3f& i : w.invInertia) f.add(i);
   f.add(static_cast<std::uint32_t>(w.params.integrator.rotation));
   return f.value();
@@ -92,6 +93,14 @@ std::uint64_t physicsFingerprint(const Scene& s) {
     f.add(s.contact.friction);
     f.add(s.contact.rollingFriction);
     f.add(s.groundRollingFriction());
+  }
+  if (s.contact.usesMaterials()) {  // the materials (the particles' own are in sceneFingerprint)
+    f.add(static_cast<std::uint32_t>(s.materials.size()));
+    for (const MaterialDef& m : s.materials)
+      for (float v : {m.youngsModulus, m.poissonRatio, m.restitution, m.friction, m.rollingFriction}) f.add(v);
+    f.add(static_cast<std::uint32_t>(s.ground.material + 1));
+    f.add(s.ground.frictionOverride);
+    f.add(s.ground.rollingFriction);
   }
   f.add(s.ground.enabled);
   f.add(s.ground.height);

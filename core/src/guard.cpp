@@ -22,6 +22,13 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
   return buf;
 }
 
+// The duration of a Hertz contact F = K δ^{3/2} of effective mass m whose deepest overlap is δ:
+// the impact speed v that reaches it, ½ m v² = ⅖ K δ^{5/2}, then t_c = 2.94 δ / v (Johnson 1985).
+double hertzTimeAtOverlap(double K, double m, double delta) {
+  const double v = std::sqrt(0.8 * K * delta * delta * std::sqrt(delta) / m);
+  return v > 0.0 ? 2.94 * delta / v : std::numeric_limits<double>::infinity();
+}
+
 double dtToUse(const World& w) {
   const double tc = shortestContactTime(w);
   const double dt = w.params.dt;
@@ -68,14 +75,25 @@ bool finiteRow(const BodyState& s, std::size_t k) {
 
 }  // namespace
 
+SpringLaw springLawOf(const World& w) {
+  SpringLaw law;
+  law.k = w.params.contact.stiffness;
+  if (w.params.contact.usesMaterials()) {
+    law.hertz = w.materialPairs.data();
+    law.material = w.params.materials.size() > 1 ? w.material.data() : nullptr;
+    law.numMaterials = static_cast<std::uint32_t>(w.params.materials.size());
+  }
+  return law;
+}
+
 void contactSumsOfPairs(const World& world, const std::vector<Pair>& pairs, const std::vector<float>& x,
-                        const std::vector<double>& bodyErr, double k, std::vector<ContactSums>& out) {
+                        const std::vector<double>& bodyErr, const SpringLaw& law, std::vector<ContactSums>& out) {
   out.assign(world.numBodies(), ContactSums{});
   for (const Pair& p : pairs) {
     const float* a = &x[3 * std::size_t(p.i)];
     const float* b = &x[3 * std::size_t(p.j)];
     addContactSum(out[world.body[p.i]], a[0], a[1], a[2], world.radius[p.i], b[0], b[1], b[2], world.radius[p.j],
-                  bodyErr[world.body[p.i]], bodyErr[world.body[p.j]], k, p.i, p.j);
+                  bodyErr[world.body[p.i]], bodyErr[world.body[p.j]], law, p.i, p.j);
   }
 }
 
@@ -240,7 +258,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // Contact springs and overlaps: the contacts of the last step (of the initial state before
   // the first), summed per body, then over fixed chunks of bodies in order.
   double springs = 0.0;
-  const double k = sc.contact.stiffness;
+  const SpringLaw law = springLawOf(w);
   std::vector<ContactSums>& perBody = m_contacts;
   if (findPairsWith) {
     ParticleCloud cloud;
@@ -254,9 +272,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     cloud.body = w.body;
     const std::vector<Pair> found = findPairsWith->findPairs(cloud, sc.broadphase);
     out.foundPairs = static_cast<std::int64_t>(found.size());
-    contactSumsOfPairs(w, found, x, err, k, perBody);
-  } else if (!pipeline.contactSumsPerBody(k, perBody)) {
-    contactSumsOfPairs(w, pipeline.pairs(), x, err, k, perBody);
+    contactSumsOfPairs(w, found, x, err, law, perBody);
+  } else if (!pipeline.contactSumsPerBody(law, perBody)) {
+    contactSumsOfPairs(w, pipeline.pairs(), x, err, law, perBody);
   }
   const ContactSums ps = chunkedSum<ContactSums>(nb, [&](std::size_t begin, std::size_t end, ContactSums& a) {
     for (std::size_t b = begin; b < end; ++b) mergeContactSums(a, perBody[b]);
@@ -268,8 +286,17 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     out.overlapBody = w.body[ps.deepestI];
     out.overlapOther = w.body[ps.deepestJ];
     out.groundOverlap = false;
-    const double mi = w.mass[ps.deepestI], mj = w.mass[ps.deepestJ];
-    out.overlapContactTime = kPi * std::sqrt(mi * mj / (mi + mj) / double(sc.contact.stiffness));
+    const double mi = w.mass[ps.deepestI], mj = w.mass[ps.deepestJ], meff = mi * mj / (mi + mj);
+    if (law.hertz) {
+      const std::size_t m = sc.materials.size();
+      const double ri = w.radius[ps.deepestI], rj = w.radius[ps.deepestJ];
+      out.overlapContactTime = hertzTimeAtOverlap(
+          hertzStiffness(w.materialPairs[m > 1 ? w.material[ps.deepestI] * (m + 1) + w.material[ps.deepestJ] : 0],
+                         ri * rj / (ri + rj)),
+          meff, ps.maxOverlap * std::min(ri, rj));
+    } else {
+      out.overlapContactTime = kPi * std::sqrt(meff / double(sc.contact.stiffness));
+    }
   }
   if (sc.ground.enabled) {
     struct GroundSums {
@@ -280,14 +307,23 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       for (std::size_t i = begin; i < end; ++i) {
         const double delta = groundZ - (double(x[3 * i + 2]) - w.radius[i]);
         if (delta <= 0.0) continue;
-        a.springs += 0.5 * sc.ground.stiffness * delta * delta;
         const double e = errZ[w.body[i]] + floatRounding(groundZ);
-        a.slack += sc.ground.stiffness * e * (delta + e);
+        double K = 0.0;  // Hertz: F = K δ^{3/2}
+        if (law.hertz) {
+          const std::size_t m = sc.materials.size();
+          K = hertzStiffness(w.materialPairs[(m > 1 ? w.material[i] : 0) * (m + 1) + m], w.radius[i]);
+          a.springs += 0.4 * K * delta * delta * std::sqrt(delta);
+          a.slack += K * (delta + e) * std::sqrt(delta + e) * e;
+        } else {
+          a.springs += 0.5 * sc.ground.stiffness * delta * delta;
+          a.slack += sc.ground.stiffness * e * (delta + e);
+        }
         const double frac = delta / w.radius[i];
         if (frac > a.maxOverlap) {
           a.maxOverlap = frac;
           a.body = w.body[i];
-          a.contactTime = kPi * std::sqrt(double(w.mass[i]) / double(sc.ground.stiffness));
+          a.contactTime = law.hertz ? hertzTimeAtOverlap(K, w.mass[i], delta)
+                                    : kPi * std::sqrt(double(w.mass[i]) / double(sc.ground.stiffness));
         }
       }
     }, [](GroundSums& l, const GroundSums& r) {

@@ -61,7 +61,7 @@ constexpr float kTwoPi = 6.28318530717958647692f;
 /// The top-level tables: the single ones (which --set can address) and the arrays of tables.
 constexpr std::array<std::string_view, 7> kSingleTables = {
     "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output"};
-constexpr std::array<std::string_view, 3> kArrayTables = {"shape", "body", "group"};
+constexpr std::array<std::string_view, 4> kArrayTables = {"material", "shape", "body", "group"};
 
 /// "[scene], [contact], …" (and ", [[shape]], [[body]], [[group]]" with `arrays`).
 std::string tableNames(bool arrays) {
@@ -123,7 +123,7 @@ std::string joinNames(std::initializer_list<std::string_view> names) {
 }
 
 /// Range rule for a number.
-enum class Rule { Any, Positive, NonNegative, Elasticity };
+enum class Rule { Any, Positive, NonNegative, Elasticity, Poisson };
 
 /// Reads one TOML table: rejects unknown keys up front, then hands out typed, checked values.
 class TableReader {
@@ -303,6 +303,9 @@ class TableReader {
                                    "elastic, small = very inelastic; got " + fmt(shown) + ")");
         }
         return;
+      case Rule::Poisson:
+        if (!(v >= 0.0 && v < 0.5)) fail(sourceOf(n), what + " must be in [0, 0.5) (got " + fmt(shown) + ")");
+        return;
     }
   }
 
@@ -394,6 +397,7 @@ class SceneParser {
 
     readScene(scene);
     readContact(scene);
+    readMaterials(scene);
     readGround(scene);
     readPulls(scene);
     readBroadphase(scene);
@@ -431,18 +435,32 @@ class SceneParser {
       const std::string name = r.string(*law, "law");
       if (name == "report") c.law = ContactLaw::Report;
       else if (name == "hooke-history") c.law = ContactLaw::HookeHistory;
-      else r.fail(sourceOf(*law), "unknown law \"" + name + "\"; use \"report\" or \"hooke-history\"");
+      else if (name == "hertz-mindlin") c.law = ContactLaw::HertzMindlin;
+      else r.fail(sourceOf(*law), "unknown law \"" + name + "\"; use \"report\", \"hooke-history\" or \"hertz-mindlin\"");
     }
     // Each law reads its own keys; another law's key is a mistake worth naming.
-    const bool report = c.law == ContactLaw::Report;
-    static const std::vector<std::string> kHistoryKeys = {"tangential_stiffness", "gamma_n", "gamma_t", "friction",
-                                                          "rolling_friction"};
-    static const std::vector<std::string> kReportKeys = {"damping", "shear"};
-    for (const std::string& key : report ? kHistoryKeys : kReportKeys)
-      if (const toml::node* n = r.find(key))
-        r.fail(sourceOf(*n), key + " is not a parameter of law = \"" + toString(c.law) + "\" (" +
-                                 (report ? "it belongs to law = \"hooke-history\"" : "it belongs to the report's law; hooke-history uses gamma_n, gamma_t") +
-                                 "; docs/scenes.md)");
+    static const std::vector<std::string> kReportKeys = {"stiffness", "damping", "shear"};
+    static const std::vector<std::string> kHookeKeys = {"stiffness", "tangential_stiffness", "gamma_n", "gamma_t",
+                                                        "friction", "rolling_friction"};
+    const std::vector<std::string> none;
+    const std::vector<std::string>& mine = c.law == ContactLaw::Report         ? kReportKeys
+                                           : c.law == ContactLaw::HookeHistory ? kHookeKeys
+                                                                                : none;
+    for (auto&& [key, value] : *t) {
+      (void)value;
+      const std::string k(key.str());
+      if (k == "law" || std::find(mine.begin(), mine.end(), k) != mine.end()) continue;
+      const bool inReport = std::find(kReportKeys.begin(), kReportKeys.end(), k) != kReportKeys.end();
+      const bool inHooke = std::find(kHookeKeys.begin(), kHookeKeys.end(), k) != kHookeKeys.end();
+      std::string why = inHooke && inReport ? "it belongs to the report's law and to hooke-history"
+                        : inHooke            ? "it belongs to law = \"hooke-history\""
+                        : inReport           ? "it belongs to the report's law"
+                                             : "";
+      if (c.law == ContactLaw::HookeHistory && inReport) why += "; hooke-history damps with gamma_n, gamma_t";
+      if (c.law == ContactLaw::HertzMindlin)
+        why += "; under hertz-mindlin every pair's parameters come from its spheres' [[material]] tables";
+      r.fail(sourceOf(key), k + " is not a parameter of law = \"" + toString(c.law) + "\" (" + why + "; docs/scenes.md)");
+    }
     c.stiffness = r.single("stiffness", c.stiffness, Rule::Positive);
     c.damping = r.single("damping", c.damping, Rule::NonNegative);
     c.shear = r.single("shear", c.shear, Rule::NonNegative);
@@ -461,9 +479,24 @@ class SceneParser {
       return;
     }
     const TableReader r(m_file, *t, "[ground]",
-                        {"enabled", "height", "stiffness", "friction", "tangential_stiffness", "rolling_friction"});
+                        {"enabled", "height", "stiffness", "friction", "tangential_stiffness", "rolling_friction",
+                         "material"});
     g.enabled = r.boolean("enabled", true);
     g.height = r.single("height", 0.0f, Rule::Any);
+    const bool materials = scene.contact.usesMaterials();
+    for (const char* key : {"stiffness", "tangential_stiffness", "material"})
+      if (const toml::node* n = r.find(key); n != nullptr && (std::string(key) == "material") != materials)
+        r.fail(sourceOf(*n), materials ? std::string(key) + " is not read under law = \"hertz-mindlin\": the ground's "
+                                         "contact comes from its material (material = \"name\" of a [[material]]; "
+                                         "none: a rigid ground with each sphere's own restitution and friction)"
+                                       : std::string("material is read under law = \"hertz-mindlin\" only; this "
+                                                     "law's ground uses stiffness and friction"));
+    if (const toml::node* n = r.find("material")) g.material = static_cast<int>(materialNamed(r, *n, "material"));
+    if (materials) {  // friction and rolling_friction replace the mixed values of every sphere–ground pair
+      if (r.has("friction")) g.frictionOverride = r.single("friction", 0.0f, Rule::NonNegative);
+      if (r.has("rolling_friction")) g.rollingFriction = r.single("rolling_friction", 0.0f, Rule::NonNegative);
+      return;
+    }
     g.stiffness = r.single("stiffness", scene.contact.stiffness, Rule::Positive);
     g.friction = r.single("friction", g.friction, Rule::NonNegative);
     g.tangentialStiffness = r.single("tangential_stiffness", 0.0f, Rule::NonNegative);
@@ -549,6 +582,57 @@ class SceneParser {
     scene.thermoEvery = static_cast<std::uint64_t>(r.integer("thermo_every", 100, 1));
   }
 
+  void readMaterials(Scene& scene) {
+    const toml::node* n = m_root.get("material");
+    const bool hertz = scene.contact.usesMaterials();
+    if (n == nullptr) return;
+    const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'material'", "[[material]]");
+    for (std::size_t k = 0; k < tables.size(); ++k) {
+      const TableReader r(m_file, *tables[k], "[[material]] #" + std::to_string(k + 1),
+                          {"name", "density", "youngs_modulus", "poisson_ratio", "restitution", "friction",
+                           "rolling_friction"});
+      MaterialDef md;
+      const toml::node& nameNode = r.require("name", "the name that spheres use, e.g. name = \"glass\"");
+      md.name = r.string(nameNode, "name");
+      if (md.name.empty()) r.fail(sourceOf(nameNode), "name must not be empty");
+      if (m_materialIndex.count(md.name) != 0)
+        r.fail(sourceOf(nameNode), "material name \"" + md.name + "\" is already used by another [[material]]");
+      md.density = r.single("density", 0.0f, Rule::Positive);
+      if (!hertz) {
+        for (const char* key : {"youngs_modulus", "poisson_ratio", "restitution", "friction", "rolling_friction"})
+          if (const toml::node* e = r.find(key))
+            r.fail(sourceOf(*e), std::string(key) + " is read under [contact] law = \"hertz-mindlin\" only; under law = \"" +
+                                     toString(scene.contact.law) + "\" a material gives its density");
+      } else {
+        md.youngsModulus = r.single(r.require("youngs_modulus", "Young's modulus in Pa, e.g. youngs_modulus = 6.3e10"),
+                                    "youngs_modulus", Rule::Positive);
+        md.poissonRatio = r.single(r.require("poisson_ratio", "Poisson's ratio, e.g. poisson_ratio = 0.23"),
+                                   "poisson_ratio", Rule::Poisson);
+        md.restitution = r.single(r.require("restitution", "coefficient of restitution, e.g. restitution = 0.9"),
+                                  "restitution", Rule::Elasticity);
+        md.friction = r.single("friction", md.friction, Rule::NonNegative);
+        md.rollingFriction = r.single("rolling_friction", md.rollingFriction, Rule::NonNegative);
+      }
+      m_materialIndex.emplace(md.name, static_cast<std::uint32_t>(scene.materials.size()));
+      m_materialNames.push_back(md.name);
+      scene.materials.push_back(std::move(md));
+    }
+  }
+
+  /// Index of a named material, or an error at the node that names it.
+  std::uint32_t materialNamed(const TableReader& r, const toml::node& n, const std::string& what) const {
+    const std::string name = r.string(n, what);
+    const auto it = m_materialIndex.find(name);
+    if (it == m_materialIndex.end()) {
+      std::string known;
+      for (const std::string& k : m_materialNames) known += (known.empty() ? "" : ", ") + ("\"" + k + "\"");
+      r.fail(sourceOf(n), "unknown material \"" + name + "\"" +
+                              (known.empty() ? std::string("; the scene has no [[material]] tables")
+                                             : "; the scene's materials: " + known));
+    }
+    return it->second;
+  }
+
   void readShapes(Scene& scene) {
     const toml::node* n = m_root.get("shape");
     if (n == nullptr) return;
@@ -575,14 +659,12 @@ class SceneParser {
       for (std::size_t i = 0; i < sphereTables.size(); ++i) {
         const TableReader sr(m_file, *sphereTables[i],
                              where + ", [[shape.sphere]] #" + std::to_string(i + 1),
-                             {"offset", "radius", "mass", "elasticity"});
+                             {"offset", "radius", "mass", "density", "elasticity", "material"});
         SphereDef sd;
         sd.offset = sr.vec3("offset", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
         sd.radius = sr.single(sr.require("radius", "sphere radius in m, e.g. radius = 0.5"), "radius",
                               Rule::Positive);
-        sd.mass = sr.single(sr.require("mass", "sphere mass in kg, e.g. mass = 1.0"), "mass",
-                            Rule::Positive);
-        sd.elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
+        readSphereMaterial(scene, sr, &sd);
         if (const std::string why = groundDampingOutOfRange(sd, scene.ground); !why.empty())
           sr.fail(sr.header(), why);  // sr names the shape and the sphere
         shape.spheres.push_back(sd);
@@ -590,6 +672,53 @@ class SceneParser {
       if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.header(), where + ": " + why);
       m_shapeIndex.emplace(shape.name, static_cast<std::uint32_t>(scene.shapes.size()));
       scene.shapes.push_back(std::move(shape));
+    }
+  }
+
+  /// A sphere's material, mass and elasticity (after its radius): `material` names a
+  /// [[material]] (default: the only one, if the scene has exactly one); the mass is `mass`, or
+  /// the volume 4/3 π r³ times `density` or the material's density. Under hertz-mindlin the
+  /// elasticity is the material's restitution.
+  void readSphereMaterial(const Scene& scene, const TableReader& sr, SphereDef* sd) const {
+    const bool hertz = scene.contact.usesMaterials();
+    const MaterialDef* md = nullptr;
+    if (const toml::node* n = sr.find("material")) {
+      sd->material = materialNamed(sr, *n, "material");
+      md = &scene.materials[sd->material];
+    } else if (scene.materials.size() == 1) {
+      md = &scene.materials[0];
+    } else if (hertz) {
+      sr.fail(sr.header(), scene.materials.empty()
+                               ? "law = \"hertz-mindlin\" needs a [[material]] (name, youngs_modulus, poisson_ratio, "
+                                 "restitution) for the spheres"
+                               : "the scene has several [[material]] tables: say which this sphere is made of, e.g. "
+                                 "material = \"" + scene.materials[0].name + "\"");
+    }
+    const toml::node* mass = sr.find("mass");
+    const toml::node* density = sr.find("density");
+    if (mass != nullptr && density != nullptr)
+      sr.fail(sourceOf(*density), "give mass or density, not both");
+    if (mass != nullptr) {
+      sd->mass = sr.single(*mass, "mass", Rule::Positive);
+    } else {
+      const float rho = density != nullptr ? sr.single(*density, "density", Rule::Positive)
+                                           : md != nullptr ? md->density : 0.0f;
+      if (!(rho > 0.0f))
+        sr.fail(sr.header(), "the sphere needs its mass (mass = 1.0, in kg) or a density (density = 2500, in kg/m³, "
+                             "here or in its [[material]])");
+      const double m = double(rho) * (4.0 / 3.0) * 3.14159265358979323846 * double(sd->radius) * sd->radius * sd->radius;
+      if (!(m >= double(std::numeric_limits<float>::min()) && m <= double(std::numeric_limits<float>::max())))
+        sr.fail(density != nullptr ? sourceOf(*density) : sr.header(),
+                "density × volume gives a mass beyond single precision (" + fmt(m) + " kg)");
+      sd->mass = static_cast<float>(m);
+    }
+    if (hertz) {
+      if (const toml::node* e = sr.find("elasticity"))
+        sr.fail(sourceOf(*e), "elasticity is not read under law = \"hertz-mindlin\": the restitution is the "
+                              "material's (restitution = … in its [[material]])");
+      sd->elasticity = md->restitution;
+    } else {
+      sd->elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
     }
   }
 
@@ -832,6 +961,8 @@ class SceneParser {
   std::uint64_t m_seed = 1;
   std::uint64_t m_numParticles = 0;
   std::unordered_map<std::string, std::uint32_t> m_shapeIndex;
+  std::unordered_map<std::string, std::uint32_t> m_materialIndex;
+  std::vector<std::string> m_materialNames;  ///< in file order, for messages
 };
 
 // Non-ASCII bytes outside strings and comments are refused before toml++ sees them: its 3.3.0

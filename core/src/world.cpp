@@ -124,7 +124,35 @@ Quatf shapeOrientation(const World& world, const BodyState& s, std::size_t k) {
 }
 
 const char* toString(RotationScheme s) { return s == RotationScheme::Report ? "report" : "splitting"; }
-const char* toString(ContactLaw law) { return law == ContactLaw::Report ? "report" : "hooke-history"; }
+const char* toString(ContactLaw law) {
+  switch (law) {
+    case ContactLaw::HookeHistory: return "hooke-history";
+    case ContactLaw::HertzMindlin: return "hertz-mindlin";
+    default: return "report";
+  }
+}
+
+HertzPair materialPair(const MaterialDef& a, const MaterialDef* b) {
+  const auto compliance = [](const MaterialDef& m) {
+    const double e = m.youngsModulus, nu = m.poissonRatio;
+    return std::pair<double, double>{(1.0 - nu * nu) / e, 2.0 * (2.0 - nu) * (1.0 + nu) / e};
+  };
+  auto [y, g] = compliance(a);
+  double e = a.restitution, mu = a.friction, muR = a.rollingFriction;
+  if (b != nullptr) {
+    const auto [yb, gb] = compliance(*b);
+    y += yb;
+    g += gb;
+    e = std::min(e, double(b->restitution));
+    mu = std::min(mu, double(b->friction));
+    muR = std::min(muR, double(b->rollingFriction));
+  }
+  const double pi = 3.14159265358979323846, le = std::log(e);
+  const double beta = le / std::sqrt(le * le + pi * pi);
+  return HertzPair{static_cast<float>(1.0 / y), static_cast<float>(1.0 / g),
+                   static_cast<float>(-2.0 * std::sqrt(5.0 / 6.0) * beta), static_cast<float>(mu),
+                   static_cast<float>(muR)};
+}
 
 double dampingForRestitution(double e, double k, double m) {
   if (!(e > 0.0) || e > 1.0) throw Error("elasticity must be in (0, 1], got " + std::to_string(e));
@@ -285,14 +313,82 @@ World World::fromScene(const Scene& scene) {
     s.lx[k] = static_cast<float>(L.x()); s.ly[k] = static_cast<float>(L.y()); s.lz[k] = static_cast<float>(L.z());
   }
   w.sizingRadius = detail::sizingRadius(w.radius.data(), w.radius.size());
+  if (scene.contact.usesMaterials()) {
+    const std::size_t m = scene.materials.size();
+    if (m == 0) throw Error(std::string("law \"") + toString(scene.contact.law) + "\" needs at least one [[material]]");
+    if (m >= 65535) throw Error("too many materials (limit 65534)");
+    for (const MaterialDef& md : scene.materials)
+      if (!(md.youngsModulus > 0.0f) || !(md.poissonRatio >= 0.0f && md.poissonRatio < 0.5f) ||
+          !(md.restitution > 0.0f && md.restitution <= 1.0f) || !(md.friction >= 0.0f) || !(md.rollingFriction >= 0.0f))
+        throw Error("material '" + md.name + "': needs youngs_modulus > 0, 0 <= poisson_ratio < 0.5, restitution in "
+                    "(0, 1], friction >= 0 and rolling_friction >= 0");
+    const int gm = scene.ground.material;
+    if (gm >= int(m)) throw Error("the ground's material index is out of range");
+    w.materialPairs.resize((m + 1) * (m + 1), HertzPair{0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+    for (std::size_t a = 0; a < m; ++a) {
+      for (std::size_t b = 0; b < m; ++b) w.materialPairs[a * (m + 1) + b] = materialPair(scene.materials[a], &scene.materials[b]);
+      HertzPair& ground = w.materialPairs[a * (m + 1) + m];
+      ground = materialPair(scene.materials[a], gm >= 0 ? &scene.materials[gm] : nullptr);
+      if (scene.ground.frictionOverride >= 0.0f) ground.mu = scene.ground.frictionOverride;
+      if (scene.ground.rollingFriction >= 0.0f) ground.muR = scene.ground.rollingFriction;
+    }
+    w.material.reserve(np);
+    for (const BodyDef& bd : scene.bodies)
+      for (const SphereDef& sp : scene.shapes[bd.shape].spheres) {
+        if (sp.material >= m) throw Error("shape '" + scene.shapes[bd.shape].name + "': material index out of range");
+        w.material.push_back(static_cast<std::uint16_t>(sp.material));
+      }
+  }
 
   return w;
 }
+
+namespace {
+
+// hertz-mindlin: the shortest Hertz contact time t_c = 2.87 (m*² / (R* Y*² v))^{1/5} of the scene,
+// for its lightest and smallest particles of each material against each other and the ground, at
+// the fastest impact its start suggests: v = max(1 m/s, |V|max + √(2 |g| H)), H the largest
+// height of a body above the ground (without one, the bodies' vertical extent).
+double hertzContactTime(const World& w) {
+  const std::size_t m = w.params.materials.size();
+  std::vector<double> mMin(m, std::numeric_limits<double>::infinity()), rMin = mMin;
+  for (std::size_t i = 0; i < w.radius.size(); ++i) {
+    mMin[w.material[i]] = std::min(mMin[w.material[i]], double(w.mass[i]));
+    rMin[w.material[i]] = std::min(rMin[w.material[i]], double(w.radius[i]));
+  }
+  const BodyState& s = w.state;
+  double vmax = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    vmax = std::max(vmax, std::sqrt(double(s.vx[k]) * s.vx[k] + double(s.vy[k]) * s.vy[k] + double(s.vz[k]) * s.vz[k]));
+    lo = std::min(lo, double(s.pz[k]));
+    hi = std::max(hi, double(s.pz[k]));
+  }
+  if (w.params.ground.enabled) lo = std::min(lo, double(w.params.ground.height));
+  const Vec3f g = w.params.gravity;
+  const double gz = std::sqrt(double(g.x) * g.x + double(g.y) * g.y + double(g.z) * g.z);
+  const double v = std::max(1.0, vmax + std::sqrt(2.0 * gz * std::max(0.0, hi - lo)));
+  double tc = std::numeric_limits<double>::infinity();
+  const auto contact = [&](double meff, double reff, double ystar) {
+    tc = std::min(tc, 2.87 * std::pow(meff * meff / (reff * ystar * ystar * v), 0.2));
+  };
+  for (std::size_t a = 0; a < m; ++a) {
+    if (!std::isfinite(mMin[a])) continue;
+    for (std::size_t b = a; b < m; ++b)
+      if (std::isfinite(mMin[b]) && (a != b || w.numBodies() > 1))
+        contact(mMin[a] * mMin[b] / (mMin[a] + mMin[b]), rMin[a] * rMin[b] / (rMin[a] + rMin[b]),
+                w.materialPairs[a * (m + 1) + b].ystar);
+    if (w.params.ground.enabled) contact(mMin[a], rMin[a], w.materialPairs[a * (m + 1) + m].ystar);
+  }
+  return tc;
+}
+
+}  // namespace
 
 double shortestContactTime(const World& w) {
   const double pi = 3.14159265358979323846;
   double tc = std::numeric_limits<double>::infinity();
   if (w.radius.empty()) return tc;
+  if (w.params.contact.usesMaterials()) return hertzContactTime(w);
   const double mMin = *std::min_element(w.mass.begin(), w.mass.end());
   if (w.numBodies() > 1 && w.params.contact.stiffness > 0.0f)
     tc = std::min(tc, pi * std::sqrt(0.5 * mMin / double(w.params.contact.stiffness)));

@@ -532,7 +532,7 @@ TEST(SceneIoErrors, Syntax) {
 
 TEST(SceneIoErrors, UnknownKeys) {
   expectError(withLine(3, "stepz = 10"), 3, {"[scene]", "unknown key 'stepz'", "allowed keys: name, dt, steps"});
-  expectError(withLine(8, "masss = 1"), 8, {"unknown key 'masss'", "offset, radius, mass, elasticity"});
+  expectError(withLine(8, "masss = 1"), 8, {"unknown key 'masss'", "offset, radius, mass, density, elasticity, material"});
   expectError(withLine(11, "positon = [0, 0, 1]"), 11, {"[[body]] #1", "unknown key 'positon'"});
   expectError(withExtra("[grund]\nheight = 0\n"), 12, {"unknown top-level key 'grund'", "[ground]"});
   expectError(withExtra("[ground]\nfriktion = 0.5\n"), 13, {"[ground]", "unknown key 'friktion'", "friction"});
@@ -569,6 +569,96 @@ TEST(SceneIoErrors, ContactLaws) {
   expectError(withExtra("[contact]\ngamma_n = 5\n"), 13, {"gamma_n is not a parameter of law = \"report\""});
   expectError(withExtra("[ground]\nrolling_friction = 0.1\n"), 13, {"rolling_friction needs a contact law that turns spheres"});
   expectError(withExtra("[contact]\nlaw = \"hooke-history\"\nfriction = -1\n"), 14, {"friction"});
+}
+
+namespace {
+const char* kGlass = "[[material]]\nname = \"glass\"\ndensity = 2500\nyoungs_modulus = 6.3e10\npoisson_ratio = 0.23\n"
+                     "restitution = 0.9\nfriction = 0.3\n";
+const char* kSteel = "[[material]]\nname = \"steel\"\ndensity = 7800\nyoungs_modulus = 2e11\npoisson_ratio = 0.3\n"
+                     "restitution = 0.8\nrolling_friction = 0.01\n";
+const char* kHertz = "[contact]\nlaw = \"hertz-mindlin\"\n";
+}  // namespace
+
+TEST(SceneIo, MaterialsAndDensity) {
+  // One material: every sphere is made of it; the sphere's own mass wins over the density.
+  const Scene one = tumble::parseScene(withExtra(std::string(kHertz) + kGlass), "test.toml");
+  EXPECT_EQ(one.contact.law, tumble::ContactLaw::HertzMindlin);
+  EXPECT_TRUE(one.contact.usesMaterials());
+  ASSERT_EQ(one.materials.size(), 1u);
+  EXPECT_EQ(one.materials[0].name, "glass");
+  EXPECT_EQ(one.materials[0].youngsModulus, 6.3e10f);
+  EXPECT_EQ(one.materials[0].poissonRatio, 0.23f);
+  EXPECT_EQ(one.materials[0].restitution, 0.9f);
+  EXPECT_EQ(one.materials[0].friction, 0.3f);
+  EXPECT_EQ(one.materials[0].rollingFriction, 0.0f);
+  EXPECT_EQ(one.shapes[0].spheres[0].material, 0u);
+  EXPECT_EQ(one.shapes[0].spheres[0].mass, 1.0f);
+  EXPECT_EQ(one.shapes[0].spheres[0].elasticity, 0.9f) << "the restitution, for colours and exports";
+  // The mass from a density: the sphere's, or its material's.
+  const float volume = float(4.0 / 3.0 * 3.14159265358979 * 0.125);
+  const Scene dense = tumble::parseScene(withLine(8, "density = 2000"), "test.toml");
+  EXPECT_NEAR(dense.shapes[0].spheres[0].mass, 2000.0f * volume, 1e-3f);
+  const Scene fromMaterial = tumble::parseScene(withLine(8, "material = \"steel\"") + kHertz + kGlass + kSteel, "test.toml");
+  EXPECT_EQ(fromMaterial.shapes[0].spheres[0].material, 1u);
+  EXPECT_NEAR(fromMaterial.shapes[0].spheres[0].mass, 7800.0f * volume, 1e-2f);
+  EXPECT_EQ(fromMaterial.materials[1].rollingFriction, 0.01f);
+  EXPECT_EQ(fromMaterial.ground.material, -1) << "no [ground] material: a rigid ground";
+  // Under the other laws a material gives a density only.
+  const Scene report = tumble::parseScene(withLine(8, "material = \"sand\"") + "[[material]]\nname = \"sand\"\ndensity = 1600\n",
+                                          "test.toml");
+  EXPECT_NEAR(report.shapes[0].spheres[0].mass, 1600.0f * volume, 1e-3f);
+  const Scene ground = tumble::parseScene(withLine(8, "material = \"glass\"") + kHertz + kGlass + kSteel +
+                                              "[ground]\nmaterial = \"steel\"\n",
+                                          "test.toml");
+  EXPECT_EQ(ground.ground.material, 1);
+  // The mixing rule (docs/model.md#materials): Y* and G* from both materials, the smaller
+  // restitution, friction and rolling friction; the ground's friction may replace the mixed one.
+  const tumble::World w = tumble::World::fromScene(ground);
+  ASSERT_EQ(w.materialPairs.size(), 9u) << "(2 materials + the ground)^2";
+  const tumble::HertzPair& gs = w.materialPairs[0 * 3 + 1];  // glass on steel
+  const double ystar = 1.0 / ((1 - 0.23 * 0.23) / 6.3e10 + (1 - 0.3 * 0.3) / 2e11);
+  const double gstar = 1.0 / (2 * (2 - 0.23) * (1 + 0.23) / 6.3e10 + 2 * (2 - 0.3) * (1 + 0.3) / 2e11);
+  EXPECT_NEAR(gs.ystar, ystar, 1e-6 * ystar);
+  EXPECT_NEAR(gs.gstar, gstar, 1e-6 * gstar);
+  EXPECT_EQ(gs.mu, 0.3f);
+  EXPECT_EQ(gs.muR, 0.0f);
+  const double le = std::log(0.8), beta = le / std::sqrt(le * le + 3.14159265358979 * 3.14159265358979);
+  EXPECT_NEAR(gs.damp, -2.0 * std::sqrt(5.0 / 6.0) * beta, 1e-6) << "the smaller restitution, 0.8";
+  EXPECT_EQ(w.materialPairs[1 * 3 + 0].ystar, gs.ystar) << "symmetric";
+  EXPECT_EQ(w.materialPairs[0 * 3 + 2].ystar, gs.ystar) << "the ground of steel";
+  EXPECT_EQ(w.material, (std::vector<std::uint16_t>{0}));
+  const Scene rough = tumble::parseScene(withLine(8, "material = \"glass\"") + kHertz + kGlass + kSteel +
+                                             "[ground]\nmaterial = \"steel\"\nfriction = 0.9\nrolling_friction = 0.2\n",
+                                         "test.toml");
+  const tumble::World wr = tumble::World::fromScene(rough);
+  EXPECT_EQ(wr.materialPairs[0 * 3 + 2].mu, 0.9f) << "the ground's friction replaces the mixed one";
+  EXPECT_EQ(wr.materialPairs[0 * 3 + 2].muR, 0.2f);
+  EXPECT_EQ(wr.materialPairs[0 * 3 + 1].mu, 0.3f) << "between particles it does not";
+  const tumble::World rigid = tumble::World::fromScene(one);
+  EXPECT_NEAR(rigid.materialPairs[1].ystar, 6.3e10 / (1 - 0.23 * 0.23), 1e3) << "a rigid ground: the sphere's E alone";
+}
+
+TEST(SceneIoErrors, Materials) {
+  expectError(withExtra(kHertz), 6, {"law = \"hertz-mindlin\" needs a [[material]]"});
+  expectError(withExtra(std::string(kHertz) + kGlass + kSteel), 6, {"several [[material]] tables", "material = \"glass\""});
+  expectError(withLine(8, "material = \"wood\"") + kHertz + kGlass, 8, {"unknown material \"wood\"", "\"glass\""});
+  expectError(withLine(8, "mass = 1.0\ndensity = 5"), 9, {"give mass or density, not both"});
+  expectError(withExtra(std::string("[[material]]\nname = \"sand\"\nyoungs_modulus = 1e9\n")), 14,
+              {"youngs_modulus is read under [contact] law = \"hertz-mindlin\" only"});
+  expectError(withExtra(std::string(kHertz) + "[[material]]\nname = \"x\"\npoisson_ratio = 0.3\nrestitution = 0.5\n"), 14,
+              {"missing", "youngs_modulus"});
+  expectError(withExtra(std::string(kHertz) + "[[material]]\nname = \"x\"\nyoungs_modulus = 1e9\npoisson_ratio = 0.5\n"
+                        "restitution = 0.5\n"),
+              17, {"poisson_ratio must be in [0, 0.5)"});
+  expectError(withExtra(std::string(kHertz) + kGlass + kGlass), 22, {"material name \"glass\" is already used"});
+  expectError(withExtra(std::string(kHertz) + "stiffness = 1e5\n" + kGlass), 14,
+              {"stiffness is not a parameter of law = \"hertz-mindlin\"", "[[material]]"});
+  expectError(withExtra(std::string(kHertz) + kGlass + "[ground]\nstiffness = 1e5\n"), 22,
+              {"stiffness is not read under law = \"hertz-mindlin\"", "material"});
+  expectError(withExtra(std::string("[ground]\nmaterial = \"x\"\n")), 13, {"material is read under law = \"hertz-mindlin\" only"});
+  expectError(withExtra(std::string(kHertz) + kGlass + "[ground]\nmaterial = \"steel\"\n"), 22, {"unknown material \"steel\""});
+  expectError(withLine(8, "mass = 1.0\nelasticity = 0.5") + kHertz + kGlass, 9,
+              {"elasticity is not read under law = \"hertz-mindlin\""});
 }
 
 TEST(SceneIoErrors, WrongTypes) {
@@ -642,7 +732,7 @@ TEST(SceneIoErrors, Shapes) {
   expectError(withExtra("[[shape]]\nsphere = [{radius = 1, mass = 1}]\n"), 12, {"missing required key 'name'"});
   expectError(withExtra("[[shape]]\nname = \"ball\"\n[[shape.sphere]]\nradius = 1\nmass = 1\n"), 13,
               {"\"ball\" is already used"});
-  expectError(withLine(8, "elasticity = 0.5"), 6, {"missing required key 'mass'"});
+  expectError(withLine(8, "elasticity = 0.5"), 6, {"the sphere needs its mass (mass = 1.0, in kg) or a density"});
 }
 
 TEST(SceneIoErrors, Bodies) {

@@ -88,6 +88,8 @@ class CpuPipeline final : public Pipeline {
     m_bodiesNext.resize(nb);
     m_radius = w.radius;
     m_mass = w.mass;
+    // One material: every particle's is 0 and the kernels need no column.
+    m_material = w.params.materials.size() > 1 ? w.material : std::vector<std::uint16_t>{};
     m_orig.resize(n);
     m_bodyOf = w.body;
     for (std::uint32_t i = 0; i < n; ++i) m_orig[i] = i;
@@ -226,7 +228,7 @@ class CpuPipeline final : public Pipeline {
   // The pairs() set walked where it lies: per body, its particles' rows (the contacts of the
   // last step, decided on that step's positions as pairs() does), the terms at the current
   // positions; one write per body, at its scene index.
-  bool contactSumsPerBody(double k, std::vector<ContactSums>& out) const override {
+  bool contactSumsPerBody(const SpringLaw& law, std::vector<ContactSums>& out) const override {
     const std::uint32_t nb = static_cast<std::uint32_t>(m_bodies.size());
     if (m_steps == 0) {  // no contacts yet, as pairs()
       out.assign(nb, ContactSums{});
@@ -249,7 +251,7 @@ class CpuPipeline final : public Pipeline {
           forContactsAbove(was, orig, list, p, [&](std::uint32_t j, std::uint32_t other) {
             const PosRow& xj = now[j];
             const Vec3f& xb = m_bodies[m_bodyOf[j]].x;
-            addContactSum(a, xi.x, xi.y, xi.z, xi.r, xj.x, xj.y, xj.z, xj.r, errI, bodyRounding(xb.x, xb.y, xb.z), k, me,
+            addContactSum(a, xi.x, xi.y, xi.z, xi.r, xj.x, xj.y, xj.z, xj.r, errI, bodyRounding(xb.x, xb.y, xb.z), law, me,
                           other);
           });
         }
@@ -314,12 +316,10 @@ class CpuPipeline final : public Pipeline {
     if (m_debug) {
       for (auto& d : m_dbg) tumble::detail::grow(d, 3 * std::size_t(m_world.numParticles()));
       tumble::detail::grow(m_dbgVel, 3 * std::size_t(m_world.numParticles()));
-      tot = m_history ? advance<true, true, ContactLaw::HookeHistory>()
-            : m_clumps ? advance<true, true>() : advance<true, false>();
+      tot = advanceAs<true>();
       m_hasDebug = true;
     } else {
-      tot = m_history ? advance<false, true, ContactLaw::HookeHistory>()
-            : m_clumps ? advance<false, true>() : advance<false, false>();
+      tot = advanceAs<false>();
     }
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
@@ -333,6 +333,16 @@ class CpuPipeline final : public Pipeline {
     m_time += m_world.params.dt;
     ++m_stats.steps;
     m_stats.numPairs = tot.contacts / 2;  // each contact is seen from both sides
+  }
+
+  // advance() instantiated for the scene's law and bodies.
+  template <bool kDebug>
+  StepTotals advanceAs() {
+    switch (m_law) {
+      case ContactLaw::HookeHistory: return advance<kDebug, true, ContactLaw::HookeHistory>();
+      case ContactLaw::HertzMindlin: return advance<kDebug, true, ContactLaw::HertzMindlin>();
+      default: return m_clumps ? advance<kDebug, true>() : advance<kDebug, false>();
+    }
   }
 
   // Stages 3–7 and the next step's stage 1, one pass over the bodies (see the design notes).
@@ -639,6 +649,7 @@ class CpuPipeline final : public Pipeline {
     m_ownTmp.resize(n);
     m_radiusTmp.resize(n);
     m_massTmp.resize(n);
+    m_materialTmp.resize(m_material.size());
     m_origTmp.resize(n);
     m_bodyOfTmp.resize(n);
     m_gtxTmp.resize(m_gtx.size());
@@ -653,6 +664,7 @@ class CpuPipeline final : public Pipeline {
         m_ownTmp[to] = m_own[from];
         m_radiusTmp[to] = m_radius[from];
         m_massTmp[to] = m_mass[from];
+        if (!m_material.empty()) m_materialTmp[to] = m_material[from];
         m_origTmp[to] = m_orig[from];
         m_bodyOfTmp[to] = k;
         if (m_ground) {
@@ -666,6 +678,7 @@ class CpuPipeline final : public Pipeline {
     m_own.swap(m_ownTmp);
     m_radius.swap(m_radiusTmp);
     m_mass.swap(m_massTmp);
+    m_material.swap(m_materialTmp);
     m_orig.swap(m_origTmp);
     m_bodyOf.swap(m_bodyOfTmp);
     m_gtx.swap(m_gtxTmp);
@@ -691,7 +704,10 @@ class CpuPipeline final : public Pipeline {
                     m_touching.data(),
                     m_world.numParticles(),
                     m_history ? m_hist.data() : nullptr,
-                    m_world.params.contact.rotatesSpheres()};
+                    m_world.params.contact.rotatesSpheres(),
+                    m_world.materialPairs.empty() ? nullptr : m_world.materialPairs.data(),
+                    m_material.empty() ? nullptr : m_material.data(),
+                    static_cast<std::uint32_t>(m_world.params.materials.size())};
   }
 
   mutable tbb::task_arena m_arena;
@@ -709,6 +725,7 @@ class CpuPipeline final : public Pipeline {
   std::vector<BodyStatic> m_bodyStatic;
   std::vector<OwnRow> m_own;
   std::vector<float> m_radius, m_mass;
+  std::vector<std::uint16_t> m_material;  // hertz-mindlin with several materials; else empty
   std::vector<std::uint32_t> m_orig;   // scene index of each particle
   std::vector<std::uint32_t> m_bodyOf; // body of each particle (the sweep skips same-body pairs)
   std::vector<float> m_gtx, m_gty;     // ground springs (empty without ground)
@@ -742,6 +759,7 @@ class CpuPipeline final : public Pipeline {
   std::vector<BodyStatic> m_bodyStaticTmp;
   std::vector<OwnRow> m_ownTmp;
   std::vector<float> m_radiusTmp, m_massTmp, m_gtxTmp, m_gtyTmp;
+  std::vector<std::uint16_t> m_materialTmp;
   std::vector<std::uint32_t> m_origTmp, m_bodyOfTmp;
   std::vector<float> m_dbg[5], m_dbgVel;
   struct PairChunk {

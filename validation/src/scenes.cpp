@@ -19,6 +19,21 @@ Scene withHookeHistory(Scene s, float gammaN, float friction) {
   return s;
 }
 
+Scene withHertzMindlin(Scene s, float youngsModulus, bool twoMaterials) {
+  s.contact.law = ContactLaw::HertzMindlin;
+  // (Aggregates: GCC 12 warns falsely, -Wrestrict, on assigning a short literal to the name.)
+  s.materials = {MaterialDef{"a", 0.0f, youngsModulus, 0.3f, 0.5f, 0.5f, 0.0f}};
+  if (twoMaterials) {
+    const MaterialDef b{"b", 0.0f, 2.0f * youngsModulus, 0.25f, 0.7f, 0.3f, 0.05f};
+    s.materials.push_back(b);
+    for (ShapeDef& sh : s.shapes)
+      for (std::size_t k = 0; k < sh.spheres.size(); ++k) sh.spheres[k].material = std::uint32_t(k % 2);
+  }
+  for (ShapeDef& sh : s.shapes)
+    for (SphereDef& sp : sh.spheres) sp.elasticity = s.materials[sp.material].restitution;
+  return s;
+}
+
 std::string sourcePath(const std::string& relative) {
   // The source tree while it is there (a build), else the installed data (share/tumble: the
   // scenes that `tumble validate` and `tumble bench` read).

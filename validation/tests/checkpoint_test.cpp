@@ -109,14 +109,18 @@ TEST_P(CheckpointTest, ResumeEqualsTheUninterruptedRun) {
 // one that dropped them would differ (the negative control).
 TEST_P(CheckpointTest, ResumeCarriesTheContactHistories) {
   if (GetParam() == Backend::Cuda) GTEST_SKIP() << "the CUDA pipeline runs the report's law only so far";
-  const World w = World::fromScene(withHookeHistory(readSceneFile(sourcePath("scenes/molecules.toml"))));
+  const Scene molecules = readSceneFile(sourcePath("scenes/molecules.toml"));
+  for (const ContactLaw law : {ContactLaw::HertzMindlin, ContactLaw::HookeHistory}) {
+  SCOPED_TRACE(toString(law));
+  const World w = World::fromScene(law == ContactLaw::HookeHistory ? withHookeHistory(molecules)
+                                                                   : withHertzMindlin(molecules, 1.0e6f, true));
   const BodyState a = straight(GetParam(), w, 2400);
   Checkpoint ck;
   const BodyState b = resumed(GetParam(), w, 1200, 1200, &ck);
   const auto d = firstDifference(a, b);
   EXPECT_FALSE(d.has_value()) << "resumed run differs: " << d->describe();
-  std::printf("molecules, hooke-history: resumed at 1200 equals 2400 straight; %zu contact histories at the checkpoint\n",
-              ck.state.contacts.size());
+  std::printf("molecules, %s: resumed at 1200 equals 2400 straight; %zu contact histories at the checkpoint\n",
+              toString(law), ck.state.contacts.size());
   ASSERT_GT(ck.state.contacts.size(), 20u);
   // A history naming a particle the scene lacks is refused at resume, wherever it sits in the list.
   Checkpoint alien = ck;
@@ -130,6 +134,7 @@ TEST_P(CheckpointTest, ResumeCarriesTheContactHistories) {
   BodyState c;
   p->readState(c);
   EXPECT_TRUE(firstDifference(a, c).has_value()) << "without the contact histories the run must differ";
+  }
 }
 
 TEST_P(CheckpointTest, ResumeKeepsTheLocalFrameOfAFarScene) {

@@ -64,9 +64,11 @@ Run run(Backend b, World w, const Knobs& k, std::uint64_t steps, std::uint64_t e
   return r;
 }
 
-void expectInvariant(Backend b, const std::string& scene, std::uint64_t steps, bool hookeHistory = false) {
+void expectInvariant(Backend b, const std::string& scene, std::uint64_t steps, ContactLaw law = ContactLaw::Report) {
   Scene sc = readSceneFile(sourcePath(scene));
-  if (hookeHistory) sc = withHookeHistory(sc);
+  if (law == ContactLaw::HookeHistory) sc = withHookeHistory(sc);
+  if (law == ContactLaw::HertzMindlin) sc = withHertzMindlin(sc, 1.0e6f, true);
+  const bool hookeHistory = law != ContactLaw::Report;
   const World w = World::fromScene(sc);
   const std::uint64_t every = steps / 10;
   const Run ref = run(b, w, Knobs{"reference"}, steps, every, 0.0f);
@@ -77,7 +79,7 @@ void expectInvariant(Backend b, const std::string& scene, std::uint64_t steps, b
               static_cast<unsigned long long>(stateHash(ref.states.back())));
   ASSERT_GT(ref.stats.numPairs, 20u) << "the run needs contacts for the test to mean something";
   if (hookeHistory) {
-    std::printf("  %zu contacts carry a tangential history at the end\n", ref.states.back().contacts.size());
+    std::printf("  %s: %zu contacts carry a tangential history at the end\n", toString(law), ref.states.back().contacts.size());
     EXPECT_GT(ref.states.back().contacts.size(), 20u) << "the histories are what this variant tests";
   }
   const Knobs variants[] = {
@@ -115,8 +117,14 @@ TEST_P(ContactListTest, Bench16kDoesNotDependOnHowContactsAreFound) {
 // rebuild and renumbering, so it does not depend on how they were found either.
 TEST_P(ContactListTest, HookeHistoryDoesNotDependOnHowContactsAreFound) {
   if (GetParam() == Backend::Cuda) GTEST_SKIP() << "the CUDA pipeline runs the report's law only so far";
-  expectInvariant(GetParam(), "scenes/molecules.toml", 1500, true);
-  expectInvariant(GetParam(), "scenes/spheres.toml", 1500, true);
+  expectInvariant(GetParam(), "scenes/molecules.toml", 1500, ContactLaw::HookeHistory);
+  expectInvariant(GetParam(), "scenes/spheres.toml", 1500, ContactLaw::HookeHistory);
+}
+// hertz-mindlin with two materials (a per-pair table, rolling resistance between some pairs).
+TEST_P(ContactListTest, HertzMindlinDoesNotDependOnHowContactsAreFound) {
+  if (GetParam() == Backend::Cuda) GTEST_SKIP() << "the CUDA pipeline runs the report's law only so far";
+  expectInvariant(GetParam(), "scenes/molecules.toml", 1500, ContactLaw::HertzMindlin);
+  expectInvariant(GetParam(), "scenes/spheres.toml", 1500, ContactLaw::HertzMindlin);
 }
 
 namespace {

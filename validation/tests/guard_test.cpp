@@ -359,13 +359,16 @@ TEST(Guard, NamesTheBodyWithANonFiniteState) {
 // (Morton) numbering; the sums must be the bits of the reference computed from pairs() in scene
 // order, at every check, with contacts and a deepest pair to find.
 TEST(Guard, PipelineContactSumsEqualThoseOfItsPairs) {
-  const World w = World::fromScene(validation::benchScene(16000));
+  for (bool hertz : {false, true}) {
+  SCOPED_TRACE(hertz ? "hertz-mindlin, two materials" : "report");
+  const Scene sc = validation::benchScene(16000);
+  const World w = World::fromScene(hertz ? validation::withHertzMindlin(sc, 1.0e6f, true) : sc);
   for (int threads : {1, 2}) {
     PipelineOptions o;
     o.threads = threads;
     auto p = makePipeline(Backend::Cpu, o);
     p->load(w);
-    const double k = w.params.contact.stiffness;
+    const SpringLaw k = springLawOf(w);
     std::vector<ContactSums> own, ref;
     std::vector<float> x;
     std::vector<double> err(w.numBodies());
@@ -395,6 +398,7 @@ TEST(Guard, PipelineContactSumsEqualThoseOfItsPairs) {
       EXPECT_EQ(deepest, touching) << "every body with contacts names its own deepest pair";
     }
     EXPECT_GE(checks, 4u) << "the pile must touch for the comparison to mean anything";
+  }
   }
 }
 

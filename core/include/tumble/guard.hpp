@@ -137,7 +137,11 @@ class RunGuard {
 /// (bodyRounding of its position): the reference that a pipeline's own sums must equal bit for
 /// bit.
 void contactSumsOfPairs(const World& world, const std::vector<Pair>& pairs, const std::vector<float>& x,
-                        const std::vector<double>& bodyErr, double k, std::vector<ContactSums>& out);
+                        const std::vector<double>& bodyErr, const SpringLaw& law, std::vector<ContactSums>& out);
+
+/// The springs' law of a world's contacts (SpringLaw): Hertz with its material pairs under
+/// hertz-mindlin, else linear with [contact] stiffness.
+SpringLaw springLawOf(const World& world);
 
 /// The message of a non-finite state found by a pipeline: names the step, the particle's body
 /// and the dt to use. Used by the pipelines when they throw SimulationError.

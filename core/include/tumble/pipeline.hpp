@@ -134,11 +134,11 @@ class Pipeline {
   /// The guard's contact sums (kernels/contact_sums.hpp) per body, scene order, over the contacts
   /// of the last step (the pairs() set) at the current positions (readLocalPositions()): body b's
   /// entry sums the pairs (i, j) whose particle i is one of b's, each body's rounding taken from
-  /// its position in readLocalState() (bodyRounding); k: the contact stiffness. A pipeline that
+  /// its position in readLocalState() (bodyRounding); law: the contact springs' (SpringLaw). A pipeline that
   /// keeps its contacts computes them where they are (no pair list, no sort); the default
   /// returns false, and the guard computes the same bits from pairs() (contactSumsOfPairs()).
-  virtual bool contactSumsPerBody(double k, std::vector<ContactSums>& out) const {
-    (void)k, (void)out;
+  virtual bool contactSumsPerBody(const SpringLaw& law, std::vector<ContactSums>& out) const {
+    (void)law, (void)out;
     return false;
   }
   /// Broadphase alone on a particle cloud: every pair i < j of different bodies with

@@ -20,9 +20,14 @@ enum class ContactLaw : std::uint8_t {
   /// k_t ξ on the sliding displacement ξ carried while the pair touches (Cundall–Strack) and
   /// dashpot m_eff γ_t w_t, Coulomb limit μ |F_n|. Every body rotates.
   HookeHistory,
+  /// Hertz–Mindlin as LIGGGHTS defines `hertz` with tangential history: Hertz normal and Mindlin
+  /// tangential stiffness from each pair's materials (Young's modulus, Poisson's ratio), damping
+  /// from their coefficient of restitution, the same history and Coulomb limit as hooke-history.
+  /// Every body rotates.
+  HertzMindlin,
 };
 
-/// "report" / "hooke-history".
+/// "report" / "hooke-history" / "hertz-mindlin".
 const char* toString(ContactLaw law);
 
 /// Particle–particle contact (SPEC §2.3 for the report's law; docs/model.md for the others).
@@ -39,7 +44,22 @@ struct ContactParams {
   /// Whether the law has forces that turn a sphere (then single-sphere bodies rotate too).
   bool rotatesSpheres() const { return law != ContactLaw::Report; }
   /// Whether the law keeps a tangential history per contact.
-  bool hasHistory() const { return law == ContactLaw::HookeHistory; }
+  bool hasHistory() const { return law != ContactLaw::Report; }
+  /// Whether the law takes its parameters from the spheres' materials (Scene::materials).
+  bool usesMaterials() const { return law == ContactLaw::HertzMindlin; }
+};
+
+/// A material (`[[material]]`, docs/scenes.md): what hertz-mindlin reads of a sphere, and the
+/// density that gives a sphere its mass under any law. A pair of materials is mixed as
+/// materialPair() says (docs/model.md#materials).
+struct MaterialDef {
+  std::string name;
+  float density = 0.0f;         ///< kg/m³; 0 = none (the spheres give their mass)
+  float youngsModulus = 0.0f;   ///< E [Pa]
+  float poissonRatio = 0.0f;    ///< ν, in [0, 0.5)
+  float restitution = 0.5f;     ///< e, in (0, 1]
+  float friction = 0.5f;        ///< Coulomb μ
+  float rollingFriction = 0.0f; ///< rolling resistance μ_r (0 = none)
 };
 
 /// Ground plane z = height with normal +z (SPEC §2.4).
@@ -50,6 +70,12 @@ struct GroundParams {
   float friction = 0.5f;             ///< Coulomb μ (static = kinetic)
   float tangentialStiffness = 0.0f;  ///< stick spring k_t,g [N/m]; 0 = 2/7 k_g
   float rollingFriction = -1.0f;     ///< rolling resistance μ_r; negative = the contact's (laws that turn spheres)
+  /// hertz-mindlin: the ground's material (index into Scene::materials); negative = a rigid
+  /// ground (E = ∞) with each sphere's own restitution and friction.
+  int material = -1;
+  /// hertz-mindlin: μ of every sphere–ground pair instead of the mixed one (negative: mixed);
+  /// rollingFriction likewise replaces the mixed μ_r when not negative.
+  float frictionOverride = -1.0f;
 };
 
 /// Bits of PullParams::active / Pipeline::setPulls().
@@ -74,6 +100,7 @@ struct SphereDef {
   float radius = 0.5f;
   float mass = 1.0f;
   float elasticity = 0.5f;
+  std::uint32_t material = 0;  ///< index into Scene::materials (read only when it has some)
 };
 
 /// A rigid body shape: one or more spheres.
@@ -132,6 +159,7 @@ struct Scene {
   PullParams pulls;
   BroadphaseParams broadphase;
   IntegratorParams integrator;
+  std::vector<MaterialDef> materials;  ///< hertz-mindlin: at least one; the others: densities only
   std::vector<ShapeDef> shapes;
   std::vector<BodyDef> bodies;
   // Output settings.

@@ -16,6 +16,8 @@
 
 namespace tumble {
 
+struct HertzPair;
+
 /// One body: its integrated state and what the step reads with it (internal numbering), in two
 /// cache lines. The first holds what a touching neighbour reads (V, Ω, R), so that a contact
 /// costs one line of the other body.
@@ -97,6 +99,12 @@ struct StepView {
   /// pair that does not touch; nullptr otherwise.
   Vec3f* history = nullptr;
   bool rotateSpheres = false;    ///< single-sphere bodies rotate too (ContactParams::rotatesSpheres)
+  /// hertz-mindlin: the coefficients of each pair of materials a, b at hertz[a (M + 1) + b], the
+  /// ground's at b = M (World::materialPairs), and the material of each particle; `material` is
+  /// nullptr when the scene has one material (every particle's is 0). Unread by the other laws.
+  const HertzPair* hertz = nullptr;
+  const std::uint16_t* material = nullptr;
+  std::uint32_t numMaterials = 0;
 };
 
 }  // namespace tumble

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "tumble/kernels/contact.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/soa.hpp"
@@ -65,6 +66,11 @@ struct World {
   // Static particle table; particles of one body are contiguous, bodies in creation order.
   std::vector<float> radius, mass, elasticity, groundDamping;
   std::vector<std::uint32_t> body;
+  /// hertz-mindlin: each particle's material (index into params.materials), and the
+  /// coefficients of every pair of materials a, b at materialPairs[a (M + 1) + b], the ground's
+  /// at b = M (materialPair()). Empty under the other laws.
+  std::vector<std::uint16_t> material;
+  std::vector<HertzPair> materialPairs;
   std::vector<float> ux, uy, uz;
 
   // Static body table.
@@ -145,11 +151,20 @@ double dampingForRestitution(double e, double k, double m);
 /// ground is off. The scene reader reports it at the sphere's line; World::fromScene throws it.
 std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams& ground);
 
+/// The Hertz–Mindlin coefficients of two materials in contact (docs/model.md#materials): Y* and
+/// G* from both E and ν, the restitution, friction and rolling friction the smaller of the two
+/// (as Chrono's default composition). b = nullptr: a rigid partner (the ground without a
+/// material: E = ∞, and a's restitution and friction).
+HertzPair materialPair(const MaterialDef& a, const MaterialDef* b);
+
 /// Restitution of the same model for damping c: e = exp(−ζπ/√(1−ζ²)) (0 when ζ ≥ 1).
 double restitutionForDamping(double c, double k, double m);
 
 /// Contact time π √(m_eff / k) of the stiffest, lightest contact the scene can have (two of its
-/// lightest particles with k_s; its lightest particle on the ground with k_g), undamped.
+/// lightest particles with k_s; its lightest particle on the ground with k_g), undamped. Under
+/// hertz-mindlin, the Hertz contact time 2.87 (m*² / (R* Y*² v))^{1/5} of the lightest and
+/// smallest particles of each pair of materials (and on the ground) at the fastest impact the
+/// initial state suggests, v = max(1 m/s, |V|max + √(2 |g| H)), H the drop to the ground.
 double shortestContactTime(const World& world);
 
 /// Empty when dt resolves the shortest contact with at least 10 steps; otherwise a one-line

@@ -35,8 +35,8 @@ struct ContactForces {
   /// contact point − X_i (the centre of i's body): the arm of the forces' torque on that body.
   /// The contact point is the middle of the overlap, x_i − n (r_i − δ/2), common to i and j.
   Vec3f arm;
-  Vec3f n;       ///< hooke-history: the unit normal (from j to i)
-  float normal;  ///< hooke-history: F_n along n (repulsion + damping)
+  Vec3f n;       ///< laws with history: the unit normal (from j to i)
+  float normal;  ///< laws with history: F_n along n (repulsion + damping)
 };
 
 /// One side of a contact as the forces see it: the particle's offset from its body's centre
@@ -114,42 +114,83 @@ struct HistoryCoeffs {
   float mu;      ///< Coulomb friction coefficient
 };
 
+/// The tangential force of a contact with history on particle i (Cundall–Strack), shared by
+/// hooke-history and hertz-mindlin: n the unit normal (from j to i), w_t the tangential part of
+/// the relative velocity w, F_n the normal force, k_t the tangential stiffness [N/m], g_t the
+/// tangential dashpot [N s/m], *xi (in/out) i's sliding displacement relative to j:
+///   ξ ← ξ − w_t dt, then ξ ← ξ − (ξ·n) n
+///   F_t = g_t w_t − k_t ξ, capped at μ |F_n|; when capped, ξ ← (g_t w_t − F_t)/k_t.
+/// Seen from j every input but F_n is negated, and so are F_t and ξ.
+TUMBLE_HD_INLINE Vec3f historyShear(Vec3f n, Vec3f wt, float fn, float kt, float gt, float mu, float dt, Vec3f* xi) {
+  Vec3f x = *xi - dt * wt;
+  x = x - dot(x, n) * n;
+  const Vec3f drag = gt * wt;
+  Vec3f ft = drag - kt * x;
+  const float limit = mu * (fn < 0.0f ? -fn : fn);
+  const float f2 = dot(ft, ft);
+  if (f2 > limit * limit) {
+    ft = (limit / std::sqrt(f2)) * ft;
+    if (kt > 0.0f) x = (1.0f / kt) * (drag - ft);
+  }
+  *xi = x;
+  return ft;
+}
+
+/// A contact with history from its kinematics and its coefficients: normal stiffness k_n δ,
+/// dashpots g_n and g_t [N s/m], F_n = k_n δ + g_n w_n along n, the shear from historyShear().
+TUMBLE_HD_INLINE ContactForces historyContact(const ContactKinematics& k, float kn, float kt, float gn, float gt,
+                                              float mu, float dt, Vec3f* xi) {
+  ContactForces f;
+  f.arm = k.arm;
+  const float wn = dot(k.w, k.n);
+  const Vec3f wt = k.w - wn * k.n;
+  const float elastic = kn * k.delta, viscous = gn * wn;
+  f.repulsion = elastic * k.n;
+  f.damping = viscous * k.n;
+  f.n = k.n;
+  f.normal = elastic + viscous;
+  f.shear = historyShear(k.n, wt, f.normal, kt, gt, mu, dt, xi);
+  return f;
+}
+
 /// Forces of hooke-history (LAMMPS gran/hooke/history) on particle i from an overlapping
 /// particle j; arguments as contactKinematics(), meff = M_i M_j / (M_i + M_j) of the two bodies,
-/// *xi (in/out) i's sliding displacement relative to j carried over the contact's life:
+/// *xi as historyShear():
 ///   F_n = (k_n δ + m_eff γ_n w_n) n                               (repulsion, damping)
-///   ξ ← ξ − w_t dt, then ξ ← ξ − (ξ·n) n                           (w_t = w − w_n n)
-///   F_t = m_eff γ_t w_t − k_t ξ, capped at μ |F_n|; when capped, ξ ← (m_eff γ_t w_t − F_t)/k_t
-/// (the shear). Seen from j every input is negated, so are the forces and ξ: the two sides of a
-/// contact keep exact negations of one history.
+///   F_t = m_eff γ_t w_t − k_t ξ, capped at μ |F_n|                 (the shear)
+/// Seen from j every input is negated, so are the forces and ξ: the two sides of a contact keep
+/// exact negations of one history.
 template <bool kRotating>
 TUMBLE_HD_INLINE ContactForces hookeHistoryForces(Vec3f d, float d2, float ri, float rj, const ContactSide& si,
                                                   const ContactSide& sj, bool iBeforeJ, float meff,
                                                   const HistoryCoeffs& c, float dt, Vec3f* xi) {
   const ContactKinematics k = contactKinematics<kRotating>(d, d2, ri, rj, si, sj, iBeforeJ);
-  ContactForces f;
-  f.arm = k.arm;
-  const float wn = dot(k.w, k.n);
-  const Vec3f wt = k.w - wn * k.n;
-  const float elastic = c.kn * k.delta, viscous = (meff * c.gammaN) * wn;
-  f.repulsion = elastic * k.n;
-  f.damping = viscous * k.n;
-  Vec3f x = *xi - dt * wt;
-  x = x - dot(x, k.n) * k.n;
-  const Vec3f drag = (meff * c.gammaT) * wt;
-  Vec3f ft = drag - c.kt * x;
-  const float fn = elastic + viscous;
-  f.n = k.n;
-  f.normal = fn;
-  const float limit = c.mu * (fn < 0.0f ? -fn : fn);
-  const float f2 = dot(ft, ft);
-  if (f2 > limit * limit) {
-    ft = (limit / std::sqrt(f2)) * ft;
-    if (c.kt > 0.0f) x = (1.0f / c.kt) * (drag - ft);
-  }
-  *xi = x;
-  f.shear = ft;
-  return f;
+  return historyContact(k, c.kn, c.kt, meff * c.gammaN, meff * c.gammaT, c.mu, dt, xi);
+}
+
+/// Hertz–Mindlin coefficients of a pair of materials (materialPair()), or of a material and
+/// the ground: what the kernels need of Y*, G* and the restitution.
+struct HertzPair {
+  float ystar;  ///< Y* = 1 / ((1 − ν₁²)/E₁ + (1 − ν₂²)/E₂) [Pa]
+  float gstar;  ///< G* = 1 / (2(2 − ν₁)(1 + ν₁)/E₁ + 2(2 − ν₂)(1 + ν₂)/E₂) [Pa]
+  float damp;   ///< −2 √(5/6) β, β = ln e / √(ln² e + π²) (0 for e = 1)
+  float mu;     ///< Coulomb μ of the pair
+  float muR;    ///< rolling resistance μ_r of the pair (0: none)
+};
+
+/// Hertz–Mindlin (LIGGGHTS `hertz` with tangential history) on particle i from an overlapping
+/// particle j or the ground, from the contact's kinematics, its effective radius R* and mass m*:
+///   S_n = 2 Y* √(R* δ),  S_t = 8 G* √(R* δ)
+///   F_n = (⅔ S_n δ + g_n w_n) n,  g_n = −2 √(5/6) β √(S_n m*)   (= 4/3 Y* √R* δ^{3/2} elastic)
+///   k_t = S_t,  g_t = −2 √(5/6) β √(S_t m*), the shear as historyShear() with μ.
+/// Every coefficient depends on the pair only through symmetric quantities, so the forces seen
+/// from j are the exact negations.
+TUMBLE_HD_INLINE ContactForces hertzMindlinForces(const ContactKinematics& k, float reff, float meff,
+                                                  const HertzPair& c, float dt, Vec3f* xi) {
+  const float root = std::sqrt(reff * k.delta);
+  const float sn = (2.0f * c.ystar) * root, st = (8.0f * c.gstar) * root;
+  const float kn = (2.0f / 3.0f) * sn;
+  return historyContact(k, kn, st, c.damp * std::sqrt(sn * meff), c.damp * std::sqrt(st * meff), c.mu, dt, xi);
 }
 
 /// Sum of the three, in a fixed order.
@@ -163,10 +204,12 @@ TUMBLE_HD_INLINE Vec3f total(const ContactForces& f) { return (f.repulsion + f.d
 /// Rolling resistance, constant-torque model (Zhou et al. 1999, "model A"): a pure torque on i
 ///   M_i = −min(μ_r R* |F_n|, I* |ω_r| / dt) ω_r / |ω_r|,  ω_r = (ω_i − ω_j) − ((ω_i − ω_j)·n) n
 /// against the rolling of i on j (the twist about n is left alone), j receiving −M_i; R* and m*
-/// are the effective radius and mass of the pair and I* = 2/5 m* R*². The cap is the torque that
-/// stops the relative rolling of two such spheres within one step: without it the torque would
-/// flip sign every step about rest (the model's chatter). With ω_j = 0 and n = +z it is the
-/// ground's. Seen from j every input is negated, and so is the torque.
+/// are the effective radius and mass of the pair and I* = 2/5 m* R*². The cap I* |ω_r| / dt
+/// keeps the torque from reversing the relative rolling within one step, which would make it
+/// flip sign every step about rest (the model's chatter): for two equal spheres (I* = I/8, both
+/// turned) it removes at most a quarter of ω_r per step, so rolling stops over a few steps. With
+/// ω_j = 0 and n = +z (R* = r, m* = M) it is the ground's, and then it stops the rolling within
+/// one step. Seen from j every input is negated, and so is the torque.
 TUMBLE_HD_INLINE Vec3f rollingTorque(Vec3f omegaI, Vec3f omegaJ, Vec3f n, float fn, float reff, float meff, float muR,
                                      float dt) {
   const Vec3f rel = omegaI - omegaJ;
@@ -246,6 +289,29 @@ TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& 
   *ty = ey;
   out.friction = Vec3f{fx, fy, 0.0f};
   return out;
+}
+
+/// Hertz–Mindlin contact of a particle with the ground (hertzMindlinForces() on a plane with
+/// normal +z: R* = r, m* = the body's mass M, the pair c of the particle's material and the
+/// ground's). The forces act at the bottom of the overlap, as groundForces(); the ground's
+/// material is at rest, so w = −u there. *tx, *ty (in/out) are ξ, the particle's sliding
+/// displacement on the ground, with groundForces()' sign (F_t = −k_t ξ − g_t u_t). Called
+/// only for a particle in contact; out of contact the caller resets ξ to zero.
+template <bool kRotating>
+TUMBLE_HD_INLINE GroundForces hertzGroundForces(Vec3f x, float r, const ContactSide& side, float mass,
+                                                const HertzPair& c, const GroundCoeffs& g, float dt, float* tx,
+                                                float* ty) {
+  ContactKinematics k;
+  k.n = Vec3f{0.0f, 0.0f, 1.0f};
+  k.delta = groundDepth(x, r, g);
+  const Vec3f lever{0.0f, 0.0f, -(r - 0.5f * k.delta)};
+  k.arm = kRotating ? side.offset + lever : lever;
+  k.w = -(kRotating ? pointVelocity(side.v, side.omega, k.arm) : side.v);
+  Vec3f xi{*tx, *ty, 0.0f};
+  const ContactForces f = hertzMindlinForces(k, r, mass, c, dt, &xi);
+  *tx = xi.x;
+  *ty = xi.y;
+  return GroundForces{f.repulsion + f.damping, f.shear, f.arm};
 }
 
 /// The user pulls on a particle of mass m at x (SPEC §2.5); pulls are PullBits (0: none, and

@@ -13,13 +13,27 @@
 #include <cstring>
 
 #include "tumble/hd.hpp"
+#include "tumble/kernels/contact.hpp"
 
 namespace tumble {
 
+/// The energy law of the contact springs: linear, ½ k δ² (the report's law, hooke-history), or
+/// Hertz, ⅖ K δ^{5/2} with K = 4/3 Y* √R* and Y* of the pair's materials (hertz-mindlin; the
+/// tables of World::materialPairs, `material` in scene order, nullptr for one material).
+struct SpringLaw {
+  double k = 0.0;
+  const HertzPair* hertz = nullptr;
+  const std::uint16_t* material = nullptr;
+  std::uint32_t numMaterials = 0;
+};
+
+/// K of Hertz's F = K δ^{3/2}, E = ⅖ K δ^{5/2}, for a pair c and effective radius R*.
+TUMBLE_HD_INLINE double hertzStiffness(const HertzPair& c, double reff) { return (4.0 / 3.0) * c.ystar * sqrt(reff); }
+
 /// The sums over a set of contacts (one body's, or all).
 struct ContactSums {
-  double springs = 0.0;     ///< Σ ½ k δ² over the pairs with δ = r_i + r_j − |x_i − x_j| > 0
-  double slack = 0.0;       ///< Σ k e (δ + e), e = 1.8 (err_i + err_j): the energy error of rounded positions
+  double springs = 0.0;     ///< Σ ½ k δ² (Hertz: ⅖ K δ^{5/2}) over the pairs with δ = r_i + r_j − |x_i − x_j| > 0
+  double slack = 0.0;       ///< Σ k e (δ + e) (Hertz: K (δ + e)^{3/2} e), e = 1.8 (err_i + err_j): the energy error of rounded positions
   double maxOverlap = 0.0;  ///< the largest δ / min(r_i, r_j)
   std::uint32_t deepestI = 0, deepestJ = 0;  ///< its pair (scene particle indices), the first among equals
 };
@@ -47,17 +61,25 @@ TUMBLE_HD_INLINE double bodyRounding(float x, float y, float z) {
 
 /// Adds the pair (i, j), i < j scene particle indices, at positions (xi, yi, zi) and (xj, yj, zj)
 /// (integration frame), with radii ri, rj, the rounding errI, errJ of their bodies' positions
-/// (bodyRounding) and stiffness k.
+/// (bodyRounding) and the springs' law.
 TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi, float ri, float xj, float yj, float zj,
-                                    float rj, double errI, double errJ, double k, std::uint32_t i, std::uint32_t j) {
+                                    float rj, double errI, double errJ, const SpringLaw& law, std::uint32_t i,
+                                    std::uint32_t j) {
   const double dx = double(xi) - xj;
   const double dy = double(yi) - yj;
   const double dz = double(zi) - zj;
   const double delta = double(ri) + rj - sqrt(dx * dx + dy * dy + dz * dz);
   if (delta <= 0.0) return;
-  a.springs += 0.5 * k * delta * delta;
   const double e = 1.8 * (errI + errJ);
-  a.slack += k * e * (delta + e);
+  if (law.hertz != nullptr) {
+    const std::uint32_t pair = law.material ? law.material[i] * (law.numMaterials + 1u) + law.material[j] : 0u;
+    const double K = hertzStiffness(law.hertz[pair], double(ri) * rj / (double(ri) + rj));
+    a.springs += 0.4 * K * delta * delta * sqrt(delta);
+    a.slack += K * (delta + e) * sqrt(delta + e) * e;
+  } else {
+    a.springs += 0.5 * law.k * delta * delta;
+    a.slack += law.k * e * (delta + e);
+  }
   const double frac = delta / (ri < rj ? ri : rj);
   if (frac > a.maxOverlap) {
     a.maxOverlap = frac;

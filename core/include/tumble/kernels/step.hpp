@@ -103,8 +103,9 @@ struct ParticleForce {
 /// the contact laws are exactly antisymmetric, so the two sides agree to the bit.
 ///
 /// kClumps: bodies rotate (some have several particles, or the law turns spheres). kLaw: the
-/// contact law; with a history (hooke-history) the view's `history` holds ξ per list entry (the
-/// list is then the candidate list), updated in place and zeroed when the pair does not touch.
+/// contact law; with a history (hooke-history, hertz-mindlin) the view's `history` holds ξ per
+/// list entry (the list is then the candidate list), updated in place and zeroed when the pair
+/// does not touch. Under hertz-mindlin the ground is a Hertz contact too (hertzGroundForces).
 template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report>
 TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                              const BodyRow& self, std::uint32_t i) {
@@ -129,7 +130,7 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     Vec3f d;
     float d2;
     if (!spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2)) {
-      if constexpr (kLaw == ContactLaw::HookeHistory) {  // an open contact forgets its history
+      if constexpr (kLaw != ContactLaw::Report) {  // an open contact forgets its history
         const Vec3f h = v.history[e];
         if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) v.history[e] = Vec3f{0.0f, 0.0f, 0.0f};
       }
@@ -145,6 +146,12 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
       if (fp.rollingFriction > 0.0f)
         out.t += rollingTorque(side().omega, sj.omega, cf.n, cf.normal, (pi.r * pj.r) / (pi.r + pj.r), meff,
                                fp.rollingFriction, fp.dt);
+    } else if constexpr (kLaw == ContactLaw::HertzMindlin) {
+      const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * pj.r) / (pi.r + pj.r);
+      const HertzPair& hp = v.hertz[v.material ? v.material[i] * (v.numMaterials + 1u) + v.material[j] : 0u];
+      cf = hertzMindlinForces(contactKinematics<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ), reff, meff, hp,
+                              fp.dt, &v.history[e]);
+      if (hp.muR > 0.0f) out.t += rollingTorque(side().omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
     } else {
       cf = contactForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, fp.contact);
     }
@@ -163,15 +170,22 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
   if (fp.hasGround) {
     if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {
       float tx = v.ground.tx[i], ty = v.ground.ty[i];
-      gf = groundForces<kClumps>(xi, pi.r, side(), v.own[i].groundDamping, fp.ground, fp.dt, &tx, &ty);
+      float muR = fp.ground.rollingFriction;
+      if constexpr (kLaw == ContactLaw::HertzMindlin) {
+        const HertzPair& hp = v.hertz[v.material ? v.material[i] * (v.numMaterials + 1u) + v.numMaterials : 1u];
+        gf = hertzGroundForces<kClumps>(xi, pi.r, side(), 1.0f / self.invMass, hp, fp.ground, fp.dt, &tx, &ty);
+        muR = hp.muR;
+      } else {
+        gf = groundForces<kClumps>(xi, pi.r, side(), v.own[i].groundDamping, fp.ground, fp.dt, &tx, &ty);
+      }
       v.ground.tx[i] = tx;
       v.ground.ty[i] = ty;
       const Vec3f fg = gf.normal + gf.friction;
       out.f += fg;
       if (kClumps) out.t += cross(gf.arm, fg);
-      if (kClumps && fp.ground.rollingFriction > 0.0f)
+      if (kClumps && muR > 0.0f)
         out.t += rollingTorque(side().omega, Vec3f{0.0f, 0.0f, 0.0f}, Vec3f{0.0f, 0.0f, 1.0f}, gf.normal.z, pi.r,
-                               1.0f / self.invMass, fp.ground.rollingFriction, fp.dt);
+                               1.0f / self.invMass, muR, fp.dt);
     } else {  // out of contact the stick spring is released
       v.ground.tx[i] = 0.0f;
       v.ground.ty[i] = 0.0f;

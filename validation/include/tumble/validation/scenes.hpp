@@ -36,6 +36,12 @@ std::vector<NamedCloud> hardCases(std::uint64_t seed);
 /// the friction and rotating spheres of the granular laws, for the tests that also hold for them.
 Scene withHookeHistory(Scene s, float gammaN = 100.0f, float friction = 0.5f);
 
+/// The scene under hertz-mindlin with one material (E, ν = 0.3, e = 0.5, μ = 0.5) or two (the
+/// second: 2E, ν = 0.25, e = 0.7, μ = 0.3, μ_r = 0.05, on every other sphere of each shape). The
+/// masses stay the scene's. E = 1 MPa gives the unit spheres of the test scenes contact times
+/// near those of their linear springs.
+Scene withHertzMindlin(Scene s, float youngsModulus = 1.0e6f, bool twoMaterials = false);
+
 /// Path of a file in the source tree (scenes/…, validation/golden/…); when the source tree is
 /// gone (an installed tumble), of the installed data (share/tumble: the scenes).
 std::string sourcePath(const std::string& relative);
