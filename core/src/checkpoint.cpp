@@ -270,7 +270,7 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
                   std::to_string(world.numParticles()) + ": it was written by a run of another scene");
   if (sceneFingerprint != tumble::sceneFingerprint(world))
     throw Error("the checkpoint was written by a run of another scene (the same counts, but other shapes, "
-                "masses, radii or rotation scheme)");
+                "masses, radii, materials or rotation scheme)");
   if (warning) {
     warning->clear();
     if (physicsFingerprint != tumble::physicsFingerprint(world.params))

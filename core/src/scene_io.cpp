@@ -612,6 +612,7 @@ class SceneParser {
                                   "restitution", Rule::Elasticity);
         md.friction = r.single("friction", md.friction, Rule::NonNegative);
         md.rollingFriction = r.single("rolling_friction", md.rollingFriction, Rule::NonNegative);
+        if (const std::string why = materialOutOfRange(md); !why.empty()) r.fail(r.header(), why);
       }
       m_materialIndex.emplace(md.name, static_cast<std::uint32_t>(scene.materials.size()));
       m_materialNames.push_back(md.name);
@@ -669,7 +670,7 @@ class SceneParser {
           sr.fail(sr.header(), why);  // sr names the shape and the sphere
         shape.spheres.push_back(sd);
       }
-      if (const std::string why = shapeOutOfRange(shape); !why.empty()) r.fail(r.header(), where + ": " + why);
+      if (const std::string why = shapeOutOfRange(shape, scene.contact.rotatesSpheres()); !why.empty()) r.fail(r.header(), where + ": " + why);
       m_shapeIndex.emplace(shape.name, static_cast<std::uint32_t>(scene.shapes.size()));
       scene.shapes.push_back(std::move(shape));
     }

@@ -132,6 +132,19 @@ const char* toString(ContactLaw law) {
   }
 }
 
+std::string materialOutOfRange(const MaterialDef& m) {
+  // Y* and G* of the material against itself and against a rigid ground (the largest it can meet).
+  for (const HertzPair& p : {materialPair(m, &m), materialPair(m, nullptr)})
+    if (!(std::isfinite(p.ystar) && std::isfinite(p.gstar) && p.ystar > 0.0f && p.gstar > 0.0f))
+    {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "its youngs_modulus %g gives an effective modulus beyond single precision; use "
+                    "a smaller one", double(m.youngsModulus));
+      return buf;
+    }
+  return {};
+}
+
 HertzPair materialPair(const MaterialDef& a, const MaterialDef* b) {
   const auto compliance = [](const MaterialDef& m) {
     const double e = m.youngsModulus, nu = m.poissonRatio;
@@ -240,7 +253,7 @@ World World::fromScene(const Scene& scene) {
       p.mass += sp.mass;
       p.com += sp.mass * Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z);
     }
-    if (const std::string why = shapeOutOfRange(sh); !why.empty()) throw Error("shape '" + sh.name + "': " + why);
+    if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres()); !why.empty()) throw Error("shape '" + sh.name + "': " + why);
     p.com /= p.mass;
     for (const auto& sp : sh.spheres) {
       const Eigen::Vector3d u = Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com;
@@ -322,6 +335,8 @@ World World::fromScene(const Scene& scene) {
           !(md.restitution > 0.0f && md.restitution <= 1.0f) || !(md.friction >= 0.0f) || !(md.rollingFriction >= 0.0f))
         throw Error("material '" + md.name + "': needs youngs_modulus > 0, 0 <= poisson_ratio < 0.5, restitution in "
                     "(0, 1], friction >= 0 and rolling_friction >= 0");
+    for (const MaterialDef& md : scene.materials)
+      if (const std::string why = materialOutOfRange(md); !why.empty()) throw Error("material '" + md.name + "': " + why);
     const int gm = scene.ground.material;
     if (gm >= int(m)) throw Error("the ground's material index is out of range");
     w.materialPairs.resize((m + 1) * (m + 1), HertzPair{0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
@@ -346,15 +361,16 @@ World World::fromScene(const Scene& scene) {
 namespace {
 
 // hertz-mindlin: the shortest Hertz contact time t_c = 2.87 (m*² / (R* Y*² v))^{1/5} of the scene,
-// for its lightest and smallest particles of each material against each other and the ground, at
+// for the lightest mass and the largest radius of each material against each other and the ground, at
 // the fastest impact its start suggests: v = max(1 m/s, |V|max + √(2 |g| H)), H the largest
 // height of a body above the ground (without one, the bodies' vertical extent).
 double hertzContactTime(const World& w) {
   const std::size_t m = w.params.materials.size();
-  std::vector<double> mMin(m, std::numeric_limits<double>::infinity()), rMin = mMin;
+  // t_c grows with m*^{2/5} and falls with R*^{1/5}: the lightest mass with the largest radius.
+  std::vector<double> mMin(m, std::numeric_limits<double>::infinity()), rMax(m, 0.0);
   for (std::size_t i = 0; i < w.radius.size(); ++i) {
     mMin[w.material[i]] = std::min(mMin[w.material[i]], double(w.mass[i]));
-    rMin[w.material[i]] = std::min(rMin[w.material[i]], double(w.radius[i]));
+    rMax[w.material[i]] = std::max(rMax[w.material[i]], double(w.radius[i]));
   }
   const BodyState& s = w.state;
   double vmax = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -375,9 +391,9 @@ double hertzContactTime(const World& w) {
     if (!std::isfinite(mMin[a])) continue;
     for (std::size_t b = a; b < m; ++b)
       if (std::isfinite(mMin[b]) && (a != b || w.numBodies() > 1))
-        contact(mMin[a] * mMin[b] / (mMin[a] + mMin[b]), rMin[a] * rMin[b] / (rMin[a] + rMin[b]),
+        contact(mMin[a] * mMin[b] / (mMin[a] + mMin[b]), rMax[a] * rMax[b] / (rMax[a] + rMax[b]),
                 w.materialPairs[a * (m + 1) + b].ystar);
-    if (w.params.ground.enabled) contact(mMin[a], rMin[a], w.materialPairs[a * (m + 1) + m].ystar);
+    if (w.params.ground.enabled) contact(mMin[a], rMax[a], w.materialPairs[a * (m + 1) + m].ystar);
   }
   return tc;
 }
@@ -446,7 +462,7 @@ std::string angularVelocityOutOfRange(const ShapeDef& shape, double omega) {
   return buf;
 }
 
-std::string shapeOutOfRange(const ShapeDef& shape) {
+std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate) {
   if (shape.spheres.empty()) return {};
   constexpr double kMax = std::numeric_limits<float>::max();
   double com[3];
@@ -461,8 +477,8 @@ std::string shapeOutOfRange(const ShapeDef& shape) {
     return buf;
   }
   // The largest moment of inertia is at most Σ m (0.4 r² + |u|²); the smallest at least Σ 0.4 m r².
-  // Single-sphere bodies never rotate: their inertia is never used.
-  if (shape.spheres.size() == 1) return shapeExtent(shape) <= 0.5 * kMax ? std::string() : std::string(
+  // Single-sphere bodies do not rotate under the report's law: their inertia is never used.
+  if (shape.spheres.size() == 1 && !spheresRotate) return shapeExtent(shape) <= 0.5 * kMax ? std::string() : std::string(
       "its sphere reaches beyond single-precision range");
   const double most = shapeInertiaBound(shape);
   double least = 0.0;

@@ -651,6 +651,16 @@ TEST(SceneIoErrors, Materials) {
                         "restitution = 0.5\n"),
               17, {"poisson_ratio must be in [0, 0.5)"});
   expectError(withExtra(std::string(kHertz) + kGlass + kGlass), 22, {"material name \"glass\" is already used"});
+  expectError(withExtra(std::string(kHertz) + "[[material]]\nname = \"x\"\nyoungs_modulus = 3.3e38\npoisson_ratio = 0.45\n"
+                        "restitution = 0.5\n"),
+              14, {"youngs_modulus 3.3e+38 gives an effective modulus beyond single precision"});
+  // Under a law that turns spheres a single sphere's inertia is used, so it must fit a float.
+  std::string heavy = withLine(8, "mass = 1e38") + kHertz + kGlass;
+  heavy.replace(heavy.find("radius = 0.5"), 12, "radius = 100");  // I = 0.4 m r^2 = 4e41 kg m^2
+  expectError(heavy, 4, {"moment of inertia", "beyond single precision"});
+  std::string heavyReport = withLine(8, "mass = 1e38");
+  heavyReport.replace(heavyReport.find("radius = 0.5"), 12, "radius = 100");
+  EXPECT_NO_THROW(tumble::parseScene(heavyReport, "test.toml")) << "under the report's law a single sphere's inertia is never used";
   expectError(withExtra(std::string(kHertz) + "stiffness = 1e5\n" + kGlass), 14,
               {"stiffness is not a parameter of law = \"hertz-mindlin\"", "[[material]]"});
   expectError(withExtra(std::string(kHertz) + kGlass + "[ground]\nstiffness = 1e5\n"), 22,

@@ -136,7 +136,8 @@ std::string angularVelocityOutOfRange(const ShapeDef& shape, double omega);
 /// Why a shape's derived values cannot be held in single precision (the total mass or its
 /// inverse, the moment of inertia or its inverse, the extent), as a phrase for a message; empty
 /// when they can. The scene reader reports it at the shape's line; World::fromScene throws it.
-std::string shapeOutOfRange(const ShapeDef& shape);
+/// spheresRotate: the scene's law turns single spheres (their inertia is then used too).
+std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate = false);
 
 /// Orientation of body k's shape frame (as written in the scene file): q_k ⊗ bodyToShape[k]⁻¹.
 Quatf shapeOrientation(const World& world, const BodyState& state, std::size_t k);
@@ -157,13 +158,17 @@ std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams&
 /// material: E = ∞, and a's restitution and friction).
 HertzPair materialPair(const MaterialDef& a, const MaterialDef* b);
 
+/// Why a material's effective moduli (materialPair() with itself and with a rigid ground) cannot
+/// be held in single precision, as a phrase; empty when they can.
+std::string materialOutOfRange(const MaterialDef& m);
+
 /// Restitution of the same model for damping c: e = exp(−ζπ/√(1−ζ²)) (0 when ζ ≥ 1).
 double restitutionForDamping(double c, double k, double m);
 
 /// Contact time π √(m_eff / k) of the stiffest, lightest contact the scene can have (two of its
 /// lightest particles with k_s; its lightest particle on the ground with k_g), undamped. Under
-/// hertz-mindlin, the Hertz contact time 2.87 (m*² / (R* Y*² v))^{1/5} of the lightest and
-/// smallest particles of each pair of materials (and on the ground) at the fastest impact the
+/// hertz-mindlin, the Hertz contact time 2.87 (m*² / (R* Y*² v))^{1/5} of the lightest mass and
+/// the largest radius of each pair of materials (and on the ground) at the fastest impact the
 /// initial state suggests, v = max(1 m/s, |V|max + √(2 |g| H)), H the drop to the ground.
 double shortestContactTime(const World& world);
 
