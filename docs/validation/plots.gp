@@ -25,7 +25,7 @@ $d1 << EOD
 0.9 0.900039
 1 0.999996
 EOD
-set output 'fullstudy/cpu/ground_restitution_restitution.png'
+set output 'docs/validation/cpu/ground_restitution_restitution.png'
 set title 'Ground restitution: measured against configured e' noenhanced
 set xlabel 'configured e' noenhanced
 set ylabel 'restitution' noenhanced
@@ -35,28 +35,28 @@ unset logscale y
 set format y "% g"
 plot $d0 using 1:2 with linespoints pt 1 title 'e' noenhanced, $d1 using 1:2 with linespoints pt 2 title 'e_measured' noenhanced
 $d2 << EOD
-0.00452989 2.52141
-0.00496814 1.4014
-0.00458416 0.166416
-0.00488373 0.160631
-0.00492613 0.050635
-0.00477165 0.0118516
-0.00688655 0.0112263
-0.0103387 0.00318237
-0.0171451 0.00304819
+0.00345913 2.52141
+0.00376859 1.4014
+0.00354063 0.166416
+0.00372379 0.160631
+0.00407074 0.050635
+0.00479157 0.0118516
+0.00697644 0.0112263
+0.0106439 0.00318237
+0.0176774 0.00304819
 EOD
 $d3 << EOD
-0.0040543 2.52141
-0.00507138 1.4014
-0.00460598 0.166416
-0.00467977 0.160631
-0.00402978 0.050635
-0.00585546 0.0118516
-0.00686704 0.0112263
-0.010435 0.00318237
-0.0169014 0.00304819
+0.00344983 2.52141
+0.00376189 1.4014
+0.00356424 0.166416
+0.00370246 0.160631
+0.00403714 0.050635
+0.00480614 0.0118516
+0.00705204 0.0112263
+0.0105816 0.00318237
+0.0202505 0.00304819
 EOD
-set output 'fullstudy/cpu/ground_restitution_speed.png'
+set output 'docs/validation/cpu/ground_restitution_speed.png'
 set title 'Sphere–ground restitution and contact duration: error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|e_meas − e| / e (e = 0.5), mean of 8 entry phases' noenhanced
@@ -87,7 +87,7 @@ $d5 << EOD
 3.14159e-05 0.00318237
 1.5708e-05 0.00304819
 EOD
-set output 'fullstudy/cpu/ground_restitution_error_dt.png'
+set output 'docs/validation/cpu/ground_restitution_error_dt.png'
 set title 'Sphere–ground restitution and contact duration: error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|e_meas − e| / e (e = 0.5), mean of 8 entry phases' noenhanced
@@ -97,28 +97,28 @@ set logscale y
 set format y "%.0e"
 plot $d4 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d5 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
 $d6 << EOD
-0.00325674 2.52143
-0.00360736 1.03854
-0.00396471 0.166422
-0.0044964 0.160631
-0.00534082 0.0600773
-0.00651848 0.00340488
-0.00966287 0.0098733
-0.0145505 0.00149962
-0.0241303 0.00304566
+0.00338745 2.52143
+0.00394443 1.03854
+0.00409968 0.166422
+0.0045276 0.160631
+0.00769426 0.0600773
+0.00885606 0.00340488
+0.00980692 0.0098733
+0.0144234 0.00149962
+0.0272958 0.00304566
 EOD
 $d7 << EOD
-0.00322574 2.52143
-0.00359946 1.03854
-0.00395645 0.166422
-0.00449244 0.160631
-0.00530302 0.0600773
-0.00654158 0.00340488
-0.0096505 0.0098733
-0.0144947 0.00149962
-0.0239192 0.00304566
+0.00336051 2.52143
+0.00377402 1.03854
+0.00406367 0.166422
+0.00457538 0.160631
+0.00714442 0.0600773
+0.0067307 0.00340488
+0.00958873 0.0098733
+0.0148235 0.00149962
+0.0253416 0.00304566
 EOD
-set output 'fullstudy/cpu/sphere_sphere_speed.png'
+set output 'docs/validation/cpu/sphere_sphere_speed.png'
 set title 'Sphere–sphere restitution through η, and momentum: error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|e_meas − e| / e (e = 0.5), mean of 8 entry phases' noenhanced
@@ -149,7 +149,7 @@ $d9 << EOD
 2.5651e-05 0.00149962
 1.28255e-05 0.00304566
 EOD
-set output 'fullstudy/cpu/sphere_sphere_error_dt.png'
+set output 'docs/validation/cpu/sphere_sphere_error_dt.png'
 set title 'Sphere–sphere restitution through η, and momentum: error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|e_meas − e| / e (e = 0.5), mean of 8 entry phases' noenhanced
@@ -159,24 +159,24 @@ set logscale y
 set format y "%.0e"
 plot $d8 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d9 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
 $d10 << EOD
-2.2042e-05 0.0980985
-2.9914e-05 0.0490515
-4.5367e-05 0.024523
-9.0555e-05 0.00979806
-0.000171345 0.00490047
-0.000320026 0.00250293
-0.0007932 0.001045
+2.2874e-05 0.0980985
+3.0966e-05 0.0490515
+4.725e-05 0.024523
+9.5633e-05 0.00979806
+0.000178746 0.00490047
+0.000344843 0.00250293
+0.00083374 0.001045
 EOD
 $d11 << EOD
-2.2103e-05 0.0980985
-2.9774e-05 0.0490515
-4.6088e-05 0.024523
-9.1806e-05 0.00979806
-0.000170504 0.00490047
-0.000321989 0.00250293
-0.000809654 0.001045
+2.2924e-05 0.0980985
+3.1116e-05 0.0490515
+4.686e-05 0.024523
+9.6153e-05 0.00979806
+0.000177283 0.00490047
+0.000340787 0.00250293
+0.00101039 0.001045
 EOD
-set output 'fullstudy/cpu/free_fall_speed.png'
+set output 'docs/validation/cpu/free_fall_speed.png'
 set title 'Free fall: error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|z − (−½ g t²)| at t = 1 s [m]' noenhanced
@@ -203,7 +203,7 @@ $d13 << EOD
 0.0005 0.00250293
 0.0002 0.001045
 EOD
-set output 'fullstudy/cpu/free_fall_error_dt.png'
+set output 'docs/validation/cpu/free_fall_error_dt.png'
 set title 'Free fall: error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|z − (−½ g t²)| at t = 1 s [m]' noenhanced
@@ -213,28 +213,28 @@ set logscale y
 set format y "%.0e"
 plot $d12 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d13 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
 $d14 << EOD
-4.54154e-05 688.598
-5.54668e-05 0.00607133
-9.36677e-05 0.00271595
-0.000121995 1.8252e-05
-0.000204226 1.8252e-05
-0.000363028 5.76968e-05
-0.000848537 0.00017015
-0.00216019 0.000437441
-0.00339966 0.000853689
+5.04123e-05 688.598
+5.92657e-05 0.00607133
+9.65935e-05 0.00271595
+0.000126214 1.8252e-05
+0.000216921 1.8252e-05
+0.000383195 5.76968e-05
+0.00091375 0.00017015
+0.00181919 0.000437441
+0.00360028 0.000853689
 EOD
 $d15 << EOD
-4.53718e-05 688.598
-5.60708e-05 0.00607133
-9.32483e-05 0.00271595
-0.000121107 1.8252e-05
-0.000202152 1.8252e-05
-0.000359584 5.76968e-05
-0.000881855 0.00017015
-0.00220651 0.000437441
-0.0032752 0.000853689
+4.85157e-05 688.598
+5.92939e-05 0.00607133
+0.000100023 0.00271595
+0.000126294 1.8252e-05
+0.000215206 1.8252e-05
+0.000382559 5.76968e-05
+0.000952658 0.00017015
+0.00175849 0.000437441
+0.00340516 0.000853689
 EOD
-set output 'fullstudy/cpu/resting_penetration_speed.png'
+set output 'docs/validation/cpu/resting_penetration_speed.png'
 set title 'Resting penetration mg/k: error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|δ − mg/k| / (mg/k), k = 1e5' noenhanced
@@ -265,7 +265,7 @@ $d17 << EOD
 9.93459e-05 0.000437441
 4.96729e-05 0.000853689
 EOD
-set output 'fullstudy/cpu/resting_penetration_error_dt.png'
+set output 'docs/validation/cpu/resting_penetration_error_dt.png'
 set title 'Resting penetration mg/k: error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|δ − mg/k| / (mg/k), k = 1e5' noenhanced
@@ -275,28 +275,28 @@ set logscale y
 set format y "%.0e"
 plot $d16 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d17 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
 $d18 << EOD
-0.000239689 0.109408
-0.000290447 0.0244003
-0.000545111 0.00459837
-0.000796374 0.00307765
-0.0015795 0.00156505
-0.00350703 0.00077743
-0.00840484 0.000398019
-0.0174596 0.000123419
-0.033039 0.000307387
+0.00025115 0.109408
+0.000301988 0.0244003
+0.000561633 0.00459837
+0.000819217 0.00307765
+0.00156398 0.00156505
+0.00324171 0.00077743
+0.00829411 0.000398019
+0.0164199 0.000123419
+0.03246 0.000307387
 EOD
 $d19 << EOD
-0.000508488 0.0412054
-0.00034319 0.103507
-0.000618684 0.00459837
-0.000923307 0.00307765
-0.00246118 0.00156505
-0.00362729 0.00077743
-0.00968396 0.000397946
-0.0245808 0.000123419
-0.0405861 0.000307387
+0.000530685 0.0412054
+0.000355444 0.103507
+0.00063748 0.00459837
+0.000926688 0.00307765
+0.00180327 0.00156505
+0.0036325 0.00077743
+0.00905603 0.000397946
+0.018512 0.000123419
+0.0367463 0.000307387
 EOD
-set output 'fullstudy/cpu/block_sliding_speed.png'
+set output 'docs/validation/cpu/block_sliding_speed.png'
 set title 'Block sliding to rest (Coulomb friction): error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|d − v0²/(2μg)| / d (v0 = 1 m/s)' noenhanced
@@ -327,7 +327,7 @@ $d21 << EOD
 3.14159e-05 0.000123419
 1.5708e-05 0.000307387
 EOD
-set output 'fullstudy/cpu/block_sliding_error_dt.png'
+set output 'docs/validation/cpu/block_sliding_error_dt.png'
 set title 'Block sliding to rest (Coulomb friction): error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|d − v0²/(2μg)| / d (v0 = 1 m/s)' noenhanced
@@ -354,7 +354,7 @@ $d23 << EOD
 45 3.46836
 60 6.04321
 EOD
-set output 'fullstudy/cpu/slope_accel.png'
+set output 'docs/validation/cpu/slope_accel.png'
 set title 'Plate on a slope (μ = 0.5): acceleration' noenhanced
 set xlabel 'slope angle [deg]' noenhanced
 set ylabel 'acceleration along the slope [m/s²]' noenhanced
@@ -364,28 +364,28 @@ unset logscale y
 set format y "% g"
 plot $d22 using 1:2 with linespoints pt 1 title 'accel_measured' noenhanced, $d23 using 1:2 with linespoints pt 2 title 'accel_expected' noenhanced
 $d24 << EOD
-0.000449319 0.498752
-0.000362756 0.136074
-0.000723265 0.000910666
-0.00107241 0.000304522
-0.00204912 0.000317293
-0.00404404 3.23658e-06
-0.0107069 5.96711e-05
-0.0177164 5.9597e-05
-0.0302827 2.82543e-05
+0.000359928 0.498752
+0.0002799 0.136074
+0.000525416 0.000910666
+0.000779032 0.000304522
+0.00151607 0.000317293
+0.00311224 3.23658e-06
+0.00776952 5.96711e-05
+0.0158758 5.9597e-05
+0.0314881 2.82543e-05
 EOD
 $d25 << EOD
-0.00052121 0.789595
-0.000415964 0.50265
-0.000824234 0.000910666
-0.00120049 0.000304522
-0.00235488 0.000317293
-0.00467726 3.23658e-06
-0.00965303 5.96711e-05
-0.0224385 5.9597e-05
-0.0357669 2.82543e-05
+0.00041505 0.789595
+0.000339841 0.50265
+0.000602845 0.000910666
+0.000899305 0.000304522
+0.00178244 0.000317293
+0.00361052 3.23658e-06
+0.00978715 5.96711e-05
+0.0184812 5.9597e-05
+0.0357452 2.82543e-05
 EOD
-set output 'fullstudy/cpu/slope_speed.png'
+set output 'docs/validation/cpu/slope_speed.png'
 set title 'Body on a slope: stick below the friction angle, slide above: error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|a − g(sin θ − μ cos θ)| / a at 35°' noenhanced
@@ -416,7 +416,7 @@ $d27 << EOD
 3.14159e-05 5.9597e-05
 1.5708e-05 2.82543e-05
 EOD
-set output 'fullstudy/cpu/slope_error_dt.png'
+set output 'docs/validation/cpu/slope_error_dt.png'
 set title 'Body on a slope: stick below the friction angle, slide above: error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|a − g(sin θ − μ cos θ)| / a at 35°' noenhanced
@@ -473,7 +473,7 @@ $d31 << EOD
 60 7.51434
 70 8.54799
 EOD
-set output 'fullstudy/cpu/sphere_slope_accel.png'
+set output 'docs/validation/cpu/sphere_slope_accel.png'
 set title 'Sphere on a slope (μ = 0.2): acceleration' noenhanced
 set xlabel 'slope angle [deg]' noenhanced
 set ylabel 'acceleration along the slope [m/s²]' noenhanced
@@ -483,28 +483,28 @@ unset logscale y
 set format y "% g"
 plot $d28 using 1:2 with linespoints pt 1 title 'accel_solid_sphere' noenhanced, $d29 using 1:2 with linespoints pt 2 title 'accel_model' noenhanced, $d30 using 1:2 with linespoints pt 3 title 'accel_sphere' noenhanced, $d31 using 1:2 with linespoints pt 4 title 'accel_ball' noenhanced
 $d32 << EOD
-9.49884e-05 0.101738
-9.81529e-05 0.0157585
-0.000146152 0.00339579
-0.000211097 8.04501e-05
-0.000385116 9.18873e-05
-0.000737693 7.6447e-05
-0.00170703 0.000562704
-0.00350648 0.000137954
-0.00690831 0.000137954
+0.000113189 0.101738
+7.93687e-05 0.0157585
+0.000115831 0.00339579
+0.000202957 8.04501e-05
+0.000387099 9.18873e-05
+0.00073587 7.6447e-05
+0.00136029 0.000562704
+0.00264161 0.000137954
+0.00527793 0.000137954
 EOD
 $d33 << EOD
-0.000104547 0.101738
-0.000114324 0.0157585
-0.000185096 0.00339579
-0.000242519 8.04501e-05
-0.000471976 9.18873e-05
-0.000861566 7.6447e-05
-0.00210782 0.000562704
-0.00421633 0.000137954
-0.00871397 0.000137954
+8.57274e-05 0.101738
+9.28449e-05 0.0157585
+0.000142454 0.00339579
+0.0002431 8.04501e-05
+0.000466245 9.18873e-05
+0.000866572 7.6447e-05
+0.00171286 0.000562704
+0.00336762 0.000137954
+0.00681165 0.000137954
 EOD
-set output 'fullstudy/cpu/sphere_slope_speed.png'
+set output 'docs/validation/cpu/sphere_slope_speed.png'
 set title 'Sphere on a slope: rolling or sliding: error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|a − g(sin θ − μ cos θ)| / a, ball clump at 50°' noenhanced
@@ -535,7 +535,7 @@ $d35 << EOD
 9.93459e-05 0.000137954
 4.96729e-05 0.000137954
 EOD
-set output 'fullstudy/cpu/sphere_slope_error_dt.png'
+set output 'docs/validation/cpu/sphere_slope_error_dt.png'
 set title 'Sphere on a slope: rolling or sliding: error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|a − g(sin θ − μ cos θ)| / a, ball clump at 50°' noenhanced
@@ -1348,7 +1348,7 @@ $d37 << EOD
 59.85 1.08766e-05
 60 7.77126e-06
 EOD
-set output 'fullstudy/cpu/torque_free_energy.png'
+set output 'docs/validation/cpu/torque_free_energy.png'
 set title 'Torque-free clump: kinetic energy (dt = 2e-4 s)' noenhanced
 set xlabel 't [s]' noenhanced
 set ylabel '(E − E0)/E0' noenhanced
@@ -1358,24 +1358,24 @@ unset logscale y
 set format y "% g"
 plot $d36 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d37 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
 $d38 << EOD
-0.00064379 1.14612
-0.000916831 1.14612
-0.000852323 1.146
-0.00083941 0.949935
-0.00091258 0.297537
-0.00127269 0.0796231
-0.00252752 0.0204974
+0.000659918 1.14612
+0.000656048 1.14612
+0.000670682 1.146
+0.000845715 0.949935
+0.000902646 0.297537
+0.00126341 0.0796231
+0.00238397 0.0204974
 EOD
 $d39 << EOD
-0.000386326 0.000183307
-0.000501036 4.63218e-05
-0.000630827 1.31668e-05
-0.000764884 2.66635e-05
-0.000973453 3.16955e-05
-0.00142494 6.50763e-05
-0.00322581 5.44002e-05
+0.000351387 0.000183307
+0.000479323 4.63218e-05
+0.000579357 1.31668e-05
+0.000730597 2.66635e-05
+0.000989647 3.16955e-05
+0.00137215 6.50763e-05
+0.00275416 5.44002e-05
 EOD
-set output 'fullstudy/cpu/torque_free_speed.png'
+set output 'docs/validation/cpu/torque_free_speed.png'
 set title 'Torque-free asymmetric clump: error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel 'max |E − E0|/E0 over the horizon' noenhanced
@@ -1402,7 +1402,7 @@ $d41 << EOD
 0.0005 6.50763e-05
 0.0002 5.44002e-05
 EOD
-set output 'fullstudy/cpu/torque_free_error_dt.png'
+set output 'docs/validation/cpu/torque_free_error_dt.png'
 set title 'Torque-free asymmetric clump: error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel 'max |E − E0|/E0 over the horizon' noenhanced
@@ -1444,7 +1444,7 @@ $d44 << EOD
 70 3.43134
 80 3.72221
 EOD
-set output 'fullstudy/cpu/chung_ooi_vt.png'
+set output 'docs/validation/cpu/chung_ooi_vt.png'
 set title 'Oblique impact: tangential velocity after impact' noenhanced
 set xlabel 'impact angle from the normal [deg]' noenhanced
 set ylabel 'v_t'' [m/s]' noenhanced
@@ -1475,7 +1475,7 @@ $d46 << EOD
 70 232.947
 80 118.466
 EOD
-set output 'fullstudy/cpu/chung_ooi_spin.png'
+set output 'docs/validation/cpu/chung_ooi_spin.png'
 set title 'Oblique impact: spin after impact' noenhanced
 set xlabel 'impact angle from the normal [deg]' noenhanced
 set ylabel 'ω'' [rad/s]' noenhanced
@@ -1485,28 +1485,28 @@ unset logscale y
 set format y "% g"
 plot $d45 using 1:2 with linespoints pt 1 title 'omega_theory' noenhanced, $d46 using 1:2 with linespoints pt 2 title 'omega_ball' noenhanced
 $d47 << EOD
-0.183133 0.374688
-0.197597 0.134986
-0.214259 0.0159272
-0.233307 0.00915657
-0.271665 0.00265131
-0.343081 0.00159565
-0.609688 0.00117618
-0.810513 0.00113027
-1.66363 0.00105132
+0.190308 0.374688
+0.211533 0.134986
+0.219429 0.0159272
+0.238148 0.00915657
+0.29781 0.00265131
+0.351487 0.00159565
+0.519322 0.00117618
+0.839559 0.00113027
+1.39335 0.00105132
 EOD
 $d48 << EOD
-0.186963 0.374688
-0.203126 0.134986
-0.221525 0.0159272
-0.241385 0.00915657
-0.288251 0.00265131
-0.374908 0.00159565
-0.602473 0.00117618
-1.00749 0.00113027
-2.04256 0.00105132
+0.194347 0.374688
+0.229335 0.134986
+0.224932 0.0159272
+0.24858 0.00915657
+0.292807 0.00265131
+0.371859 0.00159565
+0.598899 0.00117618
+1.00755 0.00113027
+1.84089 0.00105132
 EOD
-set output 'fullstudy/cpu/chung_ooi_speed.png'
+set output 'docs/validation/cpu/chung_ooi_speed.png'
 set title 'Oblique sphere–wall impact (after Chung & Ooi 2011, tests 3 and 4): error against cost' noenhanced
 set xlabel 'wall time per simulated second [s] (1 thread)' noenhanced
 set ylabel '|v_t'' − theory| / (μ(1+e)v_n), ball clump at 60°, mean of 8 entry phases' noenhanced
@@ -1537,7 +1537,7 @@ $d50 << EOD
 5.08316e-07 0.00113027
 2.54158e-07 0.00105132
 EOD
-set output 'fullstudy/cpu/chung_ooi_error_dt.png'
+set output 'docs/validation/cpu/chung_ooi_error_dt.png'
 set title 'Oblique sphere–wall impact (after Chung & Ooi 2011, tests 3 and 4): error against dt' noenhanced
 set xlabel 'dt [s]' noenhanced
 set ylabel '|v_t'' − theory| / (μ(1+e)v_n), ball clump at 60°, mean of 8 entry phases' noenhanced
@@ -1606,7 +1606,7 @@ $d54 << EOD
 14 7
 20 13
 EOD
-set output 'fullstudy/cpu/hooke_oblique_slip.png'
+set output 'docs/validation/cpu/hooke_oblique_slip.png'
 set title 'hooke-history oblique impact: slip after against slip before' noenhanced
 set xlabel 'ψ = slip before / (μ v_n)' noenhanced
 set ylabel 'ψ'' = slip after / (μ v_n)' noenhanced
@@ -1616,6 +1616,224 @@ unset logscale y
 set format y "% g"
 plot $d51 using 1:2 with linespoints pt 1 title 'psi_out' noenhanced, $d52 using 1:2 with linespoints pt 2 title 'psi_out_stick' noenhanced, $d53 using 1:2 with linespoints pt 3 title 'psi_out_slide' noenhanced, $d54 using 1:2 with linespoints pt 4 title 'psi_out_rigid' noenhanced
 $d55 << EOD
+0.1 0.0998769
+0.2 0.199906
+0.3 0.299924
+0.4 0.399935
+0.5 0.499952
+0.6 0.599979
+0.7 0.700015
+0.8 0.800001
+0.9 0.900004
+1 1
+EOD
+set output 'docs/validation/cpu/hertz_chung_ooi_restitution.png'
+set title 'hertz-mindlin: restitution on a plane, measured against nominal' noenhanced
+set xlabel 'nominal e' noenhanced
+set ylabel 'measured e' noenhanced
+unset logscale x
+set format x "% g"
+unset logscale y
+set format y "% g"
+plot $d55 using 1:2 with linespoints pt 1 title 'e_measured' noenhanced
+$d56 << EOD
+0.1 0.0740232
+0.25 0.0254392
+0.5 0.0620137
+0.75 0.294764
+1 0.544764
+1.5 1.04476
+2 1.54476
+3 2.54476
+4 3.54476
+EOD
+$d57 << EOD
+0.1 0.0187835
+0.25 0.0309727
+0.5 0.272328
+0.75 0.522328
+1 0.772329
+1.5 1.27233
+2 1.77233
+3 2.77233
+4 3.77233
+EOD
+$d58 << EOD
+0.1 -0.0443989
+0.25 -0.139257
+0.5 0.095451
+0.75 0.345451
+1 0.595451
+1.5 1.09545
+2 1.59545
+3 2.59545
+4 3.59545
+EOD
+$d59 << EOD
+0.75 0.294598
+1 0.544598
+1.5 1.0446
+2 1.5446
+3 2.5446
+4 3.5446
+EOD
+$d60 << EOD
+0.5 0.272232
+0.75 0.522232
+1 0.772232
+1.5 1.27223
+2 1.77223
+3 2.77223
+4 3.77223
+EOD
+$d61 << EOD
+0.5 0.0952437
+0.75 0.345244
+1 0.595244
+1.5 1.09524
+2 1.59524
+3 2.59524
+4 3.59524
+EOD
+set output 'docs/validation/cpu/hertz_chung_ooi_spin.png'
+set title 'hertz-mindlin: spin after impacts with spin (tests 5, 7, 8)' noenhanced
+set xlabel 'ω₀ R / v_n before' noenhanced
+set ylabel 'ω'' R / v_n after' noenhanced
+unset logscale x
+set format x "% g"
+unset logscale y
+set format y "% g"
+plot $d56 using 1:2 with linespoints pt 1 title 'omega_out_R_over_vn, test = 5' noenhanced, $d57 using 1:2 with linespoints pt 2 title 'omega_out_R_over_vn, test = 7' noenhanced, $d58 using 1:2 with linespoints pt 3 title 'omega_out_R_over_vn, test = 8' noenhanced, $d59 using 1:2 with linespoints pt 4 title 'omega_out_sliding_theory, test = 5' noenhanced, $d60 using 1:2 with linespoints pt 5 title 'omega_out_sliding_theory, test = 7' noenhanced, $d61 using 1:2 with linespoints pt 6 title 'omega_out_sliding_theory, test = 8' noenhanced
+$d62 << EOD
+2 2.00271
+5 18.3748
+10 202.028
+15 370.479
+20 504.006
+25 594.609
+30 614.538
+40 543.686
+50 456.27
+60 354.974
+70 242.864
+80 123.334
+85 61.9111
+EOD
+$d63 << EOD
+2 38.888
+5 97.1164
+10 193.494
+15 288.398
+20 381.108
+25 470.917
+30 557.143
+40 544.221
+50 456.655
+60 355.215
+70 242.98
+80 123.365
+85 61.9179
+EOD
+set output 'docs/validation/cpu/hertz_chung_ooi_oblique_spin.png'
+set title 'hertz-mindlin: spin after an oblique impact on a plane' noenhanced
+set xlabel 'incident angle from the normal (°)' noenhanced
+set ylabel 'ω'' (rad/s)' noenhanced
+unset logscale x
+set format x "% g"
+unset logscale y
+set format y "% g"
+plot $d62 using 1:2 with linespoints pt 1 title 'omega' noenhanced, $d63 using 1:2 with linespoints pt 2 title 'omega_rigid' noenhanced
+$d64 << EOD
+2 0.948504
+5 0.810726
+10 -0.0445492
+15 -0.285139
+20 -0.322991
+25 -0.263116
+30 -0.103384
+40 0.240695
+50 0.46533
+60 0.632071
+70 0.76802
+80 0.887597
+85 0.944223
+EOD
+$d65 << EOD
+2 0
+5 0
+10 0
+15 0
+20 0
+25 0
+30 0
+40 0.240179
+50 0.465019
+60 0.631901
+70 0.767946
+80 0.88758
+85 0.94422
+EOD
+set output 'docs/validation/cpu/hertz_chung_ooi_oblique_slip.png'
+set title 'hertz-mindlin: tangential restitution of the contact point' noenhanced
+set xlabel 'incident angle from the normal (°)' noenhanced
+set ylabel '(v_t'' − ω'' R) / v_t' noenhanced
+unset logscale x
+set format x "% g"
+unset logscale y
+set format y "% g"
+plot $d64 using 1:2 with linespoints pt 1 title 'tangential_restitution' noenhanced, $d65 using 1:2 with linespoints pt 2 title 'tangential_restitution_rigid' noenhanced
+$d66 << EOD
+0.0206319 0.22409
+0.0618957 0.206749
+0.10316 0.190596
+0.144423 0.174199
+0.185687 0.151631
+0.226951 0.135679
+0.268215 0.116486
+0.309479 0.0970783
+0.350742 0.0771029
+0.392006 0.0578985
+0.43327 0.0405748
+0.474534 0.0213026
+EOD
+$d67 << EOD
+0.0153578 0.106486
+0.0460733 0.10739
+0.0767889 0.106729
+0.107504 0.0996435
+0.13822 0.0923908
+0.168935 0.0858695
+0.199651 0.0696171
+0.230367 0.0644616
+0.261082 0.0505604
+0.291798 0.0424639
+0.322513 0.0278999
+0.353229 0.0119911
+EOD
+$d68 << EOD
+0.0155778 0.110556
+0.0467335 0.117235
+0.0778892 0.108563
+0.109045 0.0987853
+0.140201 0.0990521
+0.171356 0.0835491
+0.202512 0.0762022
+0.233668 0.0610472
+0.264823 0.0574087
+0.295979 0.037717
+0.327135 0.0252465
+0.35829 0.011992
+EOD
+set output 'docs/validation/cpu/angle_of_repose_profile.png'
+set title 'surface of the heaps (highest centre per ring; law 0 hooke-history, 1 hertz-mindlin, -1 the 25° cone)' noenhanced
+set xlabel 'distance from the centre (m)' noenhanced
+set ylabel 'height of the highest centre (m)' noenhanced
+unset logscale x
+set format x "% g"
+unset logscale y
+set format y "% g"
+plot $d66 using 1:2 with linespoints pt 1 title 'law = -1' noenhanced, $d67 using 1:2 with linespoints pt 2 title 'law = 0' noenhanced, $d68 using 1:2 with linespoints pt 3 title 'law = 1' noenhanced
+$d69 << EOD
 0.1 1.00673
 0.3 1.04952
 0.5 1
@@ -1635,7 +1853,7 @@ $d55 << EOD
 1.1 50
 1.2 50
 EOD
-$d56 << EOD
+$d70 << EOD
 0.1 0.97395
 0.3 0.765325
 0.5 0.530853
@@ -1655,7 +1873,7 @@ $d56 << EOD
 1.1 50
 1.2 50
 EOD
-$d57 << EOD
+$d71 << EOD
 0.1 1.00618
 0.3 1.04882
 0.5 1.00767
@@ -1675,7 +1893,7 @@ $d57 << EOD
 1.1 50
 1.2 50
 EOD
-$d58 << EOD
+$d72 << EOD
 0.1 0.977782
 0.3 0.800665
 0.5 0.44643
@@ -1695,7 +1913,7 @@ $d58 << EOD
 1.1 50
 1.2 50
 EOD
-set output 'fullstudy/cpu/stiff_contact_limit_amplification.png'
+set output 'docs/validation/cpu/stiff_contact_limit_amplification.png'
 set title 'Growth of a 1 % perturbation of a resting contact vs dt/dt_c' noenhanced
 set xlabel 'dt / dt_c (analytic)' noenhanced
 set ylabel 'max |δ−δ_eq| / δ0 (capped at 50)' noenhanced
@@ -1703,8 +1921,8 @@ unset logscale x
 set format x "% g"
 set logscale y
 set format y "%.0e"
-plot $d55 using 1:2 with linespoints pt 1 title 'config = 0' noenhanced, $d56 using 1:2 with linespoints pt 2 title 'config = 1' noenhanced, $d57 using 1:2 with linespoints pt 3 title 'config = 2' noenhanced, $d58 using 1:2 with linespoints pt 4 title 'config = 3' noenhanced
-$d59 << EOD
+plot $d69 using 1:2 with linespoints pt 1 title 'config = 0' noenhanced, $d70 using 1:2 with linespoints pt 2 title 'config = 1' noenhanced, $d71 using 1:2 with linespoints pt 3 title 'config = 2' noenhanced, $d72 using 1:2 with linespoints pt 4 title 'config = 3' noenhanced
+$d73 << EOD
 0.1 1.00207
 0.1 1.00133
 0.1 1.00058
@@ -1962,7 +2180,7 @@ $d59 << EOD
 2.6 26.27
 2.6 30.7796
 EOD
-$d60 << EOD
+$d74 << EOD
 0.1 0.9975
 0.1 0.9975
 0.1 0.9975
@@ -2172,7 +2390,7 @@ $d60 << EOD
 1.98 0.0199
 1.98 0.0199
 EOD
-$d61 << EOD
+$d75 << EOD
 0.1 1.00251
 0.1 1.00251
 0.1 1.00251
@@ -2382,7 +2600,7 @@ $d61 << EOD
 1.98 50.2513
 1.98 50.2513
 EOD
-set output 'fullstudy/cpu/stiff_contact_limit_bounce.png'
+set output 'docs/validation/cpu/stiff_contact_limit_bounce.png'
 set title 'Undamped bounce: (v_out/v_in)² and the leapfrog bounds' noenhanced
 set xlabel 'ω dt' noenhanced
 set ylabel 'energy ratio' noenhanced
@@ -2390,8 +2608,8 @@ unset logscale x
 set format x "% g"
 set logscale y
 set format y "%.0e"
-plot $d59 using 1:2 with linespoints pt 1 title 'energy_ratio' noenhanced, $d60 using 1:2 with linespoints pt 2 title 'lower' noenhanced, $d61 using 1:2 with linespoints pt 3 title 'upper' noenhanced
-$d62 << EOD
+plot $d73 using 1:2 with linespoints pt 1 title 'energy_ratio' noenhanced, $d74 using 1:2 with linespoints pt 2 title 'lower' noenhanced, $d75 using 1:2 with linespoints pt 3 title 'upper' noenhanced
+$d76 << EOD
 0.000111072 9.83942
 0.0125511 9.82255
 0.0249912 9.75102
@@ -2795,7 +3013,7 @@ $d62 << EOD
 4.97614 9.35729
 4.98858 9.35729
 EOD
-set output 'fullstudy/cpu/mass_ratio_1000_energy_A.png'
+set output 'docs/validation/cpu/mass_ratio_1000_energy_A.png'
 set title 'Light (0.01 kg) on heavy (10 kg): energy while settling' noenhanced
 set xlabel 't [s]' noenhanced
 set ylabel 'E [J]' noenhanced
@@ -2803,8 +3021,8 @@ unset logscale x
 set format x "% g"
 unset logscale y
 set format y "% g"
-plot $d62 using 1:2 with linespoints pt 1 title 'E' noenhanced
-$d63 << EOD
+plot $d76 using 1:2 with linespoints pt 1 title 'E' noenhanced
+$d77 << EOD
 0.00351241 9.83356
 0.0140496 9.80239
 0.0245869 9.73544
@@ -2834,7 +3052,7 @@ $d63 << EOD
 0.27748 9.36455
 0.288017 9.79461
 EOD
-set output 'fullstudy/cpu/mass_ratio_1000_energy_C.png'
+set output 'docs/validation/cpu/mass_ratio_1000_energy_C.png'
 set title 'Same at the heavy pair''s dt (h > h_c): energy grows' noenhanced
 set xlabel 't [s]' noenhanced
 set ylabel 'E [J]' noenhanced
@@ -2842,8 +3060,8 @@ unset logscale x
 set format x "% g"
 unset logscale y
 set format y "% g"
-plot $d63 using 1:2 with linespoints pt 1 title 'E' noenhanced
-$d64 << EOD
+plot $d77 using 1:2 with linespoints pt 1 title 'E' noenhanced
+$d78 << EOD
 0.00999649 0.0974544
 0.019993 0.325036
 0.0299895 0.589157
@@ -3257,7 +3475,7 @@ $d64 << EOD
 4.10856 1.03509e-05
 4.11855 1.03699e-05
 EOD
-set output 'fullstudy/cpu/tower_50_kinetic_energy.png'
+set output 'docs/validation/cpu/tower_50_kinetic_energy.png'
 set title 'Tower of 50 clumps: kinetic energy / released energy' noenhanced
 set xlabel 't [s]' noenhanced
 set ylabel 'KE / ΔE' noenhanced
@@ -3265,8 +3483,8 @@ unset logscale x
 set format x "% g"
 set logscale y
 set format y "%.0e"
-plot $d64 using 1:2 with linespoints pt 1 title 'KE_over_dE' noenhanced
-$d65 << EOD
+plot $d78 using 1:2 with linespoints pt 1 title 'KE_over_dE' noenhanced
+$d79 << EOD
 0 0.000490502
 1 0.000480559
 2 0.000470884
@@ -3318,7 +3536,7 @@ $d65 << EOD
 48 1.96472e-05
 49 9.6336e-06
 EOD
-$d66 << EOD
+$d80 << EOD
 0 0.0004905
 1 0.00048069
 2 0.00047088
@@ -3370,7 +3588,7 @@ $d66 << EOD
 48 1.962e-05
 49 9.81e-06
 EOD
-set output 'fullstudy/cpu/tower_50_overlaps.png'
+set output 'docs/validation/cpu/tower_50_overlaps.png'
 set title 'Tower: overlap under each layer, measured and analytic' noenhanced
 set xlabel 'layer (0 = ground contact)' noenhanced
 set ylabel 'overlap [m]' noenhanced
@@ -3378,8 +3596,8 @@ unset logscale x
 set format x "% g"
 unset logscale y
 set format y "% g"
-plot $d65 using 1:2 with linespoints pt 1 title 'gap_overlap' noenhanced, $d66 using 1:2 with linespoints pt 2 title 'overlap_analytic' noenhanced
-$d67 << EOD
+plot $d79 using 1:2 with linespoints pt 1 title 'gap_overlap' noenhanced, $d80 using 1:2 with linespoints pt 2 title 'overlap_analytic' noenhanced
+$d81 << EOD
 0.02 0
 0.0229103 0
 0.0262441 0
@@ -3427,7 +3645,7 @@ $d67 << EOD
 3.49188 1
 4 1
 EOD
-$d68 << EOD
+$d82 << EOD
 0.02 0
 0.0229103 0
 0.0262441 0
@@ -3475,7 +3693,7 @@ $d68 << EOD
 3.49188 1
 4 1
 EOD
-$d69 << EOD
+$d83 << EOD
 0.02 0
 0.0229103 0
 0.0262441 0
@@ -3523,7 +3741,7 @@ $d69 << EOD
 3.49188 1
 4 1
 EOD
-$d70 << EOD
+$d84 << EOD
 0.02 0
 0.0229103 0
 0.0262441 0
@@ -3571,7 +3789,7 @@ $d70 << EOD
 3.49188 1
 4 1
 EOD
-set output 'fullstudy/cpu/tunnelling_pair.png'
+set output 'docs/validation/cpu/tunnelling_pair.png'
 set title 'Head-on pair: fraction of entry phases that tunnel' noenhanced
 set xlabel 'v dt / (r_i + r_j)' noenhanced
 set ylabel 'fraction tunnelled' noenhanced
@@ -3579,8 +3797,8 @@ set logscale x
 set format x "%.0e"
 unset logscale y
 set format y "% g"
-plot $d67 using 1:2 with linespoints pt 1 title 'h = 0.15708' noenhanced, $d68 using 1:2 with linespoints pt 2 title 'h = 0.5' noenhanced, $d69 using 1:2 with linespoints pt 3 title 'h = 1' noenhanced, $d70 using 1:2 with linespoints pt 4 title 'h = 1.5' noenhanced
-$d71 << EOD
+plot $d81 using 1:2 with linespoints pt 1 title 'h = 0.15708' noenhanced, $d82 using 1:2 with linespoints pt 2 title 'h = 0.5' noenhanced, $d83 using 1:2 with linespoints pt 3 title 'h = 1' noenhanced, $d84 using 1:2 with linespoints pt 4 title 'h = 1.5' noenhanced
+$d85 << EOD
 0.0002 0.00164854
 0.0005 0.00345102
 0.001 0.00819072
@@ -3594,7 +3812,7 @@ $d71 << EOD
 0.3 2.51009
 0.5 1.55295
 EOD
-$d72 << EOD
+$d86 << EOD
 0.0002 0.00041596
 0.0005 6.70898e-05
 0.001 4.66533e-05
@@ -3608,7 +3826,7 @@ $d72 << EOD
 0.3 0.032712
 0.5 0.0840805
 EOD
-set output 'fullstudy/cpu/fast_spin_angle.png'
+set output 'docs/validation/cpu/fast_spin_angle.png'
 set title 'Orientation error after Φ rad of rotation vs ω dt' noenhanced
 set xlabel 'ω dt' noenhanced
 set ylabel 'angle error [rad]' noenhanced
@@ -3616,8 +3834,8 @@ set logscale x
 set format x "%.0e"
 set logscale y
 set format y "%.0e"
-plot $d71 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d72 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
-$d73 << EOD
+plot $d85 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d86 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
+$d87 << EOD
 0.0002 0.00011299
 0.0005 0.000235453
 0.001 0.000559374
@@ -3631,7 +3849,7 @@ $d73 << EOD
 0.3 1.14728
 0.5 1.21243
 EOD
-$d74 << EOD
+$d88 << EOD
 0.0002 3.02051e-05
 0.0005 9.48839e-06
 0.001 8.54467e-06
@@ -3645,7 +3863,7 @@ $d74 << EOD
 0.3 0.00188668
 0.5 0.00516528
 EOD
-set output 'fullstudy/cpu/fast_spin_energy.png'
+set output 'docs/validation/cpu/fast_spin_energy.png'
 set title 'Max kinetic-energy drift vs ω dt' noenhanced
 set xlabel 'ω dt' noenhanced
 set ylabel 'max |E − E0| / E0' noenhanced
@@ -3653,8 +3871,8 @@ set logscale x
 set format x "%.0e"
 set logscale y
 set format y "%.0e"
-plot $d73 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d74 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
-$d75 << EOD
+plot $d87 using 1:2 with linespoints pt 1 title 'report' noenhanced, $d88 using 1:2 with linespoints pt 2 title 'splitting' noenhanced
+$d89 << EOD
 0.01 0.00999999
 0.02 0.02
 0.03 0.03
@@ -3856,7 +4074,7 @@ $d75 << EOD
 1.99 1.06779
 2 1.06773
 EOD
-$d76 << EOD
+$d90 << EOD
 0.01 0.00999999
 0.02 0.02
 0.03 0.03
@@ -4058,7 +4276,7 @@ $d76 << EOD
 1.99 1.06779
 2 1.06773
 EOD
-$d77 << EOD
+$d91 << EOD
 0.01 0.00999999
 0.02 0.02
 0.03 0.03
@@ -4260,7 +4478,7 @@ $d77 << EOD
 1.99 1.06779
 2 1.06773
 EOD
-$d78 << EOD
+$d92 << EOD
 0.01 0.00999999
 0.02 0.02
 0.03 0.03
@@ -4462,7 +4680,7 @@ $d78 << EOD
 1.99 1.06779
 2 1.06773
 EOD
-$d79 << EOD
+$d93 << EOD
 0.01 0.00999999
 0.02 0.02
 0.03 0.03
@@ -4664,7 +4882,7 @@ $d79 << EOD
 1.99 1.06779
 2 1.06773
 EOD
-$d80 << EOD
+$d94 << EOD
 0.01 0.00999999
 0.02 0.02
 0.03 0.03
@@ -4866,7 +5084,7 @@ $d80 << EOD
 1.99 1.06779
 2 1.06773
 EOD
-$d81 << EOD
+$d95 << EOD
 0.01 0.0100017
 0.02 0.0200033
 0.03 0.030005
@@ -5068,7 +5286,7 @@ $d81 << EOD
 1.99 1.06817
 2 1.0681
 EOD
-$d82 << EOD
+$d96 << EOD
 0.01 0.0100136
 0.02 0.0200272
 0.03 0.0300407
@@ -5270,7 +5488,7 @@ $d82 << EOD
 1.99 1.07087
 2 1.07077
 EOD
-$d83 << EOD
+$d97 << EOD
 0.01 0.00998688
 0.02 0.0199814
 0.03 0.0299683
@@ -5472,7 +5690,7 @@ $d83 << EOD
 1.99 1.06723
 2 1.06717
 EOD
-$d84 << EOD
+$d98 << EOD
 0.01 0.0100098
 0.02 0.0199585
 0.03 0.0299683
@@ -5674,7 +5892,7 @@ $d84 << EOD
 1.99 1.06726
 2 1.06714
 EOD
-$d85 << EOD
+$d99 << EOD
 0.01 0.00976562
 0.02 0.0195312
 0.03 0.0302734
@@ -5876,7 +6094,7 @@ $d85 << EOD
 1.99 1.06738
 2 1.06738
 EOD
-$d86 << EOD
+$d100 << EOD
 0.01 0.0078125
 0.02 0.0234375
 0.03 0.03125
@@ -6078,7 +6296,7 @@ $d86 << EOD
 1.99 1.07031
 2 1.07031
 EOD
-set output 'fullstudy/cpu/far_from_origin_trajectory.png'
+set output 'docs/validation/cpu/far_from_origin_trajectory.png'
 set title 'x displacement of body 0: origin run vs translated' noenhanced
 set xlabel 't [s]' noenhanced
 set ylabel 'x − x0 [m]' noenhanced
@@ -6086,8 +6304,8 @@ unset logscale x
 set format x "% g"
 unset logscale y
 set format y "% g"
-plot $d75 using 1:2 with linespoints pt 1 title 'dx_origin, offset = 1' noenhanced, $d76 using 1:2 with linespoints pt 2 title 'dx_origin, offset = 10' noenhanced, $d77 using 1:2 with linespoints pt 3 title 'dx_origin, offset = 100' noenhanced, $d78 using 1:2 with linespoints pt 4 title 'dx_origin, offset = 1000' noenhanced, $d79 using 1:2 with linespoints pt 5 title 'dx_origin, offset = 10000' noenhanced, $d80 using 1:2 with linespoints pt 6 title 'dx_origin, offset = 100000' noenhanced, $d81 using 1:2 with linespoints pt 7 title 'dx_far, offset = 1' noenhanced, $d82 using 1:2 with linespoints pt 8 title 'dx_far, offset = 10' noenhanced, $d83 using 1:2 with linespoints pt 9 title 'dx_far, offset = 100' noenhanced, $d84 using 1:2 with linespoints pt 10 title 'dx_far, offset = 1000' noenhanced, $d85 using 1:2 with linespoints pt 1 title 'dx_far, offset = 10000' noenhanced, $d86 using 1:2 with linespoints pt 2 title 'dx_far, offset = 100000' noenhanced
-$d87 << EOD
+plot $d89 using 1:2 with linespoints pt 1 title 'dx_origin, offset = 1' noenhanced, $d90 using 1:2 with linespoints pt 2 title 'dx_origin, offset = 10' noenhanced, $d91 using 1:2 with linespoints pt 3 title 'dx_origin, offset = 100' noenhanced, $d92 using 1:2 with linespoints pt 4 title 'dx_origin, offset = 1000' noenhanced, $d93 using 1:2 with linespoints pt 5 title 'dx_origin, offset = 10000' noenhanced, $d94 using 1:2 with linespoints pt 6 title 'dx_origin, offset = 100000' noenhanced, $d95 using 1:2 with linespoints pt 7 title 'dx_far, offset = 1' noenhanced, $d96 using 1:2 with linespoints pt 8 title 'dx_far, offset = 10' noenhanced, $d97 using 1:2 with linespoints pt 9 title 'dx_far, offset = 100' noenhanced, $d98 using 1:2 with linespoints pt 10 title 'dx_far, offset = 1000' noenhanced, $d99 using 1:2 with linespoints pt 1 title 'dx_far, offset = 10000' noenhanced, $d100 using 1:2 with linespoints pt 2 title 'dx_far, offset = 100000' noenhanced
+$d101 << EOD
 1 0.000531226
 10 0.00808764
 100 0.000650883
@@ -6095,7 +6313,7 @@ $d87 << EOD
 10000 0.00113475
 100000 0.00455189
 EOD
-$d88 << EOD
+$d102 << EOD
 1 0.0190735
 10 0.0286102
 100 0.0190811
@@ -6103,7 +6321,7 @@ $d88 << EOD
 10000 0.02005
 100000 0.026886
 EOD
-set output 'fullstudy/cpu/far_from_origin_deviation.png'
+set output 'docs/validation/cpu/far_from_origin_deviation.png'
 set title 'Max position deviation vs offset (and its bound)' noenhanced
 set xlabel 'offset [m]' noenhanced
 set ylabel 'm' noenhanced
@@ -6111,4 +6329,4 @@ set logscale x
 set format x "%.0e"
 set logscale y
 set format y "%.0e"
-plot $d87 using 1:2 with linespoints pt 1 title 'max_dev' noenhanced, $d88 using 1:2 with linespoints pt 2 title 'bound' noenhanced
+plot $d101 using 1:2 with linespoints pt 1 title 'max_dev' noenhanced, $d102 using 1:2 with linespoints pt 2 title 'bound' noenhanced
