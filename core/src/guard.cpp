@@ -288,12 +288,11 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     out.groundOverlap = false;
     const double mi = w.mass[ps.deepestI], mj = w.mass[ps.deepestJ], meff = mi * mj / (mi + mj);
     if (law.hertz) {
-      const std::size_t m = sc.materials.size();
       const double ri = w.radius[ps.deepestI], rj = w.radius[ps.deepestJ];
-      out.overlapContactTime = hertzTimeAtOverlap(
-          hertzStiffness(w.materialPairs[m > 1 ? w.material[ps.deepestI] * (m + 1) + w.material[ps.deepestJ] : 0],
-                         ri * rj / (ri + rj)),
-          meff, ps.maxOverlap * std::min(ri, rj));
+      const HertzPair& c =
+          w.materialPairs[materialPairIndex(w.material[ps.deepestI], w.material[ps.deepestJ], law.numMaterials)];
+      out.overlapContactTime =
+          hertzTimeAtOverlap(hertzStiffness(c, ri * rj / (ri + rj)), meff, ps.maxOverlap * std::min(ri, rj));
     } else {
       out.overlapContactTime = kPi * std::sqrt(meff / double(sc.contact.stiffness));
     }
@@ -310,8 +309,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
         const double e = errZ[w.body[i]] + floatRounding(groundZ);
         double K = 0.0;  // Hertz: F = K δ^{3/2}
         if (law.hertz) {
-          const std::size_t m = sc.materials.size();
-          K = hertzStiffness(w.materialPairs[(m > 1 ? w.material[i] : 0) * (m + 1) + m], w.radius[i]);
+          K = hertzStiffness(w.materialPairs[materialPairIndex(w.material[i], law.numMaterials, law.numMaterials)],
+                             w.radius[i]);
           a.springs += 0.4 * K * delta * delta * std::sqrt(delta);
           a.slack += K * (delta + e) * std::sqrt(delta + e) * e;
         } else {

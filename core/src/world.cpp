@@ -134,14 +134,14 @@ const char* toString(ContactLaw law) {
 
 std::string materialOutOfRange(const MaterialDef& m) {
   // Y* and G* of the material against itself and against a rigid ground (the largest it can meet).
-  for (const HertzPair& p : {materialPair(m, &m), materialPair(m, nullptr)})
-    if (!(std::isfinite(p.ystar) && std::isfinite(p.gstar) && p.ystar > 0.0f && p.gstar > 0.0f))
-    {
+  for (const HertzPair& p : {materialPair(m, &m), materialPair(m, nullptr)}) {
+    if (!(std::isfinite(p.ystar) && std::isfinite(p.gstar) && p.ystar > 0.0f && p.gstar > 0.0f)) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "its youngs_modulus %g gives an effective modulus beyond single precision; use "
                     "a smaller one", double(m.youngsModulus));
       return buf;
     }
+  }
   return {};
 }
 
@@ -330,19 +330,20 @@ World World::fromScene(const Scene& scene) {
     const std::size_t m = scene.materials.size();
     if (m == 0) throw Error(std::string("law \"") + toString(scene.contact.law) + "\" needs at least one [[material]]");
     if (m >= 65535) throw Error("too many materials (limit 65534)");
-    for (const MaterialDef& md : scene.materials)
+    for (const MaterialDef& md : scene.materials) {
       if (!(md.youngsModulus > 0.0f) || !(md.poissonRatio >= 0.0f && md.poissonRatio < 0.5f) ||
           !(md.restitution > 0.0f && md.restitution <= 1.0f) || !(md.friction >= 0.0f) || !(md.rollingFriction >= 0.0f))
         throw Error("material '" + md.name + "': needs youngs_modulus > 0, 0 <= poisson_ratio < 0.5, restitution in "
                     "(0, 1], friction >= 0 and rolling_friction >= 0");
-    for (const MaterialDef& md : scene.materials)
       if (const std::string why = materialOutOfRange(md); !why.empty()) throw Error("material '" + md.name + "': " + why);
+    }
     const int gm = scene.ground.material;
     if (gm >= int(m)) throw Error("the ground's material index is out of range");
     w.materialPairs.resize((m + 1) * (m + 1), HertzPair{0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
     for (std::size_t a = 0; a < m; ++a) {
-      for (std::size_t b = 0; b < m; ++b) w.materialPairs[a * (m + 1) + b] = materialPair(scene.materials[a], &scene.materials[b]);
-      HertzPair& ground = w.materialPairs[a * (m + 1) + m];
+      for (std::size_t b = 0; b < m; ++b)
+        w.materialPairs[materialPairIndex(a, b, m)] = materialPair(scene.materials[a], &scene.materials[b]);
+      HertzPair& ground = w.materialPairs[materialPairIndex(a, m, m)];
       ground = materialPair(scene.materials[a], gm >= 0 ? &scene.materials[gm] : nullptr);
       if (scene.ground.frictionOverride >= 0.0f) ground.mu = scene.ground.frictionOverride;
       if (scene.ground.rollingFriction >= 0.0f) ground.muR = scene.ground.rollingFriction;
@@ -392,8 +393,8 @@ double hertzContactTime(const World& w) {
     for (std::size_t b = a; b < m; ++b)
       if (std::isfinite(mMin[b]) && (a != b || w.numBodies() > 1))
         contact(mMin[a] * mMin[b] / (mMin[a] + mMin[b]), rMax[a] * rMax[b] / (rMax[a] + rMax[b]),
-                w.materialPairs[a * (m + 1) + b].ystar);
-    if (w.params.ground.enabled) contact(mMin[a], rMax[a], w.materialPairs[a * (m + 1) + m].ystar);
+                w.materialPairs[materialPairIndex(a, b, m)].ystar);
+    if (w.params.ground.enabled) contact(mMin[a], rMax[a], w.materialPairs[materialPairIndex(a, m, m)].ystar);
   }
   return tc;
 }

@@ -178,6 +178,17 @@ struct HertzPair {
   float muR;    ///< rolling resistance μ_r of the pair (0: none)
 };
 
+/// Where the pair of materials a, b sits in a table of m materials, (m + 1)² entries
+/// (World::materialPairs); b = m: material a on the ground.
+TUMBLE_HD_INLINE std::uint32_t materialPairIndex(std::uint32_t a, std::uint32_t b, std::uint32_t m) {
+  return a * (m + 1u) + b;
+}
+
+/// Particle i's material from a column that is nullptr when the scene has a single material.
+TUMBLE_HD_INLINE std::uint32_t materialOf(const std::uint16_t* material, std::uint32_t i) {
+  return material ? material[i] : 0u;
+}
+
 /// Hertz–Mindlin (LIGGGHTS `hertz` with tangential history) on particle i from an overlapping
 /// particle j or the ground, from the contact's kinematics, its effective radius R* and mass m*:
 ///   S_n = 2 Y* √(R* δ),  S_t = 8 G* √(R* δ)

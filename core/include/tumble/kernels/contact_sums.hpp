@@ -72,8 +72,9 @@ TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi
   if (delta <= 0.0) return;
   const double e = 1.8 * (errI + errJ);
   if (law.hertz != nullptr) {
-    const std::uint32_t pair = law.material ? law.material[i] * (law.numMaterials + 1u) + law.material[j] : 0u;
-    const double K = hertzStiffness(law.hertz[pair], double(ri) * rj / (double(ri) + rj));
+    const HertzPair& c =
+        law.hertz[materialPairIndex(materialOf(law.material, i), materialOf(law.material, j), law.numMaterials)];
+    const double K = hertzStiffness(c, double(ri) * rj / (double(ri) + rj));
     a.springs += 0.4 * K * delta * delta * sqrt(delta);
     a.slack += K * (delta + e) * sqrt(delta + e) * e;
   } else {

@@ -148,7 +148,8 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
                                fp.rollingFriction, fp.dt);
     } else if constexpr (kLaw == ContactLaw::HertzMindlin) {
       const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * pj.r) / (pi.r + pj.r);
-      const HertzPair& hp = v.hertz[v.material ? v.material[i] * (v.numMaterials + 1u) + v.material[j] : 0u];
+      const HertzPair& hp =
+          v.hertz[materialPairIndex(materialOf(v.material, i), materialOf(v.material, j), v.numMaterials)];
       cf = hertzMindlinForces(contactKinematics<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ), reff, meff, hp,
                               fp.dt, &v.history[e]);
       if (hp.muR > 0.0f) out.t += rollingTorque(side().omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
@@ -172,7 +173,7 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
       float tx = v.ground.tx[i], ty = v.ground.ty[i];
       float muR = fp.ground.rollingFriction;
       if constexpr (kLaw == ContactLaw::HertzMindlin) {
-        const HertzPair& hp = v.hertz[v.material ? v.material[i] * (v.numMaterials + 1u) + v.numMaterials : 1u];
+        const HertzPair& hp = v.hertz[materialPairIndex(materialOf(v.material, i), v.numMaterials, v.numMaterials)];
         gf = hertzGroundForces<kClumps>(xi, pi.r, side(), 1.0f / self.invMass, hp, fp.ground, fp.dt, &tx, &ty);
         muR = hp.muR;
       } else {
