@@ -98,11 +98,14 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cell
   // 3 diameters: measured best (docs/performance.md), of the typical radius; at least 1/32 of the
   // largest diameter, which bounds the records of the largest sphere; and at least 8 slacks, or
   // the margin alone spans many cells (radii below the slack's 1e-30 floor, or coordinates
-  // spread over far more than 10^5 radii).
+  // spread over far more than 10^5 radii). A cell size the user gives is raised to 8 slacks too
+  // (speed only): one particle 2e7 m from 258 others made the slack 19 m, each particle cover
+  // 4000 cells of 0.6 m and the sweep test every pair in each (found by the particle CSV fuzz
+  // target; 0.36 s and 130 MB, against 0.02 s with the automatic cells).
   const double typical = cellRadius > 0.0f ? double(cellRadius) : double(maxRadius);
-  double m = params.cellSize > 0.0f
-                 ? params.cellSize
-                 : std::max({6.0 * typical, 2.0 * double(maxRadius) / 32.0, 8.0 * double(f.slack)});
+  double m = std::max(params.cellSize > 0.0f ? double(params.cellSize)
+                                             : std::max(6.0 * typical, 2.0 * double(maxRadius) / 32.0),
+                      8.0 * double(f.slack));
   for (;;) {
     const double na = std::floor((ep + reach) / m) - std::floor(-(ep + reach) / m) + 3.0;
     const double nb = std::floor((eq + reach) / m) - std::floor(-(eq + reach) / m) + 3.0;

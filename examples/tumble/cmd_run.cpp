@@ -380,7 +380,7 @@ void addRun(CLI::App& app) {
   c->add_option("--resume", o->resume,
                 "Continue the run of SCENE from a checkpoint, bit for bit, up to step --steps (default: the "
                 "scene's steps); a --record file of the first part is continued");
-  c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 diameters of the 99th-percentile radius, at least 1/32 of the largest diameter and 8 rounding margins)");
+  c->add_option("--cell-size", o->cellSize, "Cell side M of the 2-D subdivision (0 = automatic: 3 diameters of the 99th-percentile radius, at least 1/32 of the largest diameter and 8 rounding margins; a given size is raised to 8 margins)");
   c->add_option("--pca-every", o->pcaEvery, "Recompute the PCA sweep axis every K detections");
   c->add_option("--skin", o->skin,
                 "Verlet skin: detect pairs within r_i + r_j + S and reuse them until two particles may have "

@@ -12,6 +12,7 @@
 #include "tumble/error.hpp"
 #include "tumble/kernels/cell_key.hpp"
 #include "tumble/random.hpp"
+#include "tumble/sweep_frame.hpp"
 #include "tumble/validation/brute_force.hpp"
 #include "tumble/validation/scenes.hpp"
 
@@ -167,6 +168,32 @@ TEST_P(PairsTest, OneFarParticle) {
   auto p = makePipeline(GetParam());
   expectSamePairs(*p, c, BroadphaseParams{}, "124 on a line, one 1e30 m away");
   EXPECT_EQ(bruteForcePairs(c).size(), 123u);
+}
+
+// The same with a cell size given: 258 spheres in a 3 m box and one 2e7 m away along z (the
+// particle CSV fuzz target's timeout). The margin is 19 m; cells of 0.6 m made each particle
+// cover 4000 cells and the sweep test every pair in each. The given cell is raised to 8 margins
+// (speed only: the same pairs).
+TEST_P(PairsTest, OneFarParticleWithAGivenCellSize) {
+  const std::uint64_t seed = 20261203;
+  std::printf("cloud seed %llu\n", static_cast<unsigned long long>(seed));
+  const ParticleCloud c = randomCloud(259, seed, 3.0f, 0.05f, 0.15f, 1);
+  ParticleCloud far = c;
+  far.z[104] = 2.0e7f;
+  auto p = makePipeline(GetParam());
+  BroadphaseParams bp;
+  bp.cellSize = 0.6f;
+  expectSamePairs(*p, c, bp, "259 in a box");
+  expectSamePairs(*p, far, bp, "258 in a box, one 2e7 m away");
+  tumble::detail::BoundsPartial b = tumble::detail::emptyBounds();
+  for (std::uint32_t i = 0; i < far.size(); ++i) tumble::detail::addParticle(b, i, far.x[i], far.y[i], far.z[i], far.r[i]);
+  SweepFrame f;
+  tumble::detail::computeFrame(b, Vec3f{0.0f, 0.0f, 1.0f}, 0.15f, 0.0f, bp, &f);
+  EXPECT_GT(f.slack, 10.0f);
+  EXPECT_GE(f.cellSize, 8.0f * f.slack) << "a given cell size below 8 rounding margins is raised to them";
+  bp.cellSize = 1.0e4f;
+  tumble::detail::computeFrame(b, Vec3f{0.0f, 0.0f, 1.0f}, 0.15f, 0.0f, bp, &f);
+  EXPECT_EQ(f.cellSize, 1.0e4f) << "a cell size above 8 margins is kept";
 }
 
 // A coordinate near the float limit makes v / M infinite or beyond the int32 range; the cell

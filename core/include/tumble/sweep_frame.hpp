@@ -75,7 +75,8 @@ Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std
 /// cell size and cell counts. Returns the number of cell bits of the sort key. The automatic
 /// cell size (params.cellSize 0) is 3 diameters of cellRadius (0: of maxRadius), but at least
 /// 1/32 of the largest diameter, so that one large sphere covers at most about 32 × 32 cells,
-/// and at least 8 slacks, so that the rounding margin alone never spans many cells.
+/// and at least 8 slacks, so that the rounding margin alone never spans many cells; a given
+/// cell size is raised to 8 slacks too (speed only).
 int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cellRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame);
 
