@@ -111,6 +111,17 @@ std::uint64_t physicsFingerprint(const Scene& s) {
   f.add(s.pulls.y);
   f.add(s.pulls.swirl);
   f.add(static_cast<std::uint32_t>(s.integrator.rotation));
+  if (!s.walls.empty()) {  // scenes without walls keep their fingerprints
+    f.add(static_cast<std::uint32_t>(s.walls.size()));
+    for (const WallDef& w : s.walls) {
+      f.add(w.point);
+      f.add(w.normal);
+      for (float v : {w.contact.stiffness, w.contact.friction, w.contact.tangentialStiffness, w.contact.rollingFriction,
+                      w.contact.frictionOverride})
+        f.add(v);
+      f.add(static_cast<std::uint32_t>(w.contact.material + 1));
+    }
+  }
   return f.value();
 }
 
@@ -148,8 +159,8 @@ void Checkpoint::write(const std::string& path) const {
                             static_cast<std::int64_t>(h.i));
   for (std::size_t i = 0; i < np; ++i)
     if (!std::isfinite(state.groundSpringX[i]) || !std::isfinite(state.groundSpringY[i]))
-      throw SimulationError("checkpoint " + path + " not written: the ground spring of particle " +
-                            std::to_string(i) + " is not finite (the run diverged)",
+      throw SimulationError("checkpoint " + path + " not written: the plane spring " + std::to_string(i) +
+                            " (plane-major) is not finite (the run diverged)",
                             static_cast<std::int64_t>(i));
   std::vector<std::uint8_t> buf;
   Encoder e(buf);
@@ -261,9 +272,11 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
   if (state.size() != world.numBodies())
     throw Error("the checkpoint holds " + std::to_string(state.size()) + " bodies, the scene has " +
                 std::to_string(world.numBodies()) + ": it was written by a run of another scene");
-  if (!state.groundSpringX.empty() && state.groundSpringX.size() != world.numParticles())
-    throw Error("the checkpoint holds " + std::to_string(state.groundSpringX.size()) + " particles, the scene has " +
-                std::to_string(world.numParticles()) + ": it was written by a run of another scene");
+  const std::size_t planes = world.params.planes().size();
+  if (!state.groundSpringX.empty() && state.groundSpringX.size() != world.numParticles() * planes)
+    throw Error("the checkpoint holds " + std::to_string(state.groundSpringX.size()) + " plane springs, the scene has " +
+                std::to_string(world.numParticles()) + " particles on " + std::to_string(planes) +
+                " planes (the ground and the walls): it was written by a run of another scene");
   for (const ContactHistory& h : state.contacts)  // sorted by (i, j): the largest j may be anywhere
     if (h.j >= world.numParticles())
       throw Error("the checkpoint's contact histories name particle " + std::to_string(h.j) + ", the scene has " +

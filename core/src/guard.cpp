@@ -125,8 +125,10 @@ RunGuard::RunGuard(const World& world, Pipeline& pipeline, GuardParams params) :
     m_initialWarning =
         s.groundOverlap
             ? "body " + std::to_string(s.overlapBody) +
-                  format(" starts %.0f%% of its radius below the ground", 100.0 * s.maxOverlap) + held +
-                  "raise it unless it is meant to start pressed into the ground"
+                  format(" starts %.0f%% of its radius ", 100.0 * s.maxOverlap) +
+                  (s.overlapPlane == "the ground" ? "below" : "inside") + " " + s.overlapPlane + held +
+                  (s.overlapPlane == "the ground" ? "raise" : "move") + " it unless it is meant to start pressed into " +
+                  s.overlapPlane
             : "bodies " + std::to_string(s.overlapBody) + " and " + std::to_string(s.overlapOther) +
                   format(" start overlapping by %.0f%% of the smaller radius", 100.0 * s.maxOverlap) + held +
                   "separate them unless they are meant to start pressed together";
@@ -144,9 +146,10 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   pipeline.readLocalState(m_state);
   const BodyState& s = m_state;
   const Scene& sc = w.params;
-  // The ground height as the pipeline uses it (toLocal rounds h − o_z to float).
-  const double groundZ =
-      frame.active() ? double(static_cast<float>(double(sc.ground.height) - frame.z)) : double(sc.ground.height);
+  // The planes as the pipeline uses them (toLocal rounds h − o_z and p − o to float).
+  const std::vector<WallDef> planeDefs = sc.planes();
+  const std::vector<PlaneWall> planes = planeWalls(sc, frame);
+  const double groundZ = sc.ground.enabled ? double(planes[0].coeffs.height) : 0.0;
   Snapshot out;
   const std::size_t nb = s.size();
   struct FirstBad {
@@ -297,32 +300,40 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       out.overlapContactTime = kPi * std::sqrt(meff / double(sc.contact.stiffness));
     }
   }
-  if (sc.ground.enabled) {
+  for (std::size_t q = 0; q < planes.size(); ++q) {
+    const PlaneWall& pw = planes[q];
+    const double stiffness = planeDefs[q].contact.stiffness;
     struct GroundSums {
       double springs = 0.0, slack = 0.0, maxOverlap = 0.0, contactTime = 0.0;
       std::uint32_t body = 0;
     };
     const GroundSums gs = chunkedSum<GroundSums>(np, [&](std::size_t begin, std::size_t end, GroundSums& a) {
       for (std::size_t i = begin; i < end; ++i) {
-        const double delta = groundZ - (double(x[3 * i + 2]) - w.radius[i]);
+        const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+        double delta, e;
+        if (pw.axis >= 0) {  // the ground's form: h − (x_a − r), sign-flipped for a −e_a normal
+          delta = double(pw.coeffs.height) - (pw.sign * xi[pw.axis] - w.radius[i]);
+          e = (pw.axis == 2 ? errZ : err)[w.body[i]] + floatRounding(pw.coeffs.height);
+        } else {
+          const double d = (xi[0] - pw.origin.x) * pw.n.x + (xi[1] - pw.origin.y) * pw.n.y + (xi[2] - pw.origin.z) * pw.n.z;
+          delta = w.radius[i] - d;
+          e = 1.8 * err[w.body[i]] + bodyRounding(pw.origin.x, pw.origin.y, pw.origin.z);
+        }
         if (delta <= 0.0) continue;
-        const double e = errZ[w.body[i]] + floatRounding(groundZ);
         double K = 0.0;  // Hertz: F = K δ^{3/2}
         if (law.hertz) {
-          K = hertzStiffness(w.materialPairs[materialPairIndex(w.material[i], law.numMaterials, law.numMaterials)],
-                             w.radius[i]);
+          K = hertzStiffness(w.planeHertz[q * law.numMaterials + w.material[i]], w.radius[i]);
           a.springs += 0.4 * K * delta * delta * std::sqrt(delta);
           a.slack += K * (delta + e) * std::sqrt(delta + e) * e;
         } else {
-          a.springs += 0.5 * sc.ground.stiffness * delta * delta;
-          a.slack += sc.ground.stiffness * e * (delta + e);
+          a.springs += 0.5 * stiffness * delta * delta;
+          a.slack += stiffness * e * (delta + e);
         }
         const double frac = delta / w.radius[i];
         if (frac > a.maxOverlap) {
           a.maxOverlap = frac;
           a.body = w.body[i];
-          a.contactTime = law.hertz ? hertzTimeAtOverlap(K, w.mass[i], delta)
-                                    : kPi * std::sqrt(double(w.mass[i]) / double(sc.ground.stiffness));
+          a.contactTime = law.hertz ? hertzTimeAtOverlap(K, w.mass[i], delta) : kPi * std::sqrt(double(w.mass[i]) / stiffness);
         }
       }
     }, [](GroundSums& l, const GroundSums& r) {
@@ -340,6 +351,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       out.maxOverlap = gs.maxOverlap;
       out.overlapBody = gs.body;
       out.groundOverlap = true;
+      out.overlapPlane = q == 0 && sc.ground.enabled ? "the ground" : planeDefs[q].where;
       out.overlapContactTime = gs.contactTime;
     }
   }
@@ -448,7 +460,7 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
   }
   const double limit = std::max(m_params.maxOverlap, m_initialOverlap + 0.05);
   if (s.maxOverlap > limit) {
-    const std::string who = s.groundOverlap ? "body " + std::to_string(s.overlapBody) + " sinks into the ground"
+    const std::string who = s.groundOverlap ? "body " + std::to_string(s.overlapBody) + " sinks into " + s.overlapPlane
                                             : "bodies " + std::to_string(s.overlapBody) + " and " +
                                                   std::to_string(s.overlapOther) + " overlap";
     return trip(GuardTrip::Kind::Overlap, s.overlapBody, pipeline,

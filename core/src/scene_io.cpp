@@ -61,7 +61,7 @@ constexpr float kTwoPi = 6.28318530717958647692f;
 /// The top-level tables: the single ones (which --set can address) and the arrays of tables.
 constexpr std::array<std::string_view, 7> kSingleTables = {
     "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output"};
-constexpr std::array<std::string_view, 4> kArrayTables = {"material", "shape", "body", "group"};
+constexpr std::array<std::string_view, 5> kArrayTables = {"material", "wall", "shape", "body", "group"};
 
 /// "[scene], [contact], …" (and ", [[shape]], [[body]], [[group]]" with `arrays`).
 std::string tableNames(bool arrays) {
@@ -399,6 +399,7 @@ class SceneParser {
     readContact(scene);
     readMaterials(scene);
     readGround(scene);
+    readWalls(scene);
     readPulls(scene);
     readBroadphase(scene);
     readIntegrator(scene);
@@ -483,16 +484,22 @@ class SceneParser {
                          "material"});
     g.enabled = r.boolean("enabled", true);
     g.height = r.single("height", 0.0f, Rule::Any);
+    readPlaneContact(scene, r, "ground", &g);
+  }
+
+  /// The contact keys of a plane (the ground or a wall) under the scene's law.
+  void readPlaneContact(const Scene& scene, const TableReader& r, const std::string& what, GroundParams* out) const {
+    GroundParams& g = *out;
     const bool materials = scene.contact.usesMaterials();
     for (const char* key : {"stiffness", "tangential_stiffness", "material"})
       if (const toml::node* n = r.find(key); n != nullptr && (std::string(key) == "material") != materials)
-        r.fail(sourceOf(*n), materials ? std::string(key) + " is not read under law = \"hertz-mindlin\": the ground's "
-                                         "contact comes from its material (material = \"name\" of a [[material]]; "
-                                         "none: a rigid ground with each sphere's own restitution and friction)"
+        r.fail(sourceOf(*n), materials ? std::string(key) + " is not read under law = \"hertz-mindlin\": the " + what +
+                                             "'s contact comes from its material (material = \"name\" of a [[material]]; "
+                                             "none: rigid, with each sphere's own restitution and friction)"
                                        : std::string("material is read under law = \"hertz-mindlin\" only; this "
-                                                     "law's ground uses stiffness and friction"));
+                                                     "law's " + what + " uses stiffness and friction"));
     if (const toml::node* n = r.find("material")) g.material = static_cast<int>(materialNamed(r, *n, "material"));
-    if (materials) {  // friction and rolling_friction replace the mixed values of every sphere–ground pair
+    if (materials) {  // friction and rolling_friction replace the mixed values of every sphere–plane pair
       if (r.has("friction")) g.frictionOverride = r.single("friction", 0.0f, Rule::NonNegative);
       if (r.has("rolling_friction")) g.rollingFriction = r.single("rolling_friction", 0.0f, Rule::NonNegative);
       return;
@@ -505,6 +512,78 @@ class SceneParser {
         r.fail(sourceOf(*n), "rolling_friction needs a contact law that turns spheres ([contact] law = "
                              "\"hooke-history\"); under the report's law single spheres do not rotate");
       g.rollingFriction = r.single("rolling_friction", 0.0f, Rule::NonNegative);
+    }
+  }
+
+  /// [[wall]]: a plane (point, normal) or an axis-aligned box (min, max, open faces) of planes,
+  /// each with the ground's contact keys.
+  void readWalls(Scene& scene) {
+    const toml::node* n = m_root.get("wall");
+    if (n == nullptr) return;
+    const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'wall'", "[[wall]]");
+    for (std::size_t k = 0; k < tables.size(); ++k) {
+      const std::string name = "[[wall]] #" + std::to_string(k + 1);
+      const TableReader r(m_file, *tables[k], name,
+                          {"type", "point", "normal", "min", "max", "open", "stiffness", "friction",
+                           "tangential_stiffness", "rolling_friction", "material"});
+      const std::string where =
+          name + " (" + m_file + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
+      WallDef wall;
+      wall.where = where;
+      readPlaneContact(scene, r, "wall", &wall.contact);
+      wall.contact.enabled = true;
+      const toml::node& typeNode = r.require("type", "type = \"plane\" or \"box\"");
+      const std::string type = r.string(typeNode, "type");
+      const auto only = [&](std::initializer_list<const char*> keys, const char* forType) {
+        for (const char* key : keys)
+          if (const toml::node* e = r.find(key))
+            r.fail(sourceOf(*e), std::string(key) + " is not a key of type = \"" + type + "\" (" + forType + ")");
+      };
+      if (type == "plane") {
+        only({"min", "max", "open"}, "a plane has point and normal");
+        wall.point = r.vec3(r.require("point", "a point of the plane in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
+        const toml::node& nn = r.require("normal", "the normal towards the spheres, e.g. normal = [0, 0, 1]");
+        const Vec3f v = r.vec3(nn, "normal", Rule::Any);
+        const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+        if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(nn), "normal must be a non-zero, finite vector");
+        wall.normal = Vec3f{static_cast<float>(v.x / len), static_cast<float>(v.y / len), static_cast<float>(v.z / len)};
+        scene.walls.push_back(wall);
+      } else if (type == "box") {
+        only({"point", "normal"}, "a box has min, max and open");
+        const Vec3f lo = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
+        const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
+        const Vec3f hi = r.vec3(hiNode, "max", Rule::Any);
+        if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) r.fail(sourceOf(hiNode), "max must exceed min on every axis");
+        static const char* const kFaces[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
+        bool open[6] = {false, false, false, false, false, false};
+        if (const toml::node* o = r.find("open")) {
+          const toml::array& a = r.array(*o, "open", "of face names, e.g. open = [\"+z\"]");
+          for (const toml::node& el : a) {
+            const std::string face = r.string(el, "each entry of open");
+            const auto* f = std::find_if(kFaces, kFaces + 6, [&](const char* x) { return face == x; });
+            if (f == kFaces + 6) r.fail(sourceOf(el), "unknown face \"" + face + "\" (one of -x, +x, -y, +y, -z, +z)");
+            open[f - kFaces] = true;
+          }
+        }
+        // Six inward planes: the face at min of axis a has normal +e_a, the one at max −e_a.
+        const float l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+        for (int f = 0; f < 6; ++f) {
+          if (open[f]) continue;
+          const int a = f / 2;
+          const bool atMax = (f % 2) == 1;
+          float p[3] = {0.0f, 0.0f, 0.0f}, nv[3] = {0.0f, 0.0f, 0.0f};
+          p[a] = atMax ? h[a] : l[a];
+          nv[a] = atMax ? -1.0f : 1.0f;
+          WallDef face = wall;
+          face.point = Vec3f{p[0], p[1], p[2]};
+          face.normal = Vec3f{nv[0], nv[1], nv[2]};
+          face.where = where + " face " + kFaces[f];
+          scene.walls.push_back(face);
+        }
+      } else {
+        r.fail(sourceOf(typeNode), "unknown wall type \"" + type + "\" (\"plane\" or \"box\"; cylinders, cones and "
+                                   "meshes are not there yet)");
+      }
     }
   }
 
@@ -666,8 +745,9 @@ class SceneParser {
         sd.radius = sr.single(sr.require("radius", "sphere radius in m, e.g. radius = 0.5"), "radius",
                               Rule::Positive);
         readSphereMaterial(scene, sr, &sd);
-        if (const std::string why = groundDampingOutOfRange(sd, scene.ground); !why.empty())
-          sr.fail(sr.header(), why);  // sr names the shape and the sphere
+        for (const WallDef& plane : scene.planes())
+          if (const std::string why = groundDampingOutOfRange(sd, plane.contact, plane.where); !why.empty())
+            sr.fail(sr.header(), why);  // sr names the shape and the sphere
         shape.spheres.push_back(sd);
       }
       if (const std::string why = shapeOutOfRange(shape, scene.contact.rotatesSpheres()); !why.empty()) r.fail(r.header(), where + ": " + why);

@@ -59,6 +59,9 @@ namespace {
 // The frame's shift of everything but the body positions: the ground height and the pull centre.
 void shiftParams(World& w, const LocalFrame& f) {
   w.params.ground.height = static_cast<float>(double(w.params.ground.height) - f.z);
+  for (WallDef& wall : w.params.walls)
+    wall.point = Vec3f{static_cast<float>(double(wall.point.x) - f.x), static_cast<float>(double(wall.point.y) - f.y),
+                       static_cast<float>(double(wall.point.z) - f.z)};
   w.params.pulls.centre = Vec3f{static_cast<float>(-f.x), static_cast<float>(-f.y), static_cast<float>(-f.z)};
 }
 
@@ -80,9 +83,11 @@ World localWorld(const World& world, LocalFrame* outFrame) {
   const BodyState& s = world.state;
   for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz})
     if (c->size() != nb) throw Error("the state has " + std::to_string(c->size()) + " rows for " + std::to_string(nb) + " bodies");
+  const std::size_t springs = np * world.params.planes().size();
   for (const auto* c : {&s.groundSpringX, &s.groundSpringY})
-    if (!c->empty() && c->size() != np)
-      throw Error("the ground springs have " + std::to_string(c->size()) + " rows for " + std::to_string(np) + " particles");
+    if (!c->empty() && c->size() != springs)
+      throw Error("the plane springs have " + std::to_string(c->size()) + " rows for " + std::to_string(np) +
+                  " particles on " + std::to_string(springs / std::max<std::size_t>(np, 1)) + " planes");
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     const ContactHistory& c = s.contacts[k];
     if (!(c.i < c.j && c.j < np) || (k > 0 && !(s.contacts[k - 1].i < c.i || (s.contacts[k - 1].i == c.i && s.contacts[k - 1].j < c.j))))
@@ -105,7 +110,7 @@ World localWorld(const World& world, LocalFrame* outFrame) {
   }
   w.frame.reset();
   for (auto* c : {&w.state.groundSpringX, &w.state.groundSpringY})
-    if (c->empty()) c->assign(w.params.ground.enabled ? np : 0, 0.0f);
+    if (c->empty()) c->assign(springs, 0.0f);
   return w;
 }
 
@@ -121,6 +126,66 @@ Quatf shapeOrientation(const World& world, const BodyState& s, std::size_t k) {
   const Quatf f = world.bodyToShape[k];
   if (f.w == 1.0f && f.x == 0.0f && f.y == 0.0f && f.z == 0.0f) return Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
   return normalized(mul(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, Quatf{f.w, -f.x, -f.y, -f.z}));
+}
+
+std::vector<WallDef> Scene::planes() const {
+  std::vector<WallDef> out;
+  out.reserve(walls.size() + 1);
+  if (ground.enabled) out.push_back(WallDef{Vec3f{0.0f, 0.0f, ground.height}, Vec3f{0.0f, 0.0f, 1.0f}, ground, "[ground]"});
+  for (const WallDef& w : walls) {
+    out.push_back(w);
+    out.back().contact.enabled = true;
+  }
+  return out;
+}
+
+std::vector<PlaneWall> World::planeWalls() const { return tumble::planeWalls(params, LocalFrame{}); }
+
+std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
+  std::vector<PlaneWall> out;
+  for (WallDef d : params.planes()) {
+    d.point = Vec3f{static_cast<float>(double(d.point.x) - f.x), static_cast<float>(double(d.point.y) - f.y),
+                    static_cast<float>(double(d.point.z) - f.z)};
+    const GroundParams& g = d.contact;
+    PlaneWall w;
+    w.origin = d.point;
+    w.n = d.normal;
+    const float kt = g.tangentialStiffness > 0.0f ? g.tangentialStiffness : g.stiffness * (2.0f / 7.0f);
+    w.coeffs = GroundCoeffs{0.0f, g.stiffness, kt, g.friction, params.rollingFrictionOf(g)};
+    const float nv[3] = {d.normal.x, d.normal.y, d.normal.z};
+    w.axis = -1;
+    w.sign = 1.0f;
+    for (int a = 0; a < 3; ++a)
+      if (nv[(a + 1) % 3] == 0.0f && nv[(a + 2) % 3] == 0.0f && (nv[a] == 1.0f || nv[a] == -1.0f)) {
+        w.axis = a;
+        w.sign = nv[a];
+      }
+    if (w.axis >= 0) {  // the exact frame: t1 = e_b, t2 = sign e_c (b, c the next axes), n = sign e_a
+      const int a = w.axis, b = (a + 1) % 3, c = (a + 2) % 3;
+      float t1[3] = {0, 0, 0}, t2[3] = {0, 0, 0};
+      t1[b] = 1.0f;
+      t2[c] = w.sign;
+      w.t1 = Vec3f{t1[0], t1[1], t1[2]};
+      w.t2 = Vec3f{t2[0], t2[1], t2[2]};
+      const float o[3] = {d.point.x, d.point.y, d.point.z};
+      w.coeffs.height = w.sign * o[a];
+    } else {  // t1 ⟂ n from the coordinate axis least aligned with n, t2 = n × t1 (double)
+      const double n[3] = {nv[0], nv[1], nv[2]};
+      int least = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(n[k]) < std::abs(n[least])) least = k;
+      double e[3] = {0, 0, 0};
+      e[least] = 1.0;
+      double t[3] = {n[1] * e[2] - n[2] * e[1], n[2] * e[0] - n[0] * e[2], n[0] * e[1] - n[1] * e[0]};
+      const double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+      for (double& c : t) c /= tn;
+      const double u[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+      w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
+      w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
+    }
+    out.push_back(w);
+  }
+  return out;
 }
 
 const char* toString(RotationScheme s) { return s == RotationScheme::Report ? "report" : "splitting"; }
@@ -143,6 +208,13 @@ std::string materialOutOfRange(const MaterialDef& m) {
     }
   }
   return {};
+}
+
+HertzPair planePair(const Scene& scene, const GroundParams& plane, std::size_t a) {
+  HertzPair p = materialPair(scene.materials[a], plane.material >= 0 ? &scene.materials[plane.material] : nullptr);
+  if (plane.frictionOverride >= 0.0f) p.mu = plane.frictionOverride;
+  if (plane.rollingFriction >= 0.0f) p.muR = plane.rollingFriction;
+  return p;
 }
 
 HertzPair materialPair(const MaterialDef& a, const MaterialDef* b) {
@@ -175,14 +247,16 @@ double dampingForRestitution(double e, double k, double m) {
   return 2.0 * zeta * std::sqrt(k * m);
 }
 
-std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams& ground) {
+std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams& ground, const std::string& where) {
   if (!ground.enabled) return {};
   const double c = dampingForRestitution(sphere.elasticity, ground.stiffness, sphere.mass);
   if (c <= double(std::numeric_limits<float>::max())) return {};
-  char buf[240];
-  std::snprintf(buf, sizeof buf, "its ground damping (elasticity %g, mass %.3g kg, ground stiffness %.3g N/m) is "
-                "%.3g N s/m, beyond single precision; use a smaller mass or [ground] stiffness", double(sphere.elasticity),
-                double(sphere.mass), double(ground.stiffness), c);
+  const bool isGround = where == "[ground]";
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "its %s damping (elasticity %g, mass %.3g kg, %s stiffness %.3g N/m) is "
+                "%.3g N s/m, beyond single precision; use a smaller mass or %s stiffness", isGround ? "ground" : "wall",
+                double(sphere.elasticity), double(sphere.mass), isGround ? "ground" : where.c_str(),
+                double(ground.stiffness), c, where.c_str());
   return buf;
 }
 
@@ -275,7 +349,8 @@ World World::fromScene(const Scene& scene) {
     props[s] = p;
   }
 
-  const GroundParams& g = scene.ground;
+  const std::vector<WallDef> planes = scene.planes();
+  if (planes.size() > 1) w.planeDamping.assign((planes.size() - 1) * np, 0.0f);
   for (std::size_t k = 0; k < nb; ++k) {
     const BodyDef& bd = scene.bodies[k];
     const ShapeDef& sh = scene.shapes[bd.shape];
@@ -291,13 +366,20 @@ World World::fromScene(const Scene& scene) {
     w.numParticlesOf[k] = static_cast<std::uint32_t>(sh.spheres.size());
     if (sh.spheres.size() > 1) w.hasClumps = true;
     for (const auto& sp : sh.spheres) {
-      if (const std::string why = groundDampingOutOfRange(sp, g); !why.empty())
-        throw Error("body " + std::to_string(k) + ", a sphere of shape '" + sh.name + "': " + why);
+      const std::size_t i = w.radius.size();
+      for (std::size_t q = 0; q < planes.size(); ++q) {
+        const GroundParams& g = planes[q].contact;
+        if (const std::string why = groundDampingOutOfRange(sp, g, planes[q].where); !why.empty())
+          throw Error("body " + std::to_string(k) + ", a sphere of shape '" + sh.name + "': " + why);
+        const float c = static_cast<float>(dampingForRestitution(sp.elasticity, g.stiffness, sp.mass));
+        if (q > 0) w.planeDamping[(q - 1) * np + i] = c;
+      }
       w.radius.push_back(sp.radius);
       w.mass.push_back(sp.mass);
       w.elasticity.push_back(sp.elasticity);
       w.groundDamping.push_back(
-          g.enabled ? static_cast<float>(dampingForRestitution(sp.elasticity, g.stiffness, sp.mass)) : 0.0f);
+          planes.empty() ? 0.0f
+                         : static_cast<float>(dampingForRestitution(sp.elasticity, planes[0].contact.stiffness, sp.mass)));
       w.body.push_back(static_cast<std::uint32_t>(k));
       const Eigen::Vector3d u = p.frame.transpose() * (Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com);
       w.ux.push_back(static_cast<float>(u.x()));
@@ -343,10 +425,12 @@ World World::fromScene(const Scene& scene) {
     for (std::size_t a = 0; a < m; ++a) {
       for (std::size_t b = 0; b < m; ++b)
         w.materialPairs[materialPairIndex(a, b, m)] = materialPair(scene.materials[a], &scene.materials[b]);
-      HertzPair& ground = w.materialPairs[materialPairIndex(a, m, m)];
-      ground = materialPair(scene.materials[a], gm >= 0 ? &scene.materials[gm] : nullptr);
-      if (scene.ground.frictionOverride >= 0.0f) ground.mu = scene.ground.frictionOverride;
-      if (scene.ground.rollingFriction >= 0.0f) ground.muR = scene.ground.rollingFriction;
+      w.materialPairs[materialPairIndex(a, m, m)] = planePair(scene, scene.ground, a);
+    }
+    w.planeHertz.reserve(planes.size() * m);
+    for (const WallDef& p : planes) {
+      if (p.contact.material >= int(m)) throw Error(p.where + ": the material index is out of range");
+      for (std::size_t a = 0; a < m; ++a) w.planeHertz.push_back(planePair(scene, p.contact, a));
     }
     w.material.reserve(np);
     for (const BodyDef& bd : scene.bodies)

@@ -1031,3 +1031,61 @@ TEST(SceneOverrides, FileErrorsStayTheFiles) {
     EXPECT_EQ(e.file(), "command line, --set foo");
   }
 }
+
+// [[wall]]: a plane (its normal normalised) and a box of inward planes with its open faces
+// left out; each takes the ground's contact keys (stiffness defaults to the contact's, as the
+// ground's). Scene::planes() lists the ground first, then the walls.
+TEST(SceneIo, Walls) {
+  const Scene s = tumble::parseScene(
+      withExtra("[ground]\nheight = -1\n"                                                     // 12-13
+                "[[wall]]\ntype = \"plane\"\npoint = [0, 0, 1]\nnormal = [0, 3, 4]\n"        // 14-17
+                "stiffness = 5e4\nfriction = 0.2\n"                                          // 18-19
+                "[[wall]]\ntype = \"box\"\nmin = [-1, -2, 0]\nmax = [1, 2, 3]\nopen = [\"+z\"]\n"),  // 20-24
+      "test.toml");
+  ASSERT_EQ(s.walls.size(), 6u) << "a plane and a box open at +z";
+  EXPECT_EQ(s.walls[0].normal.x, 0.0f);
+  EXPECT_EQ(s.walls[0].normal.y, 0.6f);
+  EXPECT_EQ(s.walls[0].normal.z, 0.8f);
+  EXPECT_EQ(s.walls[0].point.z, 1.0f);
+  EXPECT_EQ(s.walls[0].contact.stiffness, 5e4f);
+  EXPECT_EQ(s.walls[0].contact.friction, 0.2f);
+  EXPECT_EQ(s.walls[0].where, "[[wall]] #1 (test.toml:14)");
+  EXPECT_EQ(s.walls[1].contact.stiffness, s.contact.stiffness) << "the contact's stiffness, as the ground's";
+  const float faces[5][6] = {{-1, 0, 0, 1, 0, 0}, {1, 0, 0, -1, 0, 0}, {0, -2, 0, 0, 1, 0}, {0, 2, 0, 0, -1, 0},
+                             {0, 0, 0, 0, 0, 1}};
+  for (int f = 0; f < 5; ++f) {
+    const tumble::WallDef& w = s.walls[1 + f];
+    const float got[6] = {w.point.x, w.point.y, w.point.z, w.normal.x, w.normal.y, w.normal.z};
+    for (int c = 0; c < 6; ++c) EXPECT_EQ(got[c], faces[f][c]) << "face " << f << " component " << c;
+  }
+  EXPECT_EQ(s.walls[5].where, "[[wall]] #2 (test.toml:20) face -z");
+  const std::vector<tumble::WallDef> planes = s.planes();
+  ASSERT_EQ(planes.size(), 7u);
+  EXPECT_EQ(planes[0].point.z, -1.0f) << "the ground first";
+  EXPECT_EQ(planes[0].normal.z, 1.0f);
+  EXPECT_EQ(planes[0].where, "[ground]");
+}
+
+TEST(SceneIoErrors, Walls) {
+  expectError(withExtra("[[wall]]\npoint = [0, 0, 0]\n"), 12, {"[[wall]] #1", "missing required key 'type'"});
+  expectError(withExtra("[[wall]]\ntype = \"cylinder\"\n"), 13, {"unknown wall type \"cylinder\""});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n"), 15,
+              {"normal must be a non-zero"});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\n"), 12, {"missing required key 'normal'"});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\nnormal = [0, 0, 1]\n"), 12, {"missing required key 'point'"});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\nmin = [0, 0, 0]\n"), 14, {"min is not a key of type = \"plane\""});
+  expectError(withExtra("[[wall]]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n"), 15,
+              {"max must exceed min on every axis"});
+  expectError(withExtra("[[wall]]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nopen = [\"+z\",\n \"top\"]\n"),
+              17, {"unknown face \"top\""});
+  expectError(withExtra("[[wall]]\ntype = \"box\"\nnormal = [0, 0, 1]\n"), 14, {"normal is not a key of type = \"box\""});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\nheight = 1\n"), 14, {"unknown key 'height'"});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\nstiffness = -1\n"), 14, {"stiffness"});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\nrolling_friction = 0.1\n"), 14,
+              {"rolling_friction needs a contact law that turns spheres"});
+  expectError(withExtra(std::string(kHertz) + kGlass + "[[wall]]\ntype = \"plane\"\nstiffness = 1e5\n"), 23,
+              {"stiffness is not read under law = \"hertz-mindlin\": the wall's contact comes from its material"});
+  expectError(withExtra(std::string(kHertz) + kGlass + "[[wall]]\ntype = \"plane\"\nmaterial = \"wood\"\n"), 23,
+              {"wood"});
+  expectError(withExtra("[wall]\ntype = \"plane\"\n"), 12, {"wall"});
+}

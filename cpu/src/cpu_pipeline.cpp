@@ -21,7 +21,7 @@
 //   fixed order. The only reductions across bodies are a max and an integer count, exact in
 //   any order. No float atomics, no parallel_reduce on floats that feed the state.
 // - A scene pays only for what it uses: single-sphere scenes skip the rotations, torques and
-//   couples (kClumps false); scenes without ground skip the ground test; pulls cost nothing
+//   couples (kClumps false); scenes without ground or walls skip the plane tests; pulls cost nothing
 //   while off. Nothing is allocated in a step once the sizes have settled.
 #include "tumble/cpu/cpu_pipeline.hpp"
 
@@ -81,7 +81,9 @@ class CpuPipeline final : public Pipeline {
     const World& w = m_world;
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
     m_clumps = w.hasClumps || w.params.contact.rotatesSpheres();  // the rotating path
-    m_ground = w.params.ground.enabled;
+    m_planes = w.planeWalls();
+    m_planeDamping = w.planeDamping;
+    m_planeHertz = w.planeHertz;
     m_law = w.params.contact.law;
     m_history = w.params.contact.hasHistory();
     tumble::detail::initialRows(w, &m_bodies, &m_bodyStatic, &m_own);
@@ -94,8 +96,8 @@ class CpuPipeline final : public Pipeline {
     m_bodyOf = w.body;
     for (std::uint32_t i = 0; i < n; ++i) m_orig[i] = i;
     const BodyState& s = w.state;
-    m_gtx = m_ground ? s.groundSpringX : std::vector<float>{};
-    m_gty = m_ground ? s.groundSpringY : std::vector<float>{};
+    m_gtx = s.groundSpringX;  // localWorld sized them: planes × particles
+    m_gty = s.groundSpringY;
     for (auto& c : m_pos) c.assign(n, PosRow{});
     m_buildPos.assign(n, PosRow{});
     m_rebuildPos.assign(n, PosRow{});
@@ -151,9 +153,11 @@ class CpuPipeline final : public Pipeline {
         out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
         out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
       });
-      forEach(static_cast<std::uint32_t>(ng), kGrain, [&](std::uint32_t i) {
-        out.groundSpringX[m_orig[i]] = m_gtx[i];
-        out.groundSpringY[m_orig[i]] = m_gty[i];
+      const std::size_t n = m_orig.size();
+      forEach(static_cast<std::uint32_t>(ng), kGrain, [&](std::uint32_t s) {
+        const std::size_t o = (s / n) * n + m_orig[s % n];  // plane-major
+        out.groundSpringX[o] = m_gtx[s];
+        out.groundSpringY[o] = m_gty[s];
       });
     });
     readHistory(out.contacts);
@@ -654,6 +658,7 @@ class CpuPipeline final : public Pipeline {
     m_bodyOfTmp.resize(n);
     m_gtxTmp.resize(m_gtx.size());
     m_gtyTmp.resize(m_gty.size());
+    m_planeDampingTmp.resize(m_planeDamping.size());
     forEach(nb, kBodyGrain, [&](std::uint32_t k) {
       const BodyRow& b = m_bodies[perm[k]];
       m_bodiesNext[k] = b;
@@ -667,10 +672,11 @@ class CpuPipeline final : public Pipeline {
         if (!m_material.empty()) m_materialTmp[to] = m_material[from];
         m_origTmp[to] = m_orig[from];
         m_bodyOfTmp[to] = k;
-        if (m_ground) {
-          m_gtxTmp[to] = m_gtx[from];
-          m_gtyTmp[to] = m_gty[from];
+        for (std::size_t p = 0; p < m_planes.size(); ++p) {
+          m_gtxTmp[p * n + to] = m_gtx[p * n + from];
+          m_gtyTmp[p * n + to] = m_gty[p * n + from];
         }
+        for (std::size_t p = 1; p < m_planes.size(); ++p) m_planeDampingTmp[(p - 1) * n + to] = m_planeDamping[(p - 1) * n + from];
       }
     });
     m_bodies.swap(m_bodiesNext);
@@ -683,6 +689,7 @@ class CpuPipeline final : public Pipeline {
     m_bodyOf.swap(m_bodyOfTmp);
     m_gtx.swap(m_gtxTmp);
     m_gty.swap(m_gtyTmp);
+    m_planeDamping.swap(m_planeDampingTmp);
   }
 
   StepView stepView() {
@@ -707,7 +714,11 @@ class CpuPipeline final : public Pipeline {
                     m_world.params.contact.rotatesSpheres(),
                     m_world.materialPairs.empty() ? nullptr : m_world.materialPairs.data(),
                     m_material.empty() ? nullptr : m_material.data(),
-                    static_cast<std::uint32_t>(m_world.params.materials.size())};
+                    static_cast<std::uint32_t>(m_world.params.materials.size()),
+                    m_planes.data(),
+                    static_cast<std::uint32_t>(m_planes.size()),
+                    m_planeDamping.empty() ? nullptr : m_planeDamping.data(),
+                    m_planeHertz.empty() ? nullptr : m_planeHertz.data()};
   }
 
   mutable tbb::task_arena m_arena;
@@ -715,7 +726,9 @@ class CpuPipeline final : public Pipeline {
   World m_world;  // in the integration frame; static tables in scene order
   LocalFrame m_frame;
   bool m_clumps = false;
-  bool m_ground = false;
+  std::vector<PlaneWall> m_planes;     // the ground, then the walls (World::planeWalls)
+  std::vector<float> m_planeDamping;   // planes 1.. (World::planeDamping), internal numbering
+  std::vector<HertzPair> m_planeHertz;
   ContactLaw m_law = ContactLaw::Report;
   bool m_history = false;   // the law keeps a tangential history per contact
   bool m_listBuilt = false; // a candidate list (and m_hist) exists since the load
@@ -728,7 +741,7 @@ class CpuPipeline final : public Pipeline {
   std::vector<std::uint16_t> m_material;  // hertz-mindlin with several materials; else empty
   std::vector<std::uint32_t> m_orig;   // scene index of each particle
   std::vector<std::uint32_t> m_bodyOf; // body of each particle (the sweep skips same-body pairs)
-  std::vector<float> m_gtx, m_gty;     // ground springs (empty without ground)
+  std::vector<float> m_gtx, m_gty;     // plane springs, plane-major (empty without planes)
   std::vector<PosRow> m_pos[2];        // particle rows, double-buffered: [m_cur] is this step's
   int m_cur = 0;
   std::vector<PosRow> m_buildPos;    // the reference of the drift: positions at the last refresh
@@ -758,7 +771,7 @@ class CpuPipeline final : public Pipeline {
   std::vector<std::byte> m_temp;
   std::vector<BodyStatic> m_bodyStaticTmp;
   std::vector<OwnRow> m_ownTmp;
-  std::vector<float> m_radiusTmp, m_massTmp, m_gtxTmp, m_gtyTmp;
+  std::vector<float> m_radiusTmp, m_massTmp, m_gtxTmp, m_gtyTmp, m_planeDampingTmp;
   std::vector<std::uint16_t> m_materialTmp;
   std::vector<std::uint32_t> m_origTmp, m_bodyOfTmp;
   std::vector<float> m_dbg[5], m_dbgVel;

@@ -209,6 +209,8 @@ class CudaPipeline final : public Pipeline {
     if (world.params.contact.law != ContactLaw::Report)
       throw Error(std::string("the CUDA pipeline runs the report's contact law only so far; [contact] law = \"") +
                   toString(world.params.contact.law) + "\" runs on the CPU pipeline (--pipeline cpu)");
+    if (!world.params.walls.empty())
+      throw Error("the CUDA pipeline has no walls yet: a scene with [[wall]] runs on the CPU pipeline (--pipeline cpu)");
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;
@@ -216,6 +218,7 @@ class CudaPipeline final : public Pipeline {
     const cudaStream_t s = m_ctx.stream();
     m_clumps = w.hasClumps;
     m_ground = w.params.ground.enabled;
+    m_planes.upload(w.planeWalls(), s);  // the ground only (no walls: above)
     std::vector<BodyRow> bodies;
     std::vector<BodyStatic> bodyStatic;
     std::vector<OwnRow> own;
@@ -427,7 +430,14 @@ class CudaPipeline final : public Pipeline {
                     m_touching.data(),
                     m_world.numParticles(),
                     nullptr,   // no contact history: the report's law only (load())
-                    false};
+                    false,
+                    nullptr,   // the report's law: no materials
+                    nullptr,
+                    0,
+                    m_planes.data(),
+                    m_ground ? 1u : 0u,
+                    nullptr,   // one plane at most: its damping is in the own rows
+                    nullptr};
   }
 
   // As CpuPipeline::stepOnce.
@@ -615,6 +625,7 @@ class CudaPipeline final : public Pipeline {
   DeviceBuffer<BodyRow> m_bodies, m_bodiesNext;
   DeviceBuffer<BodyStatic> m_bodyStatic;
   DeviceBuffer<OwnRow> m_own;
+  DeviceBuffer<PlaneWall> m_planes;  // the ground, when there is one
   DeviceBuffer<float> m_radius, m_mass, m_tx, m_ty;
   DeviceBuffer<std::uint32_t> m_orig, m_bodyOf;
   DeviceBuffer<PosRow> m_pos[2], m_buildPos;

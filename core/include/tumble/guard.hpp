@@ -103,7 +103,8 @@ class RunGuard {
     double energy = 0.0, swirlPower = 0.0, maxOverlap = 0.0, available = 0.0, springs = 0.0;
     double slack = 0.0;   ///< bound of the energy's error from rounded positions
     std::uint32_t overlapBody = 0, overlapOther = 0;
-    bool groundOverlap = false;
+    bool groundOverlap = false;       ///< the deepest overlap is with a plane (the ground or a wall)
+    std::string overlapPlane;         ///< which: "the ground" or the wall's WallDef::where
     double overlapContactTime = 0.0;  ///< t_c of the deepest contact (its own masses and stiffness)
     std::uint32_t hottestBody = 0;  ///< largest kinetic energy
     std::int64_t nonFiniteBody = -1;

@@ -78,6 +78,18 @@ struct GroundParams {
   float frictionOverride = -1.0f;
 };
 
+/// A plane wall (`[[wall]]`, docs/scenes.md#walls): the spheres live on the side its normal
+/// points to. Its contact with a sphere is the ground's (SPEC §2.4, or hertzGroundForces under
+/// hertz-mindlin) in the wall's frame, with the wall's own parameters: `contact` is read as a
+/// [ground] table (enabled and height unused). The ground is the plane through (0, 0, height)
+/// with normal +z (Scene::planes()).
+struct WallDef {
+  Vec3f point{0.0f, 0.0f, 0.0f};   ///< a point of the plane [m]
+  Vec3f normal{0.0f, 0.0f, 1.0f};  ///< unit normal, towards the spheres
+  GroundParams contact;
+  std::string where;               ///< "[[wall]] #k (file:line)" for messages; empty in code
+};
+
 /// Bits of PullParams::active / Pipeline::setPulls().
 enum PullBits : std::uint32_t { kPullX = 1u, kPullY = 2u, kPullSwirl = 4u };
 
@@ -121,7 +133,7 @@ struct BodyDef {
 /// Collision-detection knobs. They change speed only, never the contacts or a bit of the
 /// trajectory (the contact list is canonical, kernels/contact_list.hpp).
 struct BroadphaseParams {
-  float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (3 diameters of World::sizingRadius, at least 1/32 of the largest diameter and 8 rounding margins)
+  float cellSize = 0.0f;   ///< side M of the p–q cells; 0 = automatic (3 diameters of World::sizingRadius, at least 1/32 of the largest diameter and 8 rounding margins); a given size is raised to 8 margins
   int pcaEvery = 10;       ///< recompute the PCA axis every K detections (1 = every one)
   /// Verlet skin s: detection finds the pairs within r_i + r_j + s and the list is kept until two
   /// particles may have closed in by s (about s/2 of motion each); 0 = detect every step (the report's method); negative = automatic
@@ -156,6 +168,7 @@ struct Scene {
   Vec3f gravity{0.0f, 0.0f, -9.81f};
   ContactParams contact;
   GroundParams ground;
+  std::vector<WallDef> walls;  ///< plane walls besides the ground (a box gives six, or fewer when open)
   PullParams pulls;
   BroadphaseParams broadphase;
   IntegratorParams integrator;
@@ -169,10 +182,15 @@ struct Scene {
   int stepsPerFrame = 10;
   std::string thermoFile;          ///< time series (docs/thermo.md); empty = none
   /// The ground's rolling resistance as the kernels use it: 0 unless the law turns spheres.
-  float groundRollingFriction() const {
+  float groundRollingFriction() const { return rollingFrictionOf(ground); }
+  /// A plane's (the ground's or a wall's) rolling resistance as the kernels use it.
+  float rollingFrictionOf(const GroundParams& plane) const {
     if (!contact.rotatesSpheres()) return 0.0f;
-    return ground.rollingFriction >= 0.0f ? ground.rollingFriction : contact.rollingFriction;
+    return plane.rollingFriction >= 0.0f ? plane.rollingFriction : contact.rollingFriction;
   }
+  /// Every plane the spheres touch, in the order the forces sum them: the ground (when enabled)
+  /// as the wall through (0, 0, height) with normal +z, then the walls.
+  std::vector<WallDef> planes() const;
   std::uint64_t thermoEvery = 100; ///< steps between two rows of the time series
 };
 

@@ -17,6 +17,7 @@
 namespace tumble {
 
 struct HertzPair;
+struct PlaneWall;
 
 /// One body: its integrated state and what the step reads with it (internal numbering), in two
 /// cache lines. The first holds what a touching neighbour reads (V, Ω, R), so that a contact
@@ -50,11 +51,12 @@ struct alignas(16) PosRow {
 /// What only the particle itself reads in a step.
 struct alignas(16) OwnRow {
   Vec3f u;              ///< offset from the body's centre of mass, body frame
-  float groundDamping;  ///< c of the ground spring-dashpot (from the particle's elasticity)
+  float groundDamping;  ///< c of the first plane's spring-dashpot (the ground's; from the particle's elasticity)
 };
 
 /// The per-particle contact state that carries from step to step (internal numbering): the
-/// ground stick spring's elongation (Cundall–Strack), reset to zero out of contact.
+/// stick spring's elongation (Cundall–Strack) on each plane (the ground, the walls), reset to
+/// zero out of contact, plane-major: plane k's at k · numParticles + i, in the plane's frame.
 struct GroundSpringView {
   float* tx;
   float* ty;
@@ -105,6 +107,13 @@ struct StepView {
   const HertzPair* hertz = nullptr;
   const std::uint16_t* material = nullptr;
   std::uint32_t numMaterials = 0;
+  /// The planes (the ground first when there is one, then the walls; World::planes()). Plane k
+  /// > 0's damping c of particle i is planeDamping[(k − 1) numParticles + i] (plane 0's is in the
+  /// own row); under hertz-mindlin, material a on plane k is planeHertz[k numMaterials + a].
+  const PlaneWall* planes = nullptr;
+  std::uint32_t numPlanes = 0;
+  const float* planeDamping = nullptr;
+  const HertzPair* planeHertz = nullptr;
 };
 
 }  // namespace tumble

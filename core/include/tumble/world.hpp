@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tumble/kernels/contact.hpp"
+#include "tumble/kernels/wall.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/soa.hpp"
@@ -30,8 +31,10 @@ struct BodyState {
   std::vector<float> vx, vy, vz;      ///< V
   std::vector<float> qw, qx, qy, qz;  ///< orientation Q
   std::vector<float> lx, ly, lz;      ///< angular momentum L (world frame)
-  /// Per particle (scene order): the ground stick spring's elongation ξ (x, y), zero out of
-  /// contact. Empty in a scene without ground, or (on input) for zero everywhere.
+  /// Per plane and particle (scene order), plane-major (plane k's at k n + i; the planes of
+  /// Scene::planes(), the ground first): the stick spring's elongation ξ in the plane's frame
+  /// (along t1, t2; for the ground x, y), zero out of contact. Empty in a scene without planes,
+  /// or (on input) for zero everywhere.
   std::vector<float> groundSpringX, groundSpringY;
   /// Laws with a history (ContactParams::hasHistory): the contacts whose ξ is not zero, sorted
   /// by (i, j). Empty otherwise, or (on input) for no history.
@@ -64,7 +67,15 @@ struct World {
   Scene params;  ///< the scene it was built from (parameters; bodies/shapes kept for reference)
 
   // Static particle table; particles of one body are contiguous, bodies in creation order.
+  /// groundDamping: c of the first plane (the ground's, when there is one) from each
+  /// particle's elasticity; the other planes' in planeDamping.
   std::vector<float> radius, mass, elasticity, groundDamping;
+  /// c of plane k ≥ 1 (Scene::planes()) for particle i at (k − 1) n + i; empty with one plane
+  /// or none.
+  std::vector<float> planeDamping;
+  /// hertz-mindlin: the coefficients of material a on plane k at planeHertz[k M + a] (the
+  /// ground's are materialPairs' b = M); empty under the other laws.
+  std::vector<HertzPair> planeHertz;
   std::vector<std::uint32_t> body;
   /// hertz-mindlin: each particle's material (index into params.materials), and the
   /// coefficients of every pair of materials a, b at materialPairs[a (M + 1) + b], the ground's
@@ -102,6 +113,9 @@ struct World {
 
   std::uint32_t numParticles() const { return static_cast<std::uint32_t>(radius.size()); }
   std::uint32_t numBodies() const { return static_cast<std::uint32_t>(bodyMass.size()); }
+  /// The planes as the kernels see them (params.planes(), in the frame of params: after
+  /// toLocal, the local one).
+  std::vector<PlaneWall> planeWalls() const;
 
   /// Builds the tables from a scene: mass properties (SPEC §1), centres of mass, offsets u,
   /// ground damping from each particle's elasticity, L = R I0 Rᵀ ω. Throws tumble::Error on an
@@ -109,14 +123,18 @@ struct World {
   static World fromScene(const Scene& scene);
 };
 
-/// The world expressed in frame f: body positions X − o, the ground height h − o_z and the pull
-/// centre −o (params.pulls.centre). Identity when f is not active.
+/// The world expressed in frame f: body positions X − o, the ground height h − o_z, the walls'
+/// points p − o and the pull centre −o (params.pulls.centre). Identity when f is not active.
 World toLocal(const World& world, const LocalFrame& f);
 
 /// What a pipeline's load() integrates: the world in its frame (world.frame when set, the
 /// positions already in it; otherwise LocalFrame::of(world)), with the particle columns of the
 /// contact history sized (zeros where absent). Throws tumble::Error on mismatched sizes.
 World localWorld(const World& world, LocalFrame* outFrame);
+
+/// The planes of a scene (Scene::planes()) as the kernels see them, in frame f: each point
+/// p − o rounded to float, as toLocal() moves them.
+std::vector<PlaneWall> planeWalls(const Scene& scene, const LocalFrame& f);
 
 /// Body positions from frame f back to the world frame: X + o, rounded to float.
 void toWorld(BodyState& s, const LocalFrame& f);
@@ -150,13 +168,19 @@ double dampingForRestitution(double e, double k, double m);
 /// Why the ground damping of a sphere (dampingForRestitution of its elasticity, its mass and the
 /// ground's stiffness) cannot be held in single precision, as a phrase; empty when it can or the
 /// ground is off. The scene reader reports it at the sphere's line; World::fromScene throws it.
-std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams& ground);
+/// A wall's (Scene::planes()) is the same with its own contact and `where` naming it.
+std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams& ground,
+                                    const std::string& where = "[ground]");
 
 /// The Hertz–Mindlin coefficients of two materials in contact (docs/model.md#materials): Y* and
 /// G* from both E and ν, the restitution, friction and rolling friction the smaller of the two
 /// (as Chrono's default composition). b = nullptr: a rigid partner (the ground without a
 /// material: E = ∞, and a's restitution and friction).
 HertzPair materialPair(const MaterialDef& a, const MaterialDef* b);
+
+/// Material a of `scene` on a plane (the ground or a wall): materialPair() with the plane's
+/// material (none: rigid), then the plane's friction and rolling friction where it gives them.
+HertzPair planePair(const Scene& scene, const GroundParams& plane, std::size_t a);
 
 /// Why a material's effective moduli (materialPair() with itself and with a rigid ground) cannot
 /// be held in single precision, as a phrase; empty when they can.

@@ -6,7 +6,7 @@
 /// finishBody per body). Each function writes only element i's
 /// (or body k's) outputs and sums in a fixed order that belongs to the physics, not to how
 /// contacts were found: a particle sums its contacts in ascending scene index of the partner
-/// (the candidate list's order), then the ground, then gravity and pulls; a body sums its
+/// (the candidate list's order), then the planes (the ground, then the walls), then gravity and pulls; a body sums its
 /// particles in their order within the body. So the results do not depend on the scheduling,
 /// the detection settings, the skin or the internal numbering.
 #pragma once
@@ -19,6 +19,7 @@
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/kernels/overlap.hpp"
+#include "tumble/kernels/wall.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/soa.hpp"
@@ -28,22 +29,18 @@ namespace tumble {
 /// Scene constants of the force stage.
 struct ForceParams {
   ContactCoeffs contact;
-  GroundCoeffs ground;
   Vec3f gravity;
   float pullX, pullY, pullSwirl;
   Vec3f pullCentre;
   float dt;
   std::uint32_t pulls;
-  bool hasGround;
   HistoryCoeffs history;  ///< hooke-history only
   float rollingFriction;  ///< μ_r between particles (0: none; hooke-history only)
 };
 
 /// The force-stage constants of a scene with the given pulls on (host side).
 inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
-  const float kt = p.ground.tangentialStiffness > 0.0f ? p.ground.tangentialStiffness : p.ground.stiffness * (2.0f / 7.0f);
   return ForceParams{ContactCoeffs{p.contact.stiffness, p.contact.damping, p.contact.shear},
-                     GroundCoeffs{p.ground.height, p.ground.stiffness, kt, p.ground.friction, p.groundRollingFriction()},
                      p.gravity,
                      p.pulls.x,
                      p.pulls.y,
@@ -51,7 +48,6 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                      p.pulls.centre,
                      p.dt,
                      pulls,
-                     p.ground.enabled,
                      HistoryCoeffs{p.contact.stiffness,
                                    p.contact.tangentialStiffness > 0.0f ? p.contact.tangentialStiffness
                                                                         : p.contact.stiffness * (2.0f / 7.0f),
@@ -97,15 +93,15 @@ struct ParticleForce {
 
 /// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
 /// view (the candidate list, or on the CPU its near list) filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
-/// the list's order (ascending scene index of the partner); then the ground (its stick spring
-/// updated in place), then the pulls. Each force adds arm × f to the torque about the body's
+/// the list's order (ascending scene index of the partner); then the planes in their order (the
+/// ground, then the walls; each plane's stick spring updated in place), then the pulls. Each force adds arm × f to the torque about the body's
 /// centre. Gravity is the body's (finishBody). Each pair is computed from both sides;
 /// the contact laws are exactly antisymmetric, so the two sides agree to the bit.
 ///
 /// kClumps: bodies rotate (some have several particles, or the law turns spheres). kLaw: the
 /// contact law; with a history (hooke-history, hertz-mindlin) the view's `history` holds ξ per
 /// list entry (the list is then the candidate list), updated in place and zeroed when the pair
-/// does not touch. Under hertz-mindlin the ground is a Hertz contact too (hertzGroundForces).
+/// does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
 template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report>
 TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                              const BodyRow& self, std::uint32_t i) {
@@ -167,29 +163,44 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     ++out.contacts;
   }
   v.touching[i] = static_cast<std::uint8_t>(out.contacts < 255u ? out.contacts : 255u);
-  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
-  if (fp.hasGround) {
-    if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {
-      float tx = v.ground.tx[i], ty = v.ground.ty[i];
-      float muR = fp.ground.rollingFriction;
+  // The planes, in their order (the ground first): each in its own frame (wall.hpp), exactly
+  // the ground's contact there; the ground's frame is the identity.
+  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};  // debug: their sum
+  bool anyPlane = false;
+  for (std::uint32_t k = 0; k < v.numPlanes; ++k) {
+    const PlaneWall& w = v.planes[k];
+    const std::size_t s = std::size_t(k) * v.numParticles + i;
+    const Vec3f xl = wallPosition(w, xi);
+    if (groundDepth(xl, pi.r, w.coeffs) > 0.0f) {
+      float tx = v.ground.tx[s], ty = v.ground.ty[s];
+      float muR = w.coeffs.rollingFriction;
+      const ContactSide sl = toWall(w, side());
+      GroundForces g;
       if constexpr (kLaw == ContactLaw::HertzMindlin) {
-        const HertzPair& hp = v.hertz[materialPairIndex(materialOf(v.material, i), v.numMaterials, v.numMaterials)];
-        gf = hertzGroundForces<kClumps>(xi, pi.r, side(), 1.0f / self.invMass, hp, fp.ground, fp.dt, &tx, &ty);
+        const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
+        g = hertzGroundForces<kClumps>(xl, pi.r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &tx, &ty);
         muR = hp.muR;
       } else {
-        gf = groundForces<kClumps>(xi, pi.r, side(), v.own[i].groundDamping, fp.ground, fp.dt, &tx, &ty);
+        const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[s - v.numParticles];
+        g = groundForces<kClumps>(xl, pi.r, sl, c, w.coeffs, fp.dt, &tx, &ty);
       }
-      v.ground.tx[i] = tx;
-      v.ground.ty[i] = ty;
-      const Vec3f fg = gf.normal + gf.friction;
+      v.ground.tx[s] = tx;
+      v.ground.ty[s] = ty;
+      const float fn = g.normal.z;
+      g = GroundForces{fromWall(w, g.normal), fromWall(w, g.friction), fromWall(w, g.arm)};
+      const Vec3f fg = g.normal + g.friction;
       out.f += fg;
-      if (kClumps) out.t += cross(gf.arm, fg);
+      if (kClumps) out.t += cross(g.arm, fg);
       if (kClumps && muR > 0.0f)
-        out.t += rollingTorque(side().omega, Vec3f{0.0f, 0.0f, 0.0f}, Vec3f{0.0f, 0.0f, 1.0f}, gf.normal.z, pi.r,
-                               1.0f / self.invMass, muR, fp.dt);
+        out.t += rollingTorque(side().omega, Vec3f{0.0f, 0.0f, 0.0f}, w.n, fn, pi.r, 1.0f / self.invMass, muR, fp.dt);
+      if (kDebug) {
+        gf.normal = anyPlane ? gf.normal + g.normal : g.normal;
+        gf.friction = anyPlane ? gf.friction + g.friction : g.friction;
+        anyPlane = true;
+      }
     } else {  // out of contact the stick spring is released
-      v.ground.tx[i] = 0.0f;
-      v.ground.ty[i] = 0.0f;
+      v.ground.tx[s] = 0.0f;
+      v.ground.ty[s] = 0.0f;
     }
   }
   if (fp.pulls != 0u) {
