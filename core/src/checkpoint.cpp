@@ -216,7 +216,7 @@ Checkpoint Checkpoint::read(const std::string& path) {
   if ((flags & ~kFlagGroundSprings) != 0) in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kFlagGroundSprings));
   const std::uint64_t np = d.u32(), nb = d.u32();
   if (((flags & kFlagGroundSprings) != 0) != (np > 0))
-    in.fail(kOffNumParticles, "the ground-spring flag does not match the particle count " + std::to_string(np));
+    in.fail(kOffNumParticles, "the plane-spring flag does not match the plane-spring count " + std::to_string(np));
   Checkpoint c;
   c.step = d.u64();
   const std::uint64_t timeAt = d.fileOffset();
@@ -239,7 +239,7 @@ Checkpoint Checkpoint::read(const std::string& path) {
   const std::uint64_t stateAt = in.offset();
   const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc;
   if (stateBytes + 4 != in.remaining())
-    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " particles and " +
+    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " plane springs and " +
                          std::to_string(nc) + " contact histories needs " + std::to_string(stateBytes + 4) +
                          " bytes, the file has " + std::to_string(in.remaining()) + " left");
   buf.clear();
@@ -287,7 +287,7 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
   if (warning) {
     warning->clear();
     if (physicsFingerprint != tumble::physicsFingerprint(world.params))
-      *warning = "the scene's physical parameters (dt, contact, ground, gravity, pulls or integrator) differ from "
+      *warning = "the scene's physical parameters (dt, contact, ground, walls, gravity, pulls or integrator) differ from "
                  "those the checkpoint was written with: the continuation is not the uninterrupted run";
   }
   World w = world;

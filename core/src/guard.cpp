@@ -315,9 +315,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
           delta = double(pw.coeffs.height) - (pw.sign * xi[pw.axis] - w.radius[i]);
           e = (pw.axis == 2 ? errZ : err)[w.body[i]] + floatRounding(pw.coeffs.height);
         } else {
-          const double d = (xi[0] - pw.origin.x) * pw.n.x + (xi[1] - pw.origin.y) * pw.n.y + (xi[2] - pw.origin.z) * pw.n.z;
-          delta = w.radius[i] - d;
-          e = 1.8 * err[w.body[i]] + bodyRounding(pw.origin.x, pw.origin.y, pw.origin.z);
+          const double d = xi[0] * pw.n.x + xi[1] * pw.n.y + xi[2] * pw.n.z;  // x·n = h on the plane
+          delta = w.radius[i] - (d - pw.coeffs.height);
+          e = 1.8 * err[w.body[i]] + floatRounding(pw.coeffs.height);
         }
         if (delta <= 0.0) continue;
         double K = 0.0;  // Hertz: F = K δ^{3/2}

@@ -27,6 +27,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -553,7 +554,13 @@ class SceneParser {
         const Vec3f lo = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
         const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
         const Vec3f hi = r.vec3(hiNode, "max", Rule::Any);
-        if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) r.fail(sourceOf(hiNode), "max must exceed min on every axis");
+        if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
+          char buf[200];
+          std::snprintf(buf, sizeof buf, "max must exceed min on every axis (as single-precision numbers: min [%.9g, %.9g, "
+                        "%.9g], max [%.9g, %.9g, %.9g])", double(lo.x), double(lo.y), double(lo.z), double(hi.x),
+                        double(hi.y), double(hi.z));
+          r.fail(sourceOf(hiNode), buf);
+        }
         static const char* const kFaces[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
         bool open[6] = {false, false, false, false, false, false};
         if (const toml::node* o = r.find("open")) {
@@ -562,8 +569,11 @@ class SceneParser {
             const std::string face = r.string(el, "each entry of open");
             const auto* f = std::find_if(kFaces, kFaces + 6, [&](const char* x) { return face == x; });
             if (f == kFaces + 6) r.fail(sourceOf(el), "unknown face \"" + face + "\" (one of -x, +x, -y, +y, -z, +z)");
+            if (open[f - kFaces]) r.fail(sourceOf(el), "face \"" + face + "\" is listed twice");
             open[f - kFaces] = true;
           }
+          if (std::all_of(open, open + 6, [](bool b) { return b; }))
+            r.fail(sourceOf(*o), "every face is open: the box has no walls");
         }
         // Six inward planes: the face at min of axis a has normal +e_a, the one at max −e_a.
         const float l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "tumble/error.hpp"
+#include "tumble/kernels/integrate.hpp"
 #include "tumble/sweep_frame.hpp"
 
 namespace tumble {
@@ -135,6 +136,7 @@ std::vector<WallDef> Scene::planes() const {
   for (const WallDef& w : walls) {
     out.push_back(w);
     out.back().contact.enabled = true;
+    if (w.where.empty()) out.back().where = "wall " + std::to_string(out.size() - (ground.enabled ? 1 : 0));
   }
   return out;
 }
@@ -143,16 +145,18 @@ std::vector<PlaneWall> World::planeWalls() const { return tumble::planeWalls(par
 
 std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
   std::vector<PlaneWall> out;
-  for (WallDef d : params.planes()) {
-    d.point = Vec3f{static_cast<float>(double(d.point.x) - f.x), static_cast<float>(double(d.point.y) - f.y),
-                    static_cast<float>(double(d.point.z) - f.z)};
+  for (const WallDef& d : params.planes()) {
     const GroundParams& g = d.contact;
     PlaneWall w;
-    w.origin = d.point;
-    w.n = d.normal;
+    const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
+                                 double(d.normal.z) * d.normal.z);
+    if (!(len > 0.0) || !std::isfinite(len)) throw Error(d.where + ": the normal must be a non-zero, finite vector");
+    const double n[3] = {d.normal.x / len, d.normal.y / len, d.normal.z / len};
+    const double o[3] = {f.x, f.y, f.z}, p[3] = {d.point.x, d.point.y, d.point.z};
+    w.n = Vec3f{float(n[0]), float(n[1]), float(n[2])};
     const float kt = g.tangentialStiffness > 0.0f ? g.tangentialStiffness : g.stiffness * (2.0f / 7.0f);
     w.coeffs = GroundCoeffs{0.0f, g.stiffness, kt, g.friction, params.rollingFrictionOf(g)};
-    const float nv[3] = {d.normal.x, d.normal.y, d.normal.z};
+    const float nv[3] = {w.n.x, w.n.y, w.n.z};
     w.axis = -1;
     w.sign = 1.0f;
     for (int a = 0; a < 3; ++a)
@@ -167,10 +171,9 @@ std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
       t2[c] = w.sign;
       w.t1 = Vec3f{t1[0], t1[1], t1[2]};
       w.t2 = Vec3f{t2[0], t2[1], t2[2]};
-      const float o[3] = {d.point.x, d.point.y, d.point.z};
-      w.coeffs.height = w.sign * o[a];
+      // The ground's height as toLocal() shifts it (h − o_z rounded to float), with the sign.
+      w.coeffs.height = w.sign * static_cast<float>(p[a] - o[a]);
     } else {  // t1 ⟂ n from the coordinate axis least aligned with n, t2 = n × t1 (double)
-      const double n[3] = {nv[0], nv[1], nv[2]};
       int least = 0;
       for (int k = 1; k < 3; ++k)
         if (std::abs(n[k]) < std::abs(n[least])) least = k;
@@ -182,6 +185,8 @@ std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
       const double u[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
       w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
+      // h = (p − o)·n in double, rounded once.
+      w.coeffs.height = static_cast<float>((p[0] - o[0]) * n[0] + (p[1] - o[1]) * n[1] + (p[2] - o[2]) * n[2]);
     }
     out.push_back(w);
   }
@@ -254,9 +259,10 @@ std::string groundDampingOutOfRange(const SphereDef& sphere, const GroundParams&
   const bool isGround = where == "[ground]";
   char buf[400];
   std::snprintf(buf, sizeof buf, "its %s damping (elasticity %g, mass %.3g kg, %s stiffness %.3g N/m) is "
-                "%.3g N s/m, beyond single precision; use a smaller mass or %s stiffness", isGround ? "ground" : "wall",
+                "%.3g N s/m, beyond single precision; use a smaller mass or %s%s", isGround ? "ground" : "wall",
                 double(sphere.elasticity), double(sphere.mass), isGround ? "ground" : where.c_str(),
-                double(ground.stiffness), c, where.c_str());
+                double(ground.stiffness), c, isGround ? "[ground] stiffness" : "a smaller stiffness of ",
+                isGround ? "" : where.c_str());
   return buf;
 }
 
@@ -440,13 +446,34 @@ World World::fromScene(const Scene& scene) {
       }
   }
 
+  // A sphere whose centre is behind a wall would be pushed through it from the wrong side: a
+  // box that does not enclose its bodies, or a plane whose normal points away from them.
+  const std::vector<PlaneWall> walls = tumble::planeWalls(w.params, LocalFrame{});
+  for (std::size_t q = scene.ground.enabled ? 1 : 0; q < walls.size(); ++q) {
+    const PlaneWall& pw = walls[q];
+    for (std::uint32_t k = 0; k < nb; ++k) {
+      const BodyState& s = w.state;
+      const Mat3f R = rotationMatrix(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]});
+      for (std::uint32_t i = w.first[k], e = i + w.numParticlesOf[k]; i < e; ++i) {
+        const Vec3f x = particlePosition(Vec3f{s.px[k], s.py[k], s.pz[k]}, R, Vec3f{w.ux[i], w.uy[i], w.uz[i]});
+        const double d = double(x.x) * pw.n.x + double(x.y) * pw.n.y + double(x.z) * pw.n.z - pw.coeffs.height;
+        if (d < 0.0) {
+          char buf[200];
+          std::snprintf(buf, sizeof buf, ": body %u has a sphere whose centre is %.3g m behind the wall (at %.6g, %.6g, %.6g)",
+                        k, -d, double(x.x), double(x.y), double(x.z));
+          throw Error(planes[q].where + buf + "; a box must enclose its bodies, and a plane's normal points towards them");
+        }
+      }
+    }
+  }
   return w;
 }
 
 namespace {
 
 // hertz-mindlin: the shortest Hertz contact time t_c = 2.87 (m*² / (R* Y*² v))^{1/5} of the scene,
-// for the lightest mass and the largest radius of each material against each other and the ground, at
+// for the lightest mass and the largest radius of each material against each other and every plane (the
+// ground, the walls), at
 // the fastest impact its start suggests: v = max(1 m/s, |V|max + √(2 |g| H)), H the largest
 // height of a body above the ground (without one, the bodies' vertical extent).
 double hertzContactTime(const World& w) {
@@ -478,7 +505,7 @@ double hertzContactTime(const World& w) {
       if (std::isfinite(mMin[b]) && (a != b || w.numBodies() > 1))
         contact(mMin[a] * mMin[b] / (mMin[a] + mMin[b]), rMax[a] * rMax[b] / (rMax[a] + rMax[b]),
                 w.materialPairs[materialPairIndex(a, b, m)].ystar);
-    if (w.params.ground.enabled) contact(mMin[a], rMax[a], w.materialPairs[materialPairIndex(a, m, m)].ystar);
+    for (std::size_t q = 0; q * m < w.planeHertz.size(); ++q) contact(mMin[a], rMax[a], w.planeHertz[q * m + a].ystar);
   }
   return tc;
 }
@@ -493,8 +520,8 @@ double shortestContactTime(const World& w) {
   const double mMin = *std::min_element(w.mass.begin(), w.mass.end());
   if (w.numBodies() > 1 && w.params.contact.stiffness > 0.0f)
     tc = std::min(tc, pi * std::sqrt(0.5 * mMin / double(w.params.contact.stiffness)));
-  if (w.params.ground.enabled && w.params.ground.stiffness > 0.0f)
-    tc = std::min(tc, pi * std::sqrt(mMin / double(w.params.ground.stiffness)));
+  for (const WallDef& p : w.params.planes())  // the ground and the walls
+    if (p.contact.stiffness > 0.0f) tc = std::min(tc, pi * std::sqrt(mMin / double(p.contact.stiffness)));
   return tc;
 }
 

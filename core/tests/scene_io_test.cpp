@@ -196,7 +196,7 @@ TEST(SceneFiles, EveryFileParses) {
     EXPECT_FALSE(s.bodies.empty());
     EXPECT_GT(s.dt, 0.0f);
     EXPECT_GE(s.steps, 1u);
-    EXPECT_TRUE(s.ground.enabled);
+    EXPECT_TRUE(s.ground.enabled || !s.walls.empty()) << "something to land on";
     EXPECT_EQ(s.sourceFile, entry.path().string());
     EXPECT_EQ(s.name, entry.path().stem().string());
     for (const BodyDef& b : s.bodies) {
@@ -1079,6 +1079,13 @@ TEST(SceneIoErrors, Walls) {
   expectError(withExtra("[[wall]]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nopen = [\"+z\",\n \"top\"]\n"),
               17, {"unknown face \"top\""});
   expectError(withExtra("[[wall]]\ntype = \"box\"\nnormal = [0, 0, 1]\n"), 14, {"normal is not a key of type = \"box\""});
+  expectError(withExtra("[[wall]]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nopen = [\"+z\", \"+z\"]\n"), 16,
+              {"face \"+z\" is listed twice"});
+  expectError(withExtra("[[wall]]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
+                        "open = [\"+z\", \"-z\", \"+x\", \"-x\", \"+y\", \"-y\"]\n"),
+              16, {"every face is open"});
+  expectError(withExtra("[[wall]]\ntype = \"box\"\nmin = [100000000, 0, 0]\nmax = [100000001, 1, 1]\n"), 15,
+              {"as single-precision numbers: min [100000000"});
   expectError(withExtra("[[wall]]\ntype = \"plane\"\nheight = 1\n"), 14, {"unknown key 'height'"});
   expectError(withExtra("[[wall]]\ntype = \"plane\"\nstiffness = -1\n"), 14, {"stiffness"});
   expectError(withExtra("[[wall]]\ntype = \"plane\"\nrolling_friction = 0.1\n"), 14,

@@ -292,6 +292,26 @@ expect_msg "start below the ground" "warning: low.toml: body 0 starts 50% of its
 expect_status "a good start" 0 "$bin" run small.toml --steps 5 -q
 grep -q "warning" err.txt && bad "small.toml should start without a warning: $(cat err.txt)" || ok "no warning for a good start"
 
+# Walls (docs/scenes.md#wall-walls): a box around the lattice runs; bodies outside it, a bad
+# face and a wall pressed into a sphere are named.
+wall_box='[[wall]]
+type = "box"
+min = [-0.2, -0.2, 0.0]
+max = [1.0, 1.0, 1.0]
+open = ["+z"]'
+{ sed '/^\[ground\]/,/^height/d' small.toml; echo "$wall_box"; } > boxed.toml
+expect_status "a box of walls" 0 "$bin" run boxed.toml --steps 200 -q
+grep -q "warning" err.txt && bad "boxed.toml should start without a warning: $(cat err.txt)" || ok "no warning in a box"
+sed 's/max = \[1.0, 1.0, 1.0\]/max = [0.5, 1.0, 1.0]/' boxed.toml > outside.toml
+expect_status "bodies outside a box" 2 "$bin" run outside.toml -q
+expect_msg "bodies outside a box" "\[\[wall\]\] #1 \(outside.toml:[0-9]+\) face \+x: body [0-9]+ has a sphere whose centre is .* behind the wall"
+sed 's/open = \["+z"\]/open = ["+z", "top"]/' boxed.toml > face.toml
+expect_status "an unknown face" 2 "$bin" run face.toml -q
+expect_msg "an unknown face" "face.toml:[0-9]+: \[\[wall\]\] #1: unknown face \"top\""
+sed 's/max = \[1.0, 1.0, 1.0\]/max = [0.8, 1.0, 1.0]/' boxed.toml > pressed.toml
+expect_status "a wall pressed into a sphere" 0 "$bin" run pressed.toml --steps 5 -q
+expect_msg "a wall pressed into a sphere" "warning: pressed.toml: body [0-9]+ starts [0-9]+% of its radius inside \[\[wall\]\] #1 \(pressed.toml:[0-9]+\) face \+x"
+
 # Outputs never replace what is not a file, and write through links (tumble/output_file.hpp).
 ln -sf real.csv link.csv
 expect_status "state-out through a link" 0 "$bin" run small.toml --steps 5 --state-out link.csv -q

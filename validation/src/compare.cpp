@@ -61,10 +61,11 @@ std::vector<PairCase> comparePairSets(const std::vector<Backend>& pipelines, std
 }
 
 std::string StateDifference::describe() const {
-  char buf[160];
-  const bool particle = quantity.rfind("ground", 0) == 0, contact = quantity.rfind("contact", 0) == 0;
+  char buf[200];
+  const bool spring = quantity.rfind("ground", 0) == 0, contact = quantity.rfind("contact", 0) == 0;
   std::snprintf(buf, sizeof buf, "%s of %s %u: %.9g vs %.9g", quantity.c_str(),
-                particle ? "particle" : contact ? "entry" : "body", index, a, b);
+                spring ? "plane spring (plane k, particle i at k × particles + i)" : contact ? "entry" : "body", index,
+                a, b);
   return buf;
 }
 

@@ -8,9 +8,11 @@
 #if defined(__CUDACC__)
 #define TUMBLE_HD __host__ __device__
 #define TUMBLE_HD_INLINE __host__ __device__ __forceinline__
+#define TUMBLE_HD_NOINLINE __host__ __device__ __noinline__
 #else
 #define TUMBLE_HD
 #define TUMBLE_HD_INLINE inline __attribute__((always_inline))
+#define TUMBLE_HD_NOINLINE __attribute__((noinline))
 #endif
 
 #if defined(NDEBUG)

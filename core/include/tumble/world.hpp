@@ -190,9 +190,9 @@ std::string materialOutOfRange(const MaterialDef& m);
 double restitutionForDamping(double c, double k, double m);
 
 /// Contact time π √(m_eff / k) of the stiffest, lightest contact the scene can have (two of its
-/// lightest particles with k_s; its lightest particle on the ground with k_g), undamped. Under
+/// lightest particles with k_s; its lightest particle on the ground or a wall with its k), undamped. Under
 /// hertz-mindlin, the Hertz contact time 2.87 (m*² / (R* Y*² v))^{1/5} of the lightest mass and
-/// the largest radius of each pair of materials (and on the ground) at the fastest impact the
+/// the largest radius of each pair of materials (and on every plane) at the fastest impact the
 /// initial state suggests, v = max(1 m/s, |V|max + √(2 |g| H)), H the drop to the ground.
 double shortestContactTime(const World& world);
 

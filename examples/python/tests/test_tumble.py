@@ -16,6 +16,7 @@ BIN = os.environ["TUMBLE_BIN"]
 SRC = os.environ["TUMBLE_SOURCE_DIR"]
 MOLECULES = os.path.join(SRC, "scenes", "molecules.toml")
 SPHERES = os.path.join(SRC, "scenes", "spheres.toml")
+BOX = os.path.join(SRC, "scenes", "box.toml")
 
 
 def cli_state(tmp_path, *args):
@@ -33,7 +34,7 @@ def same_bits(a, b):
     return a.shape == b.shape and np.array_equal(a.view(np.uint32), b.view(np.uint32))
 
 
-@pytest.mark.parametrize("path", [MOLECULES, SPHERES])
+@pytest.mark.parametrize("path", [MOLECULES, SPHERES, BOX])
 def test_same_bits_as_tumble_run(tmp_path, path):
     sim = tumble.Simulation(tumble.Scene.load(path), threads=2)
     sim.step(150)
@@ -152,6 +153,22 @@ def test_a_small_scene_built_in_python():
     t = sim.time
     z = sim.bodies()["x"][0, 2]
     assert abs((z0 - z) - 0.5 * 9.81 * t * t) < 2e-3  # free fall, before it lands (t = 0.1 s)
+
+
+def test_a_wall_built_in_python():
+    """A ball thrown at a plane wall x = 1 (normal -x, no gravity) comes back at e times its speed."""
+    scene = tumble.scene_from_dict({
+        "scene": {"name": "wall", "dt": 1e-5, "steps": 4000, "gravity": [0.0, 0.0, 0.0]},
+        "wall": [{"type": "plane", "point": [1.0, 0.0, 0.0], "normal": [-1.0, 0.0, 0.0], "stiffness": 1e5,
+                  "friction": 0.0}],
+        "shape": [{"name": "ball", "sphere": [{"radius": 0.1, "mass": 1.0, "elasticity": 0.5}]}],
+        "body": [{"shape": "ball", "position": [0.85, 0.0, 0.0], "velocity": [2.0, 0.0, 0.0]}],
+    })
+    sim = tumble.Simulation(scene)
+    sim.step(4000)
+    b = sim.bodies()
+    assert b["x"][0, 0] < 0.9
+    assert abs(b["v"][0, 0] + 0.5 * 2.0) < 0.02
 
 
 def test_errors_name_the_file_and_line(tmp_path):

@@ -29,6 +29,7 @@ namespace tumble {
 /// Scene constants of the force stage.
 struct ForceParams {
   ContactCoeffs contact;
+  GroundCoeffs ground;    ///< the ground's (StepView::planes[0].coeffs when hasGround), for its test
   Vec3f gravity;
   float pullX, pullY, pullSwirl;
   Vec3f pullCentre;
@@ -36,11 +37,15 @@ struct ForceParams {
   std::uint32_t pulls;
   HistoryCoeffs history;  ///< hooke-history only
   float rollingFriction;  ///< μ_r between particles (0: none; hooke-history only)
+  bool hasGround;         ///< the first plane is the ground (StepView::planes[0])
+  bool hasWalls;          ///< planes after the ground (wallContacts())
 };
 
 /// The force-stage constants of a scene with the given pulls on (host side).
 inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
+  const float kt = p.ground.tangentialStiffness > 0.0f ? p.ground.tangentialStiffness : p.ground.stiffness * (2.0f / 7.0f);
   return ForceParams{ContactCoeffs{p.contact.stiffness, p.contact.damping, p.contact.shear},
+                     GroundCoeffs{p.ground.height, p.ground.stiffness, kt, p.ground.friction, p.groundRollingFriction()},
                      p.gravity,
                      p.pulls.x,
                      p.pulls.y,
@@ -53,7 +58,9 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                                                                         : p.contact.stiffness * (2.0f / 7.0f),
                                    p.contact.gammaN, p.contact.gammaT >= 0.0f ? p.contact.gammaT : 0.5f * p.contact.gammaN,
                                    p.contact.friction},
-                     p.contact.rollingFriction};
+                     p.contact.rollingFriction,
+                     p.ground.enabled,
+                     !p.walls.empty()};
 }
 
 /// Debug capture (internal numbering, 3 floats per particle each): the five forces
@@ -90,6 +97,72 @@ struct ParticleForce {
   Vec3f f, t;
   std::uint32_t contacts;
 };
+
+/// Particle i (of body `self`, radius r, at xi, its contact side `side`) in contact with plane
+/// k (axis kAxis, see wall.hpp; s = k n + i its spring): the ground's contact in the plane's
+/// frame, turned back to the world frame, with the spring updated; its force, torque and
+/// rolling torque are added to *out, and the forces returned (for the debug capture).
+template <int kAxis, bool kClumps, ContactLaw kLaw>
+TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams& fp, const PlaneWall& w, std::uint32_t k,
+                                           std::size_t s, std::uint32_t i, Vec3f xi, float r, const BodyRow& self,
+                                           const ContactSide& side, ParticleForce* out) {
+  const Vec3f xl = wallPosition<kAxis>(w, xi);
+  const ContactSide sl = toWall<kAxis>(w, side);
+  float tx = v.ground.tx[s], ty = v.ground.ty[s];
+  GroundForces g;
+  float muR;
+  if constexpr (kLaw == ContactLaw::HertzMindlin) {
+    const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
+    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &tx, &ty);
+    muR = hp.muR;
+  } else {
+    const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[s - v.numParticles];
+    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &tx, &ty);
+    muR = w.coeffs.rollingFriction;
+  }
+  v.ground.tx[s] = tx;
+  v.ground.ty[s] = ty;
+  const float fn = g.normal.z;
+  g = GroundForces{fromWall<kAxis>(w, g.normal), fromWall<kAxis>(w, g.friction), fromWall<kAxis>(w, g.arm)};
+  const Vec3f fg = g.normal + g.friction;
+  out->f += fg;
+  if (kClumps) out->t += cross(g.arm, fg);
+  if (kClumps && muR > 0.0f)
+    out->t += rollingTorque(side.omega, Vec3f{0.0f, 0.0f, 0.0f}, w.n, fn, r, 1.0f / self.invMass, muR, fp.dt);
+  return g;
+}
+
+/// The walls (the planes after the ground) on particle i, in their order; *gf (debug) gains
+/// their forces. Not inlined: the loop stays out of the force pass of a scene without walls.
+template <bool kClumps, ContactLaw kLaw>
+TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
+                                     Vec3f xi, float r, ParticleForce* out, GroundForces* gf, bool anyPlane) {
+  ContactSide side{{0.0f, 0.0f, 0.0f}, self.v, {0.0f, 0.0f, 0.0f}};
+  bool haveSide = !kClumps;
+  for (std::uint32_t k = fp.hasGround ? 1u : 0u; k < v.numPlanes; ++k) {
+    const PlaneWall& w = v.planes[k];
+    const std::size_t s = std::size_t(k) * v.numParticles + i;
+    if (r - (wallHeight(w, xi) - w.coeffs.height) > 0.0f) {  // groundDepth(wallPosition(w, xi), …) > 0
+      if (!haveSide) {
+        side = sideOf(self, v.own[i].u);
+        haveSide = true;
+      }
+      GroundForces g;
+      switch (w.axis) {
+        case 0: g = planeContact<0, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
+        case 1: g = planeContact<1, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
+        case 2: g = planeContact<2, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
+        default: g = planeContact<-1, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
+      }
+      gf->normal = anyPlane ? gf->normal + g.normal : g.normal;
+      gf->friction = anyPlane ? gf->friction + g.friction : g.friction;
+      anyPlane = true;
+    } else {  // out of contact the stick spring is released
+      v.ground.tx[s] = 0.0f;
+      v.ground.ty[s] = 0.0f;
+    }
+  }
+}
 
 /// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
 /// view (the candidate list, or on the CPU its near list) filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
@@ -163,45 +236,20 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     ++out.contacts;
   }
   v.touching[i] = static_cast<std::uint8_t>(out.contacts < 255u ? out.contacts : 255u);
-  // The planes, in their order (the ground first): each in its own frame (wall.hpp), exactly
-  // the ground's contact there; the ground's frame is the identity.
+  // The planes (wall.hpp), the ground first: its test reads the force constants (most particles
+  // of a scene are above its ground), the walls' loop is wallContacts().
   GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};  // debug: their sum
-  bool anyPlane = false;
-  for (std::uint32_t k = 0; k < v.numPlanes; ++k) {
-    const PlaneWall& w = v.planes[k];
-    const std::size_t s = std::size_t(k) * v.numParticles + i;
-    const Vec3f xl = wallPosition(w, xi);
-    if (groundDepth(xl, pi.r, w.coeffs) > 0.0f) {
-      float tx = v.ground.tx[s], ty = v.ground.ty[s];
-      float muR = w.coeffs.rollingFriction;
-      const ContactSide sl = toWall(w, side());
-      GroundForces g;
-      if constexpr (kLaw == ContactLaw::HertzMindlin) {
-        const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
-        g = hertzGroundForces<kClumps>(xl, pi.r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &tx, &ty);
-        muR = hp.muR;
-      } else {
-        const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[s - v.numParticles];
-        g = groundForces<kClumps>(xl, pi.r, sl, c, w.coeffs, fp.dt, &tx, &ty);
-      }
-      v.ground.tx[s] = tx;
-      v.ground.ty[s] = ty;
-      const float fn = g.normal.z;
-      g = GroundForces{fromWall(w, g.normal), fromWall(w, g.friction), fromWall(w, g.arm)};
-      const Vec3f fg = g.normal + g.friction;
-      out.f += fg;
-      if (kClumps) out.t += cross(g.arm, fg);
-      if (kClumps && muR > 0.0f)
-        out.t += rollingTorque(side().omega, Vec3f{0.0f, 0.0f, 0.0f}, w.n, fn, pi.r, 1.0f / self.invMass, muR, fp.dt);
-      if (kDebug) {
-        gf.normal = anyPlane ? gf.normal + g.normal : g.normal;
-        gf.friction = anyPlane ? gf.friction + g.friction : g.friction;
-        anyPlane = true;
-      }
+  if (fp.hasGround) {
+    if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {  // fp.ground = planes[0].coeffs; wallHeight() is z there
+      gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, i, xi, pi.r, self, side(), &out);
     } else {  // out of contact the stick spring is released
-      v.ground.tx[s] = 0.0f;
-      v.ground.ty[s] = 0.0f;
+      v.ground.tx[i] = 0.0f;
+      v.ground.ty[i] = 0.0f;
     }
+  }
+  if (fp.hasWalls) {
+    const bool groundTouched = fp.hasGround && groundDepth(xi, pi.r, fp.ground) > 0.0f;
+    wallContacts<kClumps, kLaw>(v, fp, self, i, xi, pi.r, &out, &gf, groundTouched);
   }
   if (fp.pulls != 0u) {
     const Vec3f fpull = pullForce(xi, v.mass[i], fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls, fp.pullCentre);

@@ -14,50 +14,56 @@
 
 namespace tumble {
 
-/// One plane: the spheres are on the side n points to, in contact when groundDepth() of their
-/// position in the plane's frame (wallPosition()) is positive.
+/// One plane, x·n = h: the spheres are on the side n points to, in contact when groundDepth()
+/// of their position in the plane's frame (wallPosition(), whose z is x·n) is positive, with
+/// coeffs.height = h. The frame's origin is the coordinate origin, so that x·n has the
+/// rounding of |x| (of the local frame, near the bodies), not of the distance to a given point.
 struct PlaneWall {
-  Vec3f origin;        ///< a point of the plane (a general plane's frame origin)
   Vec3f t1, t2, n;     ///< right-handed orthonormal frame, n the normal
   std::int32_t axis;   ///< n = sign · e_axis (0, 1, 2): the exact frame; −1: a general plane
   float sign;          ///< ±1 (aligned planes)
-  GroundCoeffs coeffs; ///< the ground's coefficients; height: sign · origin[axis] (aligned), 0 (general)
+  GroundCoeffs coeffs; ///< the ground's coefficients; height h = p·n of a point p of the plane
 };
 
-namespace detail {
-TUMBLE_HD_INLINE float component(Vec3f v, std::int32_t k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
-}  // namespace detail
-
-/// A vector in the plane's frame: (v·t1, v·t2, v·n). Aligned on axis a (b = a + 1, c = a + 2,
-/// mod 3): (v_b, sign v_c, sign v_a), exact.
+/// A vector in the plane's frame: (v·t1, v·t2, v·n). kAxis: the plane's axis (0, 1, 2: aligned,
+/// n = sign e_a, t1 = e_b, t2 = sign e_c with b = a + 1, c = a + 2 mod 3: a permutation, exact),
+/// or −1 for a general plane; kGroundFrame (the ground: axis 2, sign +1) is the identity. A
+/// template, so that the permutation costs nothing.
+inline constexpr int kGroundFrame = 3;
+template <int kAxis>
 TUMBLE_HD_INLINE Vec3f toWall(const PlaneWall& w, Vec3f v) {
-  if (w.axis >= 0) {
-    const std::int32_t a = w.axis, b = a == 2 ? 0 : a + 1, c = b == 2 ? 0 : b + 1;
-    return Vec3f{detail::component(v, b), w.sign * detail::component(v, c), w.sign * detail::component(v, a)};
-  }
-  return Vec3f{dot(v, w.t1), dot(v, w.t2), dot(v, w.n)};
+  if constexpr (kAxis == kGroundFrame) return v;
+  else if constexpr (kAxis == 0) return Vec3f{v.y, w.sign * v.z, w.sign * v.x};
+  else if constexpr (kAxis == 1) return Vec3f{v.z, w.sign * v.x, w.sign * v.y};
+  else if constexpr (kAxis == 2) return Vec3f{v.x, w.sign * v.y, w.sign * v.z};
+  else return Vec3f{dot(v, w.t1), dot(v, w.t2), dot(v, w.n)};
 }
 
 /// The inverse of toWall(): l.x t1 + l.y t2 + l.z n.
+template <int kAxis>
 TUMBLE_HD_INLINE Vec3f fromWall(const PlaneWall& w, Vec3f l) {
-  if (w.axis >= 0) {
-    const std::int32_t a = w.axis, b = a == 2 ? 0 : a + 1;
-    float out[3];
-    out[b] = l.x;
-    out[b == 2 ? 0 : b + 1] = w.sign * l.y;
-    out[a] = w.sign * l.z;
-    return Vec3f{out[0], out[1], out[2]};
-  }
-  return (l.x * w.t1 + l.y * w.t2) + l.z * w.n;
+  if constexpr (kAxis == kGroundFrame) return l;
+  else if constexpr (kAxis == 0) return Vec3f{w.sign * l.z, l.x, w.sign * l.y};
+  else if constexpr (kAxis == 1) return Vec3f{w.sign * l.y, w.sign * l.z, l.x};
+  else if constexpr (kAxis == 2) return Vec3f{l.x, w.sign * l.y, w.sign * l.z};
+  else return (l.x * w.t1 + l.y * w.t2) + l.z * w.n;
 }
 
-/// A point in the plane's frame, whose z is measured against coeffs.height by groundDepth():
-/// aligned planes permute x itself (height = sign · origin[axis]), general ones take x − origin.
-TUMBLE_HD_INLINE Vec3f wallPosition(const PlaneWall& w, Vec3f x) { return toWall(w, w.axis >= 0 ? x : x - w.origin); }
+/// A point in the plane's frame, whose z is measured against coeffs.height by groundDepth().
+template <int kAxis>
+TUMBLE_HD_INLINE Vec3f wallPosition(const PlaneWall& w, Vec3f x) {
+  return toWall<kAxis>(w, x);
+}
+
+/// wallPosition(w, x).z alone, for any plane, without a branch: what the contact test reads.
+/// x·n; for an aligned plane n = sign e_a, so the products with the zero components add ±0
+/// and it equals sign · x_a, the value groundDepth() sees there.
+TUMBLE_HD_INLINE float wallHeight(const PlaneWall& w, Vec3f x) { return dot(x, w.n); }
 
 /// A contact side (lever, V, Ω) in the plane's frame (a rotation: Ω turns as a vector).
+template <int kAxis>
 TUMBLE_HD_INLINE ContactSide toWall(const PlaneWall& w, const ContactSide& s) {
-  return ContactSide{toWall(w, s.offset), toWall(w, s.v), toWall(w, s.omega)};
+  return ContactSide{toWall<kAxis>(w, s.offset), toWall<kAxis>(w, s.v), toWall<kAxis>(w, s.omega)};
 }
 
 }  // namespace tumble
