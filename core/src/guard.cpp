@@ -146,7 +146,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   pipeline.readLocalState(m_state);
   const BodyState& s = m_state;
   const Scene& sc = w.params;
-  // The planes as the pipeline uses them (toLocal rounds h − o_z and p − o to float).
+  // The planes as the pipeline uses them (both build them from the world's points and the frame).
   const std::vector<WallDef> planeDefs = sc.planes();
   const std::vector<PlaneWall> planes = planeWalls(sc, frame);
   const double groundZ = sc.ground.enabled ? double(planes[0].coeffs.height) : 0.0;

@@ -544,10 +544,10 @@ class SceneParser {
         only({"min", "max", "open"}, "a plane has point and normal");
         wall.point = r.vec3(r.require("point", "a point of the plane in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
         const toml::node& nn = r.require("normal", "the normal towards the spheres, e.g. normal = [0, 0, 1]");
-        const Vec3f v = r.vec3(nn, "normal", Rule::Any);
+        wall.normal = r.vec3(nn, "normal", Rule::Any);  // normalised in double where the planes are built
+        const Vec3f& v = wall.normal;
         const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
         if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(nn), "normal must be a non-zero, finite vector");
-        wall.normal = Vec3f{static_cast<float>(v.x / len), static_cast<float>(v.y / len), static_cast<float>(v.z / len)};
         scene.walls.push_back(wall);
       } else if (type == "box") {
         only({"point", "normal"}, "a box has min, max and open");

@@ -141,8 +141,6 @@ std::vector<WallDef> Scene::planes() const {
   return out;
 }
 
-std::vector<PlaneWall> World::planeWalls() const { return tumble::planeWalls(params, LocalFrame{}); }
-
 std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
   std::vector<PlaneWall> out;
   for (const WallDef& d : params.planes()) {
@@ -459,7 +457,7 @@ World World::fromScene(const Scene& scene) {
         const double d = double(x.x) * pw.n.x + double(x.y) * pw.n.y + double(x.z) * pw.n.z - pw.coeffs.height;
         if (d < 0.0) {
           char buf[200];
-          std::snprintf(buf, sizeof buf, ": body %u has a sphere whose centre is %.3g m behind the wall (at %.6g, %.6g, %.6g)",
+          std::snprintf(buf, sizeof buf, ": body %u has a sphere whose centre is %.3g m behind the wall (at %.9g, %.9g, %.9g)",
                         k, -d, double(x.x), double(x.y), double(x.z));
           throw Error(planes[q].where + buf + "; a box must enclose its bodies, and a plane's normal points towards them");
         }

@@ -1043,9 +1043,14 @@ TEST(SceneIo, Walls) {
                 "[[wall]]\ntype = \"box\"\nmin = [-1, -2, 0]\nmax = [1, 2, 3]\nopen = [\"+z\"]\n"),  // 20-24
       "test.toml");
   ASSERT_EQ(s.walls.size(), 6u) << "a plane and a box open at +z";
-  EXPECT_EQ(s.walls[0].normal.x, 0.0f);
-  EXPECT_EQ(s.walls[0].normal.y, 0.6f);
-  EXPECT_EQ(s.walls[0].normal.z, 0.8f);
+  EXPECT_EQ(s.walls[0].normal.y, 3.0f) << "as given: normalised in double by planeWalls()";
+  EXPECT_EQ(s.walls[0].normal.z, 4.0f);
+  const std::vector<tumble::PlaneWall> pw = tumble::planeWalls(s, tumble::LocalFrame{});
+  ASSERT_EQ(pw.size(), 7u);
+  EXPECT_EQ(pw[1].n.y, 0.6f);
+  EXPECT_EQ(pw[1].n.z, 0.8f);
+  EXPECT_EQ(pw[1].coeffs.height, 0.8f) << "h = p.n";
+  EXPECT_EQ(pw[0].coeffs.height, -1.0f) << "the ground";
   EXPECT_EQ(s.walls[0].point.z, 1.0f);
   EXPECT_EQ(s.walls[0].contact.stiffness, 5e4f);
   EXPECT_EQ(s.walls[0].contact.friction, 0.2f);

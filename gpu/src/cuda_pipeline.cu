@@ -218,7 +218,7 @@ class CudaPipeline final : public Pipeline {
     const cudaStream_t s = m_ctx.stream();
     m_clumps = w.hasClumps;
     m_ground = w.params.ground.enabled;
-    m_planes.upload(w.planeWalls(), s);  // the ground only (no walls: above)
+    m_planes.upload(planeWalls(world.params, m_frame), s);  // the ground only (no walls: above)
     std::vector<BodyRow> bodies;
     std::vector<BodyStatic> bodyStatic;
     std::vector<OwnRow> own;

@@ -85,7 +85,7 @@ struct GroundParams {
 /// with normal +z (Scene::planes()).
 struct WallDef {
   Vec3f point{0.0f, 0.0f, 0.0f};   ///< a point of the plane [m]
-  Vec3f normal{0.0f, 0.0f, 1.0f};  ///< unit normal, towards the spheres
+  Vec3f normal{0.0f, 0.0f, 1.0f};  ///< normal towards the spheres, any length but 0 (planeWalls() normalises it in double)
   GroundParams contact;
   std::string where;               ///< "[[wall]] #k (file:line)" for messages; empty in code
 };

@@ -21,10 +21,10 @@ struct ThermoSample {
   double kineticRotation = 0.0;     ///< Σ ½ ω·L over the bodies of more than one sphere
   double gravity = 0.0;             ///< −Σ M g·X (zero at the world origin)
   double pullPotential = 0.0;       ///< Σ ½ m κ x² (and y) of the x and y pulls that are on
-  double springs = 0.0;             ///< Σ ½ k δ² over the particle contacts and ground contacts
+  double springs = 0.0;             ///< Σ ½ k δ² over the particle contacts and the plane contacts (ground, walls)
   double pullWork = 0.0;            ///< work of the swirl pull on the bodies since the run started
   std::uint64_t contacts = 0;       ///< particle pairs in contact (those of the last step)
-  double maxOverlap = 0.0;          ///< largest overlap δ / smaller radius (pairs and ground)
+  double maxOverlap = 0.0;          ///< largest overlap δ / smaller radius (pairs, ground and walls)
   double maxSpeed = 0.0;            ///< largest centre-of-mass speed (m/s)
   double momentum[3] = {0, 0, 0};   ///< Σ M V (kg m/s)
   double angularMomentum[3] = {0, 0, 0};  ///< Σ (X × M V + L) about the world origin (kg m²/s)

@@ -113,9 +113,6 @@ struct World {
 
   std::uint32_t numParticles() const { return static_cast<std::uint32_t>(radius.size()); }
   std::uint32_t numBodies() const { return static_cast<std::uint32_t>(bodyMass.size()); }
-  /// The planes as the kernels see them (params.planes(), in the frame of params: after
-  /// toLocal, the local one).
-  std::vector<PlaneWall> planeWalls() const;
 
   /// Builds the tables from a scene: mass properties (SPEC §1), centres of mass, offsets u,
   /// ground damping from each particle's elasticity, L = R I0 Rᵀ ω. Throws tumble::Error on an
@@ -132,8 +129,10 @@ World toLocal(const World& world, const LocalFrame& f);
 /// contact history sized (zeros where absent). Throws tumble::Error on mismatched sizes.
 World localWorld(const World& world, LocalFrame* outFrame);
 
-/// The planes of a scene (Scene::planes()) as the kernels see them, in frame f: each point
-/// p − o rounded to float, as toLocal() moves them.
+/// The planes of a scene (Scene::planes()) as the kernels see them, in frame f: the normal
+/// normalised and h = (p − o)·n in double (an aligned plane's h is ±float(p_a − o_a), as
+/// toLocal() moves the ground). The pipelines and the guard build them from the world's scene
+/// and the run's frame, so that they agree to the bit.
 std::vector<PlaneWall> planeWalls(const Scene& scene, const LocalFrame& f);
 
 /// Body positions from frame f back to the world frame: X + o, rounded to float.
