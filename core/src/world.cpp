@@ -141,6 +141,17 @@ std::vector<WallDef> Scene::planes() const {
   return out;
 }
 
+namespace {
+// A plane's h (x·n on it) must be a float the kernels can subtract (found by reading: a point
+// near the float limit on a tilted plane gave an h beyond it, and its conversion is undefined).
+double checkedHeight(double h, const std::string& where) {
+  if (std::abs(h) <= 1.0e38) return h;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, ": the plane lies %.3g m from the origin, beyond single precision; bring it closer", h);
+  throw Error(where + buf);
+}
+}  // namespace
+
 std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
   std::vector<PlaneWall> out;
   for (const WallDef& d : params.planes()) {
@@ -170,7 +181,7 @@ std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
       w.t1 = Vec3f{t1[0], t1[1], t1[2]};
       w.t2 = Vec3f{t2[0], t2[1], t2[2]};
       // The ground's height as toLocal() shifts it (h − o_z rounded to float), with the sign.
-      w.coeffs.height = w.sign * static_cast<float>(p[a] - o[a]);
+      w.coeffs.height = w.sign * static_cast<float>(checkedHeight(p[a] - o[a], d.where));
     } else {  // t1 ⟂ n from the coordinate axis least aligned with n, t2 = n × t1 (double)
       int least = 0;
       for (int k = 1; k < 3; ++k)
@@ -184,7 +195,8 @@ std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
       w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
       // h = (p − o)·n in double, rounded once.
-      w.coeffs.height = static_cast<float>((p[0] - o[0]) * n[0] + (p[1] - o[1]) * n[1] + (p[2] - o[2]) * n[2]);
+      w.coeffs.height =
+          static_cast<float>(checkedHeight((p[0] - o[0]) * n[0] + (p[1] - o[1]) * n[1] + (p[2] - o[2]) * n[2], d.where));
     }
     out.push_back(w);
   }

@@ -327,6 +327,19 @@ TEST(WallTest, APlaneIsTheSameWhereverItsPointIs) {
   }
   EXPECT_GT(std::hypot(st[0].px[0], st[0].py[0]), 0.2) << "it travelled";
 
+  {  // h beyond single precision is refused, not converted
+    Scene far;
+    far.ground.enabled = false;
+    far.walls = {plane(Vec3f{3.0e38f, 3.0e38f, 0.0f}, Vec3f{1.0f, 1.0f, 0.0f}, GroundParams{})};
+    far.shapes = {sphereShape(0.1f, 1.0f, 0.5f)};
+    far.bodies = {BodyDef{}};
+    try {
+      (void)World::fromScene(far);
+      ADD_FAILURE() << "a plane beyond single precision was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("beyond single precision"), std::string::npos) << e.what();
+    }
+  }
   Scene s;
   s.ground.enabled = false;
   GroundParams c;
