@@ -60,15 +60,8 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cell
   f.lz = axis;
   // l_p ⟂ l_z from a cross product with the coordinate axis least aligned with l_z.
   const double az[3] = {axis.x, axis.y, axis.z};
-  int least = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(az[k]) < std::abs(az[least])) least = k;
-  double e[3] = {0, 0, 0};
-  e[least] = 1.0;
-  double p[3] = {az[1] * e[2] - az[2] * e[1], az[2] * e[0] - az[0] * e[2], az[0] * e[1] - az[1] * e[0]};
-  const double pn = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-  for (double& c : p) c /= pn;
-  const double q[3] = {az[1] * p[2] - az[2] * p[1], az[2] * p[0] - az[0] * p[2], az[0] * p[1] - az[1] * p[0]};
+  double p[3], q[3];
+  perpendicularPair(az, p, q);
   f.lp = {float(p[0]), float(p[1]), float(p[2])};
   f.lq = {float(q[0]), float(q[1]), float(q[2])};
 
@@ -124,6 +117,22 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cell
   }
   const std::uint64_t cells = std::uint64_t(f.numA) << f.bShift;
   return cells > 1 ? static_cast<int>(std::bit_width(cells - 1)) : 0;
+}
+
+void perpendicularPair(const double n[3], double t[3], double u[3]) {
+  int least = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(n[k]) < std::abs(n[least])) least = k;
+  double e[3] = {0, 0, 0};
+  e[least] = 1.0;
+  t[0] = n[1] * e[2] - n[2] * e[1];
+  t[1] = n[2] * e[0] - n[0] * e[2];
+  t[2] = n[0] * e[1] - n[1] * e[0];
+  const double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+  for (int k = 0; k < 3; ++k) t[k] /= tn;
+  u[0] = n[1] * t[2] - n[2] * t[1];
+  u[1] = n[2] * t[0] - n[0] * t[2];
+  u[2] = n[0] * t[1] - n[1] * t[0];
 }
 
 MortonGrid mortonGridOf(const BoundsPartial& b) {

@@ -182,16 +182,9 @@ std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
       w.t2 = Vec3f{t2[0], t2[1], t2[2]};
       // The ground's height as toLocal() shifts it (h − o_z rounded to float), with the sign.
       w.coeffs.height = w.sign * static_cast<float>(checkedHeight(p[a] - o[a], d.where));
-    } else {  // t1 ⟂ n from the coordinate axis least aligned with n, t2 = n × t1 (double)
-      int least = 0;
-      for (int k = 1; k < 3; ++k)
-        if (std::abs(n[k]) < std::abs(n[least])) least = k;
-      double e[3] = {0, 0, 0};
-      e[least] = 1.0;
-      double t[3] = {n[1] * e[2] - n[2] * e[1], n[2] * e[0] - n[0] * e[2], n[0] * e[1] - n[1] * e[0]};
-      const double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-      for (double& c : t) c /= tn;
-      const double u[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+    } else {  // t1, t2 ⟂ n (double), as the sweep frame's p, q
+      double t[3], u[3];
+      detail::perpendicularPair(n, t, u);
       w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
       // h = (p − o)·n in double, rounded once.
@@ -383,19 +376,18 @@ World World::fromScene(const Scene& scene) {
     if (sh.spheres.size() > 1) w.hasClumps = true;
     for (const auto& sp : sh.spheres) {
       const std::size_t i = w.radius.size();
+      float firstDamping = 0.0f;  // plane 0's goes to the own rows (groundDamping), the others' to planeDamping
       for (std::size_t q = 0; q < planes.size(); ++q) {
         const GroundParams& g = planes[q].contact;
         if (const std::string why = groundDampingOutOfRange(sp, g, planes[q].where); !why.empty())
           throw Error("body " + std::to_string(k) + ", a sphere of shape '" + sh.name + "': " + why);
         const float c = static_cast<float>(dampingForRestitution(sp.elasticity, g.stiffness, sp.mass));
-        if (q > 0) w.planeDamping[(q - 1) * np + i] = c;
+        (q == 0 ? firstDamping : w.planeDamping[(q - 1) * np + i]) = c;
       }
       w.radius.push_back(sp.radius);
       w.mass.push_back(sp.mass);
       w.elasticity.push_back(sp.elasticity);
-      w.groundDamping.push_back(
-          planes.empty() ? 0.0f
-                         : static_cast<float>(dampingForRestitution(sp.elasticity, planes[0].contact.stiffness, sp.mass)));
+      w.groundDamping.push_back(firstDamping);
       w.body.push_back(static_cast<std::uint32_t>(k));
       const Eigen::Vector3d u = p.frame.transpose() * (Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com);
       w.ux.push_back(static_cast<float>(u.x()));

@@ -106,7 +106,7 @@ template <int kAxis, bool kClumps, ContactLaw kLaw>
 TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams& fp, const PlaneWall& w, std::uint32_t k,
                                            std::size_t s, std::uint32_t i, Vec3f xi, float r, const BodyRow& self,
                                            const ContactSide& side, ParticleForce* out) {
-  const Vec3f xl = wallPosition<kAxis>(w, xi);
+  const Vec3f xl = toWall<kAxis>(w, xi);  // its z against coeffs.height: groundDepth()
   const ContactSide sl = toWall<kAxis>(w, side);
   float tx = v.ground.tx[s], ty = v.ground.ty[s];
   GroundForces g;
@@ -142,7 +142,7 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
   for (std::uint32_t k = fp.hasGround ? 1u : 0u; k < v.numPlanes; ++k) {
     const PlaneWall& w = v.planes[k];
     const std::size_t s = std::size_t(k) * v.numParticles + i;
-    if (r - (wallHeight(w, xi) - w.coeffs.height) > 0.0f) {  // groundDepth(wallPosition(w, xi), …) > 0
+    if (r - (wallHeight(w, xi) - w.coeffs.height) > 0.0f) {  // groundDepth(toWall(w, xi), …) > 0
       if (!haveSide) {
         side = sideOf(self, v.own[i].u);
         haveSide = true;

@@ -15,7 +15,7 @@
 namespace tumble {
 
 /// One plane, x·n = h: the spheres are on the side n points to, in contact when groundDepth()
-/// of their position in the plane's frame (wallPosition(), whose z is x·n) is positive, with
+/// of their position in the plane's frame (toWall(), whose z is x·n) is positive, with
 /// coeffs.height = h. The frame's origin is the coordinate origin, so that x·n has the
 /// rounding of |x| (of the local frame, near the bodies), not of the distance to a given point.
 struct PlaneWall {
@@ -49,13 +49,7 @@ TUMBLE_HD_INLINE Vec3f fromWall(const PlaneWall& w, Vec3f l) {
   else return (l.x * w.t1 + l.y * w.t2) + l.z * w.n;
 }
 
-/// A point in the plane's frame, whose z is measured against coeffs.height by groundDepth().
-template <int kAxis>
-TUMBLE_HD_INLINE Vec3f wallPosition(const PlaneWall& w, Vec3f x) {
-  return toWall<kAxis>(w, x);
-}
-
-/// wallPosition(w, x).z alone, for any plane, without a branch: what the contact test reads.
+/// toWall(w, x).z alone, for any plane, without a branch: what the contact test reads.
 /// x·n; for an aligned plane n = sign e_a, so the products with the zero components add ±0
 /// and it equals sign · x_a, the value groundDepth() sees there.
 TUMBLE_HD_INLINE float wallHeight(const PlaneWall& w, Vec3f x) { return dot(x, w.n); }
