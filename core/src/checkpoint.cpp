@@ -120,6 +120,13 @@ std::uint64_t physicsFingerprint(const Scene& s) {
                       w.contact.frictionOverride})
         f.add(v);
       f.add(static_cast<std::uint32_t>(w.contact.material + 1));
+      if (w.shape != WallDef::Shape::Plane || w.moves()) {  // plane walls that do not move keep their fingerprints
+        f.add(static_cast<std::uint32_t>(w.shape));
+        for (float v : {w.length, w.radius0, w.radius1, w.angularVelocity}) f.add(v);
+        f.add(w.velocity);
+        f.add(w.start);
+        f.add(w.stop);
+      }
     }
   }
   return f.value();

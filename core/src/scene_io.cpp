@@ -525,7 +525,8 @@ class SceneParser {
     for (std::size_t k = 0; k < tables.size(); ++k) {
       const std::string name = "[[wall]] #" + std::to_string(k + 1);
       const TableReader r(m_file, *tables[k], name,
-                          {"type", "point", "normal", "min", "max", "open", "stiffness", "friction",
+                          {"type", "point", "normal", "min", "max", "open", "axis", "radius", "inner_radius",
+                           "velocity", "angular_velocity", "start", "stop", "stiffness", "friction",
                            "tangential_stiffness", "rolling_friction", "material"});
       const std::string where =
           name + " (" + m_file + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
@@ -533,24 +534,54 @@ class SceneParser {
       wall.where = where;
       readPlaneContact(scene, r, "wall", &wall.contact);
       wall.contact.enabled = true;
-      const toml::node& typeNode = r.require("type", "type = \"plane\" or \"box\"");
+      const toml::node& typeNode =
+          r.require("type", "type = \"plane\", \"box\", \"cylinder\", \"cone\" or \"disk\"");
       const std::string type = r.string(typeNode, "type");
-      const auto only = [&](std::initializer_list<const char*> keys, const char* forType) {
-        for (const char* key : keys)
-          if (const toml::node* e = r.find(key))
-            r.fail(sourceOf(*e), std::string(key) + " is not a key of type = \"" + type + "\" (" + forType + ")");
-      };
-      if (type == "plane") {
-        only({"min", "max", "open"}, "a plane has point and normal");
+      // Every key but the contact's belongs to some types only.
+      static const std::pair<const char*, const char*> kKeysOf[] = {
+          {"plane", "point normal velocity start stop"},
+          {"box", "min max open"},
+          {"cylinder", "point axis radius angular_velocity start stop"},
+          {"cone", "point axis radius angular_velocity start stop"},
+          {"disk", "point normal radius inner_radius angular_velocity start stop"}};
+      const auto* entry = std::find_if(std::begin(kKeysOf), std::end(kKeysOf),
+                                       [&](const auto& e) { return type == e.first; });
+      if (entry == std::end(kKeysOf))
+        r.fail(sourceOf(typeNode), "unknown wall type \"" + type + "\" (\"plane\", \"box\", \"cylinder\", \"cone\" "
+                                   "or \"disk\"; triangle meshes are not there yet)");
+      for (const char* key : {"point", "normal", "min", "max", "open", "axis", "radius", "inner_radius", "velocity",
+                              "angular_velocity", "start", "stop"}) {
+        const std::string keys = std::string(" ") + entry->second + " ";
+        if (const toml::node* e = r.find(key); e != nullptr && keys.find(std::string(" ") + key + " ") == std::string::npos)
+          r.fail(sourceOf(*e), std::string(key) + " is not a key of type = \"" + type + "\" (its keys: " +
+                                   entry->second + ")");
+      }
+      if (type == "cylinder" || type == "cone" || type == "disk") {
+        readRevolvedWall(r, type, &wall);
+        scene.walls.push_back(wall);
+      } else if (type == "plane") {
         wall.point = r.vec3(r.require("point", "a point of the plane in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
         const toml::node& nn = r.require("normal", "the normal towards the spheres, e.g. normal = [0, 0, 1]");
         wall.normal = r.vec3(nn, "normal", Rule::Any);  // normalised in double where the planes are built
         const Vec3f& v = wall.normal;
         const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
         if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(nn), "normal must be a non-zero, finite vector");
+        if (const toml::node* vn = r.find("velocity")) {
+          wall.velocity = r.vec3(*vn, "velocity", Rule::Any);
+          const Vec3f& u = wall.velocity;
+          const double along = (double(u.x) * v.x + double(u.y) * v.y + double(u.z) * v.z) / len;
+          const double speed = std::sqrt(double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z);
+          if (std::abs(along) > 1e-6 * speed) {
+            char buf[240];
+            std::snprintf(buf, sizeof buf, "velocity must lie in the plane (a belt: the plane's surface moves, not the "
+                          "plane; its component along the normal is %.6g m/s); a plane moving along its normal is not "
+                          "there yet", along);
+            r.fail(sourceOf(*vn), buf);
+          }
+        }
+        readWallMotionWindow(r, &wall);
         scene.walls.push_back(wall);
-      } else if (type == "box") {
-        only({"point", "normal"}, "a box has min, max and open");
+      } else {  // a box
         const Vec3f lo = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
         const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
         const Vec3f hi = r.vec3(hiNode, "max", Rule::Any);
@@ -590,11 +621,67 @@ class SceneParser {
           face.where = where + " face " + kFaces[f];
           scene.walls.push_back(face);
         }
-      } else {
-        r.fail(sourceOf(typeNode), "unknown wall type \"" + type + "\" (\"plane\" or \"box\"; cylinders, cones and "
-                                   "meshes are not there yet)");
       }
     }
+  }
+
+  // A cylinder (point, axis, radius), a cone (point, axis, radius = [r0, r1]) or a disk or ring
+  // (point, normal, radius, inner_radius) as the revolved segment of WallDef, with its spin.
+  void readRevolvedWall(const TableReader& r, const std::string& type, WallDef* wall) {
+    wall->shape = WallDef::Shape::Revolved;
+    const bool disk = type == "disk";
+    wall->point = r.vec3(r.require("point", disk ? "the disk's centre in m, e.g. point = [0, 0, 0]"
+                                                 : "the axis's start in m, e.g. point = [0, 0, 0]"),
+                         "point", Rule::Any);
+    const char* dirKey = disk ? "normal" : "axis";
+    const toml::node& dn = r.require(dirKey, disk ? "the disk's normal (either way), e.g. normal = [0, 0, 1]"
+                                                  : "the axis from point to the far end in m, e.g. axis = [0, 0, 2]");
+    wall->normal = r.vec3(dn, dirKey, Rule::Any);
+    const Vec3f& a = wall->normal;
+    const double len = std::sqrt(double(a.x) * a.x + double(a.y) * a.y + double(a.z) * a.z);
+    if (!(len > 0.0) || !std::isfinite(len) || (!disk && !(static_cast<float>(len) > 0.0f)))
+      r.fail(sourceOf(dn), std::string(dirKey) + " must be a non-zero, finite vector");
+    wall->length = disk ? 0.0f : static_cast<float>(len);
+    const toml::node& rn = r.require("radius", type == "cone" ? "the radii at point and at point + axis in m, e.g. "
+                                                                "radius = [0.1, 0.5]"
+                                                              : "the radius in m, e.g. radius = 0.5");
+    if (type == "cone") {
+      const toml::array& ra = r.array(rn, "radius", "of 2 numbers [at point, at point + axis]");
+      if (ra.size() != 2)
+        r.fail(sourceOf(rn), "radius must be an array of 2 numbers [at point, at point + axis] (got " +
+                                 std::to_string(ra.size()) + " elements)");
+      wall->radius0 = r.single(*ra.get(0), "radius[0]", Rule::NonNegative);
+      wall->radius1 = r.single(*ra.get(1), "radius[1]", Rule::NonNegative);
+      if (wall->radius0 == wall->radius1)
+        r.fail(sourceOf(rn), "a cone's two radii must differ (equal radii: type = \"cylinder\")");
+    } else if (disk) {
+      wall->radius1 = r.single(rn, "radius", Rule::Positive);
+      if (const toml::node* in = r.find("inner_radius")) {
+        wall->radius0 = r.single(*in, "inner_radius", Rule::NonNegative);
+        if (!(wall->radius0 < wall->radius1))
+          r.fail(sourceOf(*in), "inner_radius (the hole) must be below radius (got " + fmt(wall->radius0) + " and " +
+                                    fmt(wall->radius1) + ")");
+      }
+    } else {
+      wall->radius0 = wall->radius1 = r.single(rn, "radius", Rule::Positive);
+    }
+    wall->angularVelocity = r.single("angular_velocity", 0.0f, Rule::Any);
+    readWallMotionWindow(r, wall);
+  }
+
+  // start and stop of a wall's motion [s]: only with a velocity or a spin.
+  void readWallMotionWindow(const TableReader& r, WallDef* wall) {
+    const toml::node* on = r.find("start");
+    const toml::node* off = r.find("stop");
+    if ((on || off) && !wall->moves())
+      r.fail(sourceOf(on ? *on : *off), std::string(on ? "start" : "stop") + " times a wall's motion, and this wall "
+                                        "does not move (give velocity to a plane, angular_velocity to a cylinder, cone "
+                                        "or disk)");
+    wall->start = r.number("start", 0.0, Rule::NonNegative);
+    wall->stop = r.number("stop", wall->stop, Rule::Positive);
+    if (!(wall->stop > wall->start))
+      r.fail(sourceOf(*off), "stop must be after start (got start = " + fmt(wall->start) + ", stop = " +
+                                 fmt(wall->stop) + ")");
   }
 
   void readPulls(Scene& scene) {

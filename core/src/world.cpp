@@ -152,21 +152,41 @@ double checkedHeight(double h, const std::string& where) {
 }
 }  // namespace
 
-std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
-  std::vector<PlaneWall> out;
+std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
+  std::vector<Wall> out;
   for (const WallDef& d : params.planes()) {
     const GroundParams& g = d.contact;
-    PlaneWall w;
+    Wall w{};
     const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
                                  double(d.normal.z) * d.normal.z);
-    if (!(len > 0.0) || !std::isfinite(len)) throw Error(d.where + ": the normal must be a non-zero, finite vector");
+    if (!(len > 0.0) || !std::isfinite(len))
+      throw Error(d.where + (d.shape == WallDef::Shape::Plane ? ": the normal" : ": the axis") +
+                  " must be a non-zero, finite vector");
     const double n[3] = {d.normal.x / len, d.normal.y / len, d.normal.z / len};
     const double o[3] = {f.x, f.y, f.z}, p[3] = {d.point.x, d.point.y, d.point.z};
     w.n = Vec3f{float(n[0]), float(n[1]), float(n[2])};
     const float kt = g.tangentialStiffness > 0.0f ? g.tangentialStiffness : g.stiffness * (2.0f / 7.0f);
     w.coeffs = GroundCoeffs{0.0f, g.stiffness, kt, g.friction, params.rollingFrictionOf(g)};
+    w.velocity = d.velocity;
+    w.omega = d.angularVelocity;
+    if (d.shape == WallDef::Shape::Revolved) {
+      w.axis = kRevolvedWall;
+      w.sign = 1.0f;
+      double t[3], u[3];
+      detail::perpendicularPair(n, t, u);
+      w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
+      w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
+      w.centre = Vec3f{static_cast<float>(checkedHeight(p[0] - o[0], d.where)),
+                       static_cast<float>(checkedHeight(p[1] - o[1], d.where)),
+                       static_cast<float>(checkedHeight(p[2] - o[2], d.where))};
+      w.length = d.length;
+      w.radius0 = d.radius0;
+      w.radius1 = d.radius1;
+      out.push_back(w);
+      continue;
+    }
     const float nv[3] = {w.n.x, w.n.y, w.n.z};
-    w.axis = -1;
+    w.axis = kGeneralPlane;
     w.sign = 1.0f;
     for (int a = 0; a < 3; ++a)
       if (nv[(a + 1) % 3] == 0.0f && nv[(a + 2) % 3] == 0.0f && (nv[a] == 1.0f || nv[a] == -1.0f)) {
@@ -194,6 +214,22 @@ std::vector<PlaneWall> planeWalls(const Scene& params, const LocalFrame& f) {
     out.push_back(w);
   }
   return out;
+}
+
+bool Scene::wallsMove() const {
+  return std::any_of(walls.begin(), walls.end(), [](const WallDef& w) { return w.moves(); });
+}
+
+bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t) {
+  bool changed = false;
+  const std::size_t first = walls.size() - scene.walls.size();  // after the ground
+  for (std::size_t k = 0; k < scene.walls.size(); ++k) {
+    const WallDef& d = scene.walls[k];
+    const std::uint32_t on = d.moves() && t >= d.start && t < d.stop ? 1u : 0u;
+    changed = changed || walls[first + k].moving != on;
+    walls[first + k].moving = on;
+  }
+  return changed;
 }
 
 const char* toString(RotationScheme s) { return s == RotationScheme::Report ? "report" : "splitting"; }
@@ -450,9 +486,10 @@ World World::fromScene(const Scene& scene) {
 
   // A sphere whose centre is behind a wall would be pushed through it from the wrong side: a
   // box that does not enclose its bodies, or a plane whose normal points away from them.
-  const std::vector<PlaneWall> walls = tumble::planeWalls(w.params, LocalFrame{});
+  const std::vector<Wall> walls = tumble::kernelWalls(w.params, LocalFrame{});
   for (std::size_t q = scene.ground.enabled ? 1 : 0; q < walls.size(); ++q) {
-    const PlaneWall& pw = walls[q];
+    const Wall& pw = walls[q];
+    if (pw.axis == kRevolvedWall) continue;  // a thin surface, met from either side
     for (std::uint32_t k = 0; k < nb; ++k) {
       const BodyState& s = w.state;
       const Mat3f R = rotationMatrix(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]});

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -1043,9 +1044,9 @@ TEST(SceneIo, Walls) {
                 "[[wall]]\ntype = \"box\"\nmin = [-1, -2, 0]\nmax = [1, 2, 3]\nopen = [\"+z\"]\n"),  // 20-24
       "test.toml");
   ASSERT_EQ(s.walls.size(), 6u) << "a plane and a box open at +z";
-  EXPECT_EQ(s.walls[0].normal.y, 3.0f) << "as given: normalised in double by planeWalls()";
+  EXPECT_EQ(s.walls[0].normal.y, 3.0f) << "as given: normalised in double by kernelWalls()";
   EXPECT_EQ(s.walls[0].normal.z, 4.0f);
-  const std::vector<tumble::PlaneWall> pw = tumble::planeWalls(s, tumble::LocalFrame{});
+  const std::vector<tumble::Wall> pw = tumble::kernelWalls(s, tumble::LocalFrame{});
   ASSERT_EQ(pw.size(), 7u);
   EXPECT_EQ(pw[1].n.y, 0.6f);
   EXPECT_EQ(pw[1].n.z, 0.8f);
@@ -1073,7 +1074,7 @@ TEST(SceneIo, Walls) {
 
 TEST(SceneIoErrors, Walls) {
   expectError(withExtra("[[wall]]\npoint = [0, 0, 0]\n"), 12, {"[[wall]] #1", "missing required key 'type'"});
-  expectError(withExtra("[[wall]]\ntype = \"cylinder\"\n"), 13, {"unknown wall type \"cylinder\""});
+  expectError(withExtra("[[wall]]\ntype = \"mesh\"\n"), 13, {"unknown wall type \"mesh\"", "triangle meshes are not there yet"});
   expectError(withExtra("[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n"), 15,
               {"normal must be a non-zero"});
   expectError(withExtra("[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\n"), 12, {"missing required key 'normal'"});
@@ -1100,4 +1101,79 @@ TEST(SceneIoErrors, Walls) {
   expectError(withExtra(std::string(kHertz) + kGlass + "[[wall]]\ntype = \"plane\"\nmaterial = \"wood\"\n"), 23,
               {"wood"});
   expectError(withExtra("[wall]\ntype = \"plane\"\n"), 12, {"wall"});
+  // Revolved walls and motion.
+  const std::string cyl = "[[wall]]\ntype = \"cylinder\"\npoint = [0, 0, 0]\n";  // lines 12-14
+  expectError(withExtra(cyl + "radius = 1\n"), 12, {"missing required key 'axis'"});
+  expectError(withExtra(cyl + "axis = [0, 0, 1]\n"), 12, {"missing required key 'radius'"});
+  expectError(withExtra(cyl + "axis = [0, 0, 0]\nradius = 1\n"), 15, {"axis must be a non-zero, finite vector"});
+  expectError(withExtra(cyl + "axis = [0, 0, 1e-50]\nradius = 1\n"), 15, {"axis must be a non-zero"});
+  expectError(withExtra(cyl + "axis = [0, 0, 1]\nradius = 0\n"), 16, {"radius must be > 0"});
+  expectError(withExtra(cyl + "axis = [0, 0, 1]\nradius = 1\nnormal = [0, 0, 1]\n"), 17,
+              {"normal is not a key of type = \"cylinder\" (its keys: point axis radius"});
+  expectError(withExtra(cyl + "axis = [0, 0, 1]\nradius = 1\nvelocity = [1, 0, 0]\n"), 17,
+              {"velocity is not a key of type = \"cylinder\""});
+  expectError(withExtra(cyl + "axis = [0, 0, 1]\nradius = 1\nstop = 2\n"), 17,
+              {"stop times a wall's motion, and this wall does not move"});
+  expectError(withExtra(cyl + "axis = [0, 0, 1]\nradius = 1\nangular_velocity = 2\nstart = 3\nstop = 2\n"), 19,
+              {"stop must be after start (got start = 3, stop = 2)"});
+  const std::string cone = "[[wall]]\ntype = \"cone\"\npoint = [0, 0, 0]\naxis = [0, 0, 1]\n";  // 12-15
+  expectError(withExtra(cone + "radius = 1\n"), 16, {"radius must be an array of 2 numbers"});
+  expectError(withExtra(cone + "radius = [1, 2, 3]\n"), 16, {"(got 3 elements)"});
+  expectError(withExtra(cone + "radius = [1, -2]\n"), 16, {"radius[1] must be >= 0"});
+  expectError(withExtra(cone + "radius = [1, 1]\n"), 16, {"a cone's two radii must differ"});
+  const std::string disk = "[[wall]]\ntype = \"disk\"\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n";  // 12-15
+  expectError(withExtra(disk + "radius = 1\ninner_radius = 1\n"), 17,
+              {"inner_radius (the hole) must be below radius (got 1 and 1)"});
+  expectError(withExtra(disk + "radius = 1\naxis = [0, 0, 1]\n"), 17, {"axis is not a key of type = \"disk\""});
+  expectError(withExtra("[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\nvelocity = [1, 0, 0.1]\n"),
+              16, {"velocity must lie in the plane", "0.1 m/s", "along its normal is not there yet"});
+  expectError(withExtra("[[wall]]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nangular_velocity = 1\n"), 16,
+              {"angular_velocity is not a key of type = \"box\""});
+}
+
+// Cylinders, cones and disks are revolved segments (WallDef): (0, r)–(|axis|, r), (0, r0)–(|axis|,
+// r1), (0, inner)–(0, radius) about the axis or normal; motion keys as given.
+TEST(SceneIo, RevolvedWalls) {
+  const Scene s = tumble::parseScene(
+      withExtra("[[wall]]\ntype = \"cylinder\"\npoint = [0, -1, 0]\naxis = [0, 3, 4]\nradius = 0.5\n"
+                "angular_velocity = 2.5\nstart = 1\nstop = 4\nfriction = 0.3\n"
+                "[[wall]]\ntype = \"cone\"\npoint = [0, 0, 1]\naxis = [0, 0, 2]\nradius = [0.1, 0.9]\n"
+                "[[wall]]\ntype = \"disk\"\npoint = [0, 0, 0]\nnormal = [0, 0, -1]\nradius = 1\ninner_radius = 0.2\n"
+                "[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\nvelocity = [1.5, -2, 0]\n"),
+      "test.toml");
+  ASSERT_EQ(s.walls.size(), 4u);
+  const tumble::WallDef& c = s.walls[0];
+  EXPECT_EQ(c.shape, tumble::WallDef::Shape::Revolved);
+  EXPECT_EQ(c.length, 5.0f);
+  EXPECT_EQ(c.radius0, 0.5f);
+  EXPECT_EQ(c.radius1, 0.5f);
+  EXPECT_EQ(c.angularVelocity, 2.5f);
+  EXPECT_EQ(c.start, 1.0);
+  EXPECT_EQ(c.stop, 4.0);
+  EXPECT_EQ(c.contact.friction, 0.3f);
+  EXPECT_TRUE(c.moves());
+  EXPECT_EQ(s.walls[1].radius0, 0.1f);
+  EXPECT_EQ(s.walls[1].radius1, 0.9f);
+  EXPECT_EQ(s.walls[1].length, 2.0f);
+  EXPECT_FALSE(s.walls[1].moves());
+  EXPECT_EQ(s.walls[1].stop, std::numeric_limits<double>::infinity()) << "by default a wall moves for ever";
+  EXPECT_EQ(s.walls[2].length, 0.0f);
+  EXPECT_EQ(s.walls[2].radius0, 0.2f);
+  EXPECT_EQ(s.walls[2].radius1, 1.0f);
+  EXPECT_EQ(s.walls[3].shape, tumble::WallDef::Shape::Plane);
+  EXPECT_EQ(s.walls[3].velocity.y, -2.0f);
+  EXPECT_TRUE(s.wallsMove());
+  std::vector<tumble::Wall> kw = tumble::kernelWalls(s, tumble::LocalFrame{});
+  ASSERT_EQ(kw.size(), 4u) << "no ground in withExtra's scene";
+  EXPECT_EQ(kw[0].axis, tumble::kRevolvedWall);
+  EXPECT_EQ(kw[0].n.y, 0.6f);
+  EXPECT_EQ(kw[0].n.z, 0.8f);
+  EXPECT_EQ(kw[0].centre.y, -1.0f);
+  // The motion window: the cylinder turns while 1 <= t < 4, the belt always.
+  for (const double t : {0.0, 1.0, 3.999, 4.0}) {
+    tumble::setWallMotion(kw, s, t);
+    EXPECT_EQ(kw[0].moving, t >= 1.0 && t < 4.0 ? 1u : 0u) << "t = " << t;
+    EXPECT_EQ(kw[1].moving, 0u);
+    EXPECT_EQ(kw[3].moving, 1u);
+  }
 }

@@ -81,7 +81,8 @@ class CpuPipeline final : public Pipeline {
     const World& w = m_world;
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
     m_clumps = w.hasClumps || w.params.contact.rotatesSpheres();  // the rotating path
-    m_planes = planeWalls(world.params, m_frame);  // from the world's points: as the guard sees them
+    m_planes = kernelWalls(world.params, m_frame);  // from the world's points: as the guard sees them
+    m_wallsMove = world.params.wallsMove();
     m_planeDamping = w.planeDamping;
     m_planeHertz = w.planeHertz;
     m_law = w.params.contact.law;
@@ -310,6 +311,7 @@ class CpuPipeline final : public Pipeline {
  private:
   void stepOnce() {
     double* sec = m_stats.seconds;
+    if (m_wallsMove) setWallMotion(m_planes, m_world.params, m_time);
     if (m_needRebuild)
       rebuild();
     else if (m_needRefresh)
@@ -726,7 +728,8 @@ class CpuPipeline final : public Pipeline {
   World m_world;  // in the integration frame; static tables in scene order
   LocalFrame m_frame;
   bool m_clumps = false;
-  std::vector<PlaneWall> m_planes;     // the ground, then the walls (planeWalls())
+  std::vector<Wall> m_planes;     // the ground, then the walls (kernelWalls())
+  bool m_wallsMove = false;            // some wall's surface moves (setWallMotion() before each step)
   std::vector<float> m_planeDamping;   // planes 1.. (World::planeDamping), internal numbering
   std::vector<HertzPair> m_planeHertz;
   ContactLaw m_law = ContactLaw::Report;

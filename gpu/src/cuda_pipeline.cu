@@ -218,7 +218,7 @@ class CudaPipeline final : public Pipeline {
     const cudaStream_t s = m_ctx.stream();
     m_clumps = w.hasClumps;
     m_ground = w.params.ground.enabled;
-    m_planes.upload(planeWalls(world.params, m_frame), s);  // the ground only (no walls: above)
+    m_planes.upload(kernelWalls(world.params, m_frame), s);  // the ground only (no walls: above)
     std::vector<BodyRow> bodies;
     std::vector<BodyStatic> bodyStatic;
     std::vector<OwnRow> own;
@@ -625,7 +625,7 @@ class CudaPipeline final : public Pipeline {
   DeviceBuffer<BodyRow> m_bodies, m_bodiesNext;
   DeviceBuffer<BodyStatic> m_bodyStatic;
   DeviceBuffer<OwnRow> m_own;
-  DeviceBuffer<PlaneWall> m_planes;  // the ground, when there is one
+  DeviceBuffer<Wall> m_planes;  // the ground, when there is one
   DeviceBuffer<float> m_radius, m_mass, m_tx, m_ty;
   DeviceBuffer<std::uint32_t> m_orig, m_bodyOf;
   DeviceBuffer<PosRow> m_pos[2], m_buildPos;

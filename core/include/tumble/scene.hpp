@@ -4,6 +4,7 @@
 /// TOML by readSceneFile() (docs/scenes.md) or built in code (validation/scenes.hpp).
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -78,16 +79,34 @@ struct GroundParams {
   float frictionOverride = -1.0f;
 };
 
-/// A plane wall (`[[wall]]`, docs/scenes.md#walls): the spheres live on the side its normal
-/// points to. Its contact with a sphere is the ground's (SPEC §2.4, or hertzGroundForces under
-/// hertz-mindlin) in the wall's frame, with the wall's own parameters: `contact` is read as a
-/// [ground] table (enabled and height unused). The ground is the plane through (0, 0, height)
-/// with normal +z (Scene::planes()).
+/// A wall (`[[wall]]`, docs/scenes.md#wall-walls), with its own contact parameters: `contact`
+/// is read as a [ground] table (enabled and height unused). A sphere meets a wall as it meets
+/// the ground (SPEC §2.4, or hertzGroundForces under hertz-mindlin), in the frame of the
+/// wall's surface at the nearest point. The ground is the plane through (0, 0, height) with
+/// normal +z (Scene::planes()).
+///
+/// Plane: the spheres live on the side its normal points to (a half-space). Revolved (a
+/// cylinder, a cone, a disk or a ring): the segment from (0, radius0) to (length, radius1) in
+/// (s, ρ), s along the axis from `point` and ρ the distance from the axis, turned about the
+/// axis: a thin surface that a sphere meets from either side.
 struct WallDef {
-  Vec3f point{0.0f, 0.0f, 0.0f};   ///< a point of the plane [m]
-  Vec3f normal{0.0f, 0.0f, 1.0f};  ///< normal towards the spheres, any length but 0 (planeWalls() normalises it in double)
+  Vec3f point{0.0f, 0.0f, 0.0f};   ///< plane: a point of it; revolved: the axis's start [m]
+  /// plane: the normal towards the spheres; revolved: the axis's direction; any length but 0
+  /// (kernelWalls() normalises it in double)
+  Vec3f normal{0.0f, 0.0f, 1.0f};
   GroundParams contact;
   std::string where;               ///< "[[wall]] #k (file:line)" for messages; empty in code
+  enum class Shape : std::uint8_t { Plane, Revolved };
+  Shape shape = Shape::Plane;
+  float length = 0.0f;             ///< revolved: the segment's extent along the axis [m] (0: a disk or ring)
+  float radius0 = 0.0f, radius1 = 0.0f;  ///< revolved: its distances from the axis at s = 0 and s = length [m]
+  /// The wall's surface moves (its shape and place do not): velocity [m/s] along a plane (a
+  /// belt), angular velocity [rad/s] of a revolved wall about its axis (right-handed about
+  /// `normal`; a drum), while start ≤ t < stop [s].
+  Vec3f velocity{0.0f, 0.0f, 0.0f};
+  float angularVelocity = 0.0f;
+  double start = 0.0, stop = std::numeric_limits<double>::infinity();
+  bool moves() const { return velocity.x != 0.0f || velocity.y != 0.0f || velocity.z != 0.0f || angularVelocity != 0.0f; }
 };
 
 /// Bits of PullParams::active / Pipeline::setPulls().
@@ -168,7 +187,7 @@ struct Scene {
   Vec3f gravity{0.0f, 0.0f, -9.81f};
   ContactParams contact;
   GroundParams ground;
-  std::vector<WallDef> walls;  ///< plane walls besides the ground (a box gives six, or fewer when open)
+  std::vector<WallDef> walls;  ///< the walls besides the ground (a box gives six planes, or fewer when open)
   PullParams pulls;
   BroadphaseParams broadphase;
   IntegratorParams integrator;
@@ -188,9 +207,11 @@ struct Scene {
     if (!contact.rotatesSpheres()) return 0.0f;
     return plane.rollingFriction >= 0.0f ? plane.rollingFriction : contact.rollingFriction;
   }
-  /// Every plane the spheres touch, in the order the forces sum them: the ground (when enabled)
-  /// as the wall through (0, 0, height) with normal +z, then the walls.
+  /// Every wall the spheres touch, in the order the forces sum them: the ground (when enabled)
+  /// as the plane through (0, 0, height) with normal +z, then the walls.
   std::vector<WallDef> planes() const;
+  /// Some wall's surface moves (WallDef::moves()).
+  bool wallsMove() const;
   std::uint64_t thermoEvery = 100; ///< steps between two rows of the time series
 };
 

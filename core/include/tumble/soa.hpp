@@ -17,7 +17,7 @@
 namespace tumble {
 
 struct HertzPair;
-struct PlaneWall;
+struct Wall;
 
 /// One body: its integrated state and what the step reads with it (internal numbering), in two
 /// cache lines. The first holds what a touching neighbour reads (V, Ω, R), so that a contact
@@ -110,7 +110,7 @@ struct StepView {
   /// The planes (the ground first when there is one, then the walls; World::planes()). Plane k
   /// > 0's damping c of particle i is planeDamping[(k − 1) numParticles + i] (plane 0's is in the
   /// own row); under hertz-mindlin, material a on plane k is planeHertz[k numMaterials + a].
-  const PlaneWall* planes = nullptr;
+  const Wall* planes = nullptr;
   std::uint32_t numPlanes = 0;
   const float* planeDamping = nullptr;
   const HertzPair* planeHertz = nullptr;

@@ -129,11 +129,17 @@ World toLocal(const World& world, const LocalFrame& f);
 /// contact history sized (zeros where absent). Throws tumble::Error on mismatched sizes.
 World localWorld(const World& world, LocalFrame* outFrame);
 
-/// The planes of a scene (Scene::planes()) as the kernels see them, in frame f: the normal
-/// normalised and h = (p − o)·n in double (an aligned plane's h is ±float(p_a − o_a), as
-/// toLocal() moves the ground). The pipelines and the guard build them from the world's scene
-/// and the run's frame, so that they agree to the bit.
-std::vector<PlaneWall> planeWalls(const Scene& scene, const LocalFrame& f);
+/// The walls of a scene (Scene::planes(): the ground, then the walls) as the kernels see them,
+/// in frame f: the normal (or axis) normalised in double; a plane's h = (p − o)·n in double (an
+/// aligned plane's h is ±float(p_a − o_a), as toLocal() moves the ground), a revolved wall's
+/// axis start p − o. The pipelines and the guard build them from the world's scene and the
+/// run's frame, so that they agree to the bit. None moves (setWallMotion()).
+std::vector<Wall> kernelWalls(const Scene& scene, const LocalFrame& f);
+
+/// Sets Wall::moving of the walls of `scene` (kernelWalls()) for a step that starts at time t:
+/// a wall moves while start ≤ t < stop. Returns whether any changed (a pipeline whose walls
+/// live on a device uploads them then).
+bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t);
 
 /// Body positions from frame f back to the world frame: X + o, rounded to float.
 void toWorld(BodyState& s, const LocalFrame& f);

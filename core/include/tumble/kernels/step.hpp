@@ -98,16 +98,27 @@ struct ParticleForce {
   std::uint32_t contacts;
 };
 
-/// Particle i (of body `self`, radius r, at xi, its contact side `side`) in contact with plane
-/// k (axis kAxis, see wall.hpp; s = k n + i its spring): the ground's contact in the plane's
-/// frame, turned back to the world frame, with the spring updated; its force, torque and
-/// rolling torque are added to *out, and the forces returned (for the debug capture).
+/// Particle i (of body `self`, radius r, its contact side `side`) in contact with wall k (s =
+/// k n + i its spring), at xl in the wall's frame w (axis kAxis, see wall.hpp: the plane's own
+/// or, for a revolved wall, that of its surface at the nearest point): the ground's contact in
+/// that frame, turned back to the world frame, with the spring updated; its force, torque and
+/// rolling torque are added to *out, and the forces returned (for the debug capture). When the
+/// wall moves (w.moving), the velocities are relative to its material at the contact point.
 template <int kAxis, bool kClumps, ContactLaw kLaw>
-TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams& fp, const PlaneWall& w, std::uint32_t k,
-                                           std::size_t s, std::uint32_t i, Vec3f xi, float r, const BodyRow& self,
-                                           const ContactSide& side, ParticleForce* out) {
-  const Vec3f xl = toWall<kAxis>(w, xi);  // its z against coeffs.height: groundDepth()
-  const ContactSide sl = toWall<kAxis>(w, side);
+TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams& fp, const Wall& w, std::uint32_t k,
+                                           std::size_t s, std::uint32_t i, Vec3f xi, Vec3f xl, float r,
+                                           const BodyRow& self, const ContactSide& side, ParticleForce* out) {
+  ContactSide sl = toWall<kAxis>(w, side);
+  Vec3f wallOmega{0.0f, 0.0f, 0.0f};
+  if constexpr (kAxis != kGroundFrame) {  // the ground does not move
+    if (w.moving) {  // w.n is the contact's normal; the wall's axis is planes[k]'s
+      const Wall& wall = v.planes[k];
+      // The material's velocity where the forces act, the bottom of the overlap (groundForces()).
+      const Vec3f p = xi - (r - 0.5f * groundDepth(xl, r, w.coeffs)) * w.n;
+      sl.v = sl.v - toWall<kAxis>(w, wallVelocity(wall, p));
+      wallOmega = wall.omega * wall.n;
+    }
+  }
   float tx = v.ground.tx[s], ty = v.ground.ty[s];
   GroundForces g;
   float muR;
@@ -128,31 +139,41 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
   out->f += fg;
   if (kClumps) out->t += cross(g.arm, fg);
   if (kClumps && muR > 0.0f)
-    out->t += rollingTorque(side.omega, Vec3f{0.0f, 0.0f, 0.0f}, w.n, fn, r, 1.0f / self.invMass, muR, fp.dt);
+    out->t += rollingTorque(side.omega, wallOmega, w.n, fn, r, 1.0f / self.invMass, muR, fp.dt);
   return g;
 }
 
-/// The walls (the planes after the ground) on particle i, in their order; *gf (debug) gains
-/// their forces. Not inlined: the loop stays out of the force pass of a scene without walls.
+/// The walls (after the ground) on particle i, in their order; *gf (debug) gains their
+/// forces. Not inlined: the loop stays out of the force pass of a scene without walls.
 template <bool kClumps, ContactLaw kLaw>
 TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                      Vec3f xi, float r, ParticleForce* out, GroundForces* gf, bool anyPlane) {
   ContactSide side{{0.0f, 0.0f, 0.0f}, self.v, {0.0f, 0.0f, 0.0f}};
   bool haveSide = !kClumps;
   for (std::uint32_t k = fp.hasGround ? 1u : 0u; k < v.numPlanes; ++k) {
-    const PlaneWall& w = v.planes[k];
+    const Wall& w = v.planes[k];
     const std::size_t s = std::size_t(k) * v.numParticles + i;
-    if (r - (wallHeight(w, xi) - w.coeffs.height) > 0.0f) {  // groundDepth(toWall(w, xi), …) > 0
+    RevolvedPoint rp;
+    const bool revolved = w.axis == kRevolvedWall;
+    if (revolved) rp = revolvedContact(w, xi);
+    // groundDepth(toWall(w, xi), …) > 0 for a plane; r − dist > 0 for a revolved wall
+    if (r - (revolved ? rp.dist : wallHeight(w, xi) - w.coeffs.height) > 0.0f) {
       if (!haveSide) {
         side = sideOf(self, v.own[i].u);
         haveSide = true;
       }
       GroundForces g;
       switch (w.axis) {
-        case 0: g = planeContact<0, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
-        case 1: g = planeContact<1, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
-        case 2: g = planeContact<2, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
-        default: g = planeContact<-1, kClumps, kLaw>(v, fp, w, k, s, i, xi, r, self, side, out); break;
+        case 0: g = planeContact<0, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<0>(w, xi), r, self, side, out); break;
+        case 1: g = planeContact<1, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<1>(w, xi), r, self, side, out); break;
+        case 2: g = planeContact<2, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<2>(w, xi), r, self, side, out); break;
+        case kGeneralPlane:
+          g = planeContact<-1, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<-1>(w, xi), r, self, side, out);
+          break;
+        default:  // the sphere at height dist above the surface's tangent plane
+          g = planeContact<-1, kClumps, kLaw>(v, fp, rp.frame, k, s, i, xi, Vec3f{0.0f, 0.0f, rp.dist}, r, self, side,
+                                              out);
+          break;
       }
       gf->normal = anyPlane ? gf->normal + g.normal : g.normal;
       gf->friction = anyPlane ? gf->friction + g.friction : g.friction;
@@ -241,7 +262,7 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
   GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};  // debug: their sum
   if (fp.hasGround) {
     if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {  // fp.ground = planes[0].coeffs; wallHeight() is z there
-      gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, i, xi, pi.r, self, side(), &out);
+      gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, i, xi, xi, pi.r, self, side(), &out);
     } else {  // out of contact the stick spring is released
       v.ground.tx[i] = 0.0f;
       v.ground.ty[i] = 0.0f;

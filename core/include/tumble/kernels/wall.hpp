@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @file wall.hpp
-/// Plane walls as the kernels see them (issue 12): the ground and every `[[wall]]` plane. A
-/// sphere meets a plane exactly as it meets the ground (groundForces(), hertzGroundForces()),
-/// computed in the plane's own frame (t1, t2, n) and turned back. A plane whose normal is a
-/// coordinate axis (the ground, a box's faces) uses a signed cyclic permutation of the
-/// coordinates as that frame, which is exact: the ground as a plane gives today's bits.
+/// Walls as the kernels see them (issue 12): the ground, every `[[wall]]` plane and every
+/// revolved wall (a cylinder, a cone, a disk or a ring). A sphere meets a wall exactly as it
+/// meets the ground (groundForces(), hertzGroundForces()), computed in a frame (t1, t2, n) of
+/// the wall's surface and turned back. A plane whose normal is a coordinate axis (the ground, a
+/// box's faces) uses a signed cyclic permutation of the coordinates as that frame, which is
+/// exact: the ground as a plane gives today's bits. A revolved wall's frame is that of its
+/// surface at the point nearest the sphere (revolvedContact()).
 #pragma once
+#include <cmath>
 #include <cstdint>
 
 #include "tumble/hd.hpp"
@@ -14,15 +17,33 @@
 
 namespace tumble {
 
-/// One plane, x·n = h: the spheres are on the side n points to, in contact when groundDepth()
+/// Wall::axis of a general plane and of a revolved wall (0, 1, 2: a plane n = sign e_axis).
+inline constexpr std::int32_t kGeneralPlane = -1;
+inline constexpr std::int32_t kRevolvedWall = -2;
+
+/// One wall.
+///
+/// A plane, x·n = h: the spheres are on the side n points to, in contact when groundDepth()
 /// of their position in the plane's frame (toWall(), whose z is x·n) is positive, with
 /// coeffs.height = h. The frame's origin is the coordinate origin, so that x·n has the
 /// rounding of |x| (of the local frame, near the bodies), not of the distance to a given point.
-struct PlaneWall {
-  Vec3f t1, t2, n;     ///< right-handed orthonormal frame, n the normal
-  std::int32_t axis;   ///< n = sign · e_axis (0, 1, 2): the exact frame; −1: a general plane
+///
+/// A revolved wall (axis == kRevolvedWall): n is the axis's direction and `centre` its start;
+/// the surface is the segment from (0, radius0) to (length, radius1) in (s, ρ) coordinates
+/// (s = (x − centre)·n, ρ the distance from the axis), turned about the axis; t1, t2 ⟂ n
+/// stand for the radial direction of a point on the axis. coeffs.height is 0.
+struct Wall {
+  Vec3f t1, t2, n;     ///< right-handed orthonormal frame, n the normal (a plane) or the axis
+  std::int32_t axis;   ///< n = sign · e_axis (0, 1, 2): the exact frame; kGeneralPlane; kRevolvedWall
   float sign;          ///< ±1 (aligned planes)
-  GroundCoeffs coeffs; ///< the ground's coefficients; height h = p·n of a point p of the plane
+  GroundCoeffs coeffs; ///< the ground's coefficients; a plane's height h = p·n of a point p of it
+  Vec3f centre;        ///< revolved: the start of the axis
+  float length, radius0, radius1;  ///< revolved: the segment (WallDef)
+  /// The surface moves this step (setWallMotion()): the velocity of its material at a point p
+  /// is velocity + omega n × (p − centre).
+  std::uint32_t moving;
+  Vec3f velocity;
+  float omega;
 };
 
 /// A vector in the plane's frame: (v·t1, v·t2, v·n). kAxis: the plane's axis (0, 1, 2: aligned,
@@ -31,7 +52,7 @@ struct PlaneWall {
 /// template, so that the permutation costs nothing.
 inline constexpr int kGroundFrame = 3;
 template <int kAxis>
-TUMBLE_HD_INLINE Vec3f toWall(const PlaneWall& w, Vec3f v) {
+TUMBLE_HD_INLINE Vec3f toWall(const Wall& w, Vec3f v) {
   if constexpr (kAxis == kGroundFrame) return v;
   else if constexpr (kAxis == 0) return Vec3f{v.y, w.sign * v.z, w.sign * v.x};
   else if constexpr (kAxis == 1) return Vec3f{v.z, w.sign * v.x, w.sign * v.y};
@@ -41,7 +62,7 @@ TUMBLE_HD_INLINE Vec3f toWall(const PlaneWall& w, Vec3f v) {
 
 /// The inverse of toWall(): l.x t1 + l.y t2 + l.z n.
 template <int kAxis>
-TUMBLE_HD_INLINE Vec3f fromWall(const PlaneWall& w, Vec3f l) {
+TUMBLE_HD_INLINE Vec3f fromWall(const Wall& w, Vec3f l) {
   if constexpr (kAxis == kGroundFrame) return l;
   else if constexpr (kAxis == 0) return Vec3f{w.sign * l.z, l.x, w.sign * l.y};
   else if constexpr (kAxis == 1) return Vec3f{w.sign * l.y, w.sign * l.z, l.x};
@@ -52,12 +73,68 @@ TUMBLE_HD_INLINE Vec3f fromWall(const PlaneWall& w, Vec3f l) {
 /// toWall(w, x).z alone, for any plane, without a branch: what the contact test reads.
 /// x·n; for an aligned plane n = sign e_a, so the products with the zero components add ±0
 /// and it equals sign · x_a, the value groundDepth() sees there.
-TUMBLE_HD_INLINE float wallHeight(const PlaneWall& w, Vec3f x) { return dot(x, w.n); }
+TUMBLE_HD_INLINE float wallHeight(const Wall& w, Vec3f x) { return dot(x, w.n); }
 
 /// A contact side (lever, V, Ω) in the plane's frame (a rotation: Ω turns as a vector).
 template <int kAxis>
-TUMBLE_HD_INLINE ContactSide toWall(const PlaneWall& w, const ContactSide& s) {
+TUMBLE_HD_INLINE ContactSide toWall(const Wall& w, const ContactSide& s) {
   return ContactSide{toWall<kAxis>(w, s.offset), toWall<kAxis>(w, s.v), toWall<kAxis>(w, s.omega)};
+}
+
+/// The velocity of a moving wall's material at p (Wall::moving).
+TUMBLE_HD_INLINE Vec3f wallVelocity(const Wall& w, Vec3f p) {
+  return w.velocity + w.omega * cross(w.n, p - w.centre);
+}
+
+/// Where a sphere centre x stands against a revolved wall: its distance from the surface and
+/// the surface's frame at the nearest point (n from the surface towards x, t2 the azimuthal
+/// direction a × e_ρ, t1 = t2 × n), as a Wall whose plane through that point is the contact's
+/// (coeffs as w's, height 0: the sphere is at height `dist` in it).
+///
+/// In the meridian half-plane of x the surface is the segment from (0, radius0) to (length,
+/// radius1): the nearest point of the surface is the nearest point of the segment to
+/// (s, ρ), its end points included (the rims), so a sphere on a rim meets one point, once. On the
+/// axis (ρ = 0) the half-plane is that of t1. With x on the surface (dist = 0) n is the
+/// segment's normal (−Δρ, Δs)/L.
+struct RevolvedPoint {
+  float dist;
+  Wall frame;
+};
+TUMBLE_HD_INLINE RevolvedPoint revolvedContact(const Wall& w, Vec3f x) {
+  const Vec3f d = x - w.centre;
+  const float s = dot(d, w.n);
+  const Vec3f q = d - s * w.n;
+  const float rho2 = dot(q, q);
+  const float rho = std::sqrt(rho2);
+  const Vec3f er = rho > 0.0f ? (1.0f / rho) * q : w.t1;
+  const float es = w.length, eq = w.radius1 - w.radius0;
+  const float t0 = (s * es + (rho - w.radius0) * eq) / (es * es + eq * eq);
+  const float t = t0 < 0.0f ? 0.0f : (t0 > 1.0f ? 1.0f : t0);
+  const float ds = s - t * es, dr = rho - (w.radius0 + t * eq);
+  const float dist = std::sqrt(ds * ds + dr * dr);
+  float ns, nr;
+  if (dist > 0.0f) {
+    ns = ds / dist;
+    nr = dr / dist;
+  } else {
+    const float inv = 1.0f / std::sqrt(es * es + eq * eq);
+    ns = -eq * inv;
+    nr = es * inv;
+  }
+  RevolvedPoint out{dist, w};
+  out.frame.n = ns * w.n + nr * er;
+  out.frame.t2 = cross(w.n, er);
+  out.frame.t1 = cross(out.frame.t2, out.frame.n);
+  out.frame.axis = kGeneralPlane;
+  out.frame.sign = 1.0f;
+  out.frame.coeffs.height = 0.0f;
+  return out;
+}
+
+/// The distance of a sphere centre from any wall along its normal: x·n − h for a plane (negative
+/// behind it), revolvedContact()'s for a revolved wall. In contact when it is below the radius.
+TUMBLE_HD_INLINE float wallGap(const Wall& w, Vec3f x) {
+  return w.axis == kRevolvedWall ? revolvedContact(w, x).dist : wallHeight(w, x) - w.coeffs.height;
 }
 
 }  // namespace tumble
