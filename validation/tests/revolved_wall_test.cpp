@@ -110,7 +110,10 @@ TEST(RevolvedWallTest, DistanceMatchesABruteForceOracle) {
              revolved(Vec3f{0.0f, 0.0f, 0.5f}, axis, 0.0f, 0.0f, 0.8f, c),    // a disk
              revolved(Vec3f{0.3f, 0.0f, 0.0f}, axis, 0.0f, 0.25f, 0.8f, c)};  // a ring (a silo's orifice)
   const std::vector<Wall> walls = kernelWalls(s, LocalFrame{});
-  const unsigned seed = std::random_device{}();
+  // Fixed, as the other random tests (a random seed once found the frame drifting from unit
+  // length near the axis, fixed by projecting twice; 40 random seeds pass since).
+  const unsigned seed = 20261203;
+  SCOPED_TRACE("seed " + std::to_string(seed));
   std::printf("seed %u\n", seed);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> coord(-1.6, 1.6);

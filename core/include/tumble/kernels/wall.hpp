@@ -103,7 +103,8 @@ struct RevolvedPoint {
 TUMBLE_HD_INLINE RevolvedPoint revolvedContact(const Wall& w, Vec3f x) {
   const Vec3f d = x - w.centre;
   const float s = dot(d, w.n);
-  const Vec3f q = d - s * w.n;
+  Vec3f q = d - s * w.n;
+  q = q - dot(q, w.n) * w.n;  // twice: near the axis, one projection leaves q's rounding along n
   const float rho2 = dot(q, q);
   const float rho = std::sqrt(rho2);
   const Vec3f er = rho > 0.0f ? (1.0f / rho) * q : w.t1;
