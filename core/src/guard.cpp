@@ -439,9 +439,13 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
     return trip(GuardTrip::Kind::NonFinite, static_cast<std::uint32_t>(s.nonFiniteBody), pipeline,
                 "body " + std::to_string(s.nonFiniteBody) + " has a non-finite position, velocity or orientation");
   }
-  if (mask != m_mask) {
-    // The pulls changed: their potentials and power change with them. Start the energy budget
-    // afresh from the present state (the pulls' potential now counts as available energy).
+  // Moving walls do work the guard does not measure: while one moved since the last check, the
+  // energy budget starts afresh at each check (it checks finiteness and overlaps).
+  const bool wallsMoved = m_world.params.wallsMoveDuring(m_lastTime, t);
+  if (mask != m_mask || wallsMoved) {
+    // The pulls changed (their potentials and power change with them), or a wall moved: start
+    // the energy budget afresh from the present state (the pulls' potential now counts as
+    // available energy).
     m_mask = mask;
     m_reference = s.energy;
     m_referenceSlack = s.slack;
@@ -458,8 +462,7 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
   const double gained = s.energy - m_reference - m_work;
   // The swirl's work is motion the initial state did not have: it widens the scale as well.
   const double scale = m_scale + std::max(0.0, m_work);
-  // Moving walls do work the guard does not measure: it then checks overlaps and finiteness.
-  if (!m_world.params.wallsMove() && gained > m_params.energyGrowth * scale + m_referenceSlack + s.slack) {
+  if (!wallsMoved && gained > m_params.energyGrowth * scale + m_referenceSlack + s.slack) {
     return trip(GuardTrip::Kind::Energy, s.hottestBody, pipeline,
                 format("the energy grew by %.3g J, more than %.0f%% of the %.3g J the scene can release", gained,
                        100.0 * m_params.energyGrowth, scale) +

@@ -568,16 +568,7 @@ class SceneParser {
         if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(nn), "normal must be a non-zero, finite vector");
         if (const toml::node* vn = r.find("velocity")) {
           wall.velocity = r.vec3(*vn, "velocity", Rule::Any);
-          const Vec3f& u = wall.velocity;
-          const double along = (double(u.x) * v.x + double(u.y) * v.y + double(u.z) * v.z) / len;
-          const double speed = std::sqrt(double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z);
-          if (std::abs(along) > 1e-6 * speed) {
-            char buf[240];
-            std::snprintf(buf, sizeof buf, "velocity must lie in the plane (a belt: the plane's surface moves, not the "
-                          "plane; its component along the normal is %.6g m/s); a plane moving along its normal is not "
-                          "there yet", along);
-            r.fail(sourceOf(*vn), buf);
-          }
+          if (const std::string why = wallMotionOutOfRange(wall); !why.empty()) r.fail(sourceOf(*vn), why);
         }
         readWallMotionWindow(r, &wall);
         scene.walls.push_back(wall);

@@ -176,15 +176,24 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       detail::perpendicularPair(n, t, u);
       w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
-      w.centre = Vec3f{static_cast<float>(checkedHeight(p[0] - o[0], d.where)),
-                       static_cast<float>(checkedHeight(p[1] - o[1], d.where)),
-                       static_cast<float>(checkedHeight(p[2] - o[2], d.where))};
+      // The axis's point nearest the frame's origin, and the segment's start from it, in double.
+      const double along = (o[0] - p[0]) * n[0] + (o[1] - p[1]) * n[1] + (o[2] - p[2]) * n[2];
+      w.centre = Vec3f{static_cast<float>(checkedHeight(p[0] + along * n[0] - o[0], d.where)),
+                       static_cast<float>(checkedHeight(p[1] + along * n[1] - o[1], d.where)),
+                       static_cast<float>(checkedHeight(p[2] + along * n[2] - o[2], d.where))};
+      w.start = static_cast<float>(checkedHeight(-along, d.where));
+      const double l2 = double(d.length) * d.length + (double(d.radius1) - d.radius0) * (double(d.radius1) - d.radius0);
+      if (!(d.length >= 0.0f && d.radius0 >= 0.0f && d.radius1 >= 0.0f && std::isfinite(l2) &&
+            static_cast<float>(l2) >= std::numeric_limits<float>::min()))
+        throw Error(d.where + ": a cylinder, cone or disk needs a length and radii >= 0, finite, and a segment "
+                              "(length, radius1 - radius0) of normal float size");
       w.length = d.length;
       w.radius0 = d.radius0;
       w.radius1 = d.radius1;
       out.push_back(w);
       continue;
     }
+    if (const std::string why = wallMotionOutOfRange(d); !why.empty()) throw Error(d.where + ": " + why);
     const float nv[3] = {w.n.x, w.n.y, w.n.z};
     w.axis = kGeneralPlane;
     w.sign = 1.0f;
@@ -216,8 +225,28 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
   return out;
 }
 
+std::string wallMotionOutOfRange(const WallDef& d) {
+  if (d.shape == WallDef::Shape::Revolved) return std::isfinite(d.angularVelocity) ? "" : "angular_velocity must be finite";
+  if (d.angularVelocity != 0.0f) return "a plane does not turn (angular_velocity is for cylinders, cones and disks)";
+  const Vec3f& u = d.velocity;
+  const Vec3f& v = d.normal;
+  const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+  const double along = (double(u.x) * v.x + double(u.y) * v.y + double(u.z) * v.z) / len;
+  const double speed = std::sqrt(double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z);
+  if (std::isfinite(speed) && std::abs(along) <= 1e-6 * speed) return {};
+  char buf[240];
+  std::snprintf(buf, sizeof buf, "velocity must lie in the plane (a belt: the plane's surface moves, not the plane; its "
+                "component along the normal is %.6g m/s); a plane moving along its normal is not there yet", along);
+  return buf;
+}
+
 bool Scene::wallsMove() const {
   return std::any_of(walls.begin(), walls.end(), [](const WallDef& w) { return w.moves(); });
+}
+
+bool Scene::wallsMoveDuring(double t0, double t1) const {
+  return std::any_of(walls.begin(), walls.end(),
+                     [&](const WallDef& w) { return w.moves() && w.start < t1 && w.stop > t0; });
 }
 
 bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t) {

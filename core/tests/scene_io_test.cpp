@@ -1168,7 +1168,10 @@ TEST(SceneIo, RevolvedWalls) {
   EXPECT_EQ(kw[0].axis, tumble::kRevolvedWall);
   EXPECT_EQ(kw[0].n.y, 0.6f);
   EXPECT_EQ(kw[0].n.z, 0.8f);
-  EXPECT_EQ(kw[0].centre.y, -1.0f);
+  // The axis's point nearest the origin, (0, -0.64, 0.48), and the segment's start from it, -0.6.
+  EXPECT_FLOAT_EQ(kw[0].centre.y, -0.64f);
+  EXPECT_FLOAT_EQ(kw[0].centre.z, 0.48f);
+  EXPECT_FLOAT_EQ(kw[0].start, -0.6f);
   // The motion window: the cylinder turns while 1 <= t < 4, the belt always.
   for (const double t : {0.0, 1.0, 3.999, 4.0}) {
     tumble::setWallMotion(kw, s, t);

@@ -324,20 +324,22 @@ awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
         printf "drum: %d bodies, centre of mass (%.4f, %.4f), %.1f deg off the vertical, largest rho %.4f, |y| %.4f\n", n, x, z, a, rm, ym
         exit !(n == 1008 && rm < 0.1455 && ym < 0.0255 && a > 30 && a < 50) }' drum.csv > drum.txt \
   && ok "$(cat drum.txt)" || bad "$(cat drum.txt)"
-# The silo after 2 s: part of the fill has drained through the orifice and none has gone
-# through its side or floor (every sphere above the floor is inside the cylinder).
-expect_status "silo.toml" 0 "$bin" run "$src/scenes/silo.toml" --steps 40000 --state-out silo.csv -q
+# The silo after 0.5 s: part of the fill has drained through the orifice (164-177 of 400 for
+# six seeds) and none has gone through its side or floor (every sphere above the floor is
+# inside the cylinder).
+expect_status "silo.toml" 0 "$bin" run "$src/scenes/silo.toml" --steps 10000 --state-out silo.csv -q
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   { n++; if ($c["z"] < 0) out++; else { r = sqrt($c["x"]^2 + $c["y"]^2); if (r > rm) rm = r } }
   END { printf "silo: %d of %d bodies drained, largest rho inside %.4f\n", out, n, rm
-        exit !(out > 40 && out < 300 && rm < 0.0905) }' silo.csv > silo.txt && ok "$(cat silo.txt)" || bad "$(cat silo.txt)"
-# The hopper after 1 s: it flows (no arch at D = 4.5 d), and no centre is beyond its walls.
-expect_status "hopper.toml" 0 "$bin" run "$src/scenes/hopper.toml" --steps 20000 --state-out hopper.csv -q
+        exit !(out > 100 && out < 250 && rm < 0.0905) }' silo.csv > silo.txt && ok "$(cat silo.txt)" || bad "$(cat silo.txt)"
+# The hopper after 0.5 s: it flows (278-310 of 400 out for six seeds at D = 5.9 d), and no
+# centre is beyond its walls.
+expect_status "hopper.toml" 0 "$bin" run "$src/scenes/hopper.toml" --steps 10000 --state-out hopper.csv -q
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-  BEGIN { worst = -1 } { n++; z = $c["z"]; if (z < 0) out++; else { r = sqrt($c["x"]^2 + $c["y"]^2); lim = z < 0.0714 ? 0.05 + 0.7 * z : 0.1
+  BEGIN { worst = -1 } { n++; z = $c["z"]; if (z < 0) out++; else { r = sqrt($c["x"]^2 + $c["y"]^2); lim = z < 0.05 ? 0.065 + 0.7 * z : 0.1
     if (r - lim > worst) worst = r - lim } }
   END { printf "hopper: %d of %d bodies out, deepest beyond its walls %.4f m\n", out, n, worst
-        exit !(out > 100 && out < 400 && worst < 0) }' hopper.csv > hopper.txt && ok "$(cat hopper.txt)" || bad "$(cat hopper.txt)"
+        exit !(out > 150 && out < 390 && worst < 0) }' hopper.csv > hopper.txt && ok "$(cat hopper.txt)" || bad "$(cat hopper.txt)"
 
 # Outputs never replace what is not a file, and write through links (tumble/output_file.hpp).
 ln -sf real.csv link.csv

@@ -146,6 +146,32 @@ TEST_P(GuardTest, TripsOnAnUnstableTimeStep) {
   EXPECT_LT(t->body, w.numBodies());
 }
 
+// A wall that moved once does not switch the energy guard off for the rest of the run: the
+// unstable pile with a belt far from it, moving during the first step only, trips on the
+// energy as the pile alone does (moving walls do work the guard does not measure, so it skips
+// the energy test only while one moves).
+TEST_P(GuardTest, AWallThatStoppedMovingLeavesTheEnergyGuardOn) {
+  Scene s = pile(2e-2f);
+  WallDef belt;
+  belt.point = {50.0f, 0.0f, 0.0f};
+  belt.normal = {-1.0f, 0.0f, 0.0f};
+  belt.contact = s.ground;
+  belt.velocity = {0.0f, 1.0f, 0.0f};
+  belt.stop = 0.5 * double(s.dt);
+  s.walls = {belt};
+  for (const bool withBelt : {false, true}) {
+    Scene t = s;
+    if (!withBelt) t.walls.clear();
+    const World w = World::fromScene(t);
+    auto p = makePipeline(GetParam());
+    p->load(w);
+    const auto trip = runGuarded(*p, w, 2000, 1);
+    ASSERT_TRUE(trip.has_value()) << (withBelt ? "with" : "without") << " the belt";
+    std::printf("%s the belt: %s\n", withBelt ? "with" : "without", trip->message.c_str());
+    EXPECT_EQ(trip->kind, GuardTrip::Kind::Energy) << (withBelt ? "with" : "without") << " the belt";
+  }
+}
+
 // One sphere thrown down at 60 m/s with dt = 1e-3: it moves 6 cm per step and the ground spring
 // (k = 2e4, m = 1) cannot stop it within the radius (it would need v ≤ ω r ≈ 71 m/s for r = 0.5,
 // the sphere here has r = 0.2: v ≤ 28 m/s). The overlap guard names it.

@@ -210,8 +210,10 @@ struct Scene {
   /// Every wall the spheres touch, in the order the forces sum them: the ground (when enabled)
   /// as the plane through (0, 0, height) with normal +z, then the walls.
   std::vector<WallDef> planes() const;
-  /// Some wall's surface moves (WallDef::moves()).
+  /// Some wall's surface moves at some time (WallDef::moves()).
   bool wallsMove() const;
+  /// Some wall's surface moves at some step that starts in [t0, t1) (start < t1 and stop > t0).
+  bool wallsMoveDuring(double t0, double t1) const;
   std::uint64_t thermoEvery = 100; ///< steps between two rows of the time series
 };
 

@@ -28,16 +28,19 @@ inline constexpr std::int32_t kRevolvedWall = -2;
 /// coeffs.height = h. The frame's origin is the coordinate origin, so that x·n has the
 /// rounding of |x| (of the local frame, near the bodies), not of the distance to a given point.
 ///
-/// A revolved wall (axis == kRevolvedWall): n is the axis's direction and `centre` its start;
-/// the surface is the segment from (0, radius0) to (length, radius1) in (s, ρ) coordinates
-/// (s = (x − centre)·n, ρ the distance from the axis), turned about the axis; t1, t2 ⟂ n
-/// stand for the radial direction of a point on the axis. coeffs.height is 0.
+/// A revolved wall (axis == kRevolvedWall): n is the axis's direction and `centre` its point
+/// nearest the origin (near the bodies, so that s below has the rounding of the bodies'
+/// coordinates, not of the wall's extent); the surface is the segment from (start, radius0) to
+/// (start + length, radius1) in (s, ρ) coordinates (s = (x − centre)·n, ρ the distance from the
+/// axis), turned about the axis; t1, t2 ⟂ n (t1 × t2 = n) stand for the radial direction of a
+/// point on the axis. coeffs.height is 0.
 struct Wall {
   Vec3f t1, t2, n;     ///< right-handed orthonormal frame, n the normal (a plane) or the axis
   std::int32_t axis;   ///< n = sign · e_axis (0, 1, 2): the exact frame; kGeneralPlane; kRevolvedWall
   float sign;          ///< ±1 (aligned planes)
   GroundCoeffs coeffs; ///< the ground's coefficients; a plane's height h = p·n of a point p of it
-  Vec3f centre;        ///< revolved: the start of the axis
+  Vec3f centre;        ///< revolved: the point of the axis nearest the frame's origin
+  float start;         ///< revolved: where the segment starts along the axis from centre
   float length, radius0, radius1;  ///< revolved: the segment (WallDef)
   /// The surface moves this step (setWallMotion()): the velocity of its material at a point p
   /// is velocity + omega n × (p − centre).
@@ -81,21 +84,28 @@ TUMBLE_HD_INLINE ContactSide toWall(const Wall& w, const ContactSide& s) {
   return ContactSide{toWall<kAxis>(w, s.offset), toWall<kAxis>(w, s.v), toWall<kAxis>(w, s.omega)};
 }
 
-/// The velocity of a moving wall's material at p (Wall::moving).
+/// The velocity of a moving wall's material at p (Wall::moving): a revolved wall turns about
+/// its axis (through centre), a plane moves along itself (omega 0).
 TUMBLE_HD_INLINE Vec3f wallVelocity(const Wall& w, Vec3f p) {
   return w.velocity + w.omega * cross(w.n, p - w.centre);
 }
 
 /// Where a sphere centre x stands against a revolved wall: its distance from the surface and
-/// the surface's frame at the nearest point (n from the surface towards x, t2 the azimuthal
-/// direction a × e_ρ, t1 = t2 × n), as a Wall whose plane through that point is the contact's
-/// (coeffs as w's, height 0: the sphere is at height `dist` in it).
+/// the surface's frame at the nearest point (n from the surface towards x), as a Wall whose
+/// plane through that point is the contact's (coeffs as w's, height 0: the sphere is at height
+/// `dist` in it).
 ///
-/// In the meridian half-plane of x the surface is the segment from (0, radius0) to (length,
-/// radius1): the nearest point of the surface is the nearest point of the segment to
-/// (s, ρ), its end points included (the rims), so a sphere on a rim meets one point, once. On the
+/// In the meridian half-plane of x the surface is the segment from (s0, radius0) to (s0 +
+/// length, radius1): the nearest point of the surface is the nearest point of the segment to
+/// (s, ρ), its end points included (the rims), so a sphere on a rim meets one point, once. Off
+/// the rims the distance is the perpendicular one, ((ρ − r0) Δs − (s − s0) Δρ) / L, which for a
+/// cylinder does not read s at all (no rounding of the distance along a long pipe). On the
 /// axis (ρ = 0) the half-plane is that of t1. With x on the surface (dist = 0) n is the
 /// segment's normal (−Δρ, Δs)/L.
+///
+/// The frame: on a disk or ring's face the wall's own (t1, ±t2, ±axis), fixed as a plane's, so
+/// that the stick spring does not turn as a sphere goes round the axis; elsewhere t2 is the
+/// azimuthal direction a × e_ρ and t1 = t2 × n (the spring turns with the curved surface).
 struct RevolvedPoint {
   float dist;
   Wall frame;
@@ -105,27 +115,41 @@ TUMBLE_HD_INLINE RevolvedPoint revolvedContact(const Wall& w, Vec3f x) {
   const float s = dot(d, w.n);
   Vec3f q = d - s * w.n;
   q = q - dot(q, w.n) * w.n;  // twice: near the axis, one projection leaves q's rounding along n
-  const float rho2 = dot(q, q);
-  const float rho = std::sqrt(rho2);
+  const float rho = std::sqrt(dot(q, q));
   const Vec3f er = rho > 0.0f ? (1.0f / rho) * q : w.t1;
   const float es = w.length, eq = w.radius1 - w.radius0;
-  const float t0 = (s * es + (rho - w.radius0) * eq) / (es * es + eq * eq);
-  const float t = t0 < 0.0f ? 0.0f : (t0 > 1.0f ? 1.0f : t0);
-  const float ds = s - t * es, dr = rho - (w.radius0 + t * eq);
-  const float dist = std::sqrt(ds * ds + dr * dr);
-  float ns, nr;
-  if (dist > 0.0f) {
-    ns = ds / dist;
-    nr = dr / dist;
-  } else {
-    const float inv = 1.0f / std::sqrt(es * es + eq * eq);
-    ns = -eq * inv;
-    nr = es * inv;
+  const float ls = s - w.start, lr = rho - w.radius0;  // from the segment's first end
+  const float len2 = es * es + eq * eq, inv = 1.0f / std::sqrt(len2);
+  const float t0 = (ls * es + lr * eq) / len2;
+  float dist, ns, nr;
+  bool face = false;
+  if (t0 > 0.0f && t0 < 1.0f) {  // the perpendicular foot lies on the segment
+    const float h = (lr * es - ls * eq) * inv;  // signed, positive on the side of (−Δρ, Δs)
+    const float sign = h < 0.0f ? -1.0f : 1.0f;
+    dist = sign * h;
+    ns = -sign * eq * inv;
+    nr = sign * es * inv;
+    face = es == 0.0f;
+  } else {  // a rim
+    const float ds = t0 <= 0.0f ? ls : ls - es, dr = t0 <= 0.0f ? lr : lr - eq;
+    dist = std::sqrt(ds * ds + dr * dr);
+    if (dist > 0.0f) {
+      ns = ds / dist;
+      nr = dr / dist;
+    } else {
+      ns = -eq * inv;
+      nr = es * inv;
+    }
   }
   RevolvedPoint out{dist, w};
-  out.frame.n = ns * w.n + nr * er;
-  out.frame.t2 = cross(w.n, er);
-  out.frame.t1 = cross(out.frame.t2, out.frame.n);
+  if (face) {  // a disk's face: n = ns axis, ns = ±1 (t1 as the wall's)
+    out.frame.n = ns * w.n;
+    out.frame.t2 = ns * w.t2;
+  } else {
+    out.frame.n = ns * w.n + nr * er;
+    out.frame.t2 = cross(w.n, er);
+    out.frame.t1 = cross(out.frame.t2, out.frame.n);
+  }
   out.frame.axis = kGeneralPlane;
   out.frame.sign = 1.0f;
   out.frame.coeffs.height = 0.0f;
