@@ -146,9 +146,11 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   pipeline.readLocalState(m_state);
   const BodyState& s = m_state;
   const Scene& sc = w.params;
-  // The planes as the pipeline uses them (both build them from the world's points and the frame).
+  // The planes as the pipeline uses them (both build them from the world's points and the frame,
+  // and pose them at the time of the state).
   const std::vector<WallDef> planeDefs = sc.planes();
-  const std::vector<Wall> planes = kernelWalls(sc, frame);
+  std::vector<Wall> planes = kernelWalls(sc, frame);
+  setWallMotion(planes, sc, pipeline.time());
   const double groundZ = sc.ground.enabled ? double(planes[0].coeffs.height) : 0.0;
   Snapshot out;
   const std::size_t nb = s.size();

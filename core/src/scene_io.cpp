@@ -540,10 +540,10 @@ class SceneParser {
       // Every key but the contact's belongs to some types only.
       static const std::pair<const char*, const char*> kKeysOf[] = {
           {"plane", "point normal velocity start stop"},
-          {"box", "min max open"},
-          {"cylinder", "point axis radius angular_velocity start stop"},
-          {"cone", "point axis radius angular_velocity start stop"},
-          {"disk", "point normal radius inner_radius angular_velocity start stop"}};
+          {"box", "min max open velocity start stop"},
+          {"cylinder", "point axis radius velocity angular_velocity start stop"},
+          {"cone", "point axis radius velocity angular_velocity start stop"},
+          {"disk", "point normal radius inner_radius velocity angular_velocity start stop"}};
       const auto* entry = std::find_if(std::begin(kKeysOf), std::end(kKeysOf),
                                        [&](const auto& e) { return type == e.first; });
       if (entry == std::end(kKeysOf))
@@ -566,10 +566,6 @@ class SceneParser {
         const Vec3f& v = wall.normal;
         const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
         if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(nn), "normal must be a non-zero, finite vector");
-        if (const toml::node* vn = r.find("velocity")) {
-          wall.velocity = r.vec3(*vn, "velocity", Rule::Any);
-          if (const std::string why = wallMotionOutOfRange(wall); !why.empty()) r.fail(sourceOf(*vn), why);
-        }
         readWallMotionWindow(r, &wall);
         scene.walls.push_back(wall);
       } else {  // a box
@@ -597,6 +593,7 @@ class SceneParser {
           if (std::all_of(open, open + 6, [](bool b) { return b; }))
             r.fail(sourceOf(*o), "every face is open: the box has no walls");
         }
+        readWallMotionWindow(r, &wall);  // the box translates: each face with the velocity
         // Six inward planes: the face at min of axis a has normal +e_a, the one at max −e_a.
         const float l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
         for (int f = 0; f < 6; ++f) {
@@ -660,14 +657,16 @@ class SceneParser {
     readWallMotionWindow(r, wall);
   }
 
-  // start and stop of a wall's motion [s]: only with a velocity or a spin.
+  // velocity [m/s] and start and stop of a wall's motion [s] (start and stop only with a
+  // velocity or a spin).
   void readWallMotionWindow(const TableReader& r, WallDef* wall) {
+    wall->velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
     const toml::node* on = r.find("start");
     const toml::node* off = r.find("stop");
     if ((on || off) && !wall->moves())
       r.fail(sourceOf(on ? *on : *off), std::string(on ? "start" : "stop") + " times a wall's motion, and this wall "
-                                        "does not move (give velocity to a plane, angular_velocity to a cylinder, cone "
-                                        "or disk)");
+                                        "does not move (give it a velocity, or a cylinder, cone or disk an "
+                                        "angular_velocity)");
     wall->start = r.number("start", 0.0, Rule::NonNegative);
     wall->stop = r.number("stop", wall->stop, Rule::Positive);
     if (!(wall->stop > wall->start))

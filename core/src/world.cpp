@@ -190,6 +190,9 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       w.length = d.length;
       w.radius0 = d.radius0;
       w.radius1 = d.radius1;
+      w.restCentre = w.centre;
+      w.restStart = w.start;
+      if (const std::string why = wallMotionOutOfRange(d); !why.empty()) throw Error(d.where + ": " + why);
       out.push_back(w);
       continue;
     }
@@ -220,24 +223,20 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       w.coeffs.height =
           static_cast<float>(checkedHeight((p[0] - o[0]) * n[0] + (p[1] - o[1]) * n[1] + (p[2] - o[2]) * n[2], d.where));
     }
+    w.restHeight = w.coeffs.height;
     out.push_back(w);
   }
   return out;
 }
 
 std::string wallMotionOutOfRange(const WallDef& d) {
-  if (d.shape == WallDef::Shape::Revolved) return std::isfinite(d.angularVelocity) ? "" : "angular_velocity must be finite";
-  if (d.angularVelocity != 0.0f) return "a plane does not turn (angular_velocity is for cylinders, cones and disks)";
+  if (!std::isfinite(d.angularVelocity)) return "angular_velocity must be finite";
+  if (d.shape == WallDef::Shape::Plane && d.angularVelocity != 0.0f)
+    return "a plane does not turn (angular_velocity is for cylinders, cones and disks)";
   const Vec3f& u = d.velocity;
-  const Vec3f& v = d.normal;
-  const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
-  const double along = (double(u.x) * v.x + double(u.y) * v.y + double(u.z) * v.z) / len;
-  const double speed = std::sqrt(double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z);
-  if (std::isfinite(speed) && std::abs(along) <= 1e-6 * speed) return {};
-  char buf[240];
-  std::snprintf(buf, sizeof buf, "velocity must lie in the plane (a belt: the plane's surface moves, not the plane; its "
-                "component along the normal is %.6g m/s); a plane moving along its normal is not there yet", along);
-  return buf;
+  if (!(std::isfinite(u.x) && std::isfinite(u.y) && std::isfinite(u.z))) return "velocity must be finite";
+  if (!(d.start >= 0.0 && d.stop > d.start)) return "the motion must start at t >= 0 and stop after it starts";
+  return {};
 }
 
 bool Scene::wallsMove() const {
@@ -254,9 +253,32 @@ bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t) {
   const std::size_t first = walls.size() - scene.walls.size();  // after the ground
   for (std::size_t k = 0; k < scene.walls.size(); ++k) {
     const WallDef& d = scene.walls[k];
+    Wall& w = walls[first + k];
     const std::uint32_t on = d.moves() && t >= d.start && t < d.stop ? 1u : 0u;
-    changed = changed || walls[first + k].moving != on;
-    walls[first + k].moving = on;
+    changed = changed || w.moving != on;
+    w.moving = on;
+    const Vec3f& v = d.velocity;
+    if (v.x == 0.0f && v.y == 0.0f && v.z == 0.0f) continue;
+    // The shift v τ, in double from the given velocity and the unit normal (or axis) in double,
+    // added to the rest geometry and rounded once: the same bits at time t for any history.
+    const double tau = std::min(std::max(t - d.start, 0.0), d.stop - d.start);
+    const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
+                                 double(d.normal.z) * d.normal.z);
+    const double n[3] = {d.normal.x / len, d.normal.y / len, d.normal.z / len};
+    const double vn = double(v.x) * n[0] + double(v.y) * n[1] + double(v.z) * n[2];
+    if (d.shape == WallDef::Shape::Plane) {  // the normal part moves the plane; the rest is a belt
+      const float h = static_cast<float>(double(w.restHeight) + vn * tau);
+      changed = changed || w.coeffs.height != h;
+      w.coeffs.height = h;
+    } else {  // the axis moves: across it the centre, along it the segment's start
+      const Vec3f c{static_cast<float>(double(w.restCentre.x) + (double(v.x) - vn * n[0]) * tau),
+                    static_cast<float>(double(w.restCentre.y) + (double(v.y) - vn * n[1]) * tau),
+                    static_cast<float>(double(w.restCentre.z) + (double(v.z) - vn * n[2]) * tau)};
+      const float s = static_cast<float>(double(w.restStart) + vn * tau);
+      changed = changed || c.x != w.centre.x || c.y != w.centre.y || c.z != w.centre.z || s != w.start;
+      w.centre = c;
+      w.start = s;
+    }
   }
   return changed;
 }

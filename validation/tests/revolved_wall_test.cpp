@@ -445,3 +445,26 @@ TEST(RevolvedWallTest, ADiskFaceIsAPlane) {
   EXPECT_NEAR(got[0].vx[0], got[1].vx[0], 1e-4);
   EXPECT_NEAR(got[0].vy[0], got[1].vy[0], 1e-4);
 }
+
+// A cylinder moving across its axis (a pipe swept sideways) meets a ball at rest inside it as
+// a plane does: the ball leaves at (1 + e) u.
+TEST(RevolvedWallTest, AMovingCylinderThrowsABallAtOnePlusETimesItsSpeed) {
+  const double e = 0.9, u = 0.8;
+  Scene s;
+  s.dt = 1e-5f;
+  s.gravity = {0, 0, 0};
+  s.ground.enabled = false;
+  WallDef w = cylinder(Vec3f{0, 0, -1}, Vec3f{0, 0, 2}, 0.5f, contactOf(1e5f, 0.0f));
+  w.velocity = {float(u * 0.6), float(u * 0.8), 0.0f};
+  w.stop = 0.6;
+  s.walls = {w};
+  s.shapes = {sphereShape(0.1f, 1.0f, float(e))};
+  s.bodies = {BodyDef{}};
+  const BodyState st = run(World::fromScene(s), 70000);  // it arrives after 0.4 m, at 0.5 s
+  const double along = st.vx[0] * 0.6 + st.vy[0] * 0.8;
+  std::printf("ball at %.5f m/s along the motion, (1 + e) u = %.5f; across %.2e\n", along, (1.0 + e) * u,
+              st.vx[0] * 0.8 - st.vy[0] * 0.6);
+  EXPECT_NEAR(along, (1.0 + e) * u, 0.02 * (1.0 + e) * u);
+  EXPECT_NEAR(st.vx[0] * 0.8 - st.vy[0] * 0.6, 0.0, 1e-5);
+  EXPECT_EQ(st.vz[0], 0.0f);
+}

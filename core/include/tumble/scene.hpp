@@ -100,9 +100,12 @@ struct WallDef {
   Shape shape = Shape::Plane;
   float length = 0.0f;             ///< revolved: the segment's extent along the axis [m] (0: a disk or ring)
   float radius0 = 0.0f, radius1 = 0.0f;  ///< revolved: its distances from the axis at s = 0 and s = length [m]
-  /// The wall's surface moves (its shape and place do not): velocity [m/s] along a plane (a
-  /// belt), angular velocity [rad/s] of a revolved wall about its axis (right-handed about
-  /// `normal`; a drum), while start ≤ t < stop [s].
+  /// The wall moves while start ≤ t < stop [s]: it translates rigidly with `velocity` [m/s]
+  /// (at time t it lies where it was given, shifted by velocity τ, τ = clamp(t − start, 0,
+  /// stop − start)), and a revolved wall turns about its axis at `angularVelocity` [rad/s]
+  /// (right-handed about `normal`; a drum). For a plane only the part of the velocity along its
+  /// normal moves the plane (a piston); the part in the plane moves its surface alone (a belt).
+  /// A turning revolved wall keeps its shape and place: its surface moves.
   Vec3f velocity{0.0f, 0.0f, 0.0f};
   float angularVelocity = 0.0f;
   double start = 0.0, stop = std::numeric_limits<double>::infinity();

@@ -136,13 +136,14 @@ World localWorld(const World& world, LocalFrame* outFrame);
 /// run's frame, so that they agree to the bit. None moves (setWallMotion()).
 std::vector<Wall> kernelWalls(const Scene& scene, const LocalFrame& f);
 
-/// What is wrong with a wall's motion, or empty: a plane's velocity must lie in it (a belt) and
-/// a plane does not turn. scene_io names the key; kernelWalls() refuses walls built in code.
+/// What is wrong with a wall's motion, or empty: finite velocities, a window 0 ≤ start < stop,
+/// and a plane does not turn. scene_io names the key; kernelWalls() refuses walls built in code.
 std::string wallMotionOutOfRange(const WallDef& wall);
 
-/// Sets Wall::moving of the walls of `scene` (kernelWalls()) for a step that starts at time t:
-/// a wall moves while start ≤ t < stop. Returns whether any changed (a pipeline whose walls
-/// live on a device uploads them then).
+/// Poses the walls of `scene` (kernelWalls()) for a step that starts at time t: Wall::moving
+/// while start ≤ t < stop, and a wall with a velocity shifted by velocity τ from where it was
+/// given (WallDef::velocity; a plane along its normal only). Returns whether any changed (a
+/// pipeline whose walls live on a device uploads them then).
 bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t);
 
 /// Body positions from frame f back to the world frame: X + o, rounded to float.

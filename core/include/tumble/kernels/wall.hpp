@@ -47,6 +47,11 @@ struct Wall {
   std::uint32_t moving;
   Vec3f velocity;
   float omega;
+  /// Where the wall was given (at τ = 0; setWallMotion() shifts coeffs.height, or centre and
+  /// start, from these): a plane's h, a revolved wall's centre and start.
+  float restHeight;
+  Vec3f restCentre;
+  float restStart;
 };
 
 /// A vector in the plane's frame: (v·t1, v·t2, v·n). kAxis: the plane's axis (0, 1, 2: aligned,
