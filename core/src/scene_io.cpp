@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/fill.hpp"
 #include "tumble/math.hpp"
 #include "tumble/memory.hpp"
 #include "tumble/random.hpp"
@@ -57,12 +58,10 @@ constexpr std::uint64_t kMaxParticles = std::uint64_t{1} << 31;
 /// direction 2), taken whether or not the option is used.
 constexpr int kDrawsPerBody = 12;
 
-constexpr float kTwoPi = 6.28318530717958647692f;
-
 /// The top-level tables: the single ones (which --set can address) and the arrays of tables.
 constexpr std::array<std::string_view, 7> kSingleTables = {
     "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output"};
-constexpr std::array<std::string_view, 5> kArrayTables = {"material", "wall", "shape", "body", "group"};
+constexpr std::array<std::string_view, 6> kArrayTables = {"material", "wall", "shape", "body", "group", "fill"};
 
 /// "[scene], [contact], …" (and ", [[shape]], [[body]], [[group]]" with `arrays`).
 std::string tableNames(bool arrays) {
@@ -359,26 +358,6 @@ std::uint64_t groupSeed(std::uint64_t seed, std::uint64_t index) {
   return mix.next();
 }
 
-/// Shoemake's uniform random rotation from three uniforms in [0, 1) (Graphics Gems III,
-/// "Uniform random rotations", 1992).
-Quatf randomRotation(float u1, float u2, float u3) {
-  const float a = std::sqrt(1.0f - u1);
-  const float b = std::sqrt(u1);
-  float s2 = 0.0f, c2 = 0.0f, s3 = 0.0f, c3 = 0.0f;
-  sinCos(kTwoPi * u2, &s2, &c2);
-  sinCos(kTwoPi * u3, &s3, &c3);
-  return normalized(Quatf{b * c3, a * s2, a * c2, b * s3});
-}
-
-/// A vector of length `magnitude` in a uniformly random direction, from two uniforms.
-Vec3f randomDirection(float u1, float u2, float magnitude) {
-  const float z = 2.0f * u1 - 1.0f;
-  const float rho = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  float s = 0.0f, c = 0.0f;
-  sinCos(kTwoPi * u2, &s, &c);
-  return {magnitude * rho * c, magnitude * rho * s, magnitude * z};
-}
-
 class SceneParser {
  public:
   SceneParser(const toml::table& root, const std::string& file) : m_root(root), m_file(file) {}
@@ -407,6 +386,11 @@ class SceneParser {
     readOutput(scene);
     readShapes(scene);
     readBodies(scene);
+    readFills(scene);
+    if (scene.bodies.empty()) {
+      throw InputError(m_file, 0, "the scene has no bodies; add a [[body]], a [[group]] or a [[fill]] "
+                                  "(and the [[shape]] it uses)");
+    }
     return scene;
   }
 
@@ -942,9 +926,144 @@ class SceneParser {
         readBody(scene, *e.table, e.index);
       }
     }
-    if (scene.bodies.empty()) {
-      throw InputError(m_file, 0, "the scene has no bodies; add a [[body]] or a [[group]] "
-                                  "(and the [[shape]] it uses)");
+  }
+
+  /// One shape (`shape = "name"`) or several (`shapes = ["a", "b"]`) of a [[group]] or [[fill]].
+  std::vector<std::uint32_t> shapesOf(const TableReader& r, const Scene& scene) const {
+    std::vector<std::uint32_t> shapes;
+    const toml::node* one = r.find("shape");
+    const toml::node* many = r.find("shapes");
+    if (one != nullptr && many != nullptr) {
+      r.fail(sourceOf(*many), "give either shape = \"name\" or shapes = [\"a\", \"b\"], not both");
+    }
+    if (one != nullptr) {
+      shapes.push_back(shapeNamed(r, *one, "shape", scene));
+    } else if (many != nullptr) {
+      const toml::array& a = r.array(*many, "shapes", "of shape names, e.g. shapes = [\"a\", \"b\"]");
+      if (a.empty()) r.fail(sourceOf(*many), "shapes must name at least one [[shape]]");
+      for (const toml::node& el : a) shapes.push_back(shapeNamed(r, el, "each entry of shapes", scene));
+    } else {
+      r.fail(r.header(), "missing the shape: give shape = \"name\" or shapes = [\"a\", \"b\", ...]");
+    }
+    return shapes;
+  }
+
+  /// Refuses `bodies` more bodies of at least `minSpheres` spheres each when the scene would
+  /// pass 2^31 particles, or the run could not be held in memory (instead of bad_alloc later).
+  void checkBodyBudget(const TableReader& r, const toml::node& at, const Scene& scene, std::uint64_t bodies,
+                       std::size_t minSpheres) const {
+    if (m_numParticles + bodies * minSpheres > kMaxParticles) {
+      r.fail(sourceOf(at), "the scene would have more than 2^31 particles (" +
+                               std::to_string(m_numParticles + bodies * minSpheres) + " at least); use a smaller count");
+    }
+    const std::uint64_t allBodies = scene.bodies.size() + bodies, allParticles = m_numParticles + bodies * minSpheres;
+    if (const std::string shortfall = memoryShortfall(allBodies * (kRunBytesPerBody + sizeof(BodyDef)) +
+                                                      allParticles * kRunBytesPerParticle);
+        !shortfall.empty()) {
+      r.fail(sourceOf(at), "a run of " + std::to_string(allBodies) + " bodies and " + std::to_string(allParticles) +
+                               " particles needs at least " + shortfall.substr(6) + "; use a smaller count");
+    }
+  }
+
+  /// [[fill]]: bodies packed at random in a box or a cylinder, after every [[body]] and
+  /// [[group]], in file order (tumble/fill.hpp).
+  void readFills(Scene& scene) {
+    const toml::node* n = m_root.get("fill");
+    if (n == nullptr) return;
+    const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'fill'", "[[fill]]");
+    for (std::size_t k = 0; k < tables.size(); ++k) {
+      const std::string name = "[[fill]] #" + std::to_string(k + 1);
+      const TableReader r(m_file, *tables[k], name,
+                          {"shape", "shapes", "weights", "count", "region", "min", "max", "point", "axis", "radius",
+                           "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed", "attempts"});
+      FillDef f;
+      f.where = name + " (" + m_file + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
+      f.shapes = shapesOf(r, scene);
+      if (const toml::node* w = r.find("weights")) {
+        const toml::array& a = r.array(*w, "weights", "of one number > 0 per shape, e.g. weights = [3, 1]");
+        if (a.size() != f.shapes.size())
+          r.fail(sourceOf(*w), "weights has " + std::to_string(a.size()) + " entries for " +
+                                   std::to_string(f.shapes.size()) + " shapes; give one per shape");
+        for (const toml::node& el : a) f.weights.push_back(r.number(el, "each weight", Rule::Positive));
+      } else {
+        f.weights.assign(f.shapes.size(), 1.0);
+      }
+      const toml::node& countNode = r.require("count", "the number of bodies to place, e.g. count = 500");
+      f.count = static_cast<std::uint64_t>(r.integer(countNode, "count", 1));
+      std::size_t minSpheres = std::numeric_limits<std::size_t>::max();
+      for (std::uint32_t s : f.shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
+      if (f.count > kMaxParticles) r.fail(sourceOf(countNode), "count asks for more than 2^31 bodies");
+      checkBodyBudget(r, countNode, scene, f.count, minSpheres);
+      const toml::node& regionNode = r.require("region", "where to put them: region = \"box\" or \"cylinder\"");
+      const std::string region = r.string(regionNode, "region");
+      static const std::pair<const char*, const char*> kKeysOf[] = {{"box", "min max"},
+                                                                       {"cylinder", "point axis radius"}};
+      const auto* entry = std::find_if(std::begin(kKeysOf), std::end(kKeysOf),
+                                       [&](const auto& e) { return region == e.first; });
+      if (entry == std::end(kKeysOf))
+        r.fail(sourceOf(regionNode), "unknown region \"" + region + "\" (\"box\" or \"cylinder\")");
+      for (const char* key : {"min", "max", "point", "axis", "radius"}) {
+        const std::string keys = std::string(" ") + entry->second + " ";
+        if (const toml::node* e = r.find(key); e != nullptr && keys.find(std::string(" ") + key + " ") == std::string::npos)
+          r.fail(sourceOf(*e), std::string(key) + " is not a key of region = \"" + region + "\" (its keys: " +
+                                   entry->second + ")");
+      }
+      FillRegion& g = f.region;
+      if (region == "box") {
+        g.kind = FillRegion::Kind::Box;
+        g.min = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
+        const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
+        g.max = r.vec3(hiNode, "max", Rule::Any);
+        if (!(g.min.x < g.max.x && g.min.y < g.max.y && g.min.z < g.max.z))
+          r.fail(sourceOf(hiNode), "max must exceed min on every axis");
+      } else {
+        g.kind = FillRegion::Kind::Cylinder;
+        g.point = r.vec3(r.require("point", "the axis's start in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
+        const toml::node& an = r.require("axis", "from point to the far end in m, e.g. axis = [0, 0, 1]");
+        g.axis = r.vec3(an, "axis", Rule::Any);
+        const double len = std::sqrt(double(g.axis.x) * g.axis.x + double(g.axis.y) * g.axis.y +
+                                     double(g.axis.z) * g.axis.z);
+        if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(an), "axis must be a non-zero, finite vector");
+        g.radius = r.single(r.require("radius", "the radius in m, e.g. radius = 0.5"), "radius", Rule::Positive);
+      }
+      if (const toml::node* sn = r.find("scale")) {
+        if (sn->is_array()) {
+          const toml::array& sa = r.array(*sn, "scale", "of 2 numbers [min, max]");
+          if (sa.size() != 2)
+            r.fail(sourceOf(*sn), "scale must be a number or an array of 2 numbers [min, max] (got " +
+                                      std::to_string(sa.size()) + " elements)");
+          f.scaleMin = r.single(*sa.get(0), "scale[0]", Rule::Positive);
+          f.scaleMax = r.single(*sa.get(1), "scale[1]", Rule::Positive);
+          if (!(f.scaleMin <= f.scaleMax)) r.fail(sourceOf(*sn), "scale = [min, max] needs min <= max");
+        } else {
+          f.scaleMin = f.scaleMax = r.single(*sn, "scale", Rule::Positive);
+        }
+      }
+      f.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
+      f.velocityJitter = r.single("velocity_jitter", 0.0f, Rule::NonNegative);
+      for (float v : {f.velocity.x, f.velocity.y, f.velocity.z})
+        if (!(std::fabs(double(v)) + double(f.velocityJitter) <= double(std::numeric_limits<float>::max())))
+          r.fail(r.header(), "velocity with velocity_jitter reaches beyond single-precision range");
+      f.randomOrientation = r.boolean("random_orientation", true);
+      f.spin = r.single("spin", 0.0f, Rule::NonNegative);
+      for (std::uint32_t s : f.shapes) {
+        ShapeDef big = scene.shapes[s];
+        for (SphereDef& sp : big.spheres) sp.offset = f.scaleMax * sp.offset, sp.radius *= f.scaleMax;
+        if (const std::string why = angularVelocityOutOfRange(big, f.spin); !why.empty())
+          r.fail(sourceOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
+      }
+      f.seed = groupSeed(static_cast<std::uint64_t>(r.integer("seed", static_cast<std::int64_t>(m_seed & INT64_MAX), 0)),
+                         (std::uint64_t{1} << 32) + k);
+      f.attempts = static_cast<std::uint64_t>(r.integer("attempts", 1000, 1));
+      const std::size_t before = scene.bodies.size();
+      try {
+        fillScene(scene, f);
+      } catch (const Error& e) {
+        r.fail(r.header(), std::string(e.what()).substr(f.where.size() + 2));
+      }
+      std::uint64_t particles = 0;
+      for (std::size_t b = before; b < scene.bodies.size(); ++b) particles += scene.shapes[scene.bodies[b].shape].spheres.size();
+      addParticles(r, sourceOf(countNode), particles);
     }
   }
 
@@ -990,21 +1109,7 @@ class SceneParser {
                         {"shape", "shapes", "count", "spacing", "origin", "jitter", "velocity",
                          "velocity_jitter", "random_orientation", "spin"});
     // Shapes: one name, or a list picked from per body.
-    std::vector<std::uint32_t> shapes;
-    const toml::node* one = r.find("shape");
-    const toml::node* many = r.find("shapes");
-    if (one != nullptr && many != nullptr) {
-      r.fail(sourceOf(*many), "give either shape = \"name\" or shapes = [\"a\", \"b\"], not both");
-    }
-    if (one != nullptr) {
-      shapes.push_back(shapeNamed(r, *one, "shape", scene));
-    } else if (many != nullptr) {
-      const toml::array& a = r.array(*many, "shapes", "of shape names, e.g. shapes = [\"a\", \"b\"]");
-      if (a.empty()) r.fail(sourceOf(*many), "shapes must name at least one [[shape]]");
-      for (const toml::node& el : a) shapes.push_back(shapeNamed(r, el, "each entry of shapes", scene));
-    } else {
-      r.fail(r.header(), "missing the shape: give shape = \"name\" or shapes = [\"a\", \"b\", ...]");
-    }
+    const std::vector<std::uint32_t> shapes = shapesOf(r, scene);
 
     // Lattice size.
     const toml::node& countNode =
@@ -1028,21 +1133,7 @@ class SceneParser {
     }
     std::size_t minSpheres = std::numeric_limits<std::size_t>::max();
     for (std::uint32_t s : shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
-    if (m_numParticles + sites * minSpheres > kMaxParticles) {
-      r.fail(sourceOf(countNode), "the scene would have more than 2^31 particles (" +
-                                      std::to_string(m_numParticles + sites * minSpheres) +
-                                      " at least); use a smaller count");
-    }
-
-    // Memory: refused early when the run could not hold the scene (instead of bad_alloc later).
-    const std::uint64_t allBodies = scene.bodies.size() + sites, allParticles = m_numParticles + sites * minSpheres;
-    if (const std::string shortfall = memoryShortfall(allBodies * (kRunBytesPerBody + sizeof(BodyDef)) +
-                                                      allParticles * kRunBytesPerParticle);
-        !shortfall.empty()) {
-      r.fail(sourceOf(countNode), "a run of " + std::to_string(allBodies) + " bodies and " +
-                                      std::to_string(allParticles) + " particles needs at least " +
-                                      shortfall.substr(6) + "; use a smaller count");
-    }
+    checkBodyBudget(r, countNode, scene, sites, minSpheres);
 
     // Spacing: a scalar or one value per axis; required once a lattice has two sites.
     std::array<double, 3> spacing{0.0, 0.0, 0.0};

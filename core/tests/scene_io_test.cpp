@@ -1212,3 +1212,104 @@ TEST(SceneIo, MovingWalls) {
   EXPECT_EQ(kw[0].coeffs.height, -3.0f) << "stopped at t = 3";
   EXPECT_EQ(kw[0].moving, 0u);
 }
+
+// [[fill]]: bodies packed at random in a box or a cylinder. Every sphere lies in the region, no
+// two overlap (the test's own grid count), none touches the ground or a wall cutting through the
+// region (a plane tilted across the box: the fill must stay on its side); the bodies are the
+// same for a given seed and differ for another; shapes come with the odds of their weights and
+// sizes within the scale range, masses with the cube of the scale.
+TEST(SceneIo, FillPacksWithoutOverlap) {
+  const std::string shapes =
+      "[[shape]]\nname = \"dimer\"\n[[shape.sphere]]\nradius = 0.3\nmass = 1\noffset = [-0.2, 0, 0]\n"
+      "[[shape.sphere]]\nradius = 0.3\nmass = 1\noffset = [0.2, 0, 0]\n"
+      "[ground]\n[[wall]]\ntype = \"plane\"\npoint = [0, 0, 6]\nnormal = [0.3, 0, -1]\n";
+  const std::string box = "[[fill]]\nshapes = [\"ball\", \"dimer\"]\nweights = [3, 1]\ncount = 600\nregion = \"box\"\n"
+                          "min = [-6, -6, -1]\nmax = [6, 6, 8]\nscale = [0.5, 1.0]\nvelocity_jitter = 0.1\n";
+  const std::string cyl = "[[fill]]\nshape = \"ball\"\ncount = 40\nregion = \"cylinder\"\npoint = [10, 0, 0.5]\n"
+                          "axis = [0, 0, 4]\nradius = 3\nseed = 5\n";
+  const Scene s = tumble::parseScene(withExtra(shapes + box + cyl), "test.toml");
+  ASSERT_EQ(s.bodies.size(), 1u + 600u + 40u);
+  const std::vector<Particle> ps = particlesOf(s);
+  EXPECT_EQ(countInitialOverlaps(ps), 0u);
+  std::size_t dimers = 0;
+  double worstOutside = -1e30;
+  for (std::size_t b = 1; b < s.bodies.size(); ++b) {
+    const tumble::ShapeDef& sh = s.shapes[s.bodies[b].shape];
+    const float scale = sh.spheres[0].radius / (sh.spheres.size() == 2 ? 0.3f : 0.5f);
+    if (b <= 600) {
+      dimers += sh.spheres.size() == 2;
+      EXPECT_GE(scale, 0.5f - 1e-6f);
+      EXPECT_LE(scale, 1.0f + 1e-6f);
+      EXPECT_NEAR(sh.spheres[0].mass, scale * scale * scale * (sh.spheres.size() == 2 ? 1.0 : 1.0), 1e-5);
+    } else {
+      EXPECT_EQ(sh.spheres[0].radius, 0.5f) << "no scale: the shape itself";
+      EXPECT_EQ(s.bodies[b].shape, 0u);
+    }
+  }
+  for (const Particle& p : ps) {
+    if (p.body == 0) continue;
+    const bool inBox = p.body <= 600;
+    if (inBox) {
+      for (const float v : {p.x.x, p.x.y}) worstOutside = std::max(worstOutside, double(std::abs(v) + p.r) - 6.0);
+      worstOutside = std::max(worstOutside, double(p.x.z + p.r) - 8.0);
+      worstOutside = std::max(worstOutside, -1.0 - double(p.x.z - p.r));
+    } else {
+      worstOutside = std::max(worstOutside, double(std::hypot(p.x.x - 10.0f, p.x.y) + p.r) - 3.0);
+      worstOutside = std::max(worstOutside, 0.5 - double(p.x.z - p.r));
+      worstOutside = std::max(worstOutside, double(p.x.z + p.r) - 4.5);
+    }
+    EXPECT_GT(p.x.z, p.r) << "above the ground";
+    // The tilted plane x.n = h with n = (0.3, 0, -1)/|.|: the spheres on its side, not touching.
+    const double len = std::hypot(0.3, 1.0), gap = (0.3 * p.x.x - (p.x.z - 6.0)) / len;
+    EXPECT_GT(gap, p.r) << "body " << p.body << " touches the tilted wall";
+  }
+  EXPECT_LE(worstOutside, 1e-5) << "a sphere sticks out of its region";
+  std::printf("fill: %zu dimers of 600 (weights 3:1 give 150 +- 11)\n", dimers);
+  EXPECT_NEAR(double(dimers), 150.0, 4.0 * 10.6);
+  const Scene again = tumble::parseScene(withExtra(shapes + box + cyl), "test.toml");
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    EXPECT_EQ(s.bodies[b].position.x, again.bodies[b].position.x) << "body " << b;
+    EXPECT_EQ(s.bodies[b].orientation.w, again.bodies[b].orientation.w) << "body " << b;
+    EXPECT_EQ(s.bodies[b].velocity.z, again.bodies[b].velocity.z) << "body " << b;
+  }
+  const Scene other = tumble::parseScene(withExtra(shapes + box + cyl + "") .replace(
+                                              withExtra(shapes + box + cyl).find("seed = 5"), 8, "seed = 6"),
+                                          "test.toml");
+  EXPECT_EQ(s.bodies[1].position.x, other.bodies[1].position.x) << "the box fill keeps the scene's seed";
+  EXPECT_NE(s.bodies[620].position.x, other.bodies[620].position.x) << "the cylinder's seed changed";
+  // A World is built from it, and a run starts without overlaps or wall contacts.
+  const tumble::World w = tumble::World::fromScene(s);
+  EXPECT_EQ(w.numBodies(), 641u);
+}
+
+TEST(SceneIoErrors, Fills) {
+  const std::string f = "[[fill]]\nshape = \"ball\"\n";  // lines 12-13
+  expectError(withExtra(f + "region = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"), 12, {"missing required key 'count'"});
+  expectError(withExtra(f + "count = 2\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"), 12, {"missing required key 'region'"});
+  expectError(withExtra(f + "count = 2\nregion = \"sphere\"\n"), 15, {"unknown region \"sphere\""});
+  expectError(withExtra(f + "count = 2\nregion = \"box\"\nradius = 1\n"), 16,
+              {"radius is not a key of region = \"box\" (its keys: min max)"});
+  expectError(withExtra(f + "count = 2\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n"), 17,
+              {"max must exceed min on every axis"});
+  expectError(withExtra(f + "count = 0\n"), 14, {"count"});
+  expectError(withExtra(f + "count = 2\nweights = [1, 2]\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [9, 9, 9]\n"), 15,
+              {"weights has 2 entries for 1 shapes"});
+  expectError(withExtra(f + "count = 2\nregion = \"cylinder\"\npoint = [0, 0, 0]\naxis = [0, 0, 0]\nradius = 1\n"),
+              17, {"axis must be a non-zero, finite vector"});
+  expectError(withExtra(f + "count = 2\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [9, 9, 9]\nscale = [2, 1]\n"), 18,
+              {"scale = [min, max] needs min <= max"});
+  expectError(withExtra(f + "count = 2\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [9, 9, 9]\nscale = 0\n"), 18,
+              {"scale"});
+  // Too full: 9 unit balls do not fit in a 2 m cube (one fits at most... a few).
+  expectError(withExtra(f + "count = 9\nregion = \"box\"\nmin = [0, 0, 2]\nmax = [2, 2, 4]\nattempts = 200\n"), 12,
+              {"placed", "of 9 bodies", "in 200 draws", "use a larger region"});
+  // A region the ground cuts: no body can be placed below it.
+  expectError(withExtra("[ground]\nheight = 10\n" + f + "count = 1\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [3, 3, 3]\n"),
+              14, {"placed 0 of 1 bodies"});
+  // A scene of fills alone has bodies.
+  std::vector<std::string> ls = baseLines();
+  ls.resize(8);
+  const Scene s = tumble::parseScene(join(ls) + f + "count = 3\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [9, 9, 9]\n",
+                                     "test.toml");
+  EXPECT_EQ(s.bodies.size(), 3u);
+}

@@ -4,9 +4,12 @@
 /// output is specified bit for bit, so scenes built from a seed are the same on every
 /// platform and standard library.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "tumble/hd.hpp"
+#include "tumble/math.hpp"
 
 namespace tumble {
 
@@ -27,5 +30,27 @@ struct Rng {
   /// Uniform integer in [0, n) (n > 0); slight modulo bias is irrelevant here.
   std::uint32_t below(std::uint32_t n) { return static_cast<std::uint32_t>(next() % n); }
 };
+
+/// Shoemake's uniform random rotation from three uniforms in [0, 1) (Graphics Gems III,
+/// "Uniform random rotations", 1992).
+inline Quatf randomRotation(float u1, float u2, float u3) {
+  constexpr float kTwoPi = 6.28318530717958647692f;
+  const float a = std::sqrt(1.0f - u1);
+  const float b = std::sqrt(u1);
+  float s2 = 0.0f, c2 = 0.0f, s3 = 0.0f, c3 = 0.0f;
+  sinCos(kTwoPi * u2, &s2, &c2);
+  sinCos(kTwoPi * u3, &s3, &c3);
+  return normalized(Quatf{b * c3, a * s2, a * c2, b * s3});
+}
+
+/// A vector of length `magnitude` in a uniformly random direction, from two uniforms.
+inline Vec3f randomDirection(float u1, float u2, float magnitude) {
+  constexpr float kTwoPi = 6.28318530717958647692f;
+  const float z = 2.0f * u1 - 1.0f;
+  const float rho = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  float s = 0.0f, c = 0.0f;
+  sinCos(kTwoPi * u2, &s, &c);
+  return {magnitude * rho * c, magnitude * rho * s, magnitude * z};
+}
 
 }  // namespace tumble

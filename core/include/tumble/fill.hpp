@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+/// @file fill.hpp
+/// Random packing of a region with bodies that overlap nothing (`[[fill]]`, docs/scenes.md):
+/// random sequential addition. Each body's shape is drawn by weight and its size scaled by a
+/// factor drawn uniformly; positions (and orientations) are drawn in the region until every
+/// sphere of the body lies inside it, apart from every sphere placed before it (the scene's
+/// bodies, then earlier fills), and out of contact with the ground and every wall. Every draw
+/// comes from the fill's own generator, so the bodies are the same for a given seed on any
+/// machine and thread count.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tumble/math.hpp"
+#include "tumble/scene.hpp"
+
+namespace tumble {
+
+/// Where a fill puts bodies.
+struct FillRegion {
+  enum class Kind : std::uint8_t { Box, Cylinder };
+  Kind kind = Kind::Box;
+  Vec3f min{0, 0, 0}, max{0, 0, 0};  ///< box: its corners
+  Vec3f point{0, 0, 0};              ///< cylinder: the start of its axis
+  Vec3f axis{0, 0, 1};               ///< cylinder: from point to the far end (its length is the cylinder's)
+  float radius = 0.0f;               ///< cylinder
+};
+
+/// One `[[fill]]` table.
+struct FillDef {
+  std::vector<std::uint32_t> shapes;  ///< indices into Scene::shapes
+  std::vector<double> weights;        ///< one per shape, > 0: a body's shape is drawn with these odds
+  std::uint64_t count = 0;            ///< bodies to place
+  FillRegion region;
+  float scaleMin = 1.0f, scaleMax = 1.0f;  ///< each body's size factor, uniform in [min, max]
+  Vec3f velocity{0, 0, 0};
+  float velocityJitter = 0.0f;        ///< each velocity component gets a uniform addition in [−vj, vj)
+  bool randomOrientation = true;
+  float spin = 0.0f;                  ///< rad/s about a uniformly random axis
+  std::uint64_t seed = 0;
+  std::uint64_t attempts = 1000;      ///< draws of a position per body before giving up
+  std::string where;                  ///< "[[fill]] #k (file:line)" for messages
+};
+
+/// Appends def.count bodies to scene.bodies, and to scene.shapes the scaled shapes they use
+/// (one per shape and scale factor other than 1, named "name x factor"; masses scale with the
+/// cube of the factor). Throws tumble::Error, naming def.where, how many were placed and what
+/// to change, when a body finds no place in def.attempts draws.
+void fillScene(Scene& scene, const FillDef& def);
+
+}  // namespace tumble
