@@ -1,30 +1,22 @@
 // SPDX-License-Identifier: MIT
-// [[fill]]: random sequential addition of bodies in a region (tumble/fill.hpp).
+// [[fill]]: random sequential addition of bodies in a region (tumble/fill.hpp), and the
+// placement it shares with [[pour]] (placement.hpp).
 #include "tumble/fill.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <unordered_map>
 #include <utility>
 
+#include "placement.hpp"
 #include "tumble/error.hpp"
-#include "tumble/kernels/wall.hpp"
-#include "tumble/random.hpp"
 #include "tumble/sweep_frame.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble {
-namespace {
+namespace detail {
 
-/// A sphere of a body about its centre of mass, in the shape's frame.
-struct Ball {
-  Vec3f u;
-  float r;
-};
-
-/// A shape's spheres about its centre of mass (the mass-weighted mean of the offsets, in double).
 std::vector<Ball> ballsOf(const ShapeDef& sh) {
   double m = 0.0, c[3] = {0, 0, 0};
   for (const SphereDef& s : sh.spheres) {
@@ -38,72 +30,63 @@ std::vector<Ball> ballsOf(const ShapeDef& sh) {
   return out;
 }
 
-/// Spheres placed so far, hashed on a uniform grid of cells as wide as the largest sphere a fill
-/// places is across: a sphere of that size overlaps only spheres registered in the 27 cells
-/// around its centre. A sphere wider than a cell is registered in every cell its box covers (up
-/// to a bound; beyond it, in a list every test reads).
-class SphereHash {
- public:
-  explicit SphereHash(double cell) : m_cell(cell) {}
+namespace {
+std::uint64_t cellKey(std::int64_t a, std::int64_t b, std::int64_t c) {
+  // A mix of the three cell indices; equal keys for other cells only cost a test.
+  std::uint64_t h = static_cast<std::uint64_t>(a) * 0x9E3779B97F4A7C15ull;
+  h ^= static_cast<std::uint64_t>(b) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+  h ^= static_cast<std::uint64_t>(c) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+  return h;
+}
+}  // namespace
 
-  void add(Vec3f x, float r) {
-    const std::uint32_t k = static_cast<std::uint32_t>(m_x.size());
-    m_x.push_back(x);
-    m_r.push_back(r);
-    const std::int64_t lo[3] = {cellOf(x.x - r), cellOf(x.y - r), cellOf(x.z - r)};
-    const std::int64_t hi[3] = {cellOf(x.x + r), cellOf(x.y + r), cellOf(x.z + r)};
-    const double cells = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
-    if (cells > 512.0) {
-      m_big.push_back(k);
-      return;
-    }
-    for (std::int64_t a = lo[0]; a <= hi[0]; ++a)
-      for (std::int64_t b = lo[1]; b <= hi[1]; ++b)
-        for (std::int64_t c = lo[2]; c <= hi[2]; ++c) m_cells[key(a, b, c)].push_back(k);
+std::int64_t SphereHash::cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / m_cell)); }
+
+void SphereHash::add(Vec3f x, float r) {
+  const std::uint32_t k = static_cast<std::uint32_t>(m_x.size());
+  m_x.push_back(x);
+  m_r.push_back(r);
+  const std::int64_t lo[3] = {cellOf(double(x.x) - r), cellOf(double(x.y) - r), cellOf(double(x.z) - r)};
+  const std::int64_t hi[3] = {cellOf(double(x.x) + r), cellOf(double(x.y) + r), cellOf(double(x.z) + r)};
+  const double cells = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
+  if (cells > 512.0) {
+    m_big.push_back(k);
+    return;
   }
+  for (std::int64_t a = lo[0]; a <= hi[0]; ++a)
+    for (std::int64_t b = lo[1]; b <= hi[1]; ++b)
+      for (std::int64_t c = lo[2]; c <= hi[2]; ++c) m_cells[cellKey(a, b, c)].push_back(k);
+}
 
-  /// Whether a sphere at x of radius r (r at most half a cell) would overlap one placed, or come
-  /// closer to it than a relative margin (the pipelines rebuild positions with their own
-  /// rounding: a body placed exactly touching must not start overlapping).
-  bool hits(Vec3f x, float r) const {
-    const auto near = [&](std::uint32_t k) {
-      const double dx = double(x.x) - m_x[k].x, dy = double(x.y) - m_x[k].y, dz = double(x.z) - m_x[k].z;
-      const double s = (double(r) + m_r[k]) * (1.0 + 1e-5);
-      return dx * dx + dy * dy + dz * dz < s * s;
-    };
-    for (std::uint32_t k : m_big)
-      if (near(k)) return true;
-    const std::int64_t c[3] = {cellOf(x.x), cellOf(x.y), cellOf(x.z)};
-    for (std::int64_t a = c[0] - 1; a <= c[0] + 1; ++a)
-      for (std::int64_t b = c[1] - 1; b <= c[1] + 1; ++b)
-        for (std::int64_t d = c[2] - 1; d <= c[2] + 1; ++d) {
-          const auto it = m_cells.find(key(a, b, d));
-          if (it == m_cells.end()) continue;
-          for (std::uint32_t k : it->second)
-            if (near(k)) return true;
-        }
-    return false;
-  }
+bool SphereHash::hits(Vec3f x, float r) const {
+  const auto near = [&](std::uint32_t k) {
+    const double dx = double(x.x) - m_x[k].x, dy = double(x.y) - m_x[k].y, dz = double(x.z) - m_x[k].z;
+    const double s = (double(r) + m_r[k]) * (1.0 + 1e-5);
+    return dx * dx + dy * dy + dz * dz < s * s;
+  };
+  for (std::uint32_t k : m_big)
+    if (near(k)) return true;
+  const std::int64_t c[3] = {cellOf(x.x), cellOf(x.y), cellOf(x.z)};
+  for (std::int64_t a = c[0] - 1; a <= c[0] + 1; ++a)
+    for (std::int64_t b = c[1] - 1; b <= c[1] + 1; ++b)
+      for (std::int64_t d = c[2] - 1; d <= c[2] + 1; ++d) {
+        const auto it = m_cells.find(cellKey(a, b, d));
+        if (it == m_cells.end()) continue;
+        for (std::uint32_t k : it->second)
+          if (near(k)) return true;
+      }
+  return false;
+}
 
- private:
-  std::int64_t cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / m_cell)); }
-  static std::uint64_t key(std::int64_t a, std::int64_t b, std::int64_t c) {
-    // A mix of the three cell indices; equal keys for other cells only cost a test.
-    std::uint64_t h = static_cast<std::uint64_t>(a) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<std::uint64_t>(b) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-    h ^= static_cast<std::uint64_t>(c) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
-    return h;
-  }
+RegionFrame::RegionFrame(const FillRegion& g) : region(g) {
+  if (g.kind != FillRegion::Kind::Cylinder) return;
+  length = std::sqrt(double(g.axis.x) * g.axis.x + double(g.axis.y) * g.axis.y + double(g.axis.z) * g.axis.z);
+  a[0] = g.axis.x / length, a[1] = g.axis.y / length, a[2] = g.axis.z / length;
+  perpendicularPair(a, e1, e2);
+}
 
-  double m_cell;
-  std::vector<Vec3f> m_x;
-  std::vector<float> m_r;
-  std::vector<std::uint32_t> m_big;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> m_cells;
-};
-
-/// Whether a sphere at x of radius r lies wholly inside the region.
-bool inside(const FillRegion& g, const double a[3], double length, Vec3f x, float r) {
+bool RegionFrame::inside(Vec3f x, float r) const {
+  const FillRegion& g = region;
   if (g.kind == FillRegion::Kind::Box)
     return x.x - r >= g.min.x && x.x + r <= g.max.x && x.y - r >= g.min.y && x.y + r <= g.max.y &&
            x.z - r >= g.min.z && x.z + r <= g.max.z;
@@ -113,9 +96,85 @@ bool inside(const FillRegion& g, const double a[3], double length, Vec3f x, floa
   return s >= r && s <= length - r && std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]) <= double(g.radius) - r;
 }
 
-}  // namespace
+Vec3f RegionFrame::point(float u1, float u2, float u3) const {
+  const FillRegion& g = region;
+  if (g.kind == FillRegion::Kind::Box)
+    return Vec3f{float(g.min.x + double(u1) * (double(g.max.x) - g.min.x)),
+                 float(g.min.y + double(u2) * (double(g.max.y) - g.min.y)),
+                 float(g.min.z + double(u3) * (double(g.max.z) - g.min.z))};
+  const double s = double(u1) * length, rho = double(g.radius) * std::sqrt(double(u2));
+  const double phi = 6.283185307179586 * double(u3), c = rho * std::cos(phi), d = rho * std::sin(phi);
+  return Vec3f{float(g.point.x + s * a[0] + c * e1[0] + d * e2[0]), float(g.point.y + s * a[1] + c * e1[1] + d * e2[1]),
+               float(g.point.z + s * a[2] + c * e1[2] + d * e2[2])};
+}
+
+bool placeBody(Rng& rng, const RegionFrame& g, const std::vector<Ball>& balls, SphereHash& hash,
+               const std::vector<Wall>& walls, std::uint64_t attempts, bool drawOrientation, bool randomOrientation,
+               Vec3f* position, Quatf* q) {
+  for (std::uint64_t attempt = 0; attempt < attempts; ++attempt) {
+    const float u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    const Vec3f x0 = g.point(u1, u2, u3);
+    if (drawOrientation) {
+      const float o1 = rng.uniform(), o2 = rng.uniform(), o3 = rng.uniform();
+      *q = randomOrientation ? randomRotation(o1, o2, o3) : Quatf{1, 0, 0, 0};
+    }
+    const Mat3f R = rotationMatrix(*q);
+    const bool fits = std::all_of(balls.begin(), balls.end(), [&](const Ball& s) {
+      const Vec3f x = x0 + mul(R, s.u);
+      if (!g.inside(x, s.r) || hash.hits(x, s.r)) return false;
+      return std::all_of(walls.begin(), walls.end(), [&](const Wall& w) { return wallGap(w, x) >= s.r; });
+    });
+    if (!fits) continue;
+    for (const Ball& s : balls) hash.add(x0 + mul(R, s.u), s.r);
+    *position = x0;
+    return true;
+  }
+  return false;
+}
+
+std::uint32_t drawShape(Scene& scene, Rng& rng, const std::vector<std::uint32_t>& shapes,
+                        const std::vector<double>& weights, float scaleMin, float scaleMax,
+                        std::map<std::pair<std::uint32_t, float>, std::uint32_t>& scaled, const std::string& where) {
+  double total = 0.0;
+  for (double w : weights) total += w;
+  double pick = double(rng.uniform()) * total;
+  std::size_t k = 0;
+  while (k + 1 < shapes.size() && pick >= weights[k]) pick -= weights[k++];
+  const float factor = scaleMin == scaleMax ? scaleMin : rng.uniform(scaleMin, scaleMax);
+  const std::uint32_t shape = shapes[k];
+  if (factor == 1.0f) return shape;
+  const auto [it, fresh] = scaled.try_emplace({shape, factor}, static_cast<std::uint32_t>(scene.shapes.size()));
+  if (fresh) {
+    ShapeDef sh = scene.shapes[shape];
+    char name[64];
+    std::snprintf(name, sizeof name, " x %.6g", double(factor));
+    sh.name += name;
+    const float m = factor * factor * factor;
+    for (SphereDef& s : sh.spheres) {
+      s.offset = factor * s.offset;
+      s.radius *= factor;
+      s.mass *= m;
+    }
+    if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres()); !why.empty())
+      throw Error(where + ": shape '" + sh.name + "': " + why);
+    scene.shapes.push_back(sh);
+  }
+  return it->second;
+}
+
+void drawMotion(Rng& rng, Vec3f velocity, float jitter, float spin, BodyDef* b) {
+  const float vx = rng.uniform(-jitter, jitter);
+  const float vy = rng.uniform(-jitter, jitter);
+  const float vz = rng.uniform(-jitter, jitter);
+  b->velocity = Vec3f{velocity.x + vx, velocity.y + vy, velocity.z + vz};
+  const float w1 = rng.uniform(), w2 = rng.uniform();
+  if (spin > 0.0f) b->angularVelocity = randomDirection(w1, w2, spin);
+}
+
+}  // namespace detail
 
 void fillScene(Scene& scene, const FillDef& def) {
+  using namespace detail;
   if (def.count == 0) return;
   // The spheres each shape puts about its centre of mass; the scaled shapes made so far.
   std::vector<std::vector<Ball>> balls(scene.shapes.size());
@@ -123,80 +182,22 @@ void fillScene(Scene& scene, const FillDef& def) {
   float largest = 0.0f;
   for (std::uint32_t s : def.shapes)
     for (const Ball& b : balls[s]) largest = std::max(largest, b.r);
-  const double cell = 2.0 * double(largest) * std::max(1.0f, def.scaleMax);
-  SphereHash hash(cell);
+  SphereHash hash(2.0 * double(largest) * std::max(1.0f, def.scaleMax));
   for (const BodyDef& b : scene.bodies) {
     const Mat3f R = rotationMatrix(b.orientation);
     for (const Ball& s : balls[b.shape]) hash.add(b.position + mul(R, s.u), s.r);
   }
   // The ground and the walls where they are at t = 0.
   const std::vector<Wall> walls = kernelWalls(scene, LocalFrame{});
-  // The region's axis (a cylinder), its length and two directions across it.
-  const FillRegion& g = def.region;
-  double a[3] = {0, 0, 1}, e1[3] = {1, 0, 0}, e2[3] = {0, 1, 0}, length = 0.0;
-  if (g.kind == FillRegion::Kind::Cylinder) {
-    length = std::sqrt(double(g.axis.x) * g.axis.x + double(g.axis.y) * g.axis.y + double(g.axis.z) * g.axis.z);
-    a[0] = g.axis.x / length, a[1] = g.axis.y / length, a[2] = g.axis.z / length;
-    detail::perpendicularPair(a, e1, e2);
-  }
-  double total = 0.0;
-  for (double w : def.weights) total += w;
+  const RegionFrame g(def.region);
   std::map<std::pair<std::uint32_t, float>, std::uint32_t> scaled;  // (shape, factor) → index
   Rng rng(def.seed);
   for (std::uint64_t n = 0; n < def.count; ++n) {
-    // The shape by weight, then the size.
-    double pick = double(rng.uniform()) * total;
-    std::size_t k = 0;
-    while (k + 1 < def.shapes.size() && pick >= def.weights[k]) pick -= def.weights[k++];
-    const float factor = def.scaleMin == def.scaleMax ? def.scaleMin : rng.uniform(def.scaleMin, def.scaleMax);
-    std::uint32_t shape = def.shapes[k];
-    if (factor != 1.0f) {
-      const auto [it, fresh] = scaled.try_emplace({shape, factor}, static_cast<std::uint32_t>(scene.shapes.size()));
-      if (fresh) {
-        ShapeDef sh = scene.shapes[shape];
-        char name[64];
-        std::snprintf(name, sizeof name, " x %.6g", double(factor));
-        sh.name += name;
-        const float m = factor * factor * factor;
-        for (SphereDef& s : sh.spheres) {
-          s.offset = factor * s.offset;
-          s.radius *= factor;
-          s.mass *= m;
-        }
-        if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres()); !why.empty())
-          throw Error(def.where + ": shape '" + sh.name + "': " + why);
-        scene.shapes.push_back(sh);
-        balls.push_back(ballsOf(sh));
-      }
-      shape = it->second;
-    }
-    const std::vector<Ball>& body = balls[shape];
     BodyDef b;
-    b.shape = shape;
-    bool placed = false;
-    for (std::uint64_t attempt = 0; attempt < def.attempts && !placed; ++attempt) {
-      const float u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-      const float o1 = rng.uniform(), o2 = rng.uniform(), o3 = rng.uniform();
-      if (g.kind == FillRegion::Kind::Box) {
-        b.position = Vec3f{float(g.min.x + double(u1) * (double(g.max.x) - g.min.x)),
-                           float(g.min.y + double(u2) * (double(g.max.y) - g.min.y)),
-                           float(g.min.z + double(u3) * (double(g.max.z) - g.min.z))};
-      } else {
-        const double s = double(u1) * length, rho = double(g.radius) * std::sqrt(double(u2));
-        const double phi = 6.283185307179586 * double(u3), c = rho * std::cos(phi), d = rho * std::sin(phi);
-        b.position = Vec3f{float(g.point.x + s * a[0] + c * e1[0] + d * e2[0]),
-                           float(g.point.y + s * a[1] + c * e1[1] + d * e2[1]),
-                           float(g.point.z + s * a[2] + c * e1[2] + d * e2[2])};
-      }
-      b.orientation = def.randomOrientation ? randomRotation(o1, o2, o3) : Quatf{1, 0, 0, 0};
-      const Mat3f R = rotationMatrix(b.orientation);
-      placed = std::all_of(body.begin(), body.end(), [&](const Ball& s) {
-        const Vec3f x = b.position + mul(R, s.u);
-        if (!inside(g, a, length, x, s.r) || hash.hits(x, s.r)) return false;
-        return std::all_of(walls.begin(), walls.end(), [&](const Wall& w) { return wallGap(w, x) >= s.r; });
-      });
-    }
-    if (!placed) {
+    b.shape = drawShape(scene, rng, def.shapes, def.weights, def.scaleMin, def.scaleMax, scaled, def.where);
+    if (b.shape >= balls.size()) balls.push_back(ballsOf(scene.shapes[b.shape]));
+    if (!placeBody(rng, g, balls[b.shape], hash, walls, def.attempts, true, def.randomOrientation, &b.position,
+                   &b.orientation)) {
       char buf[320];
       std::snprintf(buf, sizeof buf, ": placed %llu of %llu bodies; body %llu found no free place in %llu draws: the "
                     "region is too full for random packing (it reaches about a third of the volume at most); use a "
@@ -205,14 +206,7 @@ void fillScene(Scene& scene, const FillDef& def) {
                     static_cast<unsigned long long>(n + 1), static_cast<unsigned long long>(def.attempts));
       throw Error(def.where + buf);
     }
-    const Mat3f R = rotationMatrix(b.orientation);
-    for (const Ball& s : body) hash.add(b.position + mul(R, s.u), s.r);
-    const float vx = rng.uniform(-def.velocityJitter, def.velocityJitter);
-    const float vy = rng.uniform(-def.velocityJitter, def.velocityJitter);
-    const float vz = rng.uniform(-def.velocityJitter, def.velocityJitter);
-    b.velocity = Vec3f{def.velocity.x + vx, def.velocity.y + vy, def.velocity.z + vz};
-    const float w1 = rng.uniform(), w2 = rng.uniform();
-    if (def.spin > 0.0f) b.angularVelocity = randomDirection(w1, w2, def.spin);
+    drawMotion(rng, def.velocity, def.velocityJitter, def.spin, &b);
     scene.bodies.push_back(b);
   }
 }

@@ -56,4 +56,13 @@ double StepStats::totalSeconds() const {
   return t;
 }
 
+void StepStats::add(const StepStats& later) {
+  const StepStats before = *this;
+  *this = later;
+  steps += before.steps;
+  for (int p = 0; p < kNumPhases; ++p) seconds[p] += before.seconds[p];
+  numRebuilds += before.numRebuilds;
+  numNearRefreshes += before.numNearRefreshes;
+}
+
 }  // namespace tumble

@@ -21,6 +21,7 @@
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
+#include "tumble/pour.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
 #include "tumble/pipeline.hpp"
@@ -101,13 +102,17 @@ class Simulation {
  public:
   Simulation(const Scene& scene, const std::string& pipeline, int threads, const py::object& resume, bool guard,
              std::uint64_t guardEvery)
-      : m_world(World::fromScene(scene)), m_guarding(guard), m_guardEvery(guardEvery) {
+      : m_pouring(scene), m_world(m_pouring.worldWith(m_pouring.initialBodies())), m_guarding(guard),
+        m_guardEvery(guardEvery) {
     if (guardEvery < 1) throw Error("guard_every must be at least 1");
     const std::string dtWarning = timeStepWarning(m_world);
     if (!resume.is_none()) {
       const std::string from = pathOf(resume);
       const Checkpoint ck = Checkpoint::read(from);
       try {
+        // A run that pours resumes the world of the bodies that had entered by then.
+        if (m_pouring.any() && ck.state.size() > m_world.numBodies() && ck.state.size() <= m_pouring.finalBodies())
+          m_world = m_pouring.worldWith(ck.state.size());
         m_world = ck.resume(m_world, &m_warning);
       } catch (const InputError&) {
         throw;
@@ -137,10 +142,12 @@ class Simulation {
       if (m_rec) chunk = std::min(chunk, m_perFrame - done % m_perFrame);
       if (m_thermo) chunk = std::min(chunk, m_thermoEvery - done % m_thermoEvery);
       if (m_guarding) chunk = std::min(chunk, m_guardEvery - done % m_guardEvery);
+      bool grew = false;
       {
         py::gil_scoped_release release;
-        m_pipeline->step(chunk);
+        grew = m_pouring.step(*m_pipeline, m_world, chunk, &m_stats);  // [[pour]] bodies enter
       }
+      if (grew) m_guard.emplace(m_world, *m_pipeline);  // its energy budget starts afresh with them
       done += chunk;
       const bool frameDue = m_rec && done % m_perFrame == 0;
       const bool thermoDue = m_thermo && done % m_thermoEvery == 0;
@@ -220,6 +227,8 @@ class Simulation {
     if (stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
     if (m_thermo && sameFile(path, m_thermo->path()))
       throw Error("record: " + path + " is the time series' file (write_thermo): name another file");
+    if (m_pouring.any())
+      throw Error("record: recording a run whose bodies enter during it ([[pour]]) is not there yet");
     // The new writer first: when it cannot be opened, the recording under way goes on.
     auto rec = std::make_unique<RecordingWriter>(path, m_world, debug, stepsPerFrame);
     closeRecordingLocked();
@@ -287,7 +296,8 @@ class Simulation {
   const std::string& warning() const { return m_warning; }
   std::string pipelineName() const { return toString(m_pipeline->backend()); }
   py::dict stats() const {
-    const StepStats& st = m_pipeline->stats();
+    StepStats st = m_stats;  // before the last pour's load()
+    st.add(m_pipeline->stats());
     py::dict d;
     d["steps"] = st.steps;
     d["rebuilds"] = st.numRebuilds;
@@ -334,7 +344,9 @@ class Simulation {
   }
 
   mutable std::mutex m_busy;
+  Pouring m_pouring;
   World m_world;
+  StepStats m_stats;  // the pipeline's counters before the last pour's load()
   std::unique_ptr<Pipeline> m_pipeline;
   std::optional<RunGuard> m_guard;
   bool m_guarding;

@@ -341,6 +341,21 @@ awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   END { printf "hopper: %d of %d bodies out, deepest beyond its walls %.4f m\n", out, n, worst
         exit !(out > 150 && out < 390 && worst < 0) }' hopper.csv > hopper.txt && ok "$(cat hopper.txt)" || bad "$(cat hopper.txt)"
 
+# A pour: small.toml's balls, and 40 more poured at 1000 per second above them from t = 0.005 s.
+{ cat small.toml; printf '[[pour]]\nshape = "ball"\ncount = 40\nrate = 1000\nstart = 0.005\ninterval = 0.001\n'
+  printf 'region = "box"\nmin = [-0.3, -0.3, 0.7]\nmax = [1.1, 1.1, 1.3]\n'; } > pour.toml
+expect_status "pour" 0 "$bin" run pour.toml --steps 600 --state-out pour.csv --checkpoint pour.ck -q
+rows=$(tail -n +2 pour.csv | wc -l)
+[ "$rows" = 72 ] && ok "pour: 32 + 40 bodies after 0.06 s" || bad "pour: $rows bodies after 0.06 s, want 72"
+expect_status "pour, half then resumed" 0 "$bin" run pour.toml --steps 250 --checkpoint half.ck -q
+expect_status "pour resumed" 0 "$bin" run pour.toml --resume half.ck --steps 600 --state-out pour2.csv -q
+cmp -s pour.csv pour2.csv && ok "pour: resumed mid-pour gives the same bits" || bad "pour: the resumed run differs"
+expect_status "pour, 1 thread" 0 "$bin" run pour.toml --steps 600 --threads 1 --state-out pour1.csv -q
+cmp -s pour.csv pour1.csv && ok "pour: the same bits on 1 thread" || bad "pour: 1 thread differs"
+expect_status "pour with --record" 2 "$bin" run pour.toml --steps 10 --record pour.bin
+expect_msg "pour with --record" "pour.toml: recording a run whose bodies enter during it .*not there yet"
+[ -e pour.bin ] && bad "pour with --record wrote pour.bin" || ok "pour with --record wrote nothing"
+
 # Outputs never replace what is not a file, and write through links (tumble/output_file.hpp).
 ln -sf real.csv link.csv
 expect_status "state-out through a link" 0 "$bin" run small.toml --steps 5 --state-out link.csv -q

@@ -17,6 +17,7 @@
 #include "tumble/thermo.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/pour.hpp"
 #include "tumble/recording.hpp"
 #include "tumble/scene_io.hpp"
 
@@ -123,13 +124,21 @@ void run(RunOptions o) {
                   {"--state-out", o.stateOut}, {"scene", o.scene}});
   refuseSameFile({{"--resume", o.resume}, {"--record", o.record}, {"--thermo", o.thermo}, {"--state-out", o.stateOut}});
 
-  World world = World::fromScene(scene);
+  // Bodies that enter during the run (tumble/pour.hpp): the world grows at its batch steps.
+  const Pouring pouring(scene);
+  if (pouring.any() && !o.record.empty())
+    throw Error(o.scene + ": recording a run whose bodies enter during it ([[pour]]) is not there yet; run without "
+                          "--record (and [output] record), or use --state-out and --checkpoint");
+  World world = pouring.worldWith(pouring.initialBodies());
   if (const std::string w = timeStepWarning(world); !w.empty())
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), w.c_str());
   if (!o.resume.empty()) {
     const Checkpoint ck = Checkpoint::read(o.resume);
     std::string warning;
     try {
+      // A run that pours resumes the world of the bodies that had entered by then.
+      if (pouring.any() && ck.state.size() > world.numBodies() && ck.state.size() <= pouring.finalBodies())
+        world = pouring.worldWith(ck.state.size());
       world = ck.resume(world, &warning);
     } catch (const InputError&) {
       throw;
@@ -200,6 +209,7 @@ void run(RunOptions o) {
 
   const auto t0 = std::chrono::steady_clock::now();
   auto lastPrint = t0;
+  StepStats stats;  // the pipeline's counters before the last pour's load()
   std::uint64_t done = start;
   std::uint64_t checkedAt = start;  // the step of the last guard check
   bool frameCut = false;            // a frame's write was given up at a stop
@@ -212,7 +222,9 @@ void run(RunOptions o) {
       if (thermo) chunk = std::min(chunk, thermoEvery - done % thermoEvery);
       if (ckEvery) chunk = std::min(chunk, ckEvery - done % ckEvery);
       chunk = std::min<std::uint64_t>(chunk, 100);  // a signal is seen within 100 steps
-      pipeline->step(chunk);
+      // Bodies of a [[pour]] enter at its batch steps, after the frame, checks and checkpoint
+      // of the state before them; the guard then starts its energy budget afresh.
+      if (pouring.step(*pipeline, world, chunk, &stats) && guard) guard.emplace(world, *pipeline);
       done += chunk;
       const bool frameDue = rec && done <= recSteps && done % perFrame == 0;
       const bool checkpointDue = ckEvery && done % ckEvery == 0 && done < scene.steps;
@@ -342,7 +354,8 @@ void run(RunOptions o) {
   pipeline->readState(state);
   if (!o.stateOut.empty()) writeState(o.stateOut, world, state);
   if (!o.quiet) {
-    const StepStats& st = pipeline->stats();
+    stats.add(pipeline->stats());
+    const StepStats& st = stats;
     std::printf("%s: %llu steps, %u particles, %llu contacts in the last step\n", scene.name.c_str(),
                 static_cast<unsigned long long>(st.steps), world.numParticles(),
                 static_cast<unsigned long long>(st.numPairs));

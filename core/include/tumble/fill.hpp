@@ -17,16 +17,6 @@
 
 namespace tumble {
 
-/// Where a fill puts bodies.
-struct FillRegion {
-  enum class Kind : std::uint8_t { Box, Cylinder };
-  Kind kind = Kind::Box;
-  Vec3f min{0, 0, 0}, max{0, 0, 0};  ///< box: its corners
-  Vec3f point{0, 0, 0};              ///< cylinder: the start of its axis
-  Vec3f axis{0, 0, 1};               ///< cylinder: from point to the far end (its length is the cylinder's)
-  float radius = 0.0f;               ///< cylinder
-};
-
 /// One `[[fill]]` table.
 struct FillDef {
   std::vector<std::uint32_t> shapes;  ///< indices into Scene::shapes

@@ -76,6 +76,9 @@ struct StepStats {
   float cellSize = 0.0f;            ///< cell side used at the last rebuild
   float skin = 0.0f;                ///< the Verlet skin in use
   double totalSeconds() const;
+  /// Adds the steps, times and events of `later` (a run's next part: a pipeline loaded afresh)
+  /// and takes its last-step and last-rebuild values.
+  void add(const StepStats& later);
   /// Events per 1000 steps (0 before the first step).
   double per1000(std::uint64_t count) const { return steps ? 1000.0 * double(count) / double(steps) : 0.0; }
   double rebuildsPer1000() const { return per1000(numRebuilds); }

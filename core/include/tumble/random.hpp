@@ -31,6 +31,12 @@ struct Rng {
   std::uint32_t below(std::uint32_t n) { return static_cast<std::uint32_t>(next() % n); }
 };
 
+/// Mixes a seed and an index (a group's, a fill's, a body's) into an independent SplitMix64 seed.
+inline std::uint64_t groupSeed(std::uint64_t seed, std::uint64_t index) {
+  Rng mix(seed ^ (0xD1B54A32D192ED03ull * (index + 1)));
+  return mix.next();
+}
+
 /// Shoemake's uniform random rotation from three uniforms in [0, 1) (Graphics Gems III,
 /// "Uniform random rotations", 1992).
 inline Quatf randomRotation(float u1, float u2, float u3) {

@@ -152,6 +152,38 @@ struct BodyDef {
   Vec3f angularVelocity{0, 0, 0};  ///< world frame
 };
 
+/// Where a `[[fill]]` or a `[[pour]]` puts bodies: a box or a cylinder.
+struct FillRegion {
+  enum class Kind : std::uint8_t { Box, Cylinder };
+  Kind kind = Kind::Box;
+  Vec3f min{0, 0, 0}, max{0, 0, 0};  ///< box: its corners
+  Vec3f point{0, 0, 0};              ///< cylinder: the start of its axis
+  Vec3f axis{0, 0, 1};               ///< cylinder: from point to the far end (its length is the cylinder's)
+  float radius = 0.0f;               ///< cylinder
+};
+
+/// A `[[pour]]` (docs/scenes.md, tumble/pour.hpp): bodies that enter the run in its region
+/// at `rate` bodies per second from `start`, each placed where it overlaps nothing.
+struct PourDef {
+  FillRegion region;
+  double start = 0.0;     ///< s
+  double rate = 0.0;      ///< bodies per second
+  double interval = 0.0;  ///< s between two batches (0: every step)
+  std::uint64_t count = 0;
+  std::uint64_t seed = 0;
+  std::uint64_t attempts = 100;  ///< positions drawn per body and batch
+  std::string where;             ///< "[[pour]] #k (file:line)" for messages
+};
+
+/// A body a pour will add: its shape (scaled), orientation and velocities drawn when the scene
+/// is read; its position is drawn when it enters.
+struct PourBody {
+  BodyDef body;
+  std::uint32_t pour = 0;   ///< index into Scene::pours
+  std::uint64_t index = 0;  ///< its place among its pour's bodies
+  double time = 0.0;        ///< when it is due: the pour's start + index / rate [s]
+};
+
 /// Collision-detection knobs. They change speed only, never the contacts or a bit of the
 /// trajectory (the contact list is canonical, kernels/contact_list.hpp).
 struct BroadphaseParams {
@@ -197,6 +229,11 @@ struct Scene {
   std::vector<MaterialDef> materials;  ///< hertz-mindlin: at least one; the others: densities only
   std::vector<ShapeDef> shapes;
   std::vector<BodyDef> bodies;
+  std::vector<PourDef> pours;
+  /// Every body the pours will add, in the order they enter: by the time each is due (then by
+  /// pour, then by its index). They enter in this order only: one that finds no place holds
+  /// back the ones after it (tumble/pour.hpp).
+  std::vector<PourBody> pourBodies;
   // Output settings.
   std::string recordFile;          ///< empty = no recording
   std::uint64_t recordSteps = 0;   ///< 0 = the whole run

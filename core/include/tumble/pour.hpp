@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+/// @file pour.hpp
+/// Bodies that enter a run (`[[pour]]`, docs/scenes.md): each pour adds its bodies in its
+/// region at `rate` bodies per second from `start`, in batches, each body placed where it
+/// overlaps no body, the ground or a wall at that moment.
+///
+/// - Every body a pour will add, its shape (scaled), orientation and velocities are drawn when
+///   the scene is read (Scene::pourBodies, in the order they are due); only its position is
+///   drawn when it enters, from a generator seeded by the pour's seed, the body's index and the
+///   step: a resumed run draws the same positions.
+/// - A batch falls every `interval` (the smallest of the pours') from the earliest start. At a
+///   batch the bodies due by then enter in their order; one that finds no place in `attempts`
+///   draws waits, with every body after it, for the next batch.
+/// - A body that enters is appended to the world: the run goes on from the pipeline's state
+///   (read bit for bit, contact histories and wall springs included) with a pipeline loaded
+///   afresh, which continues as a resumed run does: the same bits as if it had never stopped.
+///   The drivers (tumble run, view, the Python module) call pour() at the batch steps.
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "tumble/pipeline.hpp"
+#include "tumble/scene.hpp"
+#include "tumble/world.hpp"
+
+namespace tumble {
+
+class Pouring {
+ public:
+  /// `scene` as read (Scene::bodies the bodies at the start, Scene::pourBodies those to come).
+  explicit Pouring(const Scene& scene);
+
+  /// Whether the scene pours anything.
+  bool any() const { return !m_scene.pourBodies.empty(); }
+  /// Bodies at the start of the run, before any pour.
+  std::size_t initialBodies() const { return m_scene.bodies.size(); }
+  /// Bodies once every pour is done.
+  std::size_t finalBodies() const { return m_scene.bodies.size() + m_scene.pourBodies.size(); }
+  /// The first batch step at or after `step` while some body has yet to enter a world of
+  /// `bodies` bodies; never (UINT64_MAX) once all have.
+  std::uint64_t nextBatch(std::uint64_t step, std::size_t bodies) const;
+  /// The world of the scene with its first `bodies` bodies (the initial ones, then the pour's in
+  /// order), the pour's where they are due to appear (the centre of their region): the world
+  /// a checkpoint of such a run resumes (Checkpoint::resume() then sets the state), and, with
+  /// finalBodies(), the particle table of a recording.
+  World worldWith(std::size_t bodies) const;
+  /// At a batch step (nextBatch()): places the bodies due by the pipeline's time around its
+  /// state and returns the world to load() to go on with them (the pipeline's state, bit for bit,
+  /// and the new bodies); nothing when none entered. `world` is the world the pipeline runs.
+  std::optional<World> pour(const World& world, const Pipeline& pipeline) const;
+  /// Steps `pipeline`, which runs `world`, n steps: at each batch step, before stepping it, the
+  /// bodies due enter (pour(); `world` grows and the pipeline is loaded with it, keeping its
+  /// pulls; `stats` (may be null) gains the counters it had). Returns whether the world grew. The drivers step with
+  /// this; a run resumed at a batch step pours there first, as the run it continues did.
+  bool step(Pipeline& pipeline, World& world, std::uint64_t n, StepStats* stats) const;
+
+ private:
+  /// The first pour body at or after `first` not yet due at time t.
+  std::size_t dueBy(std::size_t first, double t) const;
+  /// Positions (in frame) for the pour bodies first..due, in order, until one finds no place,
+  /// clear of the particles at x (3 per particle, in frame) of the given radii and the walls.
+  std::vector<Vec3f> place(std::size_t first, std::size_t due, const std::vector<float>& x,
+                           const std::vector<float>& radius, float maxRadius, const LocalFrame& frame,
+                           const std::vector<Wall>& walls, std::uint64_t step) const;
+  /// The world of the initial bodies, the pour bodies before `first` (at their regions' centres)
+  /// and then the placed ones (positions in frame).
+  World withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame) const;
+
+  Scene m_scene;
+  std::uint64_t m_firstStep = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t m_everySteps = 1;
+};
+
+}  // namespace tumble

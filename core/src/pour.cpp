@@ -1,0 +1,200 @@
+// SPDX-License-Identifier: MIT
+// [[pour]]: bodies entering a run (tumble/pour.hpp).
+#include "tumble/pour.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "placement.hpp"
+#include "tumble/error.hpp"
+#include "tumble/random.hpp"
+
+namespace tumble {
+namespace {
+
+/// The centre of a region: where a pour body is held in a world before its state is known.
+Vec3f centreOf(const FillRegion& g) {
+  if (g.kind == FillRegion::Kind::Box)
+    return Vec3f{float(0.5 * (double(g.min.x) + g.max.x)), float(0.5 * (double(g.min.y) + g.max.y)),
+                 float(0.5 * (double(g.min.z) + g.max.z))};
+  return Vec3f{float(g.point.x + 0.5 * g.axis.x), float(g.point.y + 0.5 * g.axis.y), float(g.point.z + 0.5 * g.axis.z)};
+}
+
+/// The region moved into frame f (its points minus the frame's origin).
+FillRegion shifted(FillRegion g, const LocalFrame& f) {
+  const auto sub = [&](Vec3f p) {
+    return Vec3f{float(double(p.x) - f.x), float(double(p.y) - f.y), float(double(p.z) - f.z)};
+  };
+  g.min = sub(g.min), g.max = sub(g.max), g.point = sub(g.point);
+  return g;
+}
+
+}  // namespace
+
+Pouring::Pouring(const Scene& scene) : m_scene(scene) {
+  if (m_scene.pourBodies.empty()) return;
+  double start = std::numeric_limits<double>::infinity(), interval = std::numeric_limits<double>::infinity();
+  for (const PourDef& p : m_scene.pours) start = std::min(start, p.start), interval = std::min(interval, p.interval);
+  const double dt = m_scene.dt;
+  m_firstStep = static_cast<std::uint64_t>(std::ceil(start / dt - 1e-9));
+  m_everySteps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / dt)));
+}
+
+std::uint64_t Pouring::nextBatch(std::uint64_t step, std::size_t bodies) const {
+  if (bodies >= finalBodies()) return std::numeric_limits<std::uint64_t>::max();
+  if (step <= m_firstStep) return m_firstStep;
+  return m_firstStep + (step - m_firstStep + m_everySteps - 1) / m_everySteps * m_everySteps;
+}
+
+World Pouring::worldWith(std::size_t bodies) const {
+  if (bodies == 0 && m_scene.bodies.empty()) {  // the run starts with the bodies due at t = 0
+    const std::vector<Wall> walls = kernelWalls(m_scene, LocalFrame{});
+    const std::vector<Vec3f> placed = place(0, dueBy(0, 0.0), {}, {}, 0.0f, LocalFrame{}, walls, 0);
+    if (placed.empty())
+      throw Error(m_scene.pours.empty() ? "the scene has no bodies"
+                                        : m_scene.pours[0].where + ": the scene's bodies all come from [[pour]] and none "
+                                          "could enter at t = 0; give the first pour start = 0 (and room), or add a "
+                                          "[[body]], [[group]] or [[fill]]");
+    return withBodies(0, placed, LocalFrame{});
+  }
+  return withBodies(bodies - std::min(bodies, m_scene.bodies.size()), {}, LocalFrame{});
+}
+
+std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std::vector<float>& x,
+                                  const std::vector<float>& radius, float maxRadius, const LocalFrame& frame,
+                                  const std::vector<Wall>& walls, std::uint64_t step) const {
+  using namespace detail;
+  float largest = 0.0f;
+  std::vector<std::vector<Ball>> balls;
+  for (std::size_t b = first; b < due; ++b) {
+    balls.push_back(ballsOf(m_scene.shapes[m_scene.pourBodies[b].body.shape]));
+    for (const Ball& s : balls.back()) largest = std::max(largest, s.r);
+  }
+  // The particles near some pour's region (its bounding box, grown by the largest reach).
+  const double reach = 2.0 * (double(largest) + maxRadius);
+  std::vector<std::array<double, 6>> boxes;
+  for (const PourDef& p : m_scene.pours) {
+    const FillRegion g = shifted(p.region, frame);
+    if (g.kind == FillRegion::Kind::Box) {
+      boxes.push_back({g.min.x - reach, g.min.y - reach, g.min.z - reach, g.max.x + reach, g.max.y + reach,
+                       g.max.z + reach});
+    } else {
+      const double a[3] = {g.axis.x, g.axis.y, g.axis.z}, p0[3] = {g.point.x, g.point.y, g.point.z};
+      const double r = std::sqrt(0.25 * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) + double(g.radius) * g.radius) + reach;
+      boxes.push_back({p0[0] + 0.5 * a[0] - r, p0[1] + 0.5 * a[1] - r, p0[2] + 0.5 * a[2] - r, p0[0] + 0.5 * a[0] + r,
+                       p0[1] + 0.5 * a[1] + r, p0[2] + 0.5 * a[2] + r});
+    }
+  }
+  SphereHash hash(2.0 * double(largest));
+  for (std::size_t i = 0; i < radius.size(); ++i) {
+    const Vec3f xi{x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+    const bool near = std::any_of(boxes.begin(), boxes.end(), [&](const std::array<double, 6>& b) {
+      return xi.x >= b[0] && xi.y >= b[1] && xi.z >= b[2] && xi.x <= b[3] && xi.y <= b[4] && xi.z <= b[5];
+    });
+    if (near) hash.add(xi, radius[i]);
+  }
+  // The bodies due, in order, until one finds no place.
+  std::vector<Vec3f> placed;
+  for (std::size_t b = first; b < due; ++b) {
+    const PourBody& pb = m_scene.pourBodies[b];
+    const PourDef& p = m_scene.pours[pb.pour];
+    Rng rng(groupSeed(p.seed ^ (0x9E3779B97F4A7C15ull * (step + 1)), pb.index));
+    Vec3f at;
+    Quatf q = pb.body.orientation;
+    if (!placeBody(rng, RegionFrame(shifted(p.region, frame)), balls[b - first], hash, walls, p.attempts, false, false,
+                   &at, &q))
+      break;
+    placed.push_back(at);
+  }
+  return placed;
+}
+
+std::size_t Pouring::dueBy(std::size_t first, double t) const {
+  std::size_t due = first;
+  while (due < m_scene.pourBodies.size() && m_scene.pourBodies[due].time <= t) ++due;
+  return due;
+}
+
+std::optional<World> Pouring::pour(const World& world, const Pipeline& pipeline) const {
+  const std::size_t nb = world.numBodies(), first = nb - m_scene.bodies.size();
+  const double t = pipeline.time();
+  const std::uint64_t step = pipeline.stepCount();
+  const std::size_t due = dueBy(first, t);
+  if (due == first) return std::nullopt;
+  // What the bodies must keep clear of: the particles where the pipeline has them (its frame),
+  // the ground and the walls where they are now.
+  const LocalFrame frame = pipeline.frame();
+  std::vector<float> x;
+  pipeline.readLocalPositions(x);
+  std::vector<Wall> walls = kernelWalls(world.params, frame);
+  setWallMotion(walls, world.params, t);
+  const std::vector<Vec3f> placed = place(first, due, x, world.radius, world.maxRadius, frame, walls, step);
+  if (placed.empty()) return std::nullopt;
+
+  // The world with them: the pipeline's state (as it integrates it, in its frame) and theirs.
+  World out = withBodies(first, placed, frame);
+  BodyState now;
+  pipeline.readLocalState(now);
+  BodyState& st = out.state;
+  for (auto [to, from] : {std::pair{&st.px, &now.px}, {&st.py, &now.py}, {&st.pz, &now.pz}, {&st.vx, &now.vx},
+                          {&st.vy, &now.vy}, {&st.vz, &now.vz}, {&st.qw, &now.qw}, {&st.qx, &now.qx},
+                          {&st.qy, &now.qy}, {&st.qz, &now.qz}, {&st.lx, &now.lx}, {&st.ly, &now.ly}, {&st.lz, &now.lz}})
+    std::copy(from->begin(), from->end(), to->begin());
+  // The wall springs, plane-major: each plane's column of the old particles, then zeros.
+  const std::size_t np = world.numParticles(), npOut = out.numParticles();
+  const std::size_t planes = np > 0 ? now.groundSpringX.size() / np : 0;
+  st.groundSpringX.assign(planes * npOut, 0.0f);
+  st.groundSpringY.assign(planes * npOut, 0.0f);
+  for (std::size_t k = 0; k < planes; ++k) {
+    std::copy_n(now.groundSpringX.begin() + std::ptrdiff_t(k * np), np, st.groundSpringX.begin() + std::ptrdiff_t(k * npOut));
+    std::copy_n(now.groundSpringY.begin() + std::ptrdiff_t(k * np), np, st.groundSpringY.begin() + std::ptrdiff_t(k * npOut));
+  }
+  st.contacts = std::move(now.contacts);  // the old particles keep their indices
+  out.frame = frame;
+  out.step = step;
+  out.time = t;
+  return out;
+}
+
+World Pouring::withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame) const {
+  Scene s = m_scene;
+  s.pourBodies.clear();
+  for (std::size_t b = 0; b < first + placed.size(); ++b) {
+    BodyDef d = m_scene.pourBodies[b].body;
+    d.position = b < first ? centreOf(m_scene.pours[m_scene.pourBodies[b].pour].region)
+                           : Vec3f{float(double(placed[b - first].x) + frame.x), float(double(placed[b - first].y) + frame.y),
+                                   float(double(placed[b - first].z) + frame.z)};
+    s.bodies.push_back(d);
+  }
+  World out = World::fromScene(s);
+  for (std::size_t b = 0; b < placed.size(); ++b) {  // as placed, in the frame
+    const std::size_t k = s.bodies.size() - placed.size() + b;
+    out.state.px[k] = placed[b].x;
+    out.state.py[k] = placed[b].y;
+    out.state.pz[k] = placed[b].z;
+  }
+  return out;
+}
+
+bool Pouring::step(Pipeline& pipeline, World& world, std::uint64_t n, StepStats* stats) const {
+  bool grew = false;
+  const std::uint64_t end = pipeline.stepCount() + n;
+  while (pipeline.stepCount() < end) {
+    const std::uint64_t done = pipeline.stepCount();
+    if (nextBatch(done, world.numBodies()) == done) {
+      if (std::optional<World> grown = pour(world, pipeline)) {
+        if (stats) stats->add(pipeline.stats());  // load() starts the pipeline's counters afresh
+        const std::uint32_t pulls = pipeline.pulls();      // and the pulls from the scene's
+        world = std::move(*grown);
+        pipeline.load(world);
+        pipeline.setPulls(pulls);
+        grew = true;
+      }
+    }
+    pipeline.step(std::min(end, nextBatch(done + 1, world.numBodies())) - done);
+  }
+  return grew;
+}
+
+}  // namespace tumble
