@@ -300,8 +300,8 @@ Extent sceneBodiesExtent(const Scene& scene) {
   return e;
 }
 
-std::vector<WallSurface> sceneWallSurfaces(const Scene& scene, const WallTessellation& options) {
-  std::vector<WallSurface> all = wallSurfaces(scene.planes(), sceneBodiesExtent(scene), options);
+std::vector<WallSurface> sceneWallSurfaces(const Scene& scene, const Extent& focus, const WallTessellation& options) {
+  std::vector<WallSurface> all = wallSurfaces(scene.planes(), focus, options);
   if (scene.ground.enabled) all.erase(all.begin());
   return all;
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tumble/scene_io.hpp"
+#include "tumble/world.hpp"
 
 using namespace tumble;
 
@@ -235,7 +236,7 @@ TEST(WallGeometry, ATurningDrumIsPosedAndTheGroundIsLeftOut) {
   Scene scene = readSceneFile(std::string(TUMBLE_SOURCE_DIR) + "/scenes/drum.toml");
   scene.ground.enabled = true;  // the ground clips, and is not drawn as a wall
   scene.ground.height = -1.0f;
-  const std::vector<WallSurface> s = sceneWallSurfaces(scene);
+  const std::vector<WallSurface> s = sceneWallSurfaces(scene, sceneBodiesExtent(scene));
   ASSERT_EQ(s.size(), scene.walls.size());
   ASSERT_EQ(s.size(), 3u);
   EXPECT_EQ(s[0].kind, WallKind::Cylinder);
@@ -259,7 +260,8 @@ TEST(WallGeometry, ATurningDrumIsPosedAndTheGroundIsLeftOut) {
   EXPECT_EQ(a.x, b.x);
   EXPECT_EQ(a.z, b.z);
   // And a box scene gives five faces, the sides cut by the drawing region.
-  const std::vector<WallSurface> box = sceneWallSurfaces(readSceneFile(std::string(TUMBLE_SOURCE_DIR) + "/scenes/box.toml"));
+  const Scene boxScene = readSceneFile(std::string(TUMBLE_SOURCE_DIR) + "/scenes/box.toml");
+  const std::vector<WallSurface> box = sceneWallSurfaces(boxScene, World::fromScene(boxScene).bodiesExtent);
   ASSERT_EQ(box.size(), 5u);
   for (const WallSurface& w : box) EXPECT_EQ(w.numTriangles(), 2u);
   EXPECT_NEAR(area(box[4]), 0.8 * 0.2, 1e-6);

@@ -48,14 +48,14 @@ def run(*args):
 
 
 def read_recording(path):
-    """The recording per docs/recording.md, version 1."""
+    """The recording per docs/recording.md, version 1 or 2."""
     b = open(path, "rb").read()
     assert b[:8] == b"TUMBLREC", "magic"
     version, H, N, B, spf = struct.unpack_from("<5I", b, 8)
     dt, fps = struct.unpack_from("<2f", b, 28)
     flags, = struct.unpack_from("<I", b, 36)
     ground_h, = struct.unpack_from("<f", b, 40)
-    assert version == 1
+    assert version in (1, 2)
     at = H
     f32 = lambda count: np.frombuffer(b, "<f4", count, at)
     table = {}
@@ -68,6 +68,21 @@ def read_recording(path):
         table[name] = f32(N).copy()
         at += 4 * N
     at += 4  # table checksum
+    walls = []
+    if version == 2:  # the wall block: W, S, W records, a checksum
+        W, S = struct.unpack_from("<2I", b, at)
+        p = at + 8
+        for _ in range(W):
+            kind, = struct.unpack_from("<I", b, p)
+            v = np.frombuffer(b, "<f4", 3, p + 4).copy()
+            w = np.frombuffer(b, "<f4", 3, p + 16).copy()
+            pivot = np.frombuffer(b, "<f4", 3, p + 28).copy()
+            start, stop, T = struct.unpack_from("<ddI", b, p + 40)
+            tri = np.frombuffer(b, "<f4", 9 * T, p + 60).reshape(T, 3, 3).copy()
+            walls.append({"kind": kind, "v": v, "w": w, "pivot": pivot, "start": start, "stop": stop, "tri": tri})
+            p += 60 + 36 * T
+        assert p == at + 8 + S, "wall records fill S"
+        at = p + 4
     debug = bool(flags & 1)
     frames = []
     while at < len(b):
@@ -91,7 +106,7 @@ def read_recording(path):
         frames.append(fr)
         at += 4 + S + 4
     return {"N": N, "B": B, "ground": bool(flags & 2), "ground_h": ground_h, "debug": debug, "table": table,
-            "frames": frames}
+            "walls": walls, "frames": frames}
 
 
 def positions(rec, fr):

@@ -110,8 +110,10 @@ std::vector<WallSurface> wallSurfaces(const std::vector<WallDef>& walls, const E
 Extent sceneBodiesExtent(const Scene& scene);
 
 /// The walls of a scene as drawn: one surface per entry of scene.walls, in order (a box's faces
-/// are walls of their own), from wallSurfaces(scene.planes(), sceneBodiesExtent(scene)); the
-/// ground clips the planes but is not among them (players draw it as a plane of its own).
-std::vector<WallSurface> sceneWallSurfaces(const Scene& scene, const WallTessellation& options = {});
+/// are walls of their own), from wallSurfaces(scene.planes(), focus); the ground clips the
+/// planes but is not among them (players draw it as a plane of its own). `focus`: the bodies'
+/// extent, sceneBodiesExtent(scene) or World::bodiesExtent (a World's scene keeps no bodies).
+std::vector<WallSurface> sceneWallSurfaces(const Scene& scene, const Extent& focus,
+                                           const WallTessellation& options = {});
 
 }  // namespace tumble
