@@ -505,6 +505,15 @@ else
   expect_status "render --camera-smooth -1" 2 render_ ex.bin --still 1 -o x.png --camera follow --camera-smooth -1
   expect_status "render --camera orbit" 2 render_ ex.bin --still 1 -o x.png --camera orbit
   [ ! -e x.png ] && ok "refused renders wrote nothing" || bad "a refused render wrote x.png"
+  # Walls (docs/animation.md#walls): drawn by default, left out with --no-walls.
+  "$bin" run boxed.toml --steps 30 --record boxed.bin -q
+  expect_status "render a scene with walls" 0 render_ boxed.bin --still -1 -o walls.png --size 320x240 --no-label
+  expect_status "render --no-walls" 0 render_ boxed.bin --still -1 -o nowalls.png --size 320x240 --no-label --no-walls
+  [ -s walls.png ] && [ -s nowalls.png ] && ! cmp -s walls.png nowalls.png && ok "the walls are drawn, --no-walls leaves them out" ||
+    bad "walls.png and nowalls.png: $(ls -l walls.png nowalls.png 2>&1)"
+  for c in view play render; do
+    "$bin" "$c" --help | grep -q -- "--no-walls" && ok "$c --help has --no-walls" || bad "$c --help lacks --no-walls"
+  done
 fi
 if command -v gnuplot >/dev/null; then
   expect_status "plot over its time series" 2 "$bin" plot th.csv -o th.csv
