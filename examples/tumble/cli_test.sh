@@ -421,6 +421,14 @@ expect_status "export" 0 "$bin" export ex.bin exdir
   ok "export wrote 4 frames, the ground and the collection" || bad "export files: $(ls exdir)"
 expect_msg "export says where" "4 frames of ex.bin into exdir/, exdir/ex.pvd"
 expect_msg "export says what next" "open in ParaView: paraview exdir/ex.pvd"
+[ ! -e exdir/ex_walls.vtp ] && ok "no walls file without walls" || bad "ex_walls.vtp written for a scene without walls"
+# The walls of a box (docs/export.md): one file for every frame (they stand still), part 1.
+"$bin" run boxed.toml --steps 30 --record bx.bin -q
+expect_status "export walls" 0 "$bin" export bx.bin bxdir
+[ -s bxdir/bx_walls.vtp ] && [ ! -e bxdir/bx_walls_000000.vtp ] && [ "$(grep -c 'part="1" file="bx_walls.vtp"' bxdir/bx.pvd)" = 4 ] &&
+  ok "export wrote the box's walls once, part 1 of the 4 time steps" || bad "export walls: $(ls bxdir)"
+expect_status "export walls to csv" 0 "$bin" export bx.bin bxcsv --format csv
+expect_msg "export walls to csv" "the walls are in the VTK export only: --format vtk"
 expect_status "export csv" 0 "$bin" export ex.bin exdir --format csv --name c -q
 [ "$(head -n 1 exdir/c_000000.csv)" = "particle,body,x,y,z,r,mass,elasticity" ] && [ "$(wc -l < exdir/c_000000.csv)" = 33 ] &&
   [ "$(sed -n 2p exdir/c_frames.csv)" = "0,0,0,c_000000.csv" ] && ok "export csv rows and index" ||
