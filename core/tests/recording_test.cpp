@@ -771,44 +771,28 @@ TEST_F(RecordingTest, RandomDamageNeverCrashes) {
 
 // ---- Walls (version 2) ---------------------------------------------------------------------
 
-tumble::WallDef revolvedWall(tumble::Vec3f point, tumble::Vec3f axis, float length, float r0, float r1) {
-  tumble::WallDef w;
-  w.shape = tumble::WallDef::Shape::Revolved;
-  w.point = point;
-  w.normal = axis;
-  w.length = length;
-  w.radius0 = r0;
-  w.radius1 = r1;
-  return w;
-}
-
 /// makeWorld() in a box open at the top (five planes), or with `everyKind`: a tilted belt, a
 /// turning cylinder that stops, a cone and a ring too.
 World wallWorld(bool everyKind) {
   World w = makeWorld();
   const float lo[3] = {-2, -2, -1.5f}, hi[3] = {2, 2, 3};
   for (int f = 0; f < 5; ++f) {
-    tumble::WallDef face;
     float p[3] = {0, 0, 0}, n[3] = {0, 0, 0};
     p[f / 2] = f % 2 ? hi[f / 2] : lo[f / 2];
     n[f / 2] = f % 2 ? -1.0f : 1.0f;
-    face.point = {p[0], p[1], p[2]};
-    face.normal = {n[0], n[1], n[2]};
-    w.params.walls.push_back(face);
+    w.params.walls.push_back(tumble::planeWall({p[0], p[1], p[2]}, {n[0], n[1], n[2]}));
   }
   if (everyKind) {
-    tumble::WallDef belt;
-    belt.point = {0, 0, -1};
-    belt.normal = {0.3f, 0, 1};
+    tumble::WallDef belt = tumble::planeWall({0, 0, -1}, {0.3f, 0, 1});
     belt.velocity = {1, 0, -0.3f};
     w.params.walls.push_back(belt);
-    tumble::WallDef drum = revolvedWall({0, -0.5f, 0}, {0, 1, 0}, 1.0f, 1.25f, 1.25f);
+    tumble::WallDef drum = tumble::revolvedWall({0, -0.5f, 0}, {0, 1, 0}, 1.0f, 1.25f, 1.25f);
     drum.angularVelocity = -3.0f;
     drum.start = 0.25;
     drum.stop = 2.0;
     w.params.walls.push_back(drum);
-    w.params.walls.push_back(revolvedWall({0, 0, 1}, {0, 0, 0.5f}, 0.5f, 0.4f, 0.9f));
-    w.params.walls.push_back(revolvedWall({0, 0, 1}, {0, 0, 1}, 0.0f, 0.1f, 0.4f));
+    w.params.walls.push_back(tumble::revolvedWall({0, 0, 1}, {0, 0, 0.5f}, 0.5f, 0.4f, 0.9f));
+    w.params.walls.push_back(tumble::revolvedWall({0, 0, 1}, {0, 0, 1}, 0.0f, 0.1f, 0.4f));
   }
   return w;
 }

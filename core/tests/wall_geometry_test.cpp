@@ -16,24 +16,6 @@ using namespace tumble;
 
 namespace {
 
-WallDef plane(Vec3f point, Vec3f normal) {
-  WallDef w;
-  w.point = point;
-  w.normal = normal;
-  return w;
-}
-
-WallDef revolvedWall(Vec3f point, Vec3f axis, float length, float r0, float r1) {
-  WallDef w;
-  w.shape = WallDef::Shape::Revolved;
-  w.point = point;
-  w.normal = axis;
-  w.length = length;
-  w.radius0 = r0;
-  w.radius1 = r1;
-  return w;
-}
-
 // The six inward planes of the box [lo, hi], less the faces in `open` ("-x", "+x", … order).
 std::vector<WallDef> box(Vec3f lo, Vec3f hi, const std::string& open = "") {
   std::vector<WallDef> out;
@@ -45,7 +27,7 @@ std::vector<WallDef> box(Vec3f lo, Vec3f hi, const std::string& open = "") {
     float p[3] = {0, 0, 0}, n[3] = {0, 0, 0};
     p[a] = f % 2 ? h[a] : l[a];
     n[a] = f % 2 ? -1.0f : 1.0f;
-    out.push_back(plane({p[0], p[1], p[2]}, {n[0], n[1], n[2]}));
+    out.push_back(planeWall({p[0], p[1], p[2]}, {n[0], n[1], n[2]}));
   }
   return out;
 }
@@ -185,7 +167,7 @@ TEST(WallGeometry, ConesDisksAndRings) {
 
 TEST(WallGeometry, ATiltedPlaneIsClippedByTheGround) {
   // The ground z >= 0 and a plane through the origin tilted by 45 degrees (the bodies above it).
-  const std::vector<WallDef> walls = {plane({0, 0, 0}, {0, 0, 1}), plane({0, 0, 0}, {-1, 0, 1})};
+  const std::vector<WallDef> walls = {planeWall({0, 0, 0}, {0, 0, 1}), planeWall({0, 0, 0}, {-1, 0, 1})};
   const std::vector<WallSurface> s = wallSurfaces(walls, focusBox({-1, -0.5f, 0.5f}, {0, 0.5f, 1.5f}));
   ASSERT_EQ(s.size(), 2u);
   ASSERT_GT(s[1].numTriangles(), 0u);
@@ -200,7 +182,7 @@ TEST(WallGeometry, ATiltedPlaneIsClippedByTheGround) {
 }
 
 TEST(WallGeometry, ALonePlaneIsAFinitePatchAboutTheBodies) {
-  const std::vector<WallSurface> s = wallSurfaces({plane({0, 0, -2}, {0, 0, 1})}, focusBox({-1, -1, 0}, {1, 1, 2}));
+  const std::vector<WallSurface> s = wallSurfaces({planeWall({0, 0, -2}, {0, 0, 1})}, focusBox({-1, -1, 0}, {1, 1, 2}));
   ASSERT_EQ(s.size(), 1u);
   EXPECT_EQ(s[0].numTriangles(), 2u);
   const Extent e = extentOf(s[0]);
@@ -216,18 +198,18 @@ TEST(WallGeometry, EmptyAndDegenerateInputsGiveNoTriangles) {
   EXPECT_TRUE(wallSurfaces({}, focusBox({0, 0, 0}, {1, 1, 1})).empty());
   const float nan = std::nanf("");
   const std::vector<WallSurface> s = wallSurfaces(
-      {plane({0, 0, 0}, {0, 0, 0}),                                  // zero normal
-       plane({nan, 0, 0}, {0, 0, 1}),                                // non-finite point
+      {planeWall({0, 0, 0}, {0, 0, 0}),                                  // zero normal
+       planeWall({nan, 0, 0}, {0, 0, 1}),                                // non-finite point
        revolvedWall({0, 0, 0}, {0, 0, 1}, 1.0f, 0.0f, 0.0f),        // zero radii: a line
        revolvedWall({0, 0, 0}, {0, 0, 0}, 1.0f, 1.0f, 1.0f),        // zero axis
        revolvedWall({0, 0, 0}, {0, 0, 1}, 0.0f, 0.5f, 0.5f),        // a ring of no width
-       plane({0, 0, 1}, {0, 0, 1}), plane({0, 0, 2}, {0, 0, 1})},  // z >= 2 leaves nothing of z = 1
+       planeWall({0, 0, 1}, {0, 0, 1}), planeWall({0, 0, 2}, {0, 0, 1})},  // z >= 2 leaves nothing of z = 1
       Extent{});
   ASSERT_EQ(s.size(), 7u);
   for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(s[k].numTriangles(), 0u) << "wall " << k;
   EXPECT_EQ(s[6].numTriangles(), 2u);
   // Without a focus a lone plane is a patch about its own point, 1 m on every side.
-  const std::vector<WallSurface> lone = wallSurfaces({plane({0, 0, 2}, {0, 0, 1})}, Extent{});
+  const std::vector<WallSurface> lone = wallSurfaces({planeWall({0, 0, 2}, {0, 0, 1})}, Extent{});
   ASSERT_EQ(lone[0].numTriangles(), 2u);
   EXPECT_NEAR(area(lone[0]), 4.0, 1e-6);
 }

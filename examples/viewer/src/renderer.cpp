@@ -58,7 +58,19 @@ void main() {
 }
 )";
 
-const char* kSphereFs = R"(#version 330 core
+// The lighting of spheres and walls: one directional light (diffuse k.z, specular k.w with
+// `shininess`), an ambient term k.x and a hemisphere term k.y (more light from above). Prepended
+// to the fragment shaders that use it (withShade()).
+const char* kShadeGlsl = R"(#version 330 core
+vec3 shade(vec3 base, vec3 n, vec3 v, vec3 light, vec4 k, float shininess) {
+  float diff = max(dot(n, light), 0.0);
+  float hemi = 0.5 + 0.5 * n.z;
+  float spec = pow(max(dot(n, normalize(light + v)), 0.0), shininess);
+  return base * (k.x + k.y * hemi + k.z * diff) + vec3(k.w * spec);
+}
+)";
+
+const char* kSphereFs = R"(
 in vec3 vNormal;
 in vec3 vColor;
 in vec3 vWorld;
@@ -68,10 +80,7 @@ out vec4 oColor;
 void main() {
   vec3 n = normalize(vNormal);
   vec3 v = normalize(uEye - vWorld);
-  float diff = max(dot(n, uLight), 0.0);
-  float hemi = 0.5 + 0.5 * n.z;
-  float spec = pow(max(dot(n, normalize(uLight + v)), 0.0), 40.0);
-  vec3 c = vColor * (0.22 + 0.18 * hemi + 0.68 * diff) + vec3(0.25 * spec);
+  vec3 c = shade(vColor, n, v, uLight, vec4(0.22, 0.18, 0.68, 0.25), 40.0);
   oColor = vec4(min(c, vec3(1.0)), 1.0);
 }
 )";
@@ -154,7 +163,7 @@ void main() {
 }
 )";
 
-const char* kWallFs = R"(#version 330 core
+const char* kWallFs = R"(
 in vec3 vWorld;
 in vec3 vNormal;
 in vec3 vLocal;
@@ -174,10 +183,7 @@ void main() {
   vec3 n = normalize(vNormal);
   if (!gl_FrontFacing) n = -n;  // lit on the side seen
   vec3 v = normalize(uEye - vWorld);
-  float diff = max(dot(n, uLight), 0.0);
-  float hemi = 0.5 + 0.5 * n.z;
-  float spec = pow(max(dot(n, normalize(uLight + v)), 0.0), 30.0);
-  vec3 c = uColor * (0.30 + 0.20 * hemi + 0.50 * diff) + vec3(0.15 * spec);
+  vec3 c = shade(uColor, n, v, uLight, vec4(0.30, 0.20, 0.50, 0.15), 30.0);
   float a = gl_FrontFacing ? uAlphaInner : uAlphaOuter;
   a += (0.6 - a) * pow(1.0 - abs(dot(n, v)), 4.0);  // grazing: a little more
   if (uSpin != 0) {
@@ -256,6 +262,9 @@ GLuint program(const char* vs, const char* fs, const char* name) {
   return p;
 }
 
+// A fragment shader's source after the shared lighting (kShadeGlsl, which holds the #version).
+std::string withShade(const char* body) { return std::string(kShadeGlsl) + body; }
+
 // Icosphere: the icosahedron subdivided `levels` times, vertices pushed onto the unit sphere.
 void icosphere(int levels, std::vector<float>& outPos, std::vector<std::uint32_t>& outIdx) {
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
@@ -325,6 +334,22 @@ struct SphereMesh {
   }
 };
 
+// A vertex array over a new static buffer of `data`: per vertex `attributes` interleaved vec3
+// (location 0 the position, 1 the normal).
+void staticVertices(const std::vector<float>& data, int attributes, GLuint& outVao, GLuint& outVbo) {
+  glGenVertexArrays(1, &outVao);
+  glBindVertexArray(outVao);
+  glGenBuffers(1, &outVbo);
+  glBindBuffer(GL_ARRAY_BUFFER, outVbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
+  const auto stride = static_cast<GLsizei>(3 * attributes * sizeof(float));
+  for (int a = 0; a < attributes; ++a) {
+    glEnableVertexAttribArray(static_cast<GLuint>(a));
+    glVertexAttribPointer(static_cast<GLuint>(a), 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(static_cast<std::uintptr_t>(3 * a) * sizeof(float)));
+  }
+}
+
 // One wall on the GPU: its triangles (position, normal) and its outline, with what poses it.
 struct WallBuffers {
   GLuint vao = 0, vbo = 0, lineVao = 0, lineVbo = 0;
@@ -360,11 +385,11 @@ struct Renderer::Impl {
 };
 
 Renderer::Renderer() : m(std::make_unique<Impl>()) {
-  m->sphereProg = program(kSphereVs, kSphereFs, "sphere");
+  m->sphereProg = program(kSphereVs, withShade(kSphereFs).c_str(), "sphere");
   m->groundProg = program(kGroundVs, kGroundFs, "ground");
   m->lineProg = program(kLineVs, kLineFs, "lines");
   m->shadowProg = program(kShadowVs, kShadowFs, "shadow");
-  m->wallProg = program(kWallVs, kWallFs, "wall");
+  m->wallProg = program(kWallVs, withShade(kWallFs).c_str(), "wall");
   m->wallLineProg = program(kWallVs, kWallLineFs, "wall outline");
 
   glGenBuffers(1, &m->instSphereVbo);
@@ -441,25 +466,9 @@ void Renderer::setWalls(const std::vector<WallMesh>& walls) {
       w.spins = true;
     }
     w.numVertices = static_cast<GLsizei>(mesh.numVertices());
-    glGenVertexArrays(1, &w.vao);
-    glBindVertexArray(w.vao);
-    glGenBuffers(1, &w.vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, w.vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(),
-                 GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+    staticVertices(mesh.vertices, 2, w.vao, w.vbo);
     w.numLineVertices = static_cast<GLsizei>(mesh.outline.size() / 3);
-    glGenVertexArrays(1, &w.lineVao);
-    glBindVertexArray(w.lineVao);
-    glGenBuffers(1, &w.lineVbo);
-    glBindBuffer(GL_ARRAY_BUFFER, w.lineVbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.outline.size() * sizeof(float)), mesh.outline.data(),
-                 GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+    staticVertices(mesh.outline, 1, w.lineVao, w.lineVbo);
     m->walls.push_back(w);
   }
   glBindVertexArray(0);

@@ -210,13 +210,8 @@ TEST(Controls, VShowsAndHidesTheWalls) {
 }
 
 TEST(Walls, MeshesAreShadedRoundWithSharpEdgesAndOutlined) {
-  WallDef drum;
-  drum.shape = WallDef::Shape::Revolved;
-  drum.normal = {0, 1, 0};
-  drum.length = 1.0f;
-  drum.radius0 = drum.radius1 = 1.0f;
-  WallDef floor;
-  floor.point = {0, 0, -2};
+  WallDef drum = revolvedWall({0, 0, 0}, {0, 1, 0}, 1.0f, 1.0f, 1.0f);
+  const WallDef floor = planeWall({0, 0, -2}, {0, 0, 1});
   Extent inside;
   inside.add({0, 0.5f, 0}, 0.5f);
   const std::vector<WallMesh> m = wallMeshes(wallSurfaces({drum, floor}, inside));
@@ -433,6 +428,17 @@ Px pixel(const Image& img, int x, int y) {
   return {p[0], p[1], p[2]};
 }
 std::ostream& operator<<(std::ostream& os, const Px& p) { return os << "(" << p.r << "," << p.g << "," << p.b << ")"; }
+// The sum of the channels' differences (0 to 765).
+int colourDistance(Px a, Px b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); }
+// How many pixels of two images of one size differ by more than `threshold` (colourDistance).
+int pixelsDiffering(const Image& a, const Image& b, int threshold) {
+  int n = 0;
+  for (std::size_t i = 0; i + 2 < a.rgb.size() && i + 2 < b.rgb.size(); i += 3)
+    if (std::abs(a.rgb[i] - b.rgb[i]) + std::abs(a.rgb[i + 1] - b.rgb[i + 1]) + std::abs(a.rgb[i + 2] - b.rgb[i + 2]) >
+        threshold)
+      ++n;
+  return n;
+}
 bool nearColor(Px p, Rgb c, int tol) {
   return std::abs(p.r - int(255 * c.r)) <= tol && std::abs(p.g - int(255 * c.g)) <= tol &&
          std::abs(p.b - int(255 * c.b)) <= tol;
@@ -530,9 +536,8 @@ TEST_F(Offscreen, ColourModesGiveDifferentPixels) {
   float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   ASSERT_TRUE(camera().project({0.0f, 0.0f, 0.5f}, 320, 240, x0, y0));
   ASSERT_TRUE(camera().project({2.0f, 0.0f, 0.5f}, 320, 240, x1, y1));
-  const auto dist = [](Px a, Px b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); };
-  EXPECT_GT(dist(pixel(plain, int(x0), int(y0)), pixel(mass, int(x0), int(y0))), 60);
-  EXPECT_GT(dist(pixel(mass, int(x0), int(y0)), pixel(elast, int(x0), int(y0))), 60);
+  EXPECT_GT(colourDistance(pixel(plain, int(x0), int(y0)), pixel(mass, int(x0), int(y0))), 60);
+  EXPECT_GT(colourDistance(pixel(mass, int(x0), int(y0)), pixel(elast, int(x0), int(y0))), 60);
   // By mass, the heavy sphere (0) is darker than the light one (1): dark = large.
   const Px heavy = pixel(mass, int(x0), int(y0)), light = pixel(mass, int(x1), int(y1));
   EXPECT_LT(heavy.r + heavy.g + heavy.b, light.r + light.g + light.b) << heavy << " vs " << light;
@@ -601,13 +606,10 @@ TEST_F(Offscreen, WallsShowBehindTheBodiesAndDoNotHideThem) {
   std::vector<WallDef> box;
   const float lo[3] = {-1.0f, -1.0f, 0.0f}, hi[3] = {3.0f, 1.0f, 2.0f};
   for (int f = 0; f < 6; ++f) {
-    WallDef face;
     float p[3] = {0, 0, 0}, n[3] = {0, 0, 0};
     p[f / 2] = f % 2 ? hi[f / 2] : lo[f / 2];
     n[f / 2] = f % 2 ? -1.0f : 1.0f;
-    face.point = {p[0], p[1], p[2]};
-    face.normal = {n[0], n[1], n[2]};
-    box.push_back(face);
+    box.push_back(planeWall({p[0], p[1], p[2]}, {n[0], n[1], n[2]}));
   }
   Extent bodies;
   bodies.add({0, 0, 0.5f}, 0.5f);
@@ -619,17 +621,16 @@ TEST_F(Offscreen, WallsShowBehindTheBodiesAndDoNotHideThem) {
   d.wallsShown = false;
   const Image hidden = render(d);
   s_renderer->setWalls({});
-  const auto dist = [](Px a, Px b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); };
   const Camera cam = camera();
   float x = 0, y = 0;
   // The sphere seen through the near face (the camera is at -y, outside the box): nearly as bare.
   ASSERT_TRUE(cam.project({0.0f, 0.0f, 0.5f}, 320, 240, x, y));
   const Px s0 = pixel(bare, int(x), int(y)), s1 = pixel(walled, int(x), int(y));
-  EXPECT_LT(dist(s0, s1), 45) << "the near face tints the sphere only: " << s0 << " vs " << s1;
+  EXPECT_LT(colourDistance(s0, s1), 45) << "the near face tints the sphere only: " << s0 << " vs " << s1;
   // The far face (y = 1), above the spheres, seen from inside over the ground: a wall there.
   ASSERT_TRUE(cam.project({1.0f, 1.0f, 1.6f}, 320, 240, x, y));
   const Px f0 = pixel(bare, int(x), int(y)), f1 = pixel(walled, int(x), int(y));
-  EXPECT_GT(dist(f0, f1), 20) << "the far face shows: " << f0 << " vs " << f1;
+  EXPECT_GT(colourDistance(f0, f1), 20) << "the far face shows: " << f0 << " vs " << f1;
   EXPECT_GT(f1.b - f1.r, f0.b - f0.r + 10) << "a steel-blue wall over the grey ground: " << f0 << " vs " << f1;
   // wallsShown = false draws exactly the image without walls.
   EXPECT_EQ(hidden.rgb, bare.rgb);
@@ -637,12 +638,7 @@ TEST_F(Offscreen, WallsShowBehindTheBodiesAndDoNotHideThem) {
 
 // A turning drum is posed at the frame's time: its stripes move, and before it starts it is at rest.
 TEST_F(Offscreen, ATurningDrumIsDrawnTurned) {
-  WallDef drum;
-  drum.shape = WallDef::Shape::Revolved;
-  drum.point = {1.0f, -0.8f, 0.7f};
-  drum.normal = {0, 1.6f, 0};
-  drum.length = 1.6f;
-  drum.radius0 = drum.radius1 = 1.5f;
+  WallDef drum = revolvedWall({1.0f, -0.8f, 0.7f}, {0, 1.6f, 0}, 1.6f, 1.5f, 1.5f);
   drum.angularVelocity = 1.0f;
   drum.start = 1.0;
   Extent bodies;
@@ -657,12 +653,7 @@ TEST_F(Offscreen, ATurningDrumIsDrawnTurned) {
   const Image rest = at(0.0), before = at(0.99), turned = at(1.0 + 3.14159265 / 8);  // half a stripe period
   s_renderer->setWalls({});
   EXPECT_EQ(rest.rgb, before.rgb) << "at rest until start";
-  int moved = 0;
-  for (std::size_t i = 0; i < rest.rgb.size(); i += 3)
-    if (std::abs(rest.rgb[i] - turned.rgb[i]) + std::abs(rest.rgb[i + 1] - turned.rgb[i + 1]) +
-            std::abs(rest.rgb[i + 2] - turned.rgb[i + 2]) > 30)
-      ++moved;
-  EXPECT_GT(moved, 300) << "the stripes turned with the drum";
+  EXPECT_GT(pixelsDiffering(rest, turned, 30), 300) << "the stripes turned with the drum";
 }
 
 // A draw or read-back that fails leaves an OpenGL error flag and an undefined image; read()
@@ -815,16 +806,9 @@ TEST_F(Cli, RenderColourModesAndPulls) {
   ASSERT_EQ(run("render pulled.bin --still 0 --size 320x240 -o pulled.ppm").status, 0);
   const Image plain = readPpm(path("plain.ppm")), mass = readPpm(path("mass.ppm")),
               elast = readPpm(path("elasticity.ppm")), pulled = readPpm(path("pulled.ppm"));
-  const auto differing = [](const Image& a, const Image& b) {
-    int n = 0;
-    for (std::size_t i = 0; i < a.rgb.size(); i += 3)
-      if (std::abs(a.rgb[i] - b.rgb[i]) + std::abs(a.rgb[i + 1] - b.rgb[i + 1]) + std::abs(a.rgb[i + 2] - b.rgb[i + 2]) > 30)
-        ++n;
-    return n;
-  };
-  EXPECT_GT(differing(plain, mass), 1000);
-  EXPECT_GT(differing(mass, elast), 1000);
-  EXPECT_GT(differing(plain, elast), 1000);
+  EXPECT_GT(pixelsDiffering(plain, mass, 30), 1000);
+  EXPECT_GT(pixelsDiffering(mass, elast, 30), 1000);
+  EXPECT_GT(pixelsDiffering(plain, elast, 30), 1000);
   // The recording stores the pulls per frame; the x pull turns the ground red.
   const Recording rec = Recording::read(path("pulled.bin"));
   EXPECT_EQ(rec.frames.front().pulls, kPullX);
@@ -848,12 +832,7 @@ TEST_F(Cli, RenderDrawsTheWallsAndNoWallsLeavesThemOut) {
   ASSERT_EQ(run("render small.bin -o small.ppm" + opts).status, 0) << slurp(path("err.txt"));
   const Image walls = readPpm(path("walls.ppm")), none = readPpm(path("nowalls.ppm")), small = readPpm(path("small.ppm"));
   EXPECT_EQ(none.rgb, small.rgb) << "--no-walls draws nothing of them";
-  int differing = 0;
-  for (std::size_t i = 0; i < walls.rgb.size(); i += 3)
-    if (std::abs(walls.rgb[i] - none.rgb[i]) + std::abs(walls.rgb[i + 1] - none.rgb[i + 1]) +
-            std::abs(walls.rgb[i + 2] - none.rgb[i + 2]) > 15)
-      ++differing;
-  EXPECT_GT(differing, 5000) << "the walls cover much of the image";
+  EXPECT_GT(pixelsDiffering(walls, none, 15), 5000) << "the walls cover much of the image";
   // The far side at x = -0.7 above the lattice, seen from inside: a blue-grey wall over the ground.
   Camera cam;
   cam.target = {0.0f, 0.0f, 0.3f};
