@@ -104,8 +104,9 @@ struct World {
   /// `state`'s positions are then already in it. Unset: load() chooses LocalFrame::of().
   std::optional<LocalFrame> frame;
 
-  /// The bodies where the scene creates them (sceneBodiesExtent(), kept when params.bodies is
-  /// cleared, and on a resume): what the walls are drawn around (RecordingWriter).
+  /// The bodies where the scene creates them, in the world frame (sceneBodiesExtent(), kept
+  /// when params.bodies is cleared, and on a resume; toLocal() leaves it): what the walls are
+  /// drawn around (RecordingWriter, tumble view).
   Extent bodiesExtent;
 
   bool hasClumps = false;  ///< some body has more than one particle
