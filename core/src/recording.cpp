@@ -141,7 +141,8 @@ std::vector<std::uint8_t> encodeWalls(const std::vector<WallSurface>& walls, con
   return out;
 }
 
-// Reads the wall block at the file's position into `out` (buf: scratch).
+// Reads the wall block at the file's position into `out` (buf: scratch); the position ends
+// after its checksum, where the frames begin.
 void readWalls(InFile& in, std::vector<std::uint8_t>& buf, std::vector<WallSurface>& out) {
   const std::uint64_t blockOffset = in.offset();
   if (in.remaining() < kWallHeadBytes + 4)
@@ -192,7 +193,6 @@ void readWalls(InFile& in, std::vector<std::uint8_t>& buf, std::vector<WallSurfa
   }
   if (d.fileOffset() != end)
     in.fail(d.fileOffset(), "wall block holds " + std::to_string(end - d.fileOffset()) + " bytes after its last wall");
-  in.seek(end + 4);
 }
 
 }  // namespace

@@ -458,7 +458,10 @@ class Offscreen : public ::testing::Test {
     s_renderer.reset();
     s_ctx.reset();
   }
-  void SetUp() override { ASSERT_TRUE(s_ctx) << "no off-screen OpenGL context: " << s_error; }
+  void SetUp() override {
+    ASSERT_TRUE(s_ctx) << "no off-screen OpenGL context: " << s_error;
+    s_renderer->setWalls({});  // none, whatever a test before left
+  }
 
   // Two spheres on the ground: a heavy bouncy one at the origin and a light dull one at x = 2.
   static ParticleTable table() {
@@ -620,7 +623,6 @@ TEST_F(Offscreen, WallsShowBehindTheBodiesAndDoNotHideThem) {
   const Image walled = render(d);
   d.wallsShown = false;
   const Image hidden = render(d);
-  s_renderer->setWalls({});
   const Camera cam = camera();
   float x = 0, y = 0;
   // The sphere seen through the near face (the camera is at -y, outside the box): nearly as bare.
@@ -651,7 +653,6 @@ TEST_F(Offscreen, ATurningDrumIsDrawnTurned) {
     return render(d);
   };
   const Image rest = at(0.0), before = at(0.99), turned = at(1.0 + 3.14159265 / 8);  // half a stripe period
-  s_renderer->setWalls({});
   EXPECT_EQ(rest.rgb, before.rgb) << "at rest until start";
   EXPECT_GT(pixelsDiffering(rest, turned, 30), 300) << "the stripes turned with the drum";
 }
