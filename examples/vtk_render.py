@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Render one frame of `tumble export` with VTK's Python (no ParaView needed), as ParaView's
-Glyph filter would: a sphere of the particle's radius at each point, coloured by body, and the
-ground square. docs/export.md; Debian: apt-get install python3-vtk9 (an X display or Xvfb:
-xvfb-run -a python3 examples/vtk_render.py …).
+Glyph filter would: a sphere of the particle's radius at each point, coloured by body, the
+ground square and, with --walls, the walls see-through. docs/export.md; Debian: apt-get install
+python3-vtk9 (an X display or Xvfb: xvfb-run -a python3 examples/vtk_render.py …).
 
-usage: vtk_render.py FRAME.vtp [GROUND.vtp] -o OUT.png [--size 1200x800]
+usage: vtk_render.py FRAME.vtp [GROUND.vtp] [--walls WALLS.vtp] -o OUT.png [--size 1200x800]
 """
 import argparse
 
@@ -21,6 +21,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the OpenGL back end)
 ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 ap.add_argument("frame")
 ap.add_argument("ground", nargs="?")
+ap.add_argument("--walls", help="the frame's walls (NAME_walls.vtp or NAME_walls_K.vtp), drawn see-through")
 ap.add_argument("-o", "--output", required=True)
 ap.add_argument("--size", default="1200x800")
 a = ap.parse_args()
@@ -73,6 +74,15 @@ if a.ground:
     ga.SetMapper(gm)
     ga.GetProperty().SetColor(colors.GetColor3d("LightGrey"))
     ren.AddActor(ga)
+if a.walls:
+    wm = vtkPolyDataMapper()
+    wm.SetInputData(read(a.walls))
+    wm.ScalarVisibilityOff()
+    wa = vtkActor()
+    wa.SetMapper(wm)
+    wa.GetProperty().SetColor(colors.GetColor3d("SteelBlue"))
+    wa.GetProperty().SetOpacity(0.25)
+    ren.AddActor(wa)
 ren.SetBackground(colors.GetColor3d("White"))
 # From the side and above: the camera looks at the particles' centre from the -y side.
 x0, x1, y0, y1, z0, z1 = frame.GetBounds()

@@ -20,6 +20,7 @@
 #include "tumble/error.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
+#include "tumble/wall_geometry.hpp"
 
 namespace tumble {
 namespace {
@@ -179,6 +180,40 @@ void writeGroundVtp(const std::string& path, float height, const float lo[2], co
   f.write(path);
 }
 
+// The walls at time t as triangles (three points each, posed by their motion), with the wall's
+// index in the recording and its kind per triangle.
+void writeWallsVtp(const std::string& path, const std::vector<WallSurface>& walls, double t) {
+  std::size_t triangles = 0;
+  for (const WallSurface& w : walls) triangles += w.numTriangles();
+  VtpFile f;
+  f.xml(pieceHead(3 * triangles, 0, 0, triangles));
+  f.xml("      <CellData Scalars=\"wall\">\n");
+  f.array("UInt32", "wall", 1, [&](detail::Encoder& e) {
+    for (std::size_t k = 0; k < walls.size(); ++k)
+      for (std::size_t i = 0; i < walls[k].numTriangles(); ++i) e.u32(static_cast<std::uint32_t>(k));
+  });
+  f.array("UInt32", "kind", 1, [&](detail::Encoder& e) {
+    for (const WallSurface& w : walls)
+      for (std::size_t i = 0; i < w.numTriangles(); ++i) e.u32(static_cast<std::uint32_t>(w.kind));
+  });
+  f.xml("      </CellData>\n      <Points>\n");
+  f.array("Float32", "Points", 3, [&](detail::Encoder& e) {
+    for (const WallSurface& w : walls) {
+      const WallPose pose = wallPose(w.motion, t);
+      for (std::size_t i = 0; i + 2 < w.triangles.size(); i += 3) {
+        const Vec3f p = pose.apply(Vec3f{w.triangles[i], w.triangles[i + 1], w.triangles[i + 2]});
+        e.f32(p.x);
+        e.f32(p.y);
+        e.f32(p.z);
+      }
+    }
+  });
+  f.xml("      </Points>\n");
+  cellBlock(f, "Polys", triangles, 3, [](std::size_t k) { return static_cast<std::int64_t>(k); });
+  f.xml("    </Piece>\n");
+  f.write(path);
+}
+
 void writeFrameCsv(const std::string& path, const Recording& table, const RecordedFrame& frame,
                    const std::vector<float>& x) {
   const std::size_t n = table.radius.size();
@@ -278,19 +313,29 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
   std::vector<float> x(3 * n);
   float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
   ExportResult result;
-  std::vector<std::pair<double, std::string>> sets;  // the .pvd's (time, file)
-  std::string rows;                                  // the CSV index's
+  // The walls (VTK only): one file for all frames when none moves, else one per frame, posed.
+  const std::vector<WallSurface>& walls = table.walls;
+  const bool anyWall = std::any_of(walls.begin(), walls.end(), [](const WallSurface& w) { return w.numTriangles() > 0; });
+  const bool wallsMove = std::any_of(walls.begin(), walls.end(), [](const WallSurface& w) { return w.motion.moves(); });
+  struct Set {
+    double time;
+    std::string file, walls;
+  };
+  std::vector<Set> sets;  // the .pvd's: per time the frame's file and its walls' file
+  std::string rows;       // the CSV index's
   const auto writeIndex = [&] {
     if (options.format == ExportFormat::Vtk) {
-      // The ground is part 1 of every time step (a .pvd lists each part per time).
+      // Part 1 of every time step is the ground, part 1 or 2 the walls (a .pvd lists each part per time).
       const bool ground = reader.info().groundEnabled && result.frames > 0;
       const std::string groundFile = name + "_ground.vtp";
       if (ground) writeGroundVtp((folder / groundFile).string(), reader.info().groundHeight, lo, hi);
+      const std::string wallsPart = ground ? "2" : "1";
       std::string xml;
-      for (const auto& [time, file] : sets) {
-        xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"0\" file=\"" + xmlEscaped(file) + "\"/>\n";
-        if (ground)
-          xml += "    <DataSet timestep=\"" + number(time) + "\" part=\"1\" file=\"" + xmlEscaped(groundFile) + "\"/>\n";
+      for (const Set& set : sets) {
+        const std::string at = "    <DataSet timestep=\"" + number(set.time) + "\" part=\"";
+        xml += at + "0\" file=\"" + xmlEscaped(set.file) + "\"/>\n";
+        if (ground) xml += at + "1\" file=\"" + xmlEscaped(groundFile) + "\"/>\n";
+        if (!set.walls.empty()) xml += at + wallsPart + "\" file=\"" + xmlEscaped(set.walls) + "\"/>\n";
       }
       writeText(indexPath, "<?xml version=\"1.0\"?>\n"
                            "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
@@ -322,7 +367,12 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
       const std::string file = exportFrameName(name, result.frames, total, options.format);
       if (options.format == ExportFormat::Vtk) {
         writeFrameVtp((folder / file).string(), table, frame, x);
-        sets.emplace_back(frame.time, file);
+        std::string wallsFile;
+        if (anyWall) {
+          wallsFile = wallsMove ? exportFrameName(name + "_walls", result.frames, total, options.format) : name + "_walls.vtp";
+          if (wallsMove || result.frames == 0) writeWallsVtp((folder / wallsFile).string(), walls, frame.time);
+        }
+        sets.push_back({frame.time, file, wallsFile});
       } else {
         writeFrameCsv((folder / file).string(), table, frame, x);
         rows += std::to_string(k) + "," + std::to_string(frame.step) + "," + number(frame.time) + "," + csvField(file) + "\n";

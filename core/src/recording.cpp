@@ -20,6 +20,10 @@
 //   covered by a checksum. Decoding runs only on buffers whose size was checked first, and the
 //   decoder checks its bounds again anyway.
 // - Checksum. FNV-1a, 32 bit, per block (binary_io.hpp, shared with the checkpoint format).
+// - Walls (version 2). One block between the particle table and the frames, so the frames keep
+//   their fixed size and arithmetic index. The writer records what sceneWallSurfaces() draws
+//   from the world's scene and bodiesExtent, both of which a resumed run has too, so a continued
+//   recording has the same wall bytes as the uninterrupted one. Version 1 has no block.
 #include "tumble/recording.hpp"
 
 #include <unistd.h>
@@ -39,6 +43,7 @@
 
 #include "binary_io.hpp"
 #include "tumble/error.hpp"
+#include "tumble/wall_geometry.hpp"
 
 namespace tumble {
 namespace {
@@ -75,6 +80,10 @@ constexpr std::uint64_t kBodyBytes = 28;           // px, py, pz, qw, qx, qy, qz
 constexpr std::uint64_t kFramePrefixBytes = 20;    // step u64, time f64, pulls u32
 constexpr std::uint64_t kDebugParticleBytes = 72;  // v and five forces, 3 × f32 each
 constexpr std::uint64_t kContactBytes = 8;         // i, j
+// The wall block (version 2): W and S, then W records of 60 + 36 T bytes, then a checksum.
+constexpr std::uint64_t kWallHeadBytes = 8;        // W, S
+constexpr std::uint64_t kWallRecordBytes = 60;     // kind, v, ω, pivot (3 × f32 each), start, stop (f64), T
+constexpr std::uint64_t kTriangleBytes = 36;       // 3 corners × 3 f32
 
 const char* const kForceNames[5] = {"repulsion", "damping", "shear", "ground", "friction"};
 
@@ -86,6 +95,104 @@ bool allFinite(const std::vector<float>& v, std::size_t count, std::size_t* bad)
     }
   }
   return true;
+}
+
+// The wall block's bytes (docs/recording.md): W, S, the records, the checksum. Throws
+// tumble::Error (after `where`) for a wall that cannot be recorded: an unknown kind, a
+// non-finite value, stop before start, or a block beyond the format's u32 sizes.
+std::vector<std::uint8_t> encodeWalls(const std::vector<WallSurface>& walls, const std::string& where) {
+  std::uint64_t bytes = 0;
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    const WallSurface& w = walls[k];
+    const std::string wall = where + "wall " + std::to_string(k) + " (" + toString(w.kind) + ") ";
+    const WallMotion& m = w.motion;
+    if (static_cast<std::uint32_t>(w.kind) >= kNumWallKinds) throw Error(wall + "has an unknown kind");
+    if (w.triangles.size() % 9 != 0) throw Error(wall + "has a triangle list that is not 9 floats per triangle");
+    std::size_t bad = 0;
+    const std::vector<float> motion = {m.velocity.x, m.velocity.y, m.velocity.z, m.angularVelocity.x,
+                                       m.angularVelocity.y, m.angularVelocity.z, m.pivot.x, m.pivot.y, m.pivot.z};
+    if (!allFinite(motion, motion.size(), &bad) || !std::isfinite(m.start) || !(m.stop >= m.start))
+      throw Error(wall + "has a non-finite motion, or stops before it starts");
+    if (!allFinite(w.triangles, w.triangles.size(), &bad))
+      throw Error(wall + "has a non-finite corner in triangle " + std::to_string(bad / 9));
+    bytes += kWallRecordBytes + 4 * static_cast<std::uint64_t>(w.triangles.size());
+  }
+  if (walls.size() > std::numeric_limits<std::uint32_t>::max() || bytes > std::numeric_limits<std::uint32_t>::max() - 16)
+    throw Error(where + "the walls' triangles are too many for the format");
+  std::vector<std::uint8_t> out;
+  out.reserve(static_cast<std::size_t>(bytes) + 12);
+  Encoder e(out);
+  e.u32(static_cast<std::uint32_t>(walls.size()));
+  e.u32(static_cast<std::uint32_t>(bytes));
+  for (const WallSurface& w : walls) {
+    const WallMotion& m = w.motion;
+    e.u32(static_cast<std::uint32_t>(w.kind));
+    for (const Vec3f& v : {m.velocity, m.angularVelocity, m.pivot}) {
+      e.f32(v.x);
+      e.f32(v.y);
+      e.f32(v.z);
+    }
+    e.f64(m.start);
+    e.f64(m.stop);
+    e.u32(static_cast<std::uint32_t>(w.numTriangles()));
+    e.f32s(w.triangles, w.triangles.size());
+  }
+  e.u32(fnv1a(out.data(), out.size()));
+  return out;
+}
+
+// Reads the wall block at the file's position into `out` (buf: scratch); the position ends
+// after its checksum, where the frames begin.
+void readWalls(InFile& in, std::vector<std::uint8_t>& buf, std::vector<WallSurface>& out) {
+  const std::uint64_t blockOffset = in.offset();
+  if (in.remaining() < kWallHeadBytes + 4)
+    in.fail(blockOffset, "wall block truncated: needs at least 12 bytes, only " + std::to_string(in.remaining()) +
+                             " left");
+  buf.clear();
+  in.read(buf, kWallHeadBytes, "wall block");
+  const std::uint64_t numWalls = getU32(buf.data()), recordBytes = getU32(buf.data() + 4);
+  if (recordBytes + 4 > in.remaining())
+    in.fail(blockOffset + 4, "wall block truncated: its " + std::to_string(recordBytes) + " bytes of walls and checksum need " +
+                                 std::to_string(recordBytes + 4) + ", only " + std::to_string(in.remaining()) + " left");
+  if (numWalls > recordBytes / kWallRecordBytes)
+    in.fail(blockOffset, "wall count " + std::to_string(numWalls) + " does not fit the block's " +
+                             std::to_string(recordBytes) + " bytes (60 at least per wall)");
+  in.read(buf, recordBytes + 4, "wall block");
+  checkChecksum(in, buf, 0, static_cast<std::size_t>(kWallHeadBytes + recordBytes),
+                blockOffset + kWallHeadBytes + recordBytes, "wall block");
+  const std::uint64_t end = blockOffset + kWallHeadBytes + recordBytes;
+  Decoder d(in, buf, blockOffset, kWallHeadBytes);
+  out.assign(static_cast<std::size_t>(numWalls), WallSurface{});
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    WallSurface& w = out[k];
+    const std::string name = "wall " + std::to_string(k);
+    const std::uint64_t at = d.fileOffset();
+    if (end - at < kWallRecordBytes)
+      in.fail(at, name + " truncated: needs 60 bytes, the block has " + std::to_string(end - at) + " left");
+    const std::uint32_t kind = d.u32();
+    if (kind >= kNumWallKinds)
+      in.fail(at, name + " has unknown kind " + std::to_string(kind) + " (0 plane, 1 cylinder, 2 cone, 3 disk, 4 mesh)");
+    w.kind = static_cast<WallKind>(kind);
+    for (Vec3f* v : {&w.motion.velocity, &w.motion.angularVelocity, &w.motion.pivot}) {
+      const char* what = v == &w.motion.velocity ? " velocity" : v == &w.motion.pivot ? " pivot" : " angular velocity";
+      v->x = d.finite(name + what);
+      v->y = d.finite(name + what);
+      v->z = d.finite(name + what);
+    }
+    const std::uint64_t timesAt = d.fileOffset();
+    w.motion.start = d.f64();
+    w.motion.stop = d.f64();
+    if (!std::isfinite(w.motion.start) || !(w.motion.stop >= w.motion.start))
+      in.fail(timesAt, name + " start and stop must be finite and in order (stop may be infinite: never)");
+    const std::uint64_t countAt = d.fileOffset();
+    const std::uint64_t numTriangles = d.u32();
+    if (numTriangles > (end - d.fileOffset()) / kTriangleBytes)
+      in.fail(countAt, name + " has " + std::to_string(numTriangles) + " triangles, the block has room for " +
+                           std::to_string((end - d.fileOffset()) / kTriangleBytes));
+    d.finiteColumn(w.triangles, static_cast<std::size_t>(9 * numTriangles), name + " triangle corner");
+  }
+  if (d.fileOffset() != end)
+    in.fail(d.fileOffset(), "wall block holds " + std::to_string(end - d.fileOffset()) + " bytes after its last wall");
 }
 
 }  // namespace
@@ -120,10 +227,9 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
             "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
   }
   info.version = getU32(buf.data() + kOffVersion);
-  if (info.version != kRecordingVersion) {
+  if (info.version != 1 && info.version != kRecordingVersion) {
     in.fail(kOffVersion, "unsupported recording version " + std::to_string(info.version) +
-                             " (this build of tumble reads version " +
-                             std::to_string(kRecordingVersion) + " only)");
+                             " (this build of tumble reads versions 1 and " + std::to_string(kRecordingVersion) + ")");
   }
   const std::uint64_t headerBytes = getU32(buf.data() + kOffHeaderBytes);
   if (headerBytes < kFixedHeaderBytes || headerBytes > kFixedHeaderBytes + kMaxNameBytes) {
@@ -166,7 +272,7 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
   }
   if ((flags & ~kKnownFlags) != 0) {
     in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kKnownFlags) +
-                           " (version 1 defines bit 0 debug, bit 1 ground)");
+                           " (versions 1 and 2 define bit 0 debug, bit 1 ground)");
   }
   info.debug = (flags & kFlagDebug) != 0;
   info.groundEnabled = (flags & kFlagGround) != 0;
@@ -210,6 +316,9 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
     td.finiteColumn(rec.uy, n, "uy");
     td.finiteColumn(rec.uz, n, "uz");
   }
+
+  // Version 2: the walls.
+  if (info.version >= 2) readWalls(in, buf, rec.walls);
 
   // The frame index. Frame k starts with its payload size; the frame is size + 8 bytes.
   const std::uint64_t basePayload = kFramePrefixBytes + kBodyBytes * numBodies;
@@ -384,6 +493,8 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
     throw Error(where + "too many bodies or particles for one frame of the format");
   }
 
+  const std::vector<std::uint8_t> walls = encodeWalls(sceneWallSurfaces(params, world.bodiesExtent), where);
+
   // Header (docs/recording.md), with the frame count at the sentinel until close().
   const std::uint32_t flags =
       (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u);
@@ -425,6 +536,7 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
   try {
     writeBytes(m_header.data(), m_header.size(), "header");
     writeBytes(m_buffer.data(), m_buffer.size(), "particle table");
+    writeBytes(walls.data(), walls.size(), "walls");
     if (std::fflush(m_file) != 0) {
       throw Error("cannot write recording file '" + m_partPath + "': " + errnoText(errno));
     }
@@ -433,7 +545,7 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
     m_out->abandon();
     throw;
   }
-  m_complete = m_header.size() + m_buffer.size();
+  m_complete = m_header.size() + m_buffer.size() + walls.size();
 }
 
 RecordingWriter::~RecordingWriter() {
@@ -478,6 +590,8 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
   if (old.radius != world.radius || old.mass != world.mass || old.elasticity != world.elasticity ||
       old.body != world.body || old.ux != world.ux || old.uy != world.uy || old.uz != world.uz)
     differs("the particle tables");
+  if (i.version >= 2 && encodeWalls(old.walls, "") != encodeWalls(sceneWallSurfaces(p, world.bodiesExtent), ""))
+    differs("the walls");
   auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
   BodyState s;
   RecordedFrame f;

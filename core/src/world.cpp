@@ -380,6 +380,7 @@ World World::fromScene(const Scene& scene) {
   World w;
   w.params = scene;
   w.params.bodies.clear();  // the tables below are the truth; keep the copy small
+  w.bodiesExtent = sceneBodiesExtent(scene);
   const auto nb = scene.bodies.size();
   std::size_t np = 0;
   for (const auto& b : scene.bodies) {

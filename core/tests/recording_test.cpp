@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/wall_geometry.hpp"
 
 namespace {
 
@@ -130,8 +131,8 @@ constexpr std::uint32_t kPulls[] = {0, tumble::kPullX, tumble::kPullY | tumble::
                                     tumble::kPullX | tumble::kPullY | tumble::kPullSwirl};
 
 /// Writes `numFrames` frames (and closes) into `path`.
-void writeRecording(const std::string& path, bool debug, std::uint32_t numFrames) {
-  RecordingWriter w(path, makeWorld(), debug, 10, 60.0f);
+void writeRecording(const std::string& path, bool debug, std::uint32_t numFrames, const World& world = makeWorld()) {
+  RecordingWriter w(path, world, debug, 10, 60.0f);
   for (std::uint32_t f = 0; f < numFrames; ++f) {
     const ParticleDebug d = makeDebug(f);
     w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f), debug ? &d : nullptr);
@@ -241,12 +242,14 @@ class RecordingTest : public ::testing::Test {
 // Layout facts used to aim corruptions (docs/recording.md).
 constexpr std::size_t kHeaderBytes = 72 + 12;  // "three bodies"
 constexpr std::size_t kTableBytes = 28 * kNumParticles + 4;
+constexpr std::size_t kWallBlockBytes = 12;  // no walls: W = 0, S = 0, the checksum
+constexpr std::size_t kFramesAt = kHeaderBytes + kTableBytes + kWallBlockBytes;
 constexpr std::size_t kFrameBytes = 4 + 20 + 28 * kNumBodies + 4;
 
 TEST_F(RecordingTest, RoundTripIsBitwise) {
   const std::string path = file("plain.bin");
   writeRecording(path, false, 6);
-  EXPECT_EQ(fs::file_size(path), kHeaderBytes + kTableBytes + 6 * kFrameBytes);
+  EXPECT_EQ(fs::file_size(path), kFramesAt + 6 * kFrameBytes);
   expectRecording(Recording::read(path), false, 6);
 }
 
@@ -316,7 +319,7 @@ TEST_F(RecordingTest, CrashedWriterPartFileIsReadable) {
     w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f));
   // Every frame is flushed, so a copy taken now is what a crash would leave behind.
   const std::vector<std::uint8_t> bytes = readAll(w.writingTo());
-  ASSERT_EQ(bytes.size(), kHeaderBytes + kTableBytes + 3 * kFrameBytes);
+  ASSERT_EQ(bytes.size(), kFramesAt + 3 * kFrameBytes);
   writeAll(crashed, bytes);
   expectRecording(Recording::read(crashed), false, 3);
   // A torn last frame is still an error, naming the frame.
@@ -324,7 +327,7 @@ TEST_F(RecordingTest, CrashedWriterPartFileIsReadable) {
   const std::string problem = readError(crashed);
   EXPECT_TRUE(contains(problem, "frame 2 truncated")) << problem;
   EXPECT_TRUE(
-      contains(problem, "byte " + std::to_string(kHeaderBytes + kTableBytes + 2 * kFrameBytes)))
+      contains(problem, "byte " + std::to_string(kFramesAt + 2 * kFrameBytes)))
       << problem;
   w.close();
   expectRecording(Recording::read(path), false, 3);
@@ -421,7 +424,7 @@ TEST_F(RecordingTest, AFrameThatCannotBeWrittenIsCutOff) {
     w.writeFrame(0, 0.0, 0, makeState(0));
     w.writeFrame(10, 2.5e-3, 0, makeState(1));
     struct rlimit small = old;
-    small.rlim_cur = kHeaderBytes + kTableBytes + 2 * kFrameBytes + kFrameBytes / 2;
+    small.rlim_cur = kFramesAt + 2 * kFrameBytes + kFrameBytes / 2;
     ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
     try {
       w.writeFrame(20, 5e-3, 0, makeState(2));
@@ -431,7 +434,7 @@ TEST_F(RecordingTest, AFrameThatCannotBeWrittenIsCutOff) {
     ::setrlimit(RLIMIT_FSIZE, &old);
     std::signal(SIGXFSZ, oldHandler);
     EXPECT_TRUE(contains(what, "rec.bin': File too large; it keeps the 2 complete frames")) << what;
-    EXPECT_EQ(fs::file_size(w.writingTo()), kHeaderBytes + kTableBytes + 2 * kFrameBytes);
+    EXPECT_EQ(fs::file_size(w.writingTo()), kFramesAt + 2 * kFrameBytes);
   }
   ASSERT_TRUE(fs::exists(path)) << "finished at close despite the failed frame";
   EXPECT_EQ(Recording::read(path).frames.size(), 2u);
@@ -447,7 +450,7 @@ TEST_F(RecordingTest, AFailedContinuationLeavesTheRecording) {
   ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
   const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
   struct rlimit small = old;
-  small.rlim_cur = kHeaderBytes + kTableBytes + 2 * kFrameBytes + kFrameBytes / 2;
+  small.rlim_cur = kFramesAt + 2 * kFrameBytes + kFrameBytes / 2;
   ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
   bool threw = false;
   try {
@@ -497,28 +500,30 @@ TEST_F(RecordingTest, FutureVersionIsRejectedByName) {
   const std::string path = file("rec.bin");
   writeRecording(path, false, 2);
   std::vector<std::uint8_t> bytes = readAll(path);
-  putU32(bytes, 8, 2);
+  putU32(bytes, 8, 3);
   writeAll(path, bytes);
   const std::string problem = readError(path);
-  EXPECT_TRUE(contains(problem, "byte 8: unsupported recording version 2")) << problem;
-  EXPECT_TRUE(contains(problem, "reads version 1")) << problem;
+  EXPECT_TRUE(contains(problem, "byte 8: unsupported recording version 3")) << problem;
+  EXPECT_TRUE(contains(problem, "reads versions 1 and 2")) << problem;
   // Even with its header checksum fixed up, a future version is refused before anything else.
   putU32(bytes, kHeaderBytes - 4, fnv1a(bytes.data(), kHeaderBytes - 4));
   writeAll(path, bytes);
-  EXPECT_TRUE(contains(readError(path), "unsupported recording version 2"));
+  EXPECT_TRUE(contains(readError(path), "unsupported recording version 3"));
 }
 
 void truncatedEverywhere(const std::string& path, const std::string& cut, bool debug) {
   writeRecording(path, debug, 3);
   const std::vector<std::uint8_t> bytes = readAll(path);
-  ASSERT_GT(bytes.size(), kHeaderBytes + kTableBytes);
+  ASSERT_GT(bytes.size(), kFramesAt);
   for (std::size_t n = 0; n < bytes.size(); ++n) {
     SCOPED_TRACE("cut at " + std::to_string(n) + " of " + std::to_string(bytes.size()));
     writeAll(cut, bytes, n);
     const std::string problem = readError(cut);
     EXPECT_EQ(problem.rfind("byte ", 0), 0u) << problem;
-    if (n >= kHeaderBytes + kTableBytes) {
+    if (n >= kFramesAt) {
       EXPECT_TRUE(contains(problem, "frame")) << problem;
+    } else if (n >= kHeaderBytes + kTableBytes) {
+      EXPECT_TRUE(contains(problem, "wall block truncated")) << problem;
     }
   }
 }
@@ -573,7 +578,7 @@ TEST_F(RecordingTest, EachRegionReportsItsProblem) {
   EXPECT_TRUE(contains(flip(62), "header checksum mismatch"));                 // scene name
   EXPECT_TRUE(contains(flip(kHeaderBytes - 10), "header checksum mismatch"));  // frame count
   EXPECT_TRUE(contains(flip(kHeaderBytes + 30), "particle table checksum mismatch"));
-  const std::size_t frame1 = kHeaderBytes + kTableBytes + kFrameBytes;
+  const std::size_t frame1 = kFramesAt + kFrameBytes;
   EXPECT_TRUE(
       contains(flip(frame1), "byte " + std::to_string(frame1) + ": frame 1 has payload size"));
   EXPECT_TRUE(contains(flip(frame1 + 30), "frame 1 checksum mismatch"));
@@ -612,7 +617,7 @@ TEST_F(RecordingTest, ReaderReadsAnyFrameAndReportsADamagedOneWhenItIsRead) {
   const std::string path = file("plain.bin");
   writeRecording(path, false, 3);
   std::vector<std::uint8_t> bytes = readAll(path);
-  const std::size_t frame1 = kHeaderBytes + kTableBytes + kFrameBytes;
+  const std::size_t frame1 = kFramesAt + kFrameBytes;
   bytes[frame1 + 30] ^= 0x10;
   writeAll(path, bytes);
   tumble::RecordingReader reader(path);  // the header and the table are fine
@@ -669,7 +674,7 @@ TEST_F(RecordingTest, HugeCountsAreCheckedBeforeAllocating) {
 
   // A frame size that points far past the end of the file (and a matching contact count).
   std::vector<std::uint8_t> big = bytes;
-  const std::size_t frame0 = kHeaderBytes + kTableBytes;
+  const std::size_t frame0 = kFramesAt;
   const std::uint32_t minDebug = 20 + 28 * kNumBodies + 72 * kNumParticles + 4;
   putU32(big, frame0, minDebug + 8u * 100000000u);
   writeAll(bad, big);
@@ -693,7 +698,7 @@ TEST_F(RecordingTest, NonFiniteOrBadPairWithValidChecksumIsRejected) {
   const std::string bad = file("bad.bin");
   writeRecording(path, true, 2);  // frame 0 has no contact, frame 1 has (0, 2)
   const std::vector<std::uint8_t> bytes = readAll(path);
-  const std::size_t frame0 = kHeaderBytes + kTableBytes;
+  const std::size_t frame0 = kFramesAt;
   const std::size_t frame1 = frame0 + 4 + getU32(bytes, frame0) + 4;
   // Overwrites the u32 at `offset` of the payload of the frame at `frame`, fixing its checksum.
   auto patched = [&](std::size_t frame, std::size_t offset, std::uint32_t v) {
@@ -762,6 +767,196 @@ TEST_F(RecordingTest, RandomDamageNeverCrashes) {
     writeAll(bad, noise);
     EXPECT_THROW(Recording::read(bad), InputError) << "trial " << trial;
   }
+}
+
+// ---- Walls (version 2) ---------------------------------------------------------------------
+
+/// makeWorld() in a box open at the top (five planes), or with `everyKind`: a tilted belt, a
+/// turning cylinder that stops, a cone and a ring too.
+World wallWorld(bool everyKind) {
+  World w = makeWorld();
+  const float lo[3] = {-2, -2, -1.5f}, hi[3] = {2, 2, 3};
+  for (int f = 0; f < 5; ++f) {
+    float p[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+    p[f / 2] = f % 2 ? hi[f / 2] : lo[f / 2];
+    n[f / 2] = f % 2 ? -1.0f : 1.0f;
+    w.params.walls.push_back(tumble::planeWall({p[0], p[1], p[2]}, {n[0], n[1], n[2]}));
+  }
+  if (everyKind) {
+    tumble::WallDef belt = tumble::planeWall({0, 0, -1}, {0.3f, 0, 1});
+    belt.velocity = {1, 0, -0.3f};
+    w.params.walls.push_back(belt);
+    tumble::WallDef drum = tumble::revolvedWall({0, -0.5f, 0}, {0, 1, 0}, 1.0f, 1.25f, 1.25f);
+    drum.angularVelocity = -3.0f;
+    drum.start = 0.25;
+    drum.stop = 2.0;
+    w.params.walls.push_back(drum);
+    w.params.walls.push_back(tumble::revolvedWall({0, 0, 1}, {0, 0, 0.5f}, 0.5f, 0.4f, 0.9f));
+    w.params.walls.push_back(tumble::revolvedWall({0, 0, 1}, {0, 0, 1}, 0.0f, 0.1f, 0.4f));
+  }
+  return w;
+}
+
+void expectSameWalls(const std::vector<tumble::WallSurface>& a, const std::vector<tumble::WallSurface>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    SCOPED_TRACE("wall " + std::to_string(k));
+    EXPECT_EQ(a[k].kind, b[k].kind);
+    const tumble::WallMotion &m = a[k].motion, &n = b[k].motion;
+    expectSameBits({m.velocity.x, m.velocity.y, m.velocity.z, m.angularVelocity.x, m.angularVelocity.y,
+                    m.angularVelocity.z, m.pivot.x, m.pivot.y, m.pivot.z},
+                   {n.velocity.x, n.velocity.y, n.velocity.z, n.angularVelocity.x, n.angularVelocity.y,
+                    n.angularVelocity.z, n.pivot.x, n.pivot.y, n.pivot.z},
+                   "motion");
+    EXPECT_EQ(bits(m.start), bits(n.start));
+    EXPECT_EQ(bits(m.stop), bits(n.stop));
+    expectSameBits(a[k].triangles, b[k].triangles, "triangles");
+  }
+}
+
+TEST_F(RecordingTest, WallsOfEveryKindRoundTripBitwise) {
+  const World world = wallWorld(true);
+  for (const bool debug : {false, true}) {
+    SCOPED_TRACE(debug ? "debug" : "plain");
+    const std::string path = file(debug ? "debug.bin" : "plain.bin");
+    writeRecording(path, debug, 3, world);
+    const Recording r = Recording::read(path);
+    EXPECT_EQ(r.info.version, 2u);
+    const std::vector<tumble::WallSurface> expected = tumble::sceneWallSurfaces(world.params, world.bodiesExtent);
+    expectSameWalls(r.walls, expected);
+    ASSERT_EQ(r.walls.size(), 9u);
+    using tumble::WallKind;
+    const WallKind kinds[9] = {WallKind::Plane, WallKind::Plane, WallKind::Plane, WallKind::Plane, WallKind::Plane,
+                               WallKind::Plane, WallKind::Cylinder, WallKind::Cone, WallKind::Disk};
+    for (std::size_t k = 0; k < 9; ++k) {
+      EXPECT_EQ(r.walls[k].kind, kinds[k]) << k;
+      EXPECT_GT(r.walls[k].numTriangles(), 0u) << k;
+    }
+    // The drum's drawing turns about its axis from 0.25 s to 2 s; the belt's plane stands still.
+    EXPECT_EQ(r.walls[6].motion.angularVelocity.y, -3.0f);
+    EXPECT_EQ(r.walls[6].motion.pivot.y, -0.5f);
+    EXPECT_EQ(r.walls[6].motion.start, 0.25);
+    EXPECT_EQ(r.walls[6].motion.stop, 2.0);
+    EXPECT_FALSE(r.walls[5].motion.moves());
+    // The frames follow the walls as before.
+    ASSERT_EQ(r.frames.size(), 3u);
+    expectSameBits(r.frames[2].qz, makeState(2).qz, "qz");
+  }
+}
+
+// Version 1 (no wall block) still reads: the files of the fuzz corpus, written by a tumble that
+// wrote version 1, and a version 2 file rewritten as version 1.
+TEST_F(RecordingTest, Version1RecordingsStillRead) {
+  for (const char* name : {"plain_two.rec", "debug_clumps.rec", "empty_steps.rec"}) {
+    SCOPED_TRACE(name);
+    const std::string path = std::string(TUMBLE_SOURCE_DIR) + "/validation/fuzz/corpus/recording/" + name;
+    ASSERT_EQ(getU32(readAll(path), 8), 1u) << "a version 1 file";
+    const Recording r = Recording::read(path);
+    EXPECT_EQ(r.info.version, 1u);
+    EXPECT_TRUE(r.walls.empty());
+    EXPECT_GT(r.frames.size(), 0u);
+  }
+  for (const bool debug : {false, true}) {
+    SCOPED_TRACE(debug ? "debug" : "plain");
+    const std::string path = file("v2.bin"), old = file("v1.bin");
+    writeRecording(path, debug, 4, wallWorld(true));
+    const std::vector<std::uint8_t> v2 = readAll(path);
+    const std::size_t walls = kHeaderBytes + kTableBytes;
+    const std::size_t frames = walls + 8 + getU32(v2, walls + 4) + 4;
+    std::vector<std::uint8_t> v1(v2.begin(), v2.begin() + static_cast<std::ptrdiff_t>(walls));
+    v1.insert(v1.end(), v2.begin() + static_cast<std::ptrdiff_t>(frames), v2.end());
+    putU32(v1, 8, 1);
+    putU32(v1, kHeaderBytes - 4, fnv1a(v1.data(), kHeaderBytes - 4));
+    writeAll(old, v1);
+    const Recording a = Recording::read(path), b = Recording::read(old);
+    EXPECT_EQ(b.info.version, 1u);
+    EXPECT_TRUE(b.walls.empty());
+    EXPECT_FALSE(a.walls.empty());
+    ASSERT_EQ(b.frames.size(), 4u);
+    for (std::size_t k = 0; k < 4; ++k) {
+      expectSameBits(b.frames[k].px, a.frames[k].px, "px");
+      expectSameBits(b.frames[k].debug.v, a.frames[k].debug.v, "v");
+    }
+    // A version 1 file whose frames start where a wall block would: read as frames, not walls.
+    tumble::RecordingReader reader(old);
+    EXPECT_EQ(reader.numFrames(), 4u);
+  }
+}
+
+TEST_F(RecordingTest, WallBlockTruncatedOrFlippedAnywhereIsAnError) {
+  const std::string path = file("walls.bin"), bad = file("bad.bin");
+  writeRecording(path, false, 2, wallWorld(false));
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  const std::size_t walls = kHeaderBytes + kTableBytes;
+  const std::size_t frames = bytes.size() - 2 * kFrameBytes;
+  ASSERT_GT(frames, walls + 12 + 5 * 60) << "five faces with their triangles";
+  for (std::size_t n = walls; n < frames; ++n) {
+    SCOPED_TRACE("cut at " + std::to_string(n));
+    writeAll(bad, bytes, n);
+    const std::string problem = readError(bad);
+    EXPECT_TRUE(contains(problem, "wall block truncated")) << problem;
+  }
+  for (std::size_t k = walls; k < frames; ++k) {
+    SCOPED_TRACE("byte " + std::to_string(k));
+    std::vector<std::uint8_t> copy = bytes;
+    copy[k] ^= 0x01;
+    writeAll(bad, copy);
+    const std::string problem = readError(bad);
+    EXPECT_EQ(problem.rfind("byte ", 0), 0u) << problem;
+    EXPECT_TRUE(contains(problem, "wall")) << problem;
+  }
+}
+
+TEST_F(RecordingTest, BadWallValuesWithAValidChecksumAreRefusedWithTheirOffset) {
+  const std::string path = file("walls.bin"), bad = file("bad.bin");
+  writeRecording(path, false, 1, wallWorld(true));
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  const std::size_t block = kHeaderBytes + kTableBytes;
+  const std::uint32_t recordBytes = getU32(bytes, block + 4);
+  const std::size_t sum = block + 8 + recordBytes;  // the block's checksum
+  const std::size_t wall0 = block + 8;
+  // Rewrites the u32 at `at`, fixes the block's checksum and returns the reader's problem.
+  const auto patched = [&](std::size_t at, std::uint32_t v) {
+    std::vector<std::uint8_t> copy = bytes;
+    putU32(copy, at, v);
+    putU32(copy, sum, fnv1a(copy.data() + block, sum - block));
+    writeAll(bad, copy);
+    return readError(bad);
+  };
+  const auto at = [](std::size_t offset) { return "byte " + std::to_string(offset) + ": "; };
+  std::string problem = patched(wall0, 9);
+  EXPECT_TRUE(contains(problem, at(wall0) + "wall 0 has unknown kind 9")) << problem;
+  problem = patched(wall0 + 4 + 24 + 4, bits(std::numeric_limits<float>::quiet_NaN()));  // pivot y
+  EXPECT_TRUE(contains(problem, at(wall0 + 32) + "wall 0 pivot is not finite")) << problem;
+  problem = patched(wall0 + 52, 0xFFF80000u);  // stop's high half: NaN
+  EXPECT_TRUE(contains(problem, at(wall0 + 40) + "wall 0 start and stop must be finite and in order")) << problem;
+  problem = patched(wall0 + 56, 0x10000000u);  // triangles
+  EXPECT_TRUE(contains(problem, at(wall0 + 56) + "wall 0 has 268435456 triangles, the block has room for")) << problem;
+  problem = patched(wall0 + 60, bits(-std::numeric_limits<float>::infinity()));  // the first corner's x
+  EXPECT_TRUE(contains(problem, at(wall0 + 60) + "wall 0 triangle corner[0] is not finite")) << problem;
+  problem = patched(block, 0xFFFFFFFFu);  // W
+  EXPECT_TRUE(contains(problem, at(block) + "wall count 4294967295 does not fit")) << problem;
+  problem = patched(block, getU32(bytes, block) - 1);  // one wall fewer: bytes left over
+  EXPECT_TRUE(contains(problem, "bytes after its last wall")) << problem;
+  problem = patched(block, getU32(bytes, block) + 1);  // one wall more: the last runs out
+  EXPECT_TRUE(contains(problem, "wall 9 truncated")) << problem;
+  problem = patched(block + 4, 0xFFFFFFF0u);  // S: far beyond the file, refused before any allocation
+  EXPECT_TRUE(contains(problem, at(block + 4) + "wall block truncated")) << problem;
+}
+
+TEST_F(RecordingTest, ARecordingOfOtherWallsIsNotContinued) {
+  const std::string path = file("rec.bin");
+  writeRecording(path, false, 3, wallWorld(false));
+  try {
+    RecordingWriter::continueAt(path, wallWorld(true), false, 10, 10);
+    ADD_FAILURE() << "continued a recording of other walls";
+  } catch (const tumble::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "the walls differ")) << e.what();
+  }
+  auto w = RecordingWriter::continueAt(path, wallWorld(false), false, 10, 10);
+  w->writeFrame(20, 20 * 2.5e-4, 0, makeState(2));
+  w->close();
+  EXPECT_EQ(Recording::read(path).frames.size(), 3u);
 }
 
 }  // namespace

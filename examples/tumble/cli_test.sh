@@ -436,6 +436,14 @@ expect_status "export" 0 "$bin" export ex.bin exdir
   ok "export wrote 4 frames, the ground and the collection" || bad "export files: $(ls exdir)"
 expect_msg "export says where" "4 frames of ex.bin into exdir/, exdir/ex.pvd"
 expect_msg "export says what next" "open in ParaView: paraview exdir/ex.pvd"
+[ ! -e exdir/ex_walls.vtp ] && ok "no walls file without walls" || bad "ex_walls.vtp written for a scene without walls"
+# The walls of a box (docs/export.md): one file for every frame (they stand still), part 1.
+"$bin" run boxed.toml --steps 30 --record bx.bin -q
+expect_status "export walls" 0 "$bin" export bx.bin bxdir
+[ -s bxdir/bx_walls.vtp ] && [ ! -e bxdir/bx_walls_000000.vtp ] && [ "$(grep -c 'part="1" file="bx_walls.vtp"' bxdir/bx.pvd)" = 4 ] &&
+  ok "export wrote the box's walls once, part 1 of the 4 time steps" || bad "export walls: $(ls bxdir)"
+expect_status "export walls to csv" 0 "$bin" export bx.bin bxcsv --format csv
+expect_msg "export walls to csv" "the walls are in the VTK export only: --format vtk"
 expect_status "export csv" 0 "$bin" export ex.bin exdir --format csv --name c -q
 [ "$(head -n 1 exdir/c_000000.csv)" = "particle,body,x,y,z,r,mass,elasticity" ] && [ "$(wc -l < exdir/c_000000.csv)" = 33 ] &&
   [ "$(sed -n 2p exdir/c_frames.csv)" = "0,0,0,c_000000.csv" ] && ok "export csv rows and index" ||
@@ -520,6 +528,15 @@ else
   expect_status "render --camera-smooth -1" 2 render_ ex.bin --still 1 -o x.png --camera follow --camera-smooth -1
   expect_status "render --camera orbit" 2 render_ ex.bin --still 1 -o x.png --camera orbit
   [ ! -e x.png ] && ok "refused renders wrote nothing" || bad "a refused render wrote x.png"
+  # Walls (docs/animation.md#walls): drawn by default, left out with --no-walls.
+  "$bin" run boxed.toml --steps 30 --record boxed.bin -q
+  expect_status "render a scene with walls" 0 render_ boxed.bin --still -1 -o walls.png --size 320x240 --no-label
+  expect_status "render --no-walls" 0 render_ boxed.bin --still -1 -o nowalls.png --size 320x240 --no-label --no-walls
+  [ -s walls.png ] && [ -s nowalls.png ] && ! cmp -s walls.png nowalls.png && ok "the walls are drawn, --no-walls leaves them out" ||
+    bad "walls.png and nowalls.png: $(ls -l walls.png nowalls.png 2>&1)"
+  for c in view play render; do
+    "$bin" "$c" --help | grep -q -- "--no-walls" && ok "$c --help has --no-walls" || bad "$c --help lacks --no-walls"
+  done
 fi
 if command -v gnuplot >/dev/null; then
   expect_status "plot over its time series" 2 "$bin" plot th.csv -o th.csv

@@ -82,6 +82,8 @@ void run(const ExportCliOptions& o) {
                  o.recording.c_str(), shownDir.c_str(), r.index.c_str());
     if (!reader.info().debug)
       std::fprintf(stderr, "  (velocities, forces and contacts are in debug recordings only: tumble run --debug-record)\n");
+    if (opts.format == ExportFormat::Csv && !reader.header().walls.empty())
+      std::fprintf(stderr, "  (the walls are in the VTK export only: --format vtk)\n");
     if (opts.format == ExportFormat::Vtk) std::fprintf(stderr, "  open in ParaView: paraview %s\n", r.index.c_str());
   }
 }
@@ -97,8 +99,9 @@ void addExport(CLI::App& app) {
       ->required();
   c->add_option("--format", o->format,
                 "vtk (default): NAME_000000.vtp … with radius, body, mass, elasticity per particle (and velocity, the "
-                "five forces and the contacts as lines in a debug recording), NAME_ground.vtp and the collection "
-                "NAME.pvd; csv: NAME_000000.csv … one row per particle and the index NAME_frames.csv")
+                "five forces and the contacts as lines in a debug recording), NAME_ground.vtp, the walls as triangles "
+                "(NAME_walls.vtp, or NAME_walls_000000.vtp … per frame when a wall turns) and the collection NAME.pvd; "
+                "csv: NAME_000000.csv … one row per particle (no walls) and the index NAME_frames.csv")
       ->check(CLI::IsMember({"vtk", "csv"}));
   c->add_option("--every", o->every, "Export every N-th frame, from the first (default 1)")->check(countIn(1, kMaxSteps));
   c->add_option("--name", o->name, "File name prefix (default: the recording's name without its extension)");

@@ -30,6 +30,7 @@ struct PlayOptions {
   std::string script;
   std::optional<std::uint64_t> frames;
   std::string screenshot;
+  bool noWalls = false;
 };
 
 #if TUMBLE_HAS_VIEWER
@@ -51,8 +52,10 @@ void play(const PlayOptions& o) {
   Camera cam = Camera::framing(recordingBounds(reader, table));
   Window window("tumble play: " + o.file, w, h);
   Renderer renderer;
+  renderer.setWalls(wallMeshes(rec.walls));
   Keyboard kb;
   PlaybackControls controls(numFrames, rec.info.debug);
+  controls.setWallsShown(!o.noWalls);
   window.setKeyHandler([&](Key k, bool pressed) {
     if (kb.event(k, pressed)) controls.keyEvent(k, pressed);
   });
@@ -91,6 +94,8 @@ void play(const PlayOptions& o) {
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
                     d.spheres);
     d.pulls = f.pulls;
+    d.time = f.time;
+    d.wallsShown = controls.wallsShown();
     bool show[kNumForces];
     for (int k = 0; k < kNumForces; ++k) show[k] = controls.forceShown(k);
     if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);
@@ -113,6 +118,8 @@ void play(const PlayOptions& o) {
       ImGui::Text("colouring: elasticity %.3g (light) to %.3g (dark)", *elasticityRange.first, *elasticityRange.second);
     else
       ImGui::Text("colouring: plain (one colour per body)");
+    if (!rec.walls.empty())
+      ImGui::Text("%zu walls %s (V)", rec.walls.size(), controls.wallsShown() ? "shown" : "hidden");
     if (rec.info.debug) {
       for (int k = 0; k < kNumForces; ++k) {
         const Rgb c = forceColor(k);
@@ -143,6 +150,7 @@ void addPlay(CLI::App& app) {
                 "then counts as 1/60 s");
   c->add_option("--frames", o->frames, "Quit after N window frames")->check(countIn(1, kMaxSteps));
   c->add_option("--screenshot", o->screenshot, "When quitting, save the last frame without the overlay (.png or .ppm)");
+  c->add_flag("--no-walls", o->noWalls, "Start with the walls hidden (V shows them)");
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER
     play(*o);

@@ -74,6 +74,7 @@ struct RenderOptions {
   std::string cameraPath;
   bool realtime = false;
   bool noLabel = false;
+  bool noWalls = false;
   bool quiet = false;
 };
 
@@ -299,8 +300,10 @@ void render(const RenderOptions& o) {
   const Camera fixedCamera = Camera::framing(recordingBounds(reader, table, &times, follow ? &boxes : nullptr));
   OffscreenContext ctx;
   Renderer renderer;
+  renderer.setWalls(wallMeshes(rec.walls));
   Framebuffer fb(w, h);
   DrawData d;
+  d.wallsShown = !o.noWalls;
   d.groundEnabled = rec.info.groundEnabled;
   d.groundHeight = rec.info.groundHeight;
   d.colors = particleColors(table, *mode);
@@ -366,6 +369,7 @@ void render(const RenderOptions& o) {
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
                     d.spheres);
     d.pulls = f.pulls;
+    d.time = f.time;
     if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);
     fb.bind();
     renderer.draw(d, cams[k], w, h);
@@ -509,6 +513,9 @@ void addRender(CLI::App& app) {
               "Play at the simulation's speed: frames resampled to the simulated time at --fps (default: one "
               "recorded frame per video frame, and the summary and the label say how much slow motion that is)");
   c->add_flag("--no-label", o->noLabel, "No time and speed label (top left) and no colour legend (bottom right)");
+  c->add_flag("--no-walls", o->noWalls,
+              "Leave out the walls (drawn by default: shaded, faint where they would hide the bodies, a turning "
+              "wall with stripes; a recording of version 1 has none)");
   c->add_flag("-q,--quiet", o->quiet, "No progress and no summary");
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER

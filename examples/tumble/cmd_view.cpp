@@ -44,6 +44,7 @@ struct ViewOptions {
   std::string script;
   std::optional<std::uint64_t> frames;
   std::string screenshot;
+  bool noWalls = false;
 };
 
 #if TUMBLE_HAS_VIEWER
@@ -81,10 +82,14 @@ void view(const ViewOptions& o) {
 
   Window window("tumble view: " + scene.name, w, h);
   Renderer renderer;
+  // The walls as a recording of this run draws them (RecordingWriter).
+  const std::vector<WallSurface> walls = sceneWallSurfaces(world.params, world.bodiesExtent);
+  renderer.setWalls(wallMeshes(walls));
   ParticleTable table = ParticleTable::from(world);
   Keyboard kb;
   LiveControls controls;
   controls.setPaused(o.paused);
+  controls.setWallsShown(!o.noWalls);
   controls.setRecording(o.recordOn || !o.record.empty());
   ColorMode color = *colorModeFromString(o.color);
   for (ColorMode m = ColorMode::Plain; m != color; m = nextColorMode(m)) controls.keyEvent(Key::Num0, true);
@@ -100,7 +105,7 @@ void view(const ViewOptions& o) {
   d.groundHeight = world.params.ground.height;
   particleSpheres(table, state.px.data(), state.py.data(), state.pz.data(), state.qw.data(), state.qx.data(),
                   state.qy.data(), state.qz.data(), d.spheres);
-  Camera cam = Camera::framing(sphereBounds(d.spheres));
+  Camera cam = Camera::framing(framedWithWalls(sphereBounds(d.spheres), walls));
   if (d.groundEnabled) {
     cam.target.z = std::max(cam.target.z, d.groundHeight);
   }
@@ -195,6 +200,8 @@ void view(const ViewOptions& o) {
     particleSpheres(table, state.px.data(), state.py.data(), state.pz.data(), state.qw.data(), state.qx.data(),
                     state.qy.data(), state.qz.data(), d.spheres);
     d.pulls = pulls;
+    d.time = pipeline->time();
+    d.wallsShown = controls.wallsShown();
     int fw = 0, fh = 0;
     window.framebufferSize(fw, fh);
     renderer.draw(d, cam, fw, fh);
@@ -241,6 +248,7 @@ void view(const ViewOptions& o) {
     }
     ImGui::Text("pulls: %s", pullsToString(pulls).c_str());
     ImGui::Text("colouring: %s", toString(color));
+    if (!walls.empty()) ImGui::Text("%zu walls %s (V)", walls.size(), controls.wallsShown() ? "shown" : "hidden");
     bool recOn = controls.recording();
     if (ImGui::Checkbox("record (C)", &recOn)) controls.setRecording(recOn);
     if (rec) ImGui::Text("%s: %llu frames", rec->path().c_str(), static_cast<unsigned long long>(rec->numFrames()));
@@ -287,6 +295,7 @@ void addView(CLI::App& app) {
                 "then counts as 1/60 s");
   c->add_option("--frames", o->frames, "Quit after N frames")->check(countIn(1, kMaxSteps));
   c->add_option("--screenshot", o->screenshot, "When quitting, save the last frame without the overlay (.png or .ppm)");
+  c->add_flag("--no-walls", o->noWalls, "Start with the walls hidden (V shows them)");
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER
     view(*o);

@@ -48,14 +48,14 @@ def run(*args):
 
 
 def read_recording(path):
-    """The recording per docs/recording.md, version 1."""
+    """The recording per docs/recording.md, version 1 or 2."""
     b = open(path, "rb").read()
     assert b[:8] == b"TUMBLREC", "magic"
     version, H, N, B, spf = struct.unpack_from("<5I", b, 8)
     dt, fps = struct.unpack_from("<2f", b, 28)
     flags, = struct.unpack_from("<I", b, 36)
     ground_h, = struct.unpack_from("<f", b, 40)
-    assert version == 1
+    assert version in (1, 2)
     at = H
     f32 = lambda count: np.frombuffer(b, "<f4", count, at)
     table = {}
@@ -68,6 +68,21 @@ def read_recording(path):
         table[name] = f32(N).copy()
         at += 4 * N
     at += 4  # table checksum
+    walls = []
+    if version == 2:  # the wall block: W, S, W records, a checksum
+        W, S = struct.unpack_from("<2I", b, at)
+        p = at + 8
+        for _ in range(W):
+            kind, = struct.unpack_from("<I", b, p)
+            v = np.frombuffer(b, "<f4", 3, p + 4).copy()
+            w = np.frombuffer(b, "<f4", 3, p + 16).copy()
+            pivot = np.frombuffer(b, "<f4", 3, p + 28).copy()
+            start, stop, T = struct.unpack_from("<ddI", b, p + 40)
+            tri = np.frombuffer(b, "<f4", 9 * T, p + 60).reshape(T, 3, 3).copy()
+            walls.append({"kind": kind, "v": v, "w": w, "pivot": pivot, "start": start, "stop": stop, "tri": tri})
+            p += 60 + 36 * T
+        assert p == at + 8 + S, "wall records fill S"
+        at = p + 4
     debug = bool(flags & 1)
     frames = []
     while at < len(b):
@@ -91,7 +106,7 @@ def read_recording(path):
         frames.append(fr)
         at += 4 + S + 4
     return {"N": N, "B": B, "ground": bool(flags & 2), "ground_h": ground_h, "debug": debug, "table": table,
-            "frames": frames}
+            "walls": walls, "frames": frames}
 
 
 def positions(rec, fr):
@@ -125,6 +140,53 @@ def point_array(pd, name):
     return vtk_to_numpy(a) if a is not None else None
 
 
+def posed(w, t):
+    """A wall's corners at time t: the rotation about the pivot by |w| tau about w, then v tau,
+    tau = clamp(t - start, 0, stop - start) (docs/recording.md), in float64."""
+    tau = min(max(t - w["start"], 0.0), w["stop"] - w["start"])
+    p = w["tri"].reshape(-1, 3).astype(np.float64)
+    om = w["w"].astype(np.float64)
+    speed = np.linalg.norm(om)
+    if speed > 0 and tau > 0:
+        k = om / speed
+        a = speed * tau
+        K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+        R = np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K  # Rodrigues
+        p = (p - w["pivot"]) @ R.T + w["pivot"]
+    return p + w["v"].astype(np.float64) * tau
+
+
+def check_walls(rec, out, parts, want):
+    """The walls part of every time step: the recording's triangles, posed at the frame's time."""
+    walls = rec["walls"]
+    ntri = sum(len(w["tri"]) for w in walls)
+    part = "2" if rec["ground"] else "1"
+    if ntri == 0:
+        check(part not in parts, "no walls part without walls")
+        return
+    check(len(parts.get(part, [])) == len(want), f"the walls are part {part} of every time step")
+    moving = any((np.any(w["w"] != 0) or np.any(w["v"] != 0)) and w["stop"] > w["start"] for w in walls)
+    files = [s.get("file") for s in parts.get(part, [])]
+    check(len(set(files)) == (len(want) if moving else 1),
+          f"{len(set(files))} walls files: one per frame when a wall moves, else one")
+    ids = np.concatenate([np.full(len(w["tri"]), k) for k, w in enumerate(walls)])
+    kinds = np.concatenate([np.full(len(w["tri"]), w["kind"]) for w in walls])
+    size = max(np.max(np.abs(w["tri"])) for w in walls if len(w["tri"]))
+    for s, fr in zip(parts.get(part, []), want):
+        pd = read_vtp(os.path.join(out, s.get("file")))
+        check(pd.GetNumberOfPolys() == ntri and pd.GetNumberOfPoints() == 3 * ntri, f"{s.get('file')}: {ntri} triangles")
+        got = vtk_to_numpy(pd.GetPoints().GetData()).astype(np.float64)
+        exp = np.concatenate([posed(w, fr["time"]) for w in walls])
+        check(got.shape == exp.shape and np.max(np.abs(got - exp)) <= 1e-6 * size,
+              f"{s.get('file')}: the walls posed at t = {fr['time']}")
+        conn = vtk_to_numpy(pd.GetPolys().GetConnectivityArray())
+        check(np.array_equal(conn, np.arange(3 * ntri)), "triangle k joins points 3k, 3k+1, 3k+2")
+        for col, values in (("wall", ids), ("kind", kinds)):
+            a = pd.GetCellData().GetArray(col)
+            check(a is not None and np.array_equal(vtk_to_numpy(a), values), f"{s.get('file')}: cell array {col}")
+    return files
+
+
 def check_vtk(rec, out, name, every=1):
     pvd = ET.parse(os.path.join(out, name + ".pvd")).getroot()
     sets = pvd.find("Collection").findall("DataSet")
@@ -138,6 +200,7 @@ def check_vtk(rec, out, name, every=1):
         g = read_vtp(os.path.join(out, parts["1"][0].get("file")))
         gp = vtk_to_numpy(g.GetPoints().GetData())
         check(g.GetNumberOfPolys() == 1 and np.all(gp[:, 2] == rec["ground_h"]), "ground square at its height")
+    check_walls(rec, out, parts, want)
     t = rec["table"]
     for s, fr in zip(parts["0"], want):
         check(float(s.get("timestep")) == fr["time"], f"time of {s.get('file')}")
@@ -207,6 +270,69 @@ run("export", plain, os.path.join(work, "csv"), "--format", "csv", "-q")
 check_csv(rec, os.path.join(work, "csv"), "mol")
 run("export", debug, os.path.join(work, "dcsv"), "--format", "csv", "-q")
 check_csv(drec, os.path.join(work, "dcsv"), "dbg")
+
+# Walls (recording version 2): a box open at both ends around a cone that turns for a while and
+# a tilted belt under them; then the box alone, whose walls stand still (one file for all).
+walls_toml = """
+[scene]
+name = "walls"
+dt = 1e-4
+steps = 200
+[ground]
+height = -0.5
+[[wall]]
+type = "box"
+min = [-0.4, -0.4, -0.2]
+max = [0.4, 0.4, 0.6]
+open = ["+z", "-z"]
+[[wall]]
+type = "cone"
+point = [0.0, 0.0, -0.2]
+axis = [0.0, 0.0, 0.3]
+radius = [0.0, 0.3]
+angular_velocity = 50.0
+start = 0.004
+stop = 0.015
+[[wall]]
+type = "plane"
+point = [0.0, 0.0, -0.45]
+normal = [0.0, 0.2, 1.0]
+velocity = [1.0, 0.0, 0.0]
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.05
+mass = 0.1
+elasticity = 0.5
+[[group]]
+shape = "ball"
+count = [2, 2, 1]
+spacing = 0.12
+origin = [-0.06, -0.06, 0.3]
+"""
+with open(os.path.join(work, "walls.toml"), "w") as f:
+    f.write(walls_toml)
+box_only = walls_toml[:walls_toml.index("[[wall]]\ntype = \"cone\"")] + walls_toml[walls_toml.index("[[shape]]"):]
+with open(os.path.join(work, "box.toml"), "w") as f:
+    f.write(box_only)
+for scene_name, moving in (("walls", True), ("box", False)):
+    recfile = os.path.join(work, scene_name + ".bin")
+    run("run", os.path.join(work, scene_name + ".toml"), "--record", recfile, "-q")
+    wrec = read_recording(recfile)
+    kinds = [w["kind"] for w in wrec["walls"]]
+    check(kinds == ([0, 0, 0, 0, 2, 0] if moving else [0, 0, 0, 0]), f"{scene_name}: wall kinds {kinds}")
+    outdir = os.path.join(work, scene_name + "_vtk")
+    run("export", recfile, outdir, "-q")
+    check_vtk(wrec, outdir, scene_name)
+    stem = scene_name + "_walls"
+    names = sorted(f for f in os.listdir(outdir) if f.startswith(stem))
+    check(names == ([f"{stem}_{k:06d}.vtp" for k in range(len(wrec["frames"]))] if moving else [stem + ".vtp"]),
+          f"{scene_name}: walls files {names[:3]}...")
+    if moving:  # the cone has turned by the last frame: the test above would see a missing pose
+        first, last = posed(wrec["walls"][4], 0.0), posed(wrec["walls"][4], wrec["frames"][-1]["time"])
+        check(np.max(np.abs(first - last)) > 0.1, "the cone's drawing turned (0.55 rad)")
+    run("export", recfile, os.path.join(work, scene_name + "_csv"), "--format", "csv", "-q")
+    check(not any(f.startswith(stem) for f in os.listdir(os.path.join(work, scene_name + "_csv"))), "CSV: no walls")
 
 if failures:
     sys.exit(f"export_test: {len(failures)} checks failed")

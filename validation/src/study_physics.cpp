@@ -1580,14 +1580,7 @@ double dischargeRate(const std::vector<std::pair<double, double>>& m, double lo,
 }
 
 WallDef revolvedWall(Vec3f point, Vec3f axis, float length, float r0, float r1, float k, float mu) {
-  WallDef w;
-  w.shape = WallDef::Shape::Revolved;
-  w.point = point;
-  w.normal = axis;
-  w.length = length;
-  w.radius0 = r0;
-  w.radius1 = r1;
-  w.contact.enabled = true;
+  WallDef w = tumble::revolvedWall(point, axis, length, r0, r1);
   w.contact.stiffness = k;
   w.contact.friction = mu;
   return w;

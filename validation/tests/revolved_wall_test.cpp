@@ -43,13 +43,7 @@ GroundParams contactOf(float k, float mu) {
 // The segment (0, r0)–(length, r1) about the axis from `point` along `axis` (length |axis|;
 // for a disk or ring, `axis` is its normal and length 0).
 WallDef revolved(Vec3f point, Vec3f axis, float length, float r0, float r1, const GroundParams& c) {
-  WallDef w;
-  w.shape = WallDef::Shape::Revolved;
-  w.point = point;
-  w.normal = axis;
-  w.length = length;
-  w.radius0 = r0;
-  w.radius1 = r1;
+  WallDef w = revolvedWall(point, axis, length, r0, r1);
   w.contact = c;
   return w;
 }

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file export.hpp
 /// A recording as files other tools read (docs/export.md): one VTK XML PolyData file (.vtp) per
-/// frame plus a ParaView collection (.pvd), or one CSV per frame plus an index.
+/// frame plus a ParaView collection (.pvd), with the ground and the walls as parts of their own,
+/// or one CSV per frame plus an index (particles only).
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -47,7 +48,8 @@ std::string exportNameProblem(const std::string& name);
 std::string exportFrameName(const std::string& name, std::size_t k, std::size_t numFrames, ExportFormat format);
 
 /// Writes the selected frames of `reader` into the folder `dir` (created when missing, with its
-/// parents). Particle positions are x = X + R(Q) u, the expression every pipeline uses
+/// parents). VTK: the recording's walls (version 2) as triangles, NAME_walls.vtp for all frames
+/// when none moves, else NAME_walls_K.vtp per frame, posed at its time (wallPose). Particle positions are x = X + R(Q) u, the expression every pipeline uses
 /// (kernels/integrate.hpp particlePosition), so they are the simulation's own bits. Each file is
 /// written atomically (output_file.hpp); files of the same names are replaced, others are left
 /// alone. An index of the same name from an earlier export is removed first; it is written for

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file recording.hpp
 /// The versioned binary recording format (docs/recording.md): a header, the static particle
-/// table, then one frame per `stepsPerFrame` steps with each body's X and Q; optionally a debug
-/// block per frame (velocities, the five forces per particle, the contact pairs).
+/// table, the walls as triangles with their motion (version 2), then one frame per
+/// `stepsPerFrame` steps with each body's X and Q; optionally a debug block per frame
+/// (velocities, the five forces per particle, the contact pairs).
 #pragma once
 #include <cstdint>
 #include <cstdio>
@@ -12,11 +13,13 @@
 
 #include "tumble/output_file.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/wall_geometry.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble {
 
-inline constexpr std::uint32_t kRecordingVersion = 1;
+/// The version the writer writes; the reader reads it and version 1 (no walls).
+inline constexpr std::uint32_t kRecordingVersion = 2;
 
 /// Scene-level facts a player needs.
 struct RecordingInfo {
@@ -50,6 +53,9 @@ struct Recording {
   std::vector<float> radius, mass, elasticity;
   std::vector<std::uint32_t> body;
   std::vector<float> ux, uy, uz;
+  /// The scene's walls besides the ground as drawn (sceneWallSurfaces(): one per Scene::walls
+  /// entry, a box's faces each), with their motion; empty in a version 1 recording.
+  std::vector<WallSurface> walls;
   std::vector<RecordedFrame> frames;
 
   /// Reads a whole recording: RecordingReader, then every frame. Throws what RecordingReader
@@ -100,11 +106,11 @@ class RecordingReader {
 /// Determinism: the bytes written depend only on the values given (no timestamps, no padding).
 class RecordingWriter {
  public:
-  /// Opens the temporary and writes the header and the static particle table of `world`
+  /// Opens the temporary and writes the header, the static particle table of `world`
   /// (radius, mass, elasticity, body, ux, uy, uz; dt, gravity, ground and name from
-  /// world.params). Throws tumble::Error if the file cannot be opened (naming it and the
-  /// reason), if stepsPerFrame < 1, fps or dt is not positive, or the table is inconsistent or
-  /// non-finite.
+  /// world.params) and its walls (sceneWallSurfaces(world.params, world.bodiesExtent)). Throws tumble::Error if the
+  /// file cannot be opened (naming it and the reason), if stepsPerFrame < 1, fps or dt is not
+  /// positive, or the table is inconsistent or non-finite.
   RecordingWriter(const std::string& path, const World& world, bool debug, int stepsPerFrame,
                   float fps = 60.0f);
   /// Continues the recording at `path` for a run resumed at `step` (tumble run --resume): its
@@ -114,6 +120,7 @@ class RecordingWriter {
   /// not exist, is not a regular file (a device, a FIFO) or names a descriptor (/dev/stdout,
   /// /dev/fd/N: namesDescriptor), this is a new recording, from `step` on. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
   /// when it records another scene or other settings (its frames would not belong to this run).
+  /// A version 1 recording is continued as version 2 (its frames, with this world's walls).
   static std::unique_ptr<RecordingWriter> continueAt(const std::string& path, const World& world, bool debug,
                                                      int stepsPerFrame, std::uint64_t step, float fps = 60.0f);
   /// Calls close(), swallowing its exceptions.

@@ -112,6 +112,30 @@ struct WallDef {
   bool moves() const { return velocity.x != 0.0f || velocity.y != 0.0f || velocity.z != 0.0f || angularVelocity != 0.0f; }
 };
 
+/// A plane wall built in code: through `point`, `normal` towards the spheres, the ground's
+/// default contact (WallDef).
+inline WallDef planeWall(Vec3f point, Vec3f normal) {
+  WallDef w;
+  w.point = point;
+  w.normal = normal;
+  w.contact.enabled = true;
+  return w;
+}
+
+/// A revolved wall built in code: the segment (0, radius0)–(length, radius1) about the axis from
+/// `point` along `axis` (a cylinder, a cone; a disk or ring with length 0, `axis` its normal).
+inline WallDef revolvedWall(Vec3f point, Vec3f axis, float length, float radius0, float radius1) {
+  WallDef w;
+  w.shape = WallDef::Shape::Revolved;
+  w.point = point;
+  w.normal = axis;
+  w.length = length;
+  w.radius0 = radius0;
+  w.radius1 = radius1;
+  w.contact.enabled = true;
+  return w;
+}
+
 /// Bits of PullParams::active / Pipeline::setPulls().
 enum PullBits : std::uint32_t { kPullX = 1u, kPullY = 2u, kPullSwirl = 4u };
 

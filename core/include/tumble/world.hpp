@@ -13,6 +13,7 @@
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/soa.hpp"
+#include "tumble/wall_geometry.hpp"
 
 namespace tumble {
 
@@ -102,6 +103,11 @@ struct World {
   /// Set on a resume (Checkpoint): the frame the run integrates in, chosen at its start;
   /// `state`'s positions are then already in it. Unset: load() chooses LocalFrame::of().
   std::optional<LocalFrame> frame;
+
+  /// The bodies where the scene creates them, in the world frame (sceneBodiesExtent(), kept
+  /// when params.bodies is cleared, and on a resume; toLocal() leaves it): what the walls are
+  /// drawn around (RecordingWriter, tumble view).
+  Extent bodiesExtent;
 
   bool hasClumps = false;  ///< some body has more than one particle
   /// Whether body k rotates: a clump, or any body under a law that turns spheres.

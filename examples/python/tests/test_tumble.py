@@ -126,6 +126,23 @@ def test_recording_and_time_series_equal_tumble_runs(tmp_path):
     assert list(sim.thermo().keys()) == header
 
 
+@pytest.mark.parametrize("name, walls", [("box", 5), ("drum", 3)])
+def test_recordings_carry_the_walls_as_tumble_run_writes_them(tmp_path, name, walls):
+    """A recording written from Python holds the scene's walls (version 2), byte for byte those of
+    `tumble run`: the writer takes them from the world, whoever writes."""
+    scene = os.path.join(SRC, "scenes", name + ".toml")
+    with tumble.Simulation(tumble.Scene.load(scene)) as sim:
+        sim.record(str(tmp_path / "py.bin"))
+        sim.step(400)
+    subprocess.run([BIN, "run", scene, "--steps", "400", "--record", str(tmp_path / "cli.bin"), "-q"], check=True)
+    data = (tmp_path / "py.bin").read_bytes()
+    assert data == (tmp_path / "cli.bin").read_bytes()
+    version, header = np.frombuffer(data, "<u4", 2, 8)
+    particles = int(np.frombuffer(data, "<u4", 1, 16)[0])
+    assert version == 2
+    assert int(np.frombuffer(data, "<u4", 1, header + 28 * particles + 4)[0]) == walls  # W, the wall count
+
+
 def test_scene_from_dict_equals_the_file(tmp_path):
     with open(MOLECULES, "rb") as f:
         tables = tomllib.load(f)

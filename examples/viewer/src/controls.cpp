@@ -19,7 +19,7 @@ namespace {
 
 constexpr const char* kKeyNames[kNumKeys] = {
     "left", "right", "up", "down", "space", "lshift", "w", "a", "s", "d", "q", "z", "e", "r",
-    "0",    "1",     "2",  "3",    "4",     "5",      "p", "n", "c", "h", "l", "escape"};
+    "0",    "1",     "2",  "3",    "4",     "5",      "p", "n", "c", "h", "l", "v", "escape"};
 
 // GCC 12 at -O3 reports a false -Wrestrict in InputError's inlined `":" + std::to_string(line)`
 // here (GCC bug 105329, std::string operator+ on an rvalue); CMakeLists.txt turns that one
@@ -138,6 +138,7 @@ const std::vector<KeyHelp>& liveKeyHelp() {
       {"N", "one frame (10 steps) while paused"},
       {"C", "recording on / off"},
       {"0", "colouring: plain, mass, elasticity"},
+      {"V", "walls shown / hidden"},
       {"mouse drag / wheel", "orbit / zoom the camera"},
       {"W S A D Q Z", "move the camera"},
       {"E R", "turn the camera"},
@@ -159,6 +160,7 @@ std::vector<KeyHelp> playKeyHelp(bool debug) {
       {"E R", "turn the camera"},
       {"mouse drag / wheel", "orbit / zoom the camera"},
       {"0", "colouring: plain, mass, elasticity"},
+      {"V", "walls shown / hidden"},
   };
   if (debug) h.push_back({"1 2 3 4 5", "force lines: repulsion, damping, shear, ground, friction"});
   h.push_back({"H", "this help on / off"});
@@ -186,6 +188,7 @@ void PlaybackControls::keyEvent(Key k, bool pressed) {
       if (m_playing && !m_loop && frame() + 1 >= m_numFrames) m_position = 0.0;  // play again from the start
       break;
     case Key::L: m_loop = !m_loop; break;
+    case Key::V: m_walls = !m_walls; break;
     case Key::Num0: m_color = nextColorMode(m_color); break;
     case Key::Num1: case Key::Num2: case Key::Num3: case Key::Num4: case Key::Num5:
       if (m_debug) {
@@ -223,7 +226,7 @@ std::string PlaybackControls::describe() const {
       if (!f.empty()) f += ',';
       f += std::to_string(i + 1);
     }
-  s << (f.empty() ? "none" : f) << (m_playing ? " playing" : "") << (m_loop ? " loop" : "");
+  s << (f.empty() ? "none" : f) << (m_playing ? " playing" : "") << (m_loop ? " loop" : "") << (m_walls ? "" : " no-walls");
   return s.str();
 }
 
@@ -235,6 +238,7 @@ void LiveControls::keyEvent(Key k, bool pressed) {
       if (m_paused) ++m_pendingSteps;
       break;
     case Key::C: m_recording = !m_recording; break;
+    case Key::V: m_walls = !m_walls; break;
     case Key::Num0: m_color = nextColorMode(m_color); break;
     case Key::H: m_help = !m_help; break;
     case Key::Escape: m_quit = true; break;
@@ -273,7 +277,7 @@ std::vector<ScriptEvent> parseScript(const std::string& text, const std::string&
     } else if (verb == "press" || verb == "release" || verb == "tap") {
       if (!(ls >> keyName)) fail("expected a key name after '" + verb + "'");
       const auto key = keyFromString(keyName);
-      if (!key) fail("unknown key '" + keyName + "' (keys: left right up down space lshift w a s d q z e r 0-5 p n c h l escape)");
+      if (!key) fail("unknown key '" + keyName + "' (keys: left right up down space lshift w a s d q z e r 0-5 p n c h l v escape)");
       e.key = *key;
       e.kind = verb == "release" ? ScriptEvent::Kind::Release : ScriptEvent::Kind::Press;
     } else {

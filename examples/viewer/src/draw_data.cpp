@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Building the renderer's input on the CPU: particle centres, colours and force lines.
+// Building the renderer's input on the CPU: particle centres, colours, force lines and walls.
 #include "tumble/viewer/draw_data.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <map>
+#include <utility>
 
 namespace tumble::viewer {
 namespace {
@@ -159,6 +163,86 @@ Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::ve
     if (perFrame) perFrame->push_back(fb);
   }
   if (ground && !b.empty) b.lo.z = std::min(std::max(b.lo.z, rec.info().groundHeight), b.hi.z);
+  return framedWithWalls(b, rec.header().walls);
+}
+
+Rgb wallColor(WallKind kind) {
+  switch (kind) {
+    case WallKind::Plane: return {0.62f, 0.70f, 0.82f};
+    case WallKind::Cylinder: return {0.70f, 0.74f, 0.80f};
+    case WallKind::Cone: return {0.74f, 0.72f, 0.80f};
+    case WallKind::Disk: return {0.66f, 0.76f, 0.78f};
+    case WallKind::Mesh: return {0.78f, 0.74f, 0.66f};
+  }
+  return {0.7f, 0.7f, 0.7f};
+}
+
+std::vector<WallMesh> wallMeshes(const std::vector<WallSurface>& walls) {
+  // Corners are welded by their exact bits: the geometry computes a shared corner once, so
+  // neighbours agree to the bit (wall_geometry.cpp).
+  using Key = std::array<std::uint32_t, 3>;
+  const auto key = [](const float* p) {
+    return Key{std::bit_cast<std::uint32_t>(p[0]), std::bit_cast<std::uint32_t>(p[1]), std::bit_cast<std::uint32_t>(p[2])};
+  };
+  const float kCrease = 0.866f;  // cos 30°
+  std::vector<WallMesh> out;
+  out.reserve(walls.size());
+  for (const WallSurface& w : walls) {
+    WallMesh m;
+    m.color = wallColor(w.kind);
+    m.motion = w.motion;
+    const std::size_t nt = w.numTriangles();
+    const float* t = w.triangles.data();
+    std::vector<Vec3f> face(nt);
+    std::map<Key, std::vector<std::size_t>> at;  // corner position -> triangles there
+    std::map<std::pair<Key, Key>, std::vector<std::size_t>> edges;  // (lower, higher) -> triangles
+    for (std::size_t i = 0; i < nt; ++i) {
+      const float* c = t + 9 * i;
+      const Vec3f n = cross(Vec3f{c[3] - c[0], c[4] - c[1], c[5] - c[2]}, Vec3f{c[6] - c[0], c[7] - c[1], c[8] - c[2]});
+      const float len = norm(n);
+      face[i] = len > 0.0f ? (1.0f / len) * n : Vec3f{0.0f, 0.0f, 0.0f};
+      for (int k = 0; k < 3; ++k) {
+        at[key(c + 3 * k)].push_back(i);
+        m.bounds.add(Vec3f{c[3 * k], c[3 * k + 1], c[3 * k + 2]}, 0.0f);
+        const Key a = key(c + 3 * k), b = key(c + 3 * ((k + 1) % 3));
+        edges[std::minmax(a, b)].push_back(i);
+      }
+    }
+    m.vertices.reserve(18 * nt);
+    for (std::size_t i = 0; i < nt; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const float* c = t + 9 * i + 3 * k;
+        Vec3f n{0.0f, 0.0f, 0.0f};
+        for (const std::size_t j : at[key(c)])
+          if (dot(face[i], face[j]) >= kCrease) n += face[j];
+        const float len = norm(n);
+        if (len > 0.0f) n = (1.0f / len) * n;
+        m.vertices.insert(m.vertices.end(), {c[0], c[1], c[2], n.x, n.y, n.z});
+      }
+    for (const auto& [e, tris] : edges) {
+      const bool fold = tris.size() == 2 && dot(face[tris[0]], face[tris[1]]) < kCrease;
+      if (tris.size() != 1 && !fold) continue;
+      for (const Key& k : {e.first, e.second})
+        for (const std::uint32_t v : k) m.outline.push_back(std::bit_cast<float>(v));
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+Bounds framedWithWalls(const Bounds& bodies, const std::vector<WallSurface>& walls) {
+  if (bodies.empty) return bodies;
+  Bounds b = bodies;
+  const float limit = 4.0f * norm(bodies.hi - bodies.lo);
+  for (const WallSurface& w : walls) {
+    if (w.kind == WallKind::Plane || w.triangles.empty()) continue;
+    Bounds wb;
+    for (std::size_t i = 0; i + 2 < w.triangles.size(); i += 3)
+      wb.add(Vec3f{w.triangles[i], w.triangles[i + 1], w.triangles[i + 2]}, 0.0f);
+    if (norm(wb.hi - wb.lo) > limit) continue;
+    b.add(wb.lo, 0.0f);
+    b.add(wb.hi, 0.0f);
+  }
   return b;
 }
 

@@ -8,6 +8,19 @@
 // sphere, its darkness fading and its size growing with the height above the ground) shows
 // what rests on the ground and what is in the air. Everything is lit by one directional light
 // plus a hemisphere ambient term.
+//
+// Walls are drawn after the opaque spheres and the ground, blended, depth-tested but not
+// written to the depth buffer, so that a sphere in front of a wall hides it and a wall in front
+// of a sphere only tints it. What makes a container readable from outside is the triangles'
+// winding (wall_geometry.hpp): they are counter-clockwise seen from the side the bodies are on.
+// Where the camera sees that inner side (a box's far faces, the inside of a drum's far half) the
+// wall is fairly opaque: it is behind the bodies. Where it sees the outer side (the near faces,
+// which would hide the bodies) the wall is faint, with a little more at grazing angles so its
+// shape still reads. Whole walls are sorted back to front by the distance of their box's centre,
+// and each is drawn inner side first, then outer side, then its outline (where the surface ends
+// or folds), so the blending order is right for convex walls and near enough for the rest. A
+// wall that turns (WallMotion) is posed by a rotation and a translation in the vertex shader and
+// carries a few dark stripes about its spin axis, fixed to it, so the turning can be seen.
 #include "tumble/output_file.hpp"
 #include "tumble/viewer/renderer.hpp"
 
@@ -45,7 +58,19 @@ void main() {
 }
 )";
 
-const char* kSphereFs = R"(#version 330 core
+// The lighting of spheres and walls: one directional light (diffuse k.z, specular k.w with
+// `shininess`), an ambient term k.x and a hemisphere term k.y (more light from above). Prepended
+// to the fragment shaders that use it (withShade()).
+const char* kShadeGlsl = R"(#version 330 core
+vec3 shade(vec3 base, vec3 n, vec3 v, vec3 light, vec4 k, float shininess) {
+  float diff = max(dot(n, light), 0.0);
+  float hemi = 0.5 + 0.5 * n.z;
+  float spec = pow(max(dot(n, normalize(light + v)), 0.0), shininess);
+  return base * (k.x + k.y * hemi + k.z * diff) + vec3(k.w * spec);
+}
+)";
+
+const char* kSphereFs = R"(
 in vec3 vNormal;
 in vec3 vColor;
 in vec3 vWorld;
@@ -55,10 +80,7 @@ out vec4 oColor;
 void main() {
   vec3 n = normalize(vNormal);
   vec3 v = normalize(uEye - vWorld);
-  float diff = max(dot(n, uLight), 0.0);
-  float hemi = 0.5 + 0.5 * n.z;
-  float spec = pow(max(dot(n, normalize(uLight + v)), 0.0), 40.0);
-  vec3 c = vColor * (0.22 + 0.18 * hemi + 0.68 * diff) + vec3(0.25 * spec);
+  vec3 c = shade(vColor, n, v, uLight, vec4(0.22, 0.18, 0.68, 0.25), 40.0);
   oColor = vec4(min(c, vec3(1.0)), 1.0);
 }
 )";
@@ -122,6 +144,73 @@ void main() {
 }
 )";
 
+const char* kWallVs = R"(#version 330 core
+layout(location = 0) in vec3 aPos;
+layout(location = 1) in vec3 aNormal;
+uniform mat4 uViewProj;
+uniform mat3 uRot;
+uniform vec3 uPivot;
+uniform vec3 uShift;
+out vec3 vWorld;
+out vec3 vNormal;
+out vec3 vLocal;
+void main() {
+  vec3 w = uRot * (aPos - uPivot) + uPivot + uShift;
+  vLocal = aPos;
+  vWorld = w;
+  vNormal = uRot * aNormal;
+  gl_Position = uViewProj * vec4(w, 1.0);
+}
+)";
+
+const char* kWallFs = R"(
+in vec3 vWorld;
+in vec3 vNormal;
+in vec3 vLocal;
+uniform vec3 uColor;
+uniform vec3 uEye;
+uniform vec3 uLight;
+uniform float uAlphaInner;
+uniform float uAlphaOuter;
+uniform int uSpin;
+uniform vec3 uSpinPivot;
+uniform vec3 uSpinE1;
+uniform vec3 uSpinE2;
+out vec4 oColor;
+const float kTwoPi = 6.28318531;
+const float kStripes = 8.0;
+void main() {
+  vec3 n = normalize(vNormal);
+  if (!gl_FrontFacing) n = -n;  // lit on the side seen
+  vec3 v = normalize(uEye - vWorld);
+  vec3 c = shade(uColor, n, v, uLight, vec4(0.30, 0.20, 0.50, 0.15), 30.0);
+  float a = gl_FrontFacing ? uAlphaInner : uAlphaOuter;
+  a += (0.6 - a) * pow(1.0 - abs(dot(n, v)), 4.0);  // grazing: a little more
+  if (uSpin != 0) {
+    // Stripes at kStripes angles about the spin axis, in the wall's own frame. The angle's
+    // derivative is taken from two atan branches, so the wrap at +-pi leaves no seam.
+    vec3 r = vLocal - uSpinPivot;
+    float x = dot(r, uSpinE1), y = dot(r, uSpinE2);
+    float f = atan(y, x) * kStripes / kTwoPi;
+    float g = atan(-y, -x) * kStripes / kTwoPi;
+    float w = min(fwidth(f), fwidth(g));
+    float d = abs(f - floor(f + 0.5));
+    float stripe = 1.0 - smoothstep(0.05 - w, 0.05 + w, d);
+    stripe *= 1.0 - smoothstep(0.1, 0.3, w);  // none where they crowd (near the axis)
+    c *= 1.0 - 0.55 * stripe;
+    a = min(a + 0.3 * stripe, 1.0);
+  }
+  oColor = vec4(min(c, vec3(1.0)), a);
+}
+)";
+
+const char* kWallLineFs = R"(#version 330 core
+uniform vec3 uColor;
+uniform float uAlpha;
+out vec4 oColor;
+void main() { oColor = vec4(uColor, uAlpha); }
+)";
+
 const char* kLineVs = R"(#version 330 core
 layout(location = 0) in vec3 aPos;
 layout(location = 1) in vec3 aColor;
@@ -172,6 +261,9 @@ GLuint program(const char* vs, const char* fs, const char* name) {
   }
   return p;
 }
+
+// A fragment shader's source after the shared lighting (kShadeGlsl, which holds the #version).
+std::string withShade(const char* body) { return std::string(kShadeGlsl) + body; }
 
 // Icosphere: the icosahedron subdivided `levels` times, vertices pushed onto the unit sphere.
 void icosphere(int levels, std::vector<float>& outPos, std::vector<std::uint32_t>& outIdx) {
@@ -242,10 +334,49 @@ struct SphereMesh {
   }
 };
 
+// A vertex array over a new static buffer of `data`: per vertex `attributes` interleaved vec3
+// (location 0 the position, 1 the normal).
+void staticVertices(const std::vector<float>& data, int attributes, GLuint& outVao, GLuint& outVbo) {
+  glGenVertexArrays(1, &outVao);
+  glBindVertexArray(outVao);
+  glGenBuffers(1, &outVbo);
+  glBindBuffer(GL_ARRAY_BUFFER, outVbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
+  const auto stride = static_cast<GLsizei>(3 * attributes * sizeof(float));
+  for (int a = 0; a < attributes; ++a) {
+    glEnableVertexAttribArray(static_cast<GLuint>(a));
+    glVertexAttribPointer(static_cast<GLuint>(a), 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(static_cast<std::uintptr_t>(3 * a) * sizeof(float)));
+  }
+}
+
+// One wall on the GPU: its triangles (position, normal) and its outline, with what poses it.
+struct WallBuffers {
+  GLuint vao = 0, vbo = 0, lineVao = 0, lineVbo = 0;
+  GLsizei numVertices = 0, numLineVertices = 0;
+  Rgb color{0.6f, 0.7f, 0.8f};
+  WallMotion motion;
+  Vec3f centre{0, 0, 0};                   // of its box, at rest
+  Vec3f spinE1{1, 0, 0}, spinE2{0, 1, 0};  // perpendicular to ω, for the stripes
+  bool spins = false;
+  void destroy() {
+    glDeleteBuffers(1, &vbo);
+    glDeleteBuffers(1, &lineVbo);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteVertexArrays(1, &lineVao);
+  }
+};
+
+// How see-through a wall is: seen from the bodies' side (behind them) and from outside.
+constexpr float kWallAlphaInner = 0.55f;
+constexpr float kWallAlphaOuter = 0.10f;
+constexpr float kWallOutlineAlpha = 0.45f;
+
 }  // namespace
 
 struct Renderer::Impl {
-  GLuint sphereProg = 0, groundProg = 0, lineProg = 0, shadowProg = 0;
+  GLuint sphereProg = 0, groundProg = 0, lineProg = 0, shadowProg = 0, wallProg = 0, wallLineProg = 0;
+  std::vector<WallBuffers> walls;
   GLuint shadowVao = 0;
   SphereMesh fine, coarse;  // 320 and 80 triangles
   GLuint instSphereVbo = 0, instColorVbo = 0;
@@ -254,10 +385,12 @@ struct Renderer::Impl {
 };
 
 Renderer::Renderer() : m(std::make_unique<Impl>()) {
-  m->sphereProg = program(kSphereVs, kSphereFs, "sphere");
+  m->sphereProg = program(kSphereVs, withShade(kSphereFs).c_str(), "sphere");
   m->groundProg = program(kGroundVs, kGroundFs, "ground");
   m->lineProg = program(kLineVs, kLineFs, "lines");
   m->shadowProg = program(kShadowVs, kShadowFs, "shadow");
+  m->wallProg = program(kWallVs, withShade(kWallFs).c_str(), "wall");
+  m->wallLineProg = program(kWallVs, kWallLineFs, "wall outline");
 
   glGenBuffers(1, &m->instSphereVbo);
   glGenBuffers(1, &m->instColorVbo);
@@ -296,6 +429,9 @@ Renderer::Renderer() : m(std::make_unique<Impl>()) {
 }
 
 Renderer::~Renderer() {
+  for (WallBuffers& w : m->walls) w.destroy();
+  glDeleteProgram(m->wallProg);
+  glDeleteProgram(m->wallLineProg);
   m->fine.destroy();
   m->coarse.destroy();
   glDeleteBuffers(1, &m->instSphereVbo);
@@ -309,6 +445,33 @@ Renderer::~Renderer() {
   glDeleteProgram(m->sphereProg);
   glDeleteProgram(m->groundProg);
   glDeleteProgram(m->lineProg);
+}
+
+void Renderer::setWalls(const std::vector<WallMesh>& walls) {
+  for (WallBuffers& w : m->walls) w.destroy();
+  m->walls.clear();
+  for (const WallMesh& mesh : walls) {
+    WallBuffers w;
+    w.color = mesh.color;
+    w.motion = mesh.motion;
+    w.centre = mesh.bounds.empty ? Vec3f{0, 0, 0} : 0.5f * (mesh.bounds.lo + mesh.bounds.hi);
+    const Vec3f& om = mesh.motion.angularVelocity;
+    if (norm(om) > 0.0f) {
+      // A frame about the spin axis (any one: the stripes turn with the wall).
+      const Vec3f a = (1.0f / norm(om)) * om;
+      const Vec3f e = std::abs(a.x) < 0.6f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
+      w.spinE1 = cross(a, e);
+      w.spinE1 = (1.0f / norm(w.spinE1)) * w.spinE1;
+      w.spinE2 = cross(a, w.spinE1);
+      w.spins = true;
+    }
+    w.numVertices = static_cast<GLsizei>(mesh.numVertices());
+    staticVertices(mesh.vertices, 2, w.vao, w.vbo);
+    w.numLineVertices = static_cast<GLsizei>(mesh.outline.size() / 3);
+    staticVertices(mesh.outline, 1, w.lineVao, w.lineVbo);
+    m->walls.push_back(w);
+  }
+  glBindVertexArray(0);
 }
 
 std::string Renderer::glRenderer() {
@@ -392,6 +555,68 @@ void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
     glBindBuffer(GL_ARRAY_BUFFER, m->instColorVbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(3 * n * sizeof(float)), d.colors.data(), GL_STREAM_DRAW);
     glDrawElementsInstanced(GL_TRIANGLES, mesh.numIndices, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(n));
+  }
+
+  if (d.wallsShown && !m->walls.empty()) {
+    // Back to front by the posed centre of each wall's box (see the design note at the top).
+    struct Posed {
+      const WallBuffers* w;
+      WallPose pose;
+      float distance;
+    };
+    std::vector<Posed> order;
+    for (const WallBuffers& w : m->walls) {
+      const WallPose pose = wallPose(w.motion, d.time);
+      order.push_back({&w, pose, norm(pose.apply(w.centre) - eye)});
+    }
+    std::stable_sort(order.begin(), order.end(), [](const Posed& a, const Posed& b) { return a.distance > b.distance; });
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_LEQUAL);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -2.0f);  // a wall on the ground (a box's floor) is drawn over it
+    glEnable(GL_CULL_FACE);
+    const auto poseUniforms = [&](GLuint prog, const WallPose& pose) {
+      const Mat3f r = rotationMatrix(pose.rotation);
+      glUniformMatrix4fv(glGetUniformLocation(prog, "uViewProj"), 1, GL_FALSE, vp.m.data());
+      glUniformMatrix3fv(glGetUniformLocation(prog, "uRot"), 1, GL_TRUE, &r.xx);
+      glUniform3f(glGetUniformLocation(prog, "uPivot"), pose.pivot.x, pose.pivot.y, pose.pivot.z);
+      glUniform3f(glGetUniformLocation(prog, "uShift"), pose.translation.x, pose.translation.y, pose.translation.z);
+    };
+    for (const Posed& p : order) {
+      const WallBuffers& w = *p.w;
+      glUseProgram(m->wallProg);
+      poseUniforms(m->wallProg, p.pose);
+      glUniform3f(glGetUniformLocation(m->wallProg, "uColor"), w.color.r, w.color.g, w.color.b);
+      glUniform3f(glGetUniformLocation(m->wallProg, "uEye"), eye.x, eye.y, eye.z);
+      glUniform3f(glGetUniformLocation(m->wallProg, "uLight"), light.x, light.y, light.z);
+      glUniform1f(glGetUniformLocation(m->wallProg, "uAlphaInner"), kWallAlphaInner);
+      glUniform1f(glGetUniformLocation(m->wallProg, "uAlphaOuter"), kWallAlphaOuter);
+      glUniform1i(glGetUniformLocation(m->wallProg, "uSpin"), w.spins ? 1 : 0);
+      glUniform3f(glGetUniformLocation(m->wallProg, "uSpinPivot"), w.motion.pivot.x, w.motion.pivot.y, w.motion.pivot.z);
+      glUniform3f(glGetUniformLocation(m->wallProg, "uSpinE1"), w.spinE1.x, w.spinE1.y, w.spinE1.z);
+      glUniform3f(glGetUniformLocation(m->wallProg, "uSpinE2"), w.spinE2.x, w.spinE2.y, w.spinE2.z);
+      glBindVertexArray(w.vao);
+      glCullFace(GL_BACK);  // the inner side: facing the camera where the camera is on the bodies' side
+      glDrawArrays(GL_TRIANGLES, 0, w.numVertices);
+      glCullFace(GL_FRONT);  // then the outer side, in front of it
+      glDrawArrays(GL_TRIANGLES, 0, w.numVertices);
+      if (w.numLineVertices > 0) {
+        const Rgb c{0.55f * w.color.r, 0.55f * w.color.g, 0.55f * w.color.b};
+        glUseProgram(m->wallLineProg);
+        poseUniforms(m->wallLineProg, p.pose);
+        glUniform3f(glGetUniformLocation(m->wallLineProg, "uColor"), c.r, c.g, c.b);
+        glUniform1f(glGetUniformLocation(m->wallLineProg, "uAlpha"), kWallOutlineAlpha);
+        glBindVertexArray(w.lineVao);
+        glDrawArrays(GL_LINES, 0, w.numLineVertices);
+      }
+    }
+    glCullFace(GL_BACK);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
   }
 
   if (!d.lines.empty()) {

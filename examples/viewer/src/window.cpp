@@ -47,6 +47,7 @@ std::optional<Key> mapKey(int key) {
     case GLFW_KEY_C: return Key::C;
     case GLFW_KEY_H: return Key::H;
     case GLFW_KEY_L: return Key::L;
+    case GLFW_KEY_V: return Key::V;
     case GLFW_KEY_ESCAPE: return Key::Escape;
     default: return std::nullopt;
   }

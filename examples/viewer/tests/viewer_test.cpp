@@ -183,6 +183,64 @@ TEST(Controls, ColouringAndForceLines) {
   EXPECT_EQ(playKeyHelp(true).size(), playKeyHelp(false).size() + 1);
 }
 
+TEST(Controls, VShowsAndHidesTheWalls) {
+  PlaybackControls p(5, false);
+  EXPECT_TRUE(p.wallsShown());
+  p.keyEvent(Key::V, true);
+  EXPECT_FALSE(p.wallsShown());
+  EXPECT_EQ(p.describe(), "frame 0/4 speed 1x colour plain forces none no-walls");
+  p.keyEvent(Key::V, false);  // a release changes nothing
+  EXPECT_FALSE(p.wallsShown());
+  p.keyEvent(Key::V, true);
+  EXPECT_TRUE(p.wallsShown());
+  LiveControls live;
+  live.setWallsShown(false);  // --no-walls
+  live.keyEvent(Key::V, true);
+  EXPECT_TRUE(live.wallsShown());
+  EXPECT_EQ(keyFromString("V"), Key::V);
+  EXPECT_STREQ(toString(Key::V), "v");
+  EXPECT_STREQ(toString(Key::Escape), "escape");
+  const auto names = [](const std::vector<KeyHelp>& h) {
+    std::string all;
+    for (const KeyHelp& k : h) all += std::string(k.keys) + ": " + k.action + "\n";
+    return all;
+  };
+  EXPECT_NE(names(liveKeyHelp()).find("V: walls shown / hidden"), std::string::npos);
+  EXPECT_NE(names(playKeyHelp(false)).find("V: walls shown / hidden"), std::string::npos);
+}
+
+TEST(Walls, MeshesAreShadedRoundWithSharpEdgesAndOutlined) {
+  WallDef drum = revolvedWall({0, 0, 0}, {0, 1, 0}, 1.0f, 1.0f, 1.0f);
+  const WallDef floor = planeWall({0, 0, -2}, {0, 0, 1});
+  Extent inside;
+  inside.add({0, 0.5f, 0}, 0.5f);
+  const std::vector<WallMesh> m = wallMeshes(wallSurfaces({drum, floor}, inside));
+  ASSERT_EQ(m.size(), 2u);
+  // The cylinder: every corner's normal is radial (smoothed over its neighbours), pointing in.
+  ASSERT_EQ(m[0].numVertices(), 3u * 2u * 96u);
+  for (std::size_t i = 0; i < m[0].numVertices(); ++i) {
+    const float* v = &m[0].vertices[6 * i];
+    EXPECT_NEAR(v[3] * v[0] + v[5] * v[2], -1.0, 2e-3) << "corner " << i;
+    EXPECT_NEAR(v[4], 0.0, 1e-6);
+  }
+  // Its outline is its two rims (96 segments each), not the lines along it.
+  EXPECT_EQ(m[0].outline.size(), 2u * 96u * 2u * 3u);
+  // The floor: two triangles, a flat normal up, the outline its four sides.
+  ASSERT_EQ(m[1].numVertices(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(m[1].vertices[6 * i + 5], 1.0f);
+  EXPECT_EQ(m[1].outline.size(), 4u * 2u * 3u);
+  EXPECT_EQ(m[0].color.r, wallColor(WallKind::Cylinder).r);
+  // Framing: the drum counts, the plane never does, and nothing far larger than the bodies does.
+  Bounds bodies;
+  bodies.add({0, 0.5f, 0}, 0.5f);
+  const Bounds framed = framedWithWalls(bodies, wallSurfaces({drum, floor}, inside));
+  EXPECT_NEAR(framed.lo.x, -1.0, 1e-6);
+  EXPECT_NEAR(framed.hi.z, 1.0, 1e-6);
+  EXPECT_EQ(framed.lo.z, -1.0f) << "the floor at z = -2 is not framed";
+  drum.radius0 = drum.radius1 = 50.0f;
+  EXPECT_EQ(framedWithWalls(bodies, wallSurfaces({drum}, inside)).hi.x, bodies.hi.x) << "a huge drum is not framed";
+}
+
 TEST(Controls, LivePauseStepRecord) {
   LiveControls c;
   EXPECT_FALSE(c.paused());
@@ -370,6 +428,17 @@ Px pixel(const Image& img, int x, int y) {
   return {p[0], p[1], p[2]};
 }
 std::ostream& operator<<(std::ostream& os, const Px& p) { return os << "(" << p.r << "," << p.g << "," << p.b << ")"; }
+// The sum of the channels' differences (0 to 765).
+int colourDistance(Px a, Px b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); }
+// How many pixels of two images of one size differ by more than `threshold` (colourDistance).
+int pixelsDiffering(const Image& a, const Image& b, int threshold) {
+  int n = 0;
+  for (std::size_t i = 0; i + 2 < a.rgb.size() && i + 2 < b.rgb.size(); i += 3)
+    if (std::abs(a.rgb[i] - b.rgb[i]) + std::abs(a.rgb[i + 1] - b.rgb[i + 1]) + std::abs(a.rgb[i + 2] - b.rgb[i + 2]) >
+        threshold)
+      ++n;
+  return n;
+}
 bool nearColor(Px p, Rgb c, int tol) {
   return std::abs(p.r - int(255 * c.r)) <= tol && std::abs(p.g - int(255 * c.g)) <= tol &&
          std::abs(p.b - int(255 * c.b)) <= tol;
@@ -389,7 +458,10 @@ class Offscreen : public ::testing::Test {
     s_renderer.reset();
     s_ctx.reset();
   }
-  void SetUp() override { ASSERT_TRUE(s_ctx) << "no off-screen OpenGL context: " << s_error; }
+  void SetUp() override {
+    ASSERT_TRUE(s_ctx) << "no off-screen OpenGL context: " << s_error;
+    s_renderer->setWalls({});  // none, whatever a test before left
+  }
 
   // Two spheres on the ground: a heavy bouncy one at the origin and a light dull one at x = 2.
   static ParticleTable table() {
@@ -467,9 +539,8 @@ TEST_F(Offscreen, ColourModesGiveDifferentPixels) {
   float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   ASSERT_TRUE(camera().project({0.0f, 0.0f, 0.5f}, 320, 240, x0, y0));
   ASSERT_TRUE(camera().project({2.0f, 0.0f, 0.5f}, 320, 240, x1, y1));
-  const auto dist = [](Px a, Px b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); };
-  EXPECT_GT(dist(pixel(plain, int(x0), int(y0)), pixel(mass, int(x0), int(y0))), 60);
-  EXPECT_GT(dist(pixel(mass, int(x0), int(y0)), pixel(elast, int(x0), int(y0))), 60);
+  EXPECT_GT(colourDistance(pixel(plain, int(x0), int(y0)), pixel(mass, int(x0), int(y0))), 60);
+  EXPECT_GT(colourDistance(pixel(mass, int(x0), int(y0)), pixel(elast, int(x0), int(y0))), 60);
   // By mass, the heavy sphere (0) is darker than the light one (1): dark = large.
   const Px heavy = pixel(mass, int(x0), int(y0)), light = pixel(mass, int(x1), int(y1));
   EXPECT_LT(heavy.r + heavy.g + heavy.b, light.r + light.g + light.b) << heavy << " vs " << light;
@@ -530,6 +601,60 @@ TEST_F(Offscreen, ForceLinesAreDrawn) {
     for (int dx = -2; dx <= 2; ++dx)
       if (nearColor(pixel(img, int(x) + dx, int(y) + dy), forceColor(3), 60)) ++found;
   EXPECT_GT(found, 0) << "a ground-force line above sphere 0";
+}
+
+// A closed box around the two spheres of data(): the near faces must not hide them, the far ones
+// show behind them, and hiding the walls gives the image without them, pixel for pixel.
+TEST_F(Offscreen, WallsShowBehindTheBodiesAndDoNotHideThem) {
+  std::vector<WallDef> box;
+  const float lo[3] = {-1.0f, -1.0f, 0.0f}, hi[3] = {3.0f, 1.0f, 2.0f};
+  for (int f = 0; f < 6; ++f) {
+    float p[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+    p[f / 2] = f % 2 ? hi[f / 2] : lo[f / 2];
+    n[f / 2] = f % 2 ? -1.0f : 1.0f;
+    box.push_back(planeWall({p[0], p[1], p[2]}, {n[0], n[1], n[2]}));
+  }
+  Extent bodies;
+  bodies.add({0, 0, 0.5f}, 0.5f);
+  bodies.add({2, 0, 0.5f}, 0.5f);
+  DrawData d = data(ColorMode::Plain, 0);
+  const Image bare = render(d);
+  s_renderer->setWalls(wallMeshes(wallSurfaces(box, bodies)));
+  const Image walled = render(d);
+  d.wallsShown = false;
+  const Image hidden = render(d);
+  const Camera cam = camera();
+  float x = 0, y = 0;
+  // The sphere seen through the near face (the camera is at -y, outside the box): nearly as bare.
+  ASSERT_TRUE(cam.project({0.0f, 0.0f, 0.5f}, 320, 240, x, y));
+  const Px s0 = pixel(bare, int(x), int(y)), s1 = pixel(walled, int(x), int(y));
+  EXPECT_LT(colourDistance(s0, s1), 45) << "the near face tints the sphere only: " << s0 << " vs " << s1;
+  // The far face (y = 1), above the spheres, seen from inside over the ground: a wall there.
+  ASSERT_TRUE(cam.project({1.0f, 1.0f, 1.6f}, 320, 240, x, y));
+  const Px f0 = pixel(bare, int(x), int(y)), f1 = pixel(walled, int(x), int(y));
+  EXPECT_GT(colourDistance(f0, f1), 20) << "the far face shows: " << f0 << " vs " << f1;
+  EXPECT_GT(f1.b - f1.r, f0.b - f0.r + 10) << "a steel-blue wall over the grey ground: " << f0 << " vs " << f1;
+  // wallsShown = false draws exactly the image without walls.
+  EXPECT_EQ(hidden.rgb, bare.rgb);
+}
+
+// A turning drum is posed at the frame's time: its stripes move, and before it starts it is at rest.
+TEST_F(Offscreen, ATurningDrumIsDrawnTurned) {
+  WallDef drum = revolvedWall({1.0f, -0.8f, 0.7f}, {0, 1.6f, 0}, 1.6f, 1.5f, 1.5f);
+  drum.angularVelocity = 1.0f;
+  drum.start = 1.0;
+  Extent bodies;
+  bodies.add({1, 0, 0.5f}, 1.0f);
+  s_renderer->setWalls(wallMeshes(wallSurfaces({drum}, bodies)));
+  DrawData d = data(ColorMode::Plain, 0);
+  d.groundEnabled = false;
+  const auto at = [&](double t) {
+    d.time = t;
+    return render(d);
+  };
+  const Image rest = at(0.0), before = at(0.99), turned = at(1.0 + 3.14159265 / 8);  // half a stripe period
+  EXPECT_EQ(rest.rgb, before.rgb) << "at rest until start";
+  EXPECT_GT(pixelsDiffering(rest, turned, 30), 300) << "the stripes turned with the drum";
 }
 
 // A draw or read-back that fails leaves an OpenGL error flag and an undefined image; read()
@@ -682,22 +807,43 @@ TEST_F(Cli, RenderColourModesAndPulls) {
   ASSERT_EQ(run("render pulled.bin --still 0 --size 320x240 -o pulled.ppm").status, 0);
   const Image plain = readPpm(path("plain.ppm")), mass = readPpm(path("mass.ppm")),
               elast = readPpm(path("elasticity.ppm")), pulled = readPpm(path("pulled.ppm"));
-  const auto differing = [](const Image& a, const Image& b) {
-    int n = 0;
-    for (std::size_t i = 0; i < a.rgb.size(); i += 3)
-      if (std::abs(a.rgb[i] - b.rgb[i]) + std::abs(a.rgb[i + 1] - b.rgb[i + 1]) + std::abs(a.rgb[i + 2] - b.rgb[i + 2]) > 30)
-        ++n;
-    return n;
-  };
-  EXPECT_GT(differing(plain, mass), 1000);
-  EXPECT_GT(differing(mass, elast), 1000);
-  EXPECT_GT(differing(plain, elast), 1000);
+  EXPECT_GT(pixelsDiffering(plain, mass, 30), 1000);
+  EXPECT_GT(pixelsDiffering(mass, elast, 30), 1000);
+  EXPECT_GT(pixelsDiffering(plain, elast, 30), 1000);
   // The recording stores the pulls per frame; the x pull turns the ground red.
   const Recording rec = Recording::read(path("pulled.bin"));
   EXPECT_EQ(rec.frames.front().pulls, kPullX);
   const Px g0 = groundPixel(plain), g1 = groundPixel(pulled);
   EXPECT_LT(std::abs(g0.r - g0.g), 20) << g0;
   EXPECT_GT(g1.r, g1.g + 40) << "x pull: red ground " << g1;
+}
+
+// A box of walls around the lattice is recorded and drawn; --no-walls draws exactly the image of
+// the same scene without walls (the camera fixed by a path, so the framing cannot differ).
+TEST_F(Cli, RenderDrawsTheWallsAndNoWallsLeavesThemOut) {
+  scene("small.toml");
+  scene("boxed.toml", "[[wall]]\ntype = \"box\"\nmin = [-0.7, -0.7, 0.0]\nmax = [0.7, 0.7, 1.0]\nopen = [\"+z\", \"-z\"]\n");
+  write("cam.csv", "0, 0, 0, 0.3, -57, 26, 3.2\n");
+  ASSERT_EQ(run("run small.toml --record small.bin -q").status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("run boxed.toml --record boxed.bin -q").status, 0) << slurp(path("err.txt"));
+  EXPECT_EQ(Recording::read(path("boxed.bin")).walls.size(), 4u) << "four sides of the box";
+  const std::string opts = " --still 0 --size 320x240 --no-label --camera-path cam.csv";
+  ASSERT_EQ(run("render boxed.bin -o walls.ppm" + opts).status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("render boxed.bin -o nowalls.ppm --no-walls" + opts).status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("render small.bin -o small.ppm" + opts).status, 0) << slurp(path("err.txt"));
+  const Image walls = readPpm(path("walls.ppm")), none = readPpm(path("nowalls.ppm")), small = readPpm(path("small.ppm"));
+  EXPECT_EQ(none.rgb, small.rgb) << "--no-walls draws nothing of them";
+  EXPECT_GT(pixelsDiffering(walls, none, 15), 5000) << "the walls cover much of the image";
+  // The far side at x = -0.7 above the lattice, seen from inside: a blue-grey wall over the ground.
+  Camera cam;
+  cam.target = {0.0f, 0.0f, 0.3f};
+  cam.yaw = static_cast<float>(-57 * M_PI / 180);
+  cam.pitch = static_cast<float>(26 * M_PI / 180);
+  cam.distance = 3.2f;
+  float x = 0, y = 0;
+  ASSERT_TRUE(cam.project({-0.7f, 0.3f, 0.8f}, 320, 240, x, y));
+  const Px w = pixel(walls, int(x), int(y)), g = pixel(none, int(x), int(y));
+  EXPECT_GT(w.b - w.r, g.b - g.r + 10) << w << " over " << g;
 }
 
 TEST_F(Cli, CorruptOrTruncatedRecordingGivesAClearMessage) {
@@ -900,6 +1046,28 @@ wait $pid
 
 // Under Xvfb: a key script drives the player: 0 (colour by mass), up twice, right held for 10
 // window frames (10 recorded frames at 1x), left shift (2x), 1 and 4 (force lines).
+// V hides the walls in the player as --no-walls does, and shows them again.
+TEST_F(Cli, PlayUnderXvfbHidesTheWallsWithV) {
+  if (!have("xvfb-run") || !have("xauth")) GTEST_SKIP() << "xvfb-run/xauth not installed";
+  scene("boxed.toml", "[[wall]]\ntype = \"box\"\nmin = [-0.7, -0.7, 0.0]\nmax = [0.7, 0.7, 1.0]\nopen = [\"+z\", \"-z\"]\n");
+  ASSERT_EQ(run("run boxed.toml --steps 50 --record rec.bin -q").status, 0);
+  write("v.txt", "2 tap v\n5 quit\n");
+  write("vv.txt", "2 tap v\n3 tap v\n5 quit\n");
+  write("none.txt", "5 quit\n");
+  const std::string size = " --size 320x240 --screenshot ";
+  Result r = run("play rec.bin --script v.txt" + size + "v.ppm", xvfbRun());
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("forces none no-walls"), std::string::npos) << r.out;
+  ASSERT_EQ(run("play rec.bin --no-walls --script none.txt" + size + "flag.ppm", xvfbRun()).status, 0);
+  ASSERT_EQ(run("play rec.bin --script vv.txt" + size + "vv.ppm", xvfbRun()).status, 0);
+  ASSERT_EQ(run("play rec.bin --script none.txt" + size + "shown.ppm", xvfbRun()).status, 0);
+  const Image hidden = readPpm(path("v.ppm")), flag = readPpm(path("flag.ppm")), again = readPpm(path("vv.ppm")),
+              shown = readPpm(path("shown.ppm"));
+  EXPECT_EQ(hidden.rgb, flag.rgb) << "V hides them as --no-walls does";
+  EXPECT_EQ(again.rgb, shown.rgb) << "a second V shows them again";
+  EXPECT_NE(hidden.rgb, shown.rgb);
+}
+
 TEST_F(Cli, PlayUnderXvfbFollowsScriptedKeys) {
   if (!have("xvfb-run") || !have("xauth")) GTEST_SKIP() << "xvfb-run/xauth not installed";
   scene("small.toml");

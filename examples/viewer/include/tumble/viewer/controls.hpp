@@ -18,13 +18,13 @@ enum class Key {
   Left, Right, Up, Down, Space, LeftShift,
   W, A, S, D, Q, Z, E, R,
   Num0, Num1, Num2, Num3, Num4, Num5,
-  P, N, C, H, L, Escape,
+  P, N, C, H, L, V, Escape,
   Count
 };
 inline constexpr int kNumKeys = static_cast<int>(Key::Count);
 
 /// Name used in scripts and messages: "left", "right", "up", "down", "space", "lshift", "w", …,
-/// "0" … "5", "p", "n", "c", "h", "l", "escape".
+/// "0" … "5", "p", "n", "c", "h", "l", "v", "escape".
 const char* toString(Key k);
 /// Inverse of toString() (case-insensitive); empty when the name is unknown.
 std::optional<Key> keyFromString(const std::string& name);
@@ -95,7 +95,8 @@ std::vector<KeyHelp> playKeyHelp(bool debug);
 
 /// Playback state of `tumble play`: a position in [0, numFrames − 1], continuous play while
 /// arrow-left (backwards) or arrow-right (forwards) is held, one frame per arrow-up (forwards)
-/// or arrow-down (backwards), speed cycled by left shift, colouring by 0, force lines by 1–5.
+/// or arrow-down (backwards), speed cycled by left shift, colouring by 0, force lines by 1–5,
+/// the walls shown or hidden by V.
 class PlaybackControls {
  public:
   /// Speeds cycled by left shift, starting at 1×.
@@ -115,12 +116,14 @@ class PlaybackControls {
   double speed() const { return kSpeeds[m_speedIndex]; }
   ColorMode colorMode() const { return m_color; }
   bool forceShown(int kind) const { return m_forces[static_cast<std::size_t>(kind)]; }
+  bool wallsShown() const { return m_walls; }
+  void setWallsShown(bool on) { m_walls = on; }
   bool helpShown() const { return m_help; }
   bool quit() const { return m_quit; }
   bool playing() const { return m_playing; }
   bool looping() const { return m_loop; }
-  /// One line: "frame 12/31 speed 2x colour mass forces 1,3" and " playing", " loop" when on
-  /// (used by --script runs).
+  /// One line: "frame 12/31 speed 2x colour mass forces 1,3", then " playing", " loop" when on
+  /// and " no-walls" when the walls are hidden (used by --script runs).
   std::string describe() const;
 
  private:
@@ -130,6 +133,7 @@ class PlaybackControls {
   std::size_t m_speedIndex = 0;
   ColorMode m_color = ColorMode::Plain;
   std::array<bool, kNumForces> m_forces{};
+  bool m_walls = true;
   bool m_help = true;
   bool m_quit = false;
   bool m_playing = false;
@@ -138,7 +142,7 @@ class PlaybackControls {
 
 /// State of the live window `tumble view` other than the pulls (those follow the held keys):
 /// P pauses, N steps one frame (10 steps) while paused, C switches recording on or off, 0 cycles
-/// the colouring, H the help, Escape quits.
+/// the colouring, V shows or hides the walls, H the help, Escape quits.
 class LiveControls {
  public:
   void keyEvent(Key k, bool pressed);
@@ -149,11 +153,14 @@ class LiveControls {
   bool recording() const { return m_recording; }
   void setRecording(bool on) { m_recording = on; }
   ColorMode colorMode() const { return m_color; }
+  bool wallsShown() const { return m_walls; }
+  void setWallsShown(bool on) { m_walls = on; }
   bool helpShown() const { return m_help; }
   bool quit() const { return m_quit; }
 
  private:
   bool m_paused = false;
+  bool m_walls = true;
   int m_pendingSteps = 0;
   bool m_recording = false;
   ColorMode m_color = ColorMode::Plain;

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @file draw_data.hpp
 /// What the renderer draws, computed on the CPU without OpenGL: sphere instances (centre,
-/// radius, colour), force lines and the ground, from a recording frame or a live body state.
+/// radius, colour), force lines, the ground and the walls, from a recording frame or a live
+/// body state.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "tumble/recording.hpp"
+#include "tumble/wall_geometry.hpp"
 #include "tumble/viewer/camera.hpp"
 #include "tumble/viewer/controls.hpp"
 #include "tumble/world.hpp"
@@ -32,8 +34,36 @@ struct DrawData {
   bool groundEnabled = false;
   float groundHeight = 0.0f;
   std::uint32_t pulls = 0;     ///< colours the ground (groundColor)
+  double time = 0.0;           ///< simulated time [s]: poses the walls (WallMotion)
+  bool wallsShown = true;      ///< draw the walls given to Renderer::setWalls
   std::size_t numSpheres() const { return spheres.size() / 4; }
 };
+
+/// A wall as the renderer draws it (wallMeshes()).
+struct WallMesh {
+  /// x, y, z, nx, ny, nz per corner, three corners per triangle, at the pose of t ≤ start; the
+  /// normal points to the wall's inner side (WallSurface) and is averaged over the triangles
+  /// that share the corner's position and meet at less than 30°: a cylinder is shaded round, a
+  /// box's edges stay sharp.
+  std::vector<float> vertices;
+  /// x, y, z per line end, two per line: the outline, where the surface ends or folds by more
+  /// than 30° (a box face's rectangle, a drum's rims).
+  std::vector<float> outline;
+  Rgb color{0.6f, 0.7f, 0.8f};
+  WallMotion motion;
+  Bounds bounds;  ///< of the vertices, at rest
+  std::size_t numVertices() const { return vertices.size() / 6; }
+};
+
+/// The colour of a wall of this kind: light steel tones, a little apart per kind.
+Rgb wallColor(WallKind kind);
+/// The walls of a recording or a scene as the renderer draws them (normals, outlines, colours).
+std::vector<WallMesh> wallMeshes(const std::vector<WallSurface>& walls);
+/// What the camera frames with walls: `bodies` grown to hold each wall of finite extent (not a
+/// plane: a drum, a silo, a hopper) whose box's diagonal is at most 4 times that of `bodies`, so
+/// that a wall around the bodies is seen whole and a huge one does not make them small. Planes
+/// never count (a lone plane is as large as the drawing makes it). `bodies` empty: unchanged.
+Bounds framedWithWalls(const Bounds& bodies, const std::vector<WallSurface>& walls);
 
 /// Particle colours for a colouring mode: plain gives every body its own colour from a fixed
 /// palette; mass and elasticity map the particle's value from the table's range to a colour
@@ -54,9 +84,10 @@ void forceLines(const ParticleTable& table, const std::vector<float>& spheres, c
                 const bool show[kNumForces], std::vector<float>& outLines);
 
 /// What the camera frames (for a video or the player): over every frame, the box of the bulk of
-/// the particles (robustBounds), and the ground (the box starts no lower than the ground). One
-/// pass over the file, one frame in memory; `times`, when given, gets each frame's simulated time
-/// and `perFrame` each frame's own box (cut at the ground in the same way).
+/// the particles (robustBounds), and the ground (the box starts no lower than the ground), with
+/// the recording's finite walls (framedWithWalls). One pass over the file, one frame in memory;
+/// `times`, when given, gets each frame's simulated time and `perFrame` each frame's own box of
+/// the bodies (cut at the ground in the same way; no walls).
 Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times = nullptr,
                        std::vector<Bounds>* perFrame = nullptr);
 /// The bulk of the given spheres (x, y, z, r per particle): per axis from the 1st to the 99th

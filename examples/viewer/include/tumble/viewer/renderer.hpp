@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file renderer.hpp
-/// OpenGL 3.3 core renderer: instanced lit spheres, the ground plane coloured by the pulls, and
-/// force lines. Needs a current OpenGL context (a GLFW window or an OffscreenContext); every
-/// call must come from the thread that owns it.
+/// OpenGL 3.3 core renderer: instanced lit spheres, the ground plane coloured by the pulls,
+/// the walls (shaded, see-through where they would hide the bodies) and force lines. Needs a
+/// current OpenGL context (a GLFW window or an OffscreenContext); every call must come from the
+/// thread that owns it.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -25,6 +26,10 @@ class Renderer {
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
+
+  /// The walls to draw from now on (wallMeshes(); none at first): uploaded once, posed at each
+  /// draw's DrawData::time and drawn when DrawData::wallsShown. Replaces the previous ones.
+  void setWalls(const std::vector<WallMesh>& walls);
 
   /// Draws `d` into the currently bound framebuffer of size w × h (clears it first).
   void draw(const DrawData& d, const Camera& camera, int w, int h);
