@@ -49,8 +49,9 @@ struct TrajectoryResult {
 };
 
 /// The first bit-level difference between two states (bodies first, in column order X, V, Q,
-/// L, then the per-particle contact history): the column's name ("px", …, "groundSpringY"), the
-/// body or particle index and both values. Empty when every bit agrees.
+/// L, then the plane springs, the periodic image counters, the contact histories): the column's
+/// name ("px", …, "groundSpringY", "imageX", …), the body or particle index and both values.
+/// Empty when every bit agrees.
 struct StateDifference {
   std::string quantity;
   std::uint32_t index = 0;
