@@ -520,3 +520,85 @@ TEST(PeriodicTest, PipelineContactSumsEqualThoseOfItsPairs) {
   }
   EXPECT_GT(across, 0u) << "contacts across the boundary must be among those summed";
 }
+
+TEST(PeriodicTest, ABallTrainInAPeriodicPipe) {
+  // A pipe along the periodic x (a cylinder of radius 1.5 reaching half a period beyond the box),
+  // gravity tilted down it: balls and rods slide and tumble along the pipe, through the boundary
+  // and against each other across it, and stay inside. The contacts are the oracle's.
+  Scene s = emptyBox(8.0f, 0.0f);
+  s.gravity = {3.0f, 0.0f, -9.0f};
+  s.contact = {1e4f, 20.0f, 5.0f};
+  s.dt = 5e-4f;
+  WallDef pipe;
+  pipe.shape = WallDef::Shape::Revolved;
+  pipe.point = {-4.0f, 0.0f, 0.0f};
+  pipe.normal = {1.0f, 0.0f, 0.0f};
+  pipe.length = 16.0f;
+  pipe.radius0 = pipe.radius1 = 1.5f;
+  pipe.contact.stiffness = 1e4f;
+  pipe.where = "the pipe";
+  s.walls.push_back(pipe);
+  const std::uint32_t ball = addShape(s, "ball", {SphereDef{{0, 0, 0}, 0.4f, 1.0f, 0.5f}});
+  const std::uint32_t rod = addShape(s, "rod", {SphereDef{{-0.3f, 0, 0}, 0.3f, 1.0f, 0.5f},
+                                                SphereDef{{0.3f, 0, 0}, 0.3f, 1.0f, 0.5f}});
+  for (int k = 0; k < 16; ++k)
+    addBody(s, k % 2 ? ball : rod, {0.25f + 0.5f * float(k), 0.4f * float(k % 3) - 0.4f, -0.6f + 0.3f * float(k % 2)},
+            {8.0f + 2.0f * float(k % 5), 0.0f, 0.0f});
+  const World w = World::fromScene(s);
+  auto p = makePipeline(Backend::Cpu);
+  const std::size_t across = expectExactAtEveryStep(*p, w, 3000, "balls in a periodic pipe");
+  BodyState st;
+  p->readLocalState(st);
+  int crossings = 0;
+  for (std::int32_t n : st.imageX) crossings += std::abs(n);
+  std::printf("pipe: %d crossings, at most %zu contacts across the boundary in a step\n", crossings, across);
+  EXPECT_GT(crossings, 10);
+  EXPECT_GT(across, 0u);
+  for (std::size_t k = 0; k < st.size(); ++k)
+    EXPECT_LT(std::sqrt(st.py[k] * st.py[k] + st.pz[k] * st.pz[k]), 1.5f) << "body " << k << " left the pipe";
+}
+
+TEST(PeriodicTest, ScenesBuiltInCodeAreCheckedToo) {
+  const auto expectRefused = [](const Scene& s, const char* needle) {
+    try {
+      (void)World::fromScene(s);
+      ADD_FAILURE() << "no error; expected " << needle;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  const Scene ok = randomBox(1, 8.0f, 0.0f, 10, 0.1f, true);
+  EXPECT_NO_THROW((void)World::fromScene(ok));
+  Scene s = ok;
+  s.periodic.hi[0] = 0.0f;
+  expectRefused(s, "needs finite lo < hi");
+  s = ok;
+  s.bodies[3].position.x = 8.0f;
+  expectRefused(s, "body 3: its centre x = 8 lies outside the periodic box [0, 8)");
+  s = ok;
+  s.pulls.active = kPullSwirl;
+  expectRefused(s, "the pulls \"swirl\" pull along a periodic axis");
+  s = ok;
+  s.walls.push_back(WallDef{{0, 0, 0}, {1, 0, 0}, GroundParams{}, "the plane"});
+  expectRefused(s, "the plane: a plane across the periodic x axis");
+  s = ok;
+  s.periodic.hi[0] = 2.0f;
+  s.bodies.resize(1);
+  s.bodies[0].position.x = 1.0f;
+  expectRefused(s, "[periodic] x spans 2 m, not more than the shortest period this scene allows");
+  // A skin given after the scene (--skin, or a test) is checked when a pipeline loads the world.
+  World w = World::fromScene(ok);
+  w.params.broadphase.skin = 3.0f;
+  auto p = makePipeline(Backend::Cpu);
+  try {
+    p->load(w);
+    ADD_FAILURE() << "a skin of 3 leaves a period of 8 too short";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the skin 3 m"), std::string::npos) << e.what();
+  }
+  // The CUDA pipeline has no periodic boundaries yet.
+  if (cudaAvailable()) {
+    auto cuda = makePipeline(Backend::Cuda);
+    EXPECT_THROW(cuda->load(World::fromScene(ok)), Error);
+  }
+}
