@@ -811,7 +811,7 @@ std::string periodTooShort(const PeriodicParams& p, int a, const PeriodReach& re
   std::snprintf(buf, sizeof buf,
                 "[periodic] %c spans %.6g m, not more than the shortest period this scene allows, %.6g m = 2 x (the "
                 "largest body's extent %.6g m + the largest radius %.6g m + the skin %.6g m): a shorter period lets a "
-                "body meet its own image; widen the box to more than %.6g m, or use a smaller skin ([broadphase] skin)",
+                "body meet its own image; widen the box to more than %.6g m, or use a smaller skin ([broadphase] skin, --skin)",
                 "xy"[a], length, reach.minimum(), reach.extent, reach.radius, reach.skin, reach.minimum());
   return buf;
 }
