@@ -306,7 +306,7 @@ TEST(SceneFiles, Bench) {
 }
 
 TEST(SceneFiles, NoInitialContactsAndAboveGround) {
-  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml"}) {
+  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml", "chute.toml"}) {
     SCOPED_TRACE(f);
     const Scene s = tumble::readSceneFile(scenePath(f));
     const std::vector<Particle> ps = particlesOf(s);
@@ -316,7 +316,7 @@ TEST(SceneFiles, NoInitialContactsAndAboveGround) {
 }
 
 TEST(SceneFiles, Deterministic) {
-  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml"}) {
+  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml", "chute.toml"}) {
     SCOPED_TRACE(f);
     const Scene a = tumble::readSceneFile(scenePath(f));
     const Scene b = tumble::readSceneFile(scenePath(f));

@@ -342,8 +342,8 @@ awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
         exit !(out > 150 && out < 390 && worst < 0) }' hopper.csv > hopper.txt && ok "$(cat hopper.txt)" || bad "$(cat hopper.txt)"
 
 # The periodic chute (docs/model.md#periodic-boundaries) after 0.3 s: every centre inside the box
-# [0, 0.8) x [0, 0.4), the flow moving down the slope (+x; 0.52 m/s) and through the boundary
-# (134 crossings of x), the bed of 8 plates counted in.
+# [0, 0.8) x [0, 0.4), the flow moving down the slope (+x; 0.51 m/s) and through the boundary
+# (136 crossings of x), the bed of 8 plates counted in.
 expect_status "chute.toml" 0 "$bin" run "$src/scenes/chute.toml" --steps 3000 --record chute.bin --state-out chute.csv -q
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   { n++; x = $c["x"]; y = $c["y"]; if (x < 0 || x >= 0.8 || y < 0 || y >= 0.4) outside++
