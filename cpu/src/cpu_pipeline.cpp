@@ -112,6 +112,7 @@ class CpuPipeline final : public Pipeline {
       if (const std::string why = periodTooShort(w.params.periodic, a, periodReach(w, m_skin)); !why.empty())
         throw Error(why);
     const double periodicReach = periodicRoundingReach(m_periodic);
+    m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * m_skin, m_periodic) : 0.0f;
     m_fullLimit = skinClosureLimit(m_skin, w.maxRadius, periodicReach);
     m_nearSkin = kNearSkinFraction * m_skin;
     m_nearLimit = skinClosureLimit(m_nearSkin, w.maxRadius, periodicReach);
@@ -426,8 +427,9 @@ class CpuPipeline final : public Pipeline {
     t0 = Clock::now();
     computePositions();
     PosRow* pos = m_pos[m_cur].data();
-    // Detection input: the positions and the radii grown by skin/2.
-    const float h = 0.5f * m_skin;
+    // Detection input: the positions and the radii grown by skin/2 (and with periodic boundaries
+    // by the rounding of a difference across them, periodicGrowth()).
+    const float h = 0.5f * m_skin + m_periodicGrowth;
     float* bx = tumble::detail::grow(m_bx, n);
     float* by = tumble::detail::grow(m_by, n);
     float* bz = tumble::detail::grow(m_bz, n);
@@ -569,11 +571,18 @@ class CpuPipeline final : public Pipeline {
     });
   }
 
-  // How near a lower end of the periodic box a particle of grown radius up to maxRadius gets a
-  // ghost (PeriodicImages): any pair it may form, 2 maxRadius, plus twice the rounding margin of a
-  // difference across the boundary.
+  // What a periodic detection grows the radii by, beyond half the skin: the sweep compares ghost
+  // coordinates shifted by a period, rounded at the size of the box, where the exact predicate
+  // takes the nearest image of a difference, rounded otherwise; twice the rounding margin of such
+  // a difference covers both (a pair within rounding of touching across the boundary was missed
+  // without it when the list is rebuilt every step: PeriodicTest.PairsWithinRoundingOfTouching...).
+  static float periodicGrowth(float maxRadius, const PeriodicBox& box) {
+    return static_cast<float>(2.0 * roundingMargin(0.0f, maxRadius, periodicRoundingReach(box)));
+  }
+  // How near a lower end of the periodic box a particle of (grown) radius up to maxRadius gets a
+  // ghost (PeriodicImages): any pair it may form, 2 maxRadius, and that margin again.
   static float ghostReach(float maxRadius, const PeriodicBox& box) {
-    return static_cast<float>(2.0 * maxRadius + 2.0 * roundingMargin(0.0f, maxRadius, periodicRoundingReach(box)));
+    return 2.0f * maxRadius + periodicGrowth(maxRadius, box);
   }
 
   // buildList() with periodic boundaries: each particle's row gathers what it and its ghosts
@@ -611,7 +620,7 @@ class CpuPipeline final : public Pipeline {
                                       cpu::detail::Broadphase& b) {
     const std::uint32_t n = in.n;
     const PeriodicBox& box = cloud.periodic;
-    const float g = static_cast<float>(2.0 * roundingMargin(0.0f, in.maxRadius, periodicRoundingReach(box)));
+    const float g = periodicGrowth(in.maxRadius, box);
     std::vector<float> grown(n);
     for (std::uint32_t i = 0; i < n; ++i) grown[i] = cloud.r[i] + g;
     const BroadphaseInput gin{in.x, in.y, in.z, grown.data(), in.body, n, in.maxRadius + g,
@@ -858,6 +867,7 @@ class CpuPipeline final : public Pipeline {
   std::vector<HertzPair> m_planeHertz;
   ContactLaw m_law = ContactLaw::Report;
   PeriodicBox m_periodic;   // periodic boundaries in the integration frame (axes 0: none)
+  float m_periodicGrowth = 0.0f;  // what the detection grows the radii by beyond skin/2 (periodicGrowth())
   cpu::detail::PeriodicImages m_images;  // the periodic detection's particles and ghosts
   bool m_history = false;   // the law keeps a tangential history per contact
   bool m_listBuilt = false; // a candidate list (and m_hist) exists since the load

@@ -107,6 +107,15 @@ std::optional<StateDifference> firstDifference(const BodyState& a, const BodySta
   return std::nullopt;
 }
 
+BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, const PipelineOptions& options) {
+  auto p = makePipeline(backend, options);
+  p->load(world);
+  p->step(steps);
+  BodyState s;
+  p->readState(s);
+  return s;
+}
+
 TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& world, std::uint64_t steps,
                                      const TrajectoryTolerance& tol) {
   TrajectoryResult r;

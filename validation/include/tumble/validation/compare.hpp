@@ -60,6 +60,9 @@ struct StateDifference {
 };
 std::optional<StateDifference> firstDifference(const BodyState& a, const BodyState& b);
 
+/// The state (readState()) of a fresh pipeline of `backend` loaded with `world` after `steps` steps.
+BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, const PipelineOptions& options = {});
+
 /// Steps pipelines a and b from the same world for `steps` steps and compares the body state
 /// (and the pair lists) after every step.
 TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& world, std::uint64_t steps,
