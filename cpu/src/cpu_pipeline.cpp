@@ -22,7 +22,12 @@
 //   any order. No float atomics, no parallel_reduce on floats that feed the state.
 // - A scene pays only for what it uses: single-sphere scenes skip the rotations, torques and
 //   couples (kClumps false); scenes without ground or walls skip the plane tests; pulls cost nothing
-//   while off. Nothing is allocated in a step once the sizes have settled.
+//   while off; scenes without periodic boundaries run no minimum image (kPeriodic false). Nothing
+//   is allocated in a step once the sizes have settled.
+// - Periodic boundaries (kernels/periodic.hpp): the step takes differences through the minimum
+//   image and wraps the bodies' centres; the detection sweeps the particles and their ghost
+//   images (periodic_images.hpp) and merges each particle's finds into its row, so the candidate
+//   list is the same canonical list as without boundaries.
 #include "tumble/cpu/cpu_pipeline.hpp"
 
 #include <tbb/blocked_range.h>

@@ -17,7 +17,7 @@
 /// and so is the result, exactly: both sides of a contact stay exact negations, as without
 /// boundaries (kernels/contact.hpp). One period suffices for every pair that can touch or be a
 /// candidate: a scene's period exceeds 2 (largest body extent + largest radius + skin)
-/// (minimumPeriod()), so such a pair's plain difference lies within 1.5 L.
+/// (PeriodReach, periodTooShort()), so such a pair's plain difference lies within 1.5 L.
 #pragma once
 #include <cstdint>
 
