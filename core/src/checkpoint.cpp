@@ -30,6 +30,9 @@ using namespace tumble::detail;  // binary_io.hpp
 
 constexpr char kMagic[8] = {'T', 'U', 'M', 'B', 'L', 'E', 'C', 'K'};
 constexpr std::uint32_t kFlagGroundSprings = 1u;
+// Periodic boundaries: the image counters of x, of y follow the contact histories (optional blocks).
+constexpr std::uint32_t kFlagImageX = 2u, kFlagImageY = 4u;
+constexpr std::uint32_t kKnownFlags = kFlagGroundSprings | kFlagImageX | kFlagImageY;
 constexpr std::uint64_t kHeaderBytes = 92;  // through the header checksum
 constexpr std::uint64_t kOffVersion = 8, kOffFlags = 12, kOffNumParticles = 16, kOffNumBodies = 20;
 
@@ -75,6 +78,13 @@ std::uint64_t sceneFingerprint(const World& w) {
   if (!w.material.empty()) f.addAll(w.material);  // hertz-mindlin only: other scenes keep their fingerprints
   for (const Sym3f& i : w.invInertia) f.add(i);
   f.add(static_cast<std::uint32_t>(w.params.integrator.rotation));
+  const PeriodicParams& p = w.params.periodic;
+  if (p.any())  // the frame and the image counters depend on the box; scenes without one keep their fingerprints
+    for (int a = 0; a < 2; ++a) {
+      f.add(p.on[a]);
+      f.add(p.lo[a]);
+      f.add(p.hi[a]);
+    }
   return f.value();
 }
 
@@ -159,6 +169,8 @@ void Checkpoint::write(const std::string& path) const {
                                   kColumnNames[c] + " is not finite (the run diverged; run it with the guard, "
                                   "without --no-guard, to see where)");
   if (state.contacts.size() > 0xFFFFFFFFu) throw Error("checkpoint " + path + ": too many contact histories");
+  for (const auto* c : {&state.imageX, &state.imageY})
+    if (!c->empty() && c->size() != nb) throw Error("checkpoint " + path + ": image counters differ in length");
   for (const ContactHistory& h : state.contacts)
     if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
       throw SimulationError("checkpoint " + path + " not written: the contact history of particles " +
@@ -173,7 +185,8 @@ void Checkpoint::write(const std::string& path) const {
   Encoder e(buf);
   e.bytes(kMagic, 8);
   e.u32(kCheckpointVersion);
-  e.u32(np > 0 ? kFlagGroundSprings : 0u);
+  e.u32((np > 0 ? kFlagGroundSprings : 0u) | (state.imageX.empty() ? 0u : kFlagImageX) |
+        (state.imageY.empty() ? 0u : kFlagImageY));
   e.u32(static_cast<std::uint32_t>(np));
   e.u32(static_cast<std::uint32_t>(nb));
   e.u64(step);
@@ -197,6 +210,8 @@ void Checkpoint::write(const std::string& path) const {
     e.f32(h.y);
     e.f32(h.z);
   }
+  for (const auto* c : {&state.imageX, &state.imageY})
+    for (std::int32_t n : *c) e.u32(static_cast<std::uint32_t>(n));
   e.u32(fnv1a(buf.data() + stateStart, buf.size() - stateStart));
 
   OutputFile out(path);  // a temporary renamed into place (output_file.hpp)
@@ -220,7 +235,8 @@ Checkpoint Checkpoint::read(const std::string& path) {
   checkChecksum(in, buf, 0, kHeaderBytes - 4, kHeaderBytes - 4, "header");
   Decoder d(in, buf, 0, kOffFlags);
   const std::uint32_t flags = d.u32();
-  if ((flags & ~kFlagGroundSprings) != 0) in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kFlagGroundSprings));
+  if ((flags & ~kKnownFlags) != 0) in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kKnownFlags));
+  const std::uint64_t imageColumns = ((flags & kFlagImageX) ? 1 : 0) + ((flags & kFlagImageY) ? 1 : 0);
   const std::uint64_t np = d.u32(), nb = d.u32();
   if (((flags & kFlagGroundSprings) != 0) != (np > 0))
     in.fail(kOffNumParticles, "the plane-spring flag does not match the plane-spring count " + std::to_string(np));
@@ -244,11 +260,12 @@ Checkpoint Checkpoint::read(const std::string& path) {
 
   // The state block: its size follows from the counts; checked before anything is read.
   const std::uint64_t stateAt = in.offset();
-  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc;
+  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc + 4 * imageColumns * nb;
   if (stateBytes + 4 != in.remaining())
-    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " plane springs and " +
-                         std::to_string(nc) + " contact histories needs " + std::to_string(stateBytes + 4) +
-                         " bytes, the file has " + std::to_string(in.remaining()) + " left");
+    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " plane springs, " +
+                         std::to_string(nc) + " contact histories and " + std::to_string(imageColumns) +
+                         " columns of image counters needs " + std::to_string(stateBytes + 4) + " bytes, the file has " +
+                         std::to_string(in.remaining()) + " left");
   buf.clear();
   in.read(buf, stateBytes + 4, "state");
   checkChecksum(in, buf, 0, static_cast<std::size_t>(stateBytes), stateAt + stateBytes, "state");
@@ -272,6 +289,12 @@ Checkpoint Checkpoint::read(const std::string& path) {
     if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
       in.fail(at, "contact history " + std::to_string(k) + " is not finite");
   }
+  for (const auto& [flag, column] : {std::pair<std::uint32_t, std::vector<std::int32_t>*>{kFlagImageX, &c.state.imageX},
+                                     {kFlagImageY, &c.state.imageY}})
+    if (flags & flag) {
+      column->resize(static_cast<std::size_t>(nb));
+      for (std::int32_t& n : *column) n = static_cast<std::int32_t>(sd.u32());
+    }
   return c;
 }
 
@@ -288,6 +311,11 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
     if (h.j >= world.numParticles())
       throw Error("the checkpoint's contact histories name particle " + std::to_string(h.j) + ", the scene has " +
                   std::to_string(world.numParticles()) + ": it was written by a run of another scene");
+  for (int a = 0; a < 2; ++a)
+    if ((a == 0 ? state.imageX : state.imageY).empty() == world.params.periodic.on[a])
+      throw Error(std::string("the checkpoint ") + (world.params.periodic.on[a] ? "has no" : "has") +
+                  " image counters on " + "xy"[a] + ", and the scene " + (world.params.periodic.on[a] ? "is" : "is not") +
+                  " periodic there ([periodic]): it was written by a run of another scene");
   if (sceneFingerprint != tumble::sceneFingerprint(world))
     throw Error("the checkpoint was written by a run of another scene (the same counts, but other shapes, "
                 "masses, radii, materials or rotation scheme)");

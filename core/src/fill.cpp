@@ -42,7 +42,38 @@ std::uint64_t cellKey(std::int64_t a, std::int64_t b, std::int64_t c) {
 
 std::int64_t SphereHash::cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / m_cell)); }
 
+void SphereHash::setPeriodic(const PeriodicParams& p, const LocalFrame& frame) {
+  const double o[2] = {frame.x, frame.y};
+  for (int a = 0; a < 2; ++a) {
+    m_on[a] = p.on[a];
+    m_lo[a] = double(p.lo[a]) - o[a];
+    m_hi[a] = double(p.hi[a]) - o[a];
+  }
+}
+
+bool SphereHash::centreInBox(Vec3f x) const {
+  const float c[2] = {x.x, x.y};
+  for (int a = 0; a < 2; ++a)
+    if (m_on[a] && !(c[a] >= m_lo[a] && c[a] < m_hi[a])) return false;
+  return true;
+}
+
 void SphereHash::add(Vec3f x, float r) {
+  // Within reach of an end of a periodic box (two cells and the radius), the sphere's image one
+  // period on as well, on each axis and across the corner.
+  const auto imageShift = [&](int a, float c) {
+    if (!m_on[a]) return 0.0f;
+    const double reach = 2.0 * m_cell + r, L = m_hi[a] - m_lo[a];
+    return c - m_lo[a] < reach ? float(L) : (m_hi[a] - c < reach ? float(-L) : 0.0f);
+  };
+  const float ix = imageShift(0, x.x), iy = imageShift(1, x.y);
+  addOne(x, r);
+  if (ix != 0.0f) addOne(Vec3f{x.x + ix, x.y, x.z}, r);
+  if (iy != 0.0f) addOne(Vec3f{x.x, x.y + iy, x.z}, r);
+  if (ix != 0.0f && iy != 0.0f) addOne(Vec3f{x.x + ix, x.y + iy, x.z}, r);
+}
+
+void SphereHash::addOne(Vec3f x, float r) {
   const std::uint32_t k = static_cast<std::uint32_t>(m_x.size());
   m_x.push_back(x);
   m_r.push_back(r);
@@ -118,6 +149,7 @@ bool placeBody(Rng& rng, const RegionFrame& g, const std::vector<Ball>& balls, S
       const float o1 = rng.uniform(), o2 = rng.uniform(), o3 = rng.uniform();
       *q = randomOrientation ? randomRotation(o1, o2, o3) : Quatf{1, 0, 0, 0};
     }
+    if (!hash.centreInBox(x0)) continue;
     const Mat3f R = rotationMatrix(*q);
     const bool fits = std::all_of(balls.begin(), balls.end(), [&](const Ball& s) {
       const Vec3f x = x0 + mul(R, s.u);
@@ -183,6 +215,7 @@ void fillScene(Scene& scene, const FillDef& def) {
   for (std::uint32_t s : def.shapes)
     for (const Ball& b : balls[s]) largest = std::max(largest, b.r);
   SphereHash hash(2.0 * double(largest) * std::max(1.0f, def.scaleMax));
+  hash.setPeriodic(scene.periodic, LocalFrame{});
   for (const BodyDef& b : scene.bodies) {
     const Mat3f R = rotationMatrix(b.orientation);
     for (const Ball& s : balls[b.shape]) hash.add(b.position + mul(R, s.u), s.r);

@@ -87,13 +87,14 @@ SpringLaw springLawOf(const World& w) {
 }
 
 void contactSumsOfPairs(const World& world, const std::vector<Pair>& pairs, const std::vector<float>& x,
-                        const std::vector<double>& bodyErr, const SpringLaw& law, std::vector<ContactSums>& out) {
+                        const std::vector<double>& bodyErr, const SpringLaw& law, std::vector<ContactSums>& out,
+                        const PeriodicBox& box) {
   out.assign(world.numBodies(), ContactSums{});
   for (const Pair& p : pairs) {
     const float* a = &x[3 * std::size_t(p.i)];
     const float* b = &x[3 * std::size_t(p.j)];
     addContactSum(out[world.body[p.i]], a[0], a[1], a[2], world.radius[p.i], b[0], b[1], b[2], world.radius[p.j],
-                  bodyErr[world.body[p.i]], bodyErr[world.body[p.j]], law, p.i, p.j);
+                  bodyErr[world.body[p.i]], bodyErr[world.body[p.j]], law, p.i, p.j, box);
   }
 }
 
@@ -151,6 +152,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   const std::vector<WallDef> planeDefs = sc.planes();
   std::vector<Wall> planes = kernelWalls(sc, frame);
   setWallMotion(planes, sc, pipeline.time());
+  // Periodic boundaries: contacts through the minimum image, and the bodies' heights and
+  // momenta from their unwrapped positions X + n L (a body crossing the box keeps its potential).
+  const PeriodicBox box = kernelPeriodic(sc, frame);
   const double groundZ = sc.ground.enabled ? double(planes[0].coeffs.height) : 0.0;
   Snapshot out;
   const std::size_t nb = s.size();
@@ -194,6 +198,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     for (std::size_t k = begin; k < end; ++k) {
       const Quatf q{s.qw[k], s.qx[k], s.qy[k], s.qz[k]};
       const Vec3f X{s.px[k], s.py[k], s.pz[k]}, V{s.vx[k], s.vy[k], s.vz[k]};
+      double Xu[3];  // X without the periodic boundaries
+      unwrappedPosition(s, k, box, Xu);
       const bool rotates = w.bodyRotates(k);
       const Vec3f omega =
           rotates ? angularVelocity(q, w.invInertia[k], Vec3f{s.lx[k], s.ly[k], s.lz[k]}) : Vec3f{0, 0, 0};
@@ -206,7 +212,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       a.rotation += er;
       a.speed2 = std::max(a.speed2, v2);
       const double P[3] = {m * V.x, m * V.y, m * V.z};
-      const double Xw[3] = {double(X.x) + frame.x, double(X.y) + frame.y, double(X.z) + frame.z};
+      const double Xw[3] = {Xu[0] + frame.x, Xu[1] + frame.y, Xu[2] + frame.z};
       a.p[0] += P[0], a.p[1] += P[1], a.p[2] += P[2];
       a.l[0] += Xw[1] * P[2] - Xw[2] * P[1] + s.lx[k];
       a.l[1] += Xw[2] * P[0] - Xw[0] * P[2] + s.ly[k];
@@ -215,7 +221,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
         a.hottest = e;
         a.hottestBody = static_cast<std::uint32_t>(k);
       }
-      const double h = -(double(g.x) * X.x + double(g.y) * X.y + double(g.z) * X.z);
+      const double h = -(double(g.x) * Xu[0] + double(g.y) * Xu[1] + double(g.z) * Xu[2]);
       a.gravity += m * h;
       const double eX = bodyRounding(X.x, X.y, X.z);
       err[k] = eX;
@@ -275,11 +281,12 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       cloud.r[i] = w.radius[i];
     }
     cloud.body = w.body;
+    cloud.periodic = box;
     const std::vector<Pair> found = findPairsWith->findPairs(cloud, sc.broadphase);
     out.foundPairs = static_cast<std::int64_t>(found.size());
-    contactSumsOfPairs(w, found, x, err, law, perBody);
+    contactSumsOfPairs(w, found, x, err, law, perBody, box);
   } else if (!pipeline.contactSumsPerBody(law, perBody)) {
-    contactSumsOfPairs(w, pipeline.pairs(), x, err, law, perBody);
+    contactSumsOfPairs(w, pipeline.pairs(), x, err, law, perBody, box);
   }
   const ContactSums ps = chunkedSum<ContactSums>(nb, [&](std::size_t begin, std::size_t end, ContactSums& a) {
     for (std::size_t b = begin; b < end; ++b) mergeContactSums(a, perBody[b]);
@@ -384,7 +391,9 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   };
   const DropSums ds = chunkedSum<DropSums>(nb, [&](std::size_t begin, std::size_t end, DropSums& a) {
     for (std::size_t k = begin; k < end; ++k) {
-      double hk = -(double(g.x) * s.px[k] + double(g.y) * s.py[k] + double(g.z) * s.pz[k]) - lowest;
+      double Xu[3];
+      unwrappedPosition(s, k, box, Xu);
+      double hk = -(double(g.x) * Xu[0] + double(g.y) * Xu[1] + double(g.z) * Xu[2]) - lowest;
       if (sc.ground.enabled && g.z < 0.0f) hk = std::max(hk, -double(g.z) * (double(s.pz[k]) - groundZ));
       a.drop += w.bodyMass[k] * std::max(0.0, hk);
       a.mass += w.bodyMass[k];

@@ -46,8 +46,11 @@ float checkCloud(const ParticleCloud& cloud) {
 }
 
 float effectiveSkin(const World& world) {
-  const float s = world.params.broadphase.skin;
-  return s >= 0.0f ? s : kAutoSkinPerRadius * (world.sizingRadius > 0.0f ? world.sizingRadius : world.maxRadius);
+  return effectiveSkin(world.params.broadphase.skin, world.sizingRadius, world.maxRadius);
+}
+
+float effectiveSkin(float skin, float sizingRadius, float maxRadius) {
+  return skin >= 0.0f ? skin : kAutoSkinPerRadius * (sizingRadius > 0.0f ? sizingRadius : maxRadius);
 }
 
 double StepStats::totalSeconds() const {

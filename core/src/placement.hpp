@@ -13,6 +13,7 @@
 #include "tumble/math.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene.hpp"
+#include "tumble/world.hpp"
 
 namespace tumble::detail {
 
@@ -32,6 +33,11 @@ std::vector<Ball> ballsOf(const ShapeDef& shape);
 class SphereHash {
  public:
   explicit SphereHash(double cell) : m_cell(cell) {}
+  /// Periodic boundaries ([periodic], in the frame of the positions): each sphere added near an
+  /// end of a periodic box is also added one period on, so that hits() sees the nearest images,
+  /// and a body's centre must lie in the box (centreInBox()).
+  void setPeriodic(const PeriodicParams& p, const LocalFrame& frame);
+  bool centreInBox(Vec3f x) const;
   void add(Vec3f x, float r);
   /// Whether a sphere at x of radius r (at most half a cell) would overlap one placed, or come
   /// closer to it than a relative margin of 1e-5 (the pipelines rebuild positions with their own
@@ -39,8 +45,11 @@ class SphereHash {
   bool hits(Vec3f x, float r) const;
 
  private:
+  void addOne(Vec3f x, float r);
   std::int64_t cellOf(double v) const;
   double m_cell;
+  bool m_on[2] = {false, false};
+  double m_lo[2] = {0, 0}, m_hi[2] = {0, 0};
   std::vector<Vec3f> m_x;
   std::vector<float> m_r;
   std::vector<std::uint32_t> m_big;

@@ -87,9 +87,11 @@ std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std:
     }
   }
   SphereHash hash(2.0 * double(largest));
+  hash.setPeriodic(m_scene.periodic, frame);
   for (std::size_t i = 0; i < radius.size(); ++i) {
     const Vec3f xi{x[3 * i], x[3 * i + 1], x[3 * i + 2]};
-    const bool near = std::any_of(boxes.begin(), boxes.end(), [&](const std::array<double, 6>& b) {
+    // (With periodic sides every particle: an image of one far away may be near.)
+    const bool near = m_scene.periodic.any() || std::any_of(boxes.begin(), boxes.end(), [&](const std::array<double, 6>& b) {
       return xi.x >= b[0] && xi.y >= b[1] && xi.z >= b[2] && xi.x <= b[3] && xi.y <= b[4] && xi.z <= b[5];
     });
     if (near) hash.add(xi, radius[i]);

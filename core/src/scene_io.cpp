@@ -60,8 +60,8 @@ constexpr std::uint64_t kMaxParticles = std::uint64_t{1} << 31;
 constexpr int kDrawsPerBody = 12;
 
 /// The top-level tables: the single ones (which --set can address) and the arrays of tables.
-constexpr std::array<std::string_view, 7> kSingleTables = {
-    "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output"};
+constexpr std::array<std::string_view, 8> kSingleTables = {
+    "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output", "periodic"};
 constexpr std::array<std::string_view, 7> kArrayTables = {"material", "wall",  "shape", "body",
                                                            "group",    "fill", "pour"};
 
@@ -375,6 +375,7 @@ class SceneParser {
     readContact(scene);
     readMaterials(scene);
     readGround(scene);
+    readPeriodic(scene);
     readWalls(scene);
     readPulls(scene);
     readBroadphase(scene);
@@ -388,6 +389,7 @@ class SceneParser {
       throw InputError(m_file, 0, "the scene has no bodies; add a [[body]], a [[group]] or a [[fill]] "
                                   "(and the [[shape]] it uses)");
     }
+    checkPeriod(scene);
     return scene;
   }
 
@@ -504,6 +506,7 @@ class SceneParser {
     if (n == nullptr) return;
     const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'wall'", "[[wall]]");
     for (std::size_t k = 0; k < tables.size(); ++k) {
+      const std::size_t first = scene.walls.size();  // this table's walls (a box: up to six)
       const std::string name = "[[wall]] #" + std::to_string(k + 1);
       const TableReader r(m_file, *tables[k], name,
                           {"type", "point", "normal", "min", "max", "open", "axis", "radius", "inner_radius",
@@ -591,6 +594,11 @@ class SceneParser {
           scene.walls.push_back(face);
         }
       }
+      for (std::size_t q = first; q < scene.walls.size(); ++q)  // [periodic] is read before the walls
+        if (const std::string why = periodicWallProblem(scene.walls[q], scene.periodic); !why.empty()) {
+          const std::string& w = scene.walls[q].where;  // a box's face: where + " face -x"
+          r.fail(r.header(), (w.size() > where.size() ? w.substr(where.size() + 1) + ": " : std::string()) + why);
+        }
     }
   }
 
@@ -655,6 +663,41 @@ class SceneParser {
                                  fmt(wall->stop) + ")");
   }
 
+  // [periodic]: x = [x0, x1] and/or y = [y0, y1].
+  void readPeriodic(Scene& scene) {
+    const toml::table* t = sectionOf(m_file, m_root, "periodic");
+    if (t == nullptr) return;
+    const TableReader r(m_file, *t, "[periodic]", {"x", "y"});
+    PeriodicParams& p = scene.periodic;
+    for (int a = 0; a < 2; ++a) {
+      const char* key = a == 0 ? "x" : "y";
+      const toml::node* n = r.find(key);
+      if (n == nullptr) continue;
+      const std::string form = std::string("of 2 numbers [") + key + "0, " + key + "1] (the box's ends)";
+      const toml::array& v = r.array(*n, key, form);
+      if (v.size() != 2)
+        r.fail(sourceOf(*n), std::string(key) + " must be an array " + form + " (got " + std::to_string(v.size()) +
+                                 " elements)");
+      p.lo[a] = r.single(*v.get(0), std::string(key) + "[0]", Rule::Any);
+      p.hi[a] = r.single(*v.get(1), std::string(key) + "[1]", Rule::Any);
+      if (!(p.lo[a] < p.hi[a]))
+        r.fail(sourceOf(*n), std::string(key) + " = [" + key + "0, " + key + "1] needs " + key + "1 > " + key + "0 (got [" +
+                                 fmt(p.lo[a]) + ", " + fmt(p.hi[a]) + "])");
+      p.on[a] = true;
+      m_periodicAt[a] = sourceOf(*n);
+    }
+    if (!p.any()) r.fail(r.header(), "give x = [x0, x1] and/or y = [y0, y1], the box of the periodic axes");
+  }
+
+  // The periods against the bodies and the skin (after the bodies are read).
+  void checkPeriod(const Scene& scene) {
+    if (!scene.periodic.any()) return;
+    const PeriodReach reach = periodReach(scene);
+    for (int a = 0; a < 2; ++a)
+      if (const std::string why = periodTooShort(scene.periodic, a, reach); !why.empty())
+        throw errorAt(m_file, m_periodicAt[a], why);
+  }
+
   void readPulls(Scene& scene) {
     const toml::table* t = sectionOf(m_file, m_root, "pulls");
     if (t == nullptr) return;
@@ -668,15 +711,18 @@ class SceneParser {
       const toml::array& a = r.array(*on, "on", "of pull names, e.g. on = [\"x\", \"swirl\"]");
       for (const toml::node& el : a) {
         const std::string name = r.string(el, "each entry of on");
+        std::uint32_t bit = 0;
         if (name == "x") {
-          p.active |= kPullX;
+          bit = kPullX;
         } else if (name == "y") {
-          p.active |= kPullY;
+          bit = kPullY;
         } else if (name == "swirl") {
-          p.active |= kPullSwirl;
+          bit = kPullSwirl;
         } else {
           r.fail(sourceOf(el), "unknown pull \"" + name + "\" in on; use \"x\", \"y\" or \"swirl\"");
         }
+        if (const std::string why = periodicPullProblem(scene.periodic, bit); !why.empty()) r.fail(sourceOf(el), why);
+        p.active |= bit;
       }
     }
   }
@@ -1127,8 +1173,10 @@ class SceneParser {
     BodyDef b;
     b.shape = shapeNamed(r, r.require("shape", "the name of a [[shape]], e.g. shape = \"dimer\""),
                          "shape", scene);
-    b.position = r.vec3(r.require("position", "centre of mass in m, e.g. position = [0, 0, 1]"),
-                        "position", Rule::Any);
+    const toml::node& positionNode = r.require("position", "centre of mass in m, e.g. position = [0, 0, 1]");
+    b.position = r.vec3(positionNode, "position", Rule::Any);
+    if (const std::string why = outsidePeriodicBox(scene.periodic, b.position); !why.empty())
+      r.fail(sourceOf(positionNode), why);
     const double reach = shapeExtent(scene.shapes[b.shape]);
     for (float x : {b.position.x, b.position.y, b.position.z}) {
       if (!(std::fabs(double(x)) + reach <= double(std::numeric_limits<float>::max())))
@@ -1261,6 +1309,9 @@ class SceneParser {
           const float w2 = rng.uniform();
           if (spin > 0.0f) b.angularVelocity = randomDirection(w1, w2, spin);
           static_assert(kDrawsPerBody == 12, "update docs/scenes.md when the draws change");
+          if (const std::string why = outsidePeriodicBox(scene.periodic, b.position); !why.empty())
+            r.fail(r.header(), "the body at site (" + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                                   std::to_string(k) + ") (0-based): " + why);
           particles += scene.shapes[b.shape].spheres.size();
           scene.bodies.push_back(b);
         }
@@ -1274,6 +1325,7 @@ class SceneParser {
   std::uint64_t m_seed = 1;
   std::uint64_t m_numParticles = 0;
   std::unordered_map<std::string, std::uint32_t> m_shapeIndex;
+  toml::source_region m_periodicAt[2];  ///< [periodic] x and y, for the period check
   std::unordered_map<std::string, std::uint32_t> m_materialIndex;
   std::vector<std::string> m_materialNames;  ///< in file order, for messages
 };

@@ -165,6 +165,8 @@ void initialRows(const World& w, std::vector<BodyRow>* outBodies, std::vector<Bo
     b.first = w.first[k];
     b.count = w.numParticlesOf[k];
     b.orig = k;
+    b.image[0] = s.imageX.empty() ? 0 : s.imageX[k];
+    b.image[1] = s.imageY.empty() ? 0 : s.imageY[k];
     (*outStatic)[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], 0.0f};
   }
   outOwn->resize(n);

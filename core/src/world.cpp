@@ -13,6 +13,7 @@
 
 #include "tumble/error.hpp"
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/pipeline.hpp"
 #include "tumble/sweep_frame.hpp"
 
 namespace tumble {
@@ -52,6 +53,10 @@ LocalFrame LocalFrame::of(const World& w) {
     const double c = 0.5 * (lo[a] + hi[a]);
     o[a] = std::abs(c) > 4.0 * extent ? double(static_cast<float>(c)) : 0.0;
   }
+  // A periodic axis is integrated about its box's centre: the box is [−h, h) there, and the
+  // wraps by ±2h are exact (kernels/periodic.hpp).
+  for (int a = 0; a < 2; ++a)
+    if (p.periodic.on[a]) o[a] = double(static_cast<float>(0.5 * (double(p.periodic.lo[a]) + p.periodic.hi[a])));
   return LocalFrame{o[0], o[1], o[2]};
 }
 
@@ -100,6 +105,13 @@ World localWorld(const World& world, LocalFrame* outFrame) {
   if (!s.contacts.empty() && !world.params.contact.hasHistory())
     throw Error(std::string("the state holds contact histories, but the scene's law (") +
                 toString(world.params.contact.law) + ") keeps none");
+  const PeriodicParams& periodic = world.params.periodic;
+  for (int a = 0; a < 2; ++a) {
+    const std::vector<std::int32_t>& image = a == 0 ? s.imageX : s.imageY;
+    if (!image.empty() && (!periodic.on[a] || image.size() != nb))
+      throw Error(std::string("the state has ") + std::to_string(image.size()) + " image counters on " + "xy"[a] +
+                  (periodic.on[a] ? " for " + std::to_string(nb) + " bodies" : ", an axis the scene has no periodic boundary on"));
+  }
   World w;
   if (world.frame) {
     *outFrame = *world.frame;
@@ -112,6 +124,23 @@ World localWorld(const World& world, LocalFrame* outFrame) {
   w.frame.reset();
   for (auto* c : {&w.state.groundSpringX, &w.state.groundSpringY})
     if (c->empty()) c->assign(springs, 0.0f);
+  if (periodic.any()) {
+    // Inside the box in the frame: a centre that rounds onto its end moves by one period there
+    // (the same place), counted as a crossing.
+    const PeriodicBox box = kernelPeriodic(w.params, *outFrame);
+    std::vector<std::int32_t>* image[2] = {&w.state.imageX, &w.state.imageY};
+    for (int a = 0; a < 2; ++a)
+      if (periodic.on[a] && image[a]->empty()) image[a]->assign(nb, 0);
+    for (std::size_t k = 0; k < nb; ++k) {
+      Vec3f x{w.state.px[k], w.state.py[k], w.state.pz[k]};
+      std::int32_t n[2] = {periodic.on[0] ? w.state.imageX[k] : 0, periodic.on[1] ? w.state.imageY[k] : 0};
+      wrapIntoBox(box, &x, n);
+      w.state.px[k] = x.x;
+      w.state.py[k] = x.y;
+      if (periodic.on[0]) w.state.imageX[k] = n[0];
+      if (periodic.on[1]) w.state.imageY[k] = n[1];
+    }
+  }
   return w;
 }
 
@@ -372,6 +401,33 @@ Sym3f toSym(const Eigen::Matrix3d& m) {
           static_cast<float>(m(0, 1)), static_cast<float>(m(0, 2)), static_cast<float>(m(1, 2))};
 }
 
+// The largest shapeExtent over the shapes the scene's bodies use.
+double largestExtent(const Scene& scene) {
+  std::vector<char> used(scene.shapes.size(), 0);
+  for (const BodyDef& b : scene.bodies) used[b.shape] = 1;
+  double e = 0.0;
+  for (std::size_t s = 0; s < used.size(); ++s)
+    if (used[s]) e = std::max(e, shapeExtent(scene.shapes[s]));
+  return e;
+}
+
+// The periodic boundaries of a scene built in code (the scene reader names the line of each).
+void checkPeriodic(const World& w, const Scene& scene) {
+  const PeriodicParams& p = scene.periodic;
+  for (int a = 0; a < 2; ++a)
+    if (p.on[a] && !(p.lo[a] < p.hi[a] && std::isfinite(p.lo[a]) && std::isfinite(p.hi[a])))
+      throw Error(std::string("periodic ") + "xy"[a] + ": the box [lo, hi) needs finite lo < hi");
+  for (std::size_t k = 0; k < scene.bodies.size(); ++k)
+    if (const std::string why = outsidePeriodicBox(p, scene.bodies[k].position); !why.empty())
+      throw Error("body " + std::to_string(k) + ": " + why);
+  if (const std::string why = periodicPullProblem(p, scene.pulls.active); !why.empty()) throw Error(why);
+  for (const WallDef& wall : scene.walls)
+    if (const std::string why = periodicWallProblem(wall, p); !why.empty())
+      throw Error((wall.where.empty() ? std::string("a wall") : wall.where) + ": " + why);
+  for (int a = 0; a < 2; ++a)
+    if (const std::string why = periodTooShort(p, a, periodReach(w, effectiveSkin(w))); !why.empty()) throw Error(why);
+}
+
 }  // namespace
 
 World World::fromScene(const Scene& scene) {
@@ -504,6 +560,10 @@ World World::fromScene(const Scene& scene) {
     s.lx[k] = static_cast<float>(L.x()); s.ly[k] = static_cast<float>(L.y()); s.lz[k] = static_cast<float>(L.z());
   }
   w.sizingRadius = detail::sizingRadius(w.radius.data(), w.radius.size());
+  w.maxExtent = largestExtent(scene);
+  if (scene.periodic.any()) checkPeriodic(w, scene);
+  if (scene.periodic.on[0]) w.state.imageX.assign(nb, 0);
+  if (scene.periodic.on[1]) w.state.imageY.assign(nb, 0);
   if (scene.contact.usesMaterials()) {
     const std::size_t m = scene.materials.size();
     if (m == 0) throw Error(std::string("law \"") + toString(scene.contact.law) + "\" needs at least one [[material]]");
@@ -727,6 +787,112 @@ double kineticEnergy(const World& world, const BodyState& s) {
   return e;
 }
 
+PeriodicBox kernelPeriodic(const Scene& scene, const LocalFrame& f) {
+  PeriodicBox box;
+  const PeriodicParams& p = scene.periodic;
+  const double o[2] = {f.x, f.y};
+  for (int a = 0; a < 2; ++a) {
+    if (!p.on[a]) continue;
+    const double centre = double(static_cast<float>(0.5 * (double(p.lo[a]) + p.hi[a])));
+    if (o[a] != centre)
+      throw Error(std::string("the run's frame is not centred on the periodic box along ") + "xy"[a] +
+                  " (a frame chosen for another scene)");
+    box.axes |= 1u << a;
+    box.half[a] = static_cast<float>(0.5 * (double(p.hi[a]) - p.lo[a]));
+    box.length[a] = 2.0f * box.half[a];
+  }
+  return box;
+}
+
+void unwrappedPosition(const BodyState& s, std::size_t k, const PeriodicBox& box, double out[3]) {
+  out[0] = s.px[k];
+  out[1] = s.py[k];
+  out[2] = s.pz[k];
+  if (box.on(0)) out[0] += double(s.imageX[k]) * box.length[0];
+  if (box.on(1)) out[1] += double(s.imageY[k]) * box.length[1];
+}
+
+PeriodReach periodReach(const Scene& scene) {
+  std::vector<float> radii;
+  float rMax = 0.0f;
+  for (const BodyDef& b : scene.bodies)
+    for (const SphereDef& sp : scene.shapes[b.shape].spheres) {
+      radii.push_back(sp.radius);
+      rMax = std::max(rMax, sp.radius);
+    }
+  const float sizing = detail::sizingRadius(radii.data(), radii.size());
+  return PeriodReach{largestExtent(scene), rMax, effectiveSkin(scene.broadphase.skin, sizing, rMax)};
+}
+
+PeriodReach periodReach(const World& w, float skin) { return PeriodReach{w.maxExtent, w.maxRadius, skin}; }
+
+std::string periodTooShort(const PeriodicParams& p, int a, const PeriodReach& reach) {
+  if (!p.on[a]) return {};
+  const double length = double(p.hi[a]) - p.lo[a];
+  if (length > reach.minimum()) return {};
+  char buf[480];
+  std::snprintf(buf, sizeof buf,
+                "[periodic] %c spans %.6g m, not more than the shortest period this scene allows, %.6g m = 2 x (the "
+                "largest body's extent %.6g m + the largest radius %.6g m + the skin %.6g m): a shorter period lets a "
+                "body meet its own image; widen the box to more than %.6g m, or use a smaller skin ([broadphase] skin, --skin)",
+                "xy"[a], length, reach.minimum(), reach.extent, reach.radius, reach.skin, reach.minimum());
+  return buf;
+}
+
+std::string periodicWallProblem(const WallDef& wall, const PeriodicParams& p) {
+  if (!p.any()) return {};
+  const float n[2] = {wall.normal.x, wall.normal.y};
+  if (wall.shape == WallDef::Shape::Plane) {
+    for (int a = 0; a < 2; ++a)
+      if (p.on[a] && n[a] != 0.0f)
+        return std::string("a plane across the periodic ") + "xy"[a] + " axis (its normal has an " + "xy"[a] +
+               " component): a periodic scene's planes must contain its periodic axes (a box: open its faces there, "
+               "open = [\"-" + "xy"[a] + "\", \"+" + "xy"[a] + "\"])";
+    return {};
+  }
+  // A revolved wall: only a cylinder along the one periodic axis is the same one period on.
+  const int a = p.on[0] ? 0 : 1;
+  const bool along = wall.normal.z == 0.0f && n[1 - a] == 0.0f && n[a] != 0.0f;
+  if (p.on[0] && p.on[1])
+    return "a cylinder, cone or disk is not the same one period on along both periodic axes (x and y); only planes "
+           "containing both can be used";
+  if (!along || wall.length == 0.0f || wall.radius0 != wall.radius1)
+    return std::string("only a cylinder whose axis lies along the periodic ") + "xy"[a] +
+           " axis is the same one period on (a pipe); a cone, a disk or another axis is not";
+  // Its axis must cover the box and half a period beyond each end: no body reaches further.
+  const double p0 = a == 0 ? wall.point.x : wall.point.y, end = p0 + (n[a] > 0.0f ? 1.0 : -1.0) * wall.length;
+  const double s0 = std::min(p0, end), s1 = std::max(p0, end);
+  const double half = 0.5 * (double(p.hi[a]) - p.lo[a]);
+  if (s0 <= p.lo[a] - half && s1 >= p.hi[a] + half) return {};
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "the cylinder spans %c from %.6g to %.6g; along the periodic axis it must reach "
+                "half a period beyond each end of the box, from %.6g to %.6g or further", "xy"[a], s0, s1,
+                p.lo[a] - half, p.hi[a] + half);
+  return buf;
+}
+
+std::string outsidePeriodicBox(const PeriodicParams& p, Vec3f x) {
+  const float c[2] = {x.x, x.y};
+  for (int a = 0; a < 2; ++a)
+    if (p.on[a] && !(c[a] >= p.lo[a] && c[a] < p.hi[a])) {
+      char buf[240];
+      std::snprintf(buf, sizeof buf, "its centre %c = %.9g lies outside the periodic box [%.9g, %.9g) of [periodic] %c; "
+                    "start every body inside it", "xy"[a], double(c[a]), double(p.lo[a]), double(p.hi[a]), "xy"[a]);
+      return buf;
+    }
+  return {};
+}
+
+std::string periodicPullProblem(const PeriodicParams& p, std::uint32_t active) {
+  const std::uint32_t bad = active & p.conflictingPulls();
+  if (bad == 0) return {};
+  std::string names;
+  for (const auto& [bit, name] : {std::pair<std::uint32_t, const char*>{kPullX, "x"}, {kPullY, "y"}, {kPullSwirl, "swirl"}})
+    if (bad & bit) names += std::string(names.empty() ? "\"" : ", \"") + name + "\"";
+  return "the pulls " + names + " pull along a periodic axis, where their potential has no period; leave them off "
+         "with [periodic] (or drop the periodic axis)";
+}
+
 std::uint64_t stateHash(const BodyState& s) {
   std::uint64_t h = 1469598103934665603ull;
   auto mixWord = [&](std::uint32_t u) {
@@ -754,6 +920,9 @@ std::uint64_t stateHash(const BodyState& s) {
     mixFloat(c.y);
     mixFloat(c.z);
   }
+  // Image counters (periodic boundaries only: the other scenes' hashes stay as they were).
+  for (const auto* c : {&s.imageX, &s.imageY})
+    for (std::int32_t n : *c) mixWord(static_cast<std::uint32_t>(n));
   return h;
 }
 

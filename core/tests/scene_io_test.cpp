@@ -306,7 +306,7 @@ TEST(SceneFiles, Bench) {
 }
 
 TEST(SceneFiles, NoInitialContactsAndAboveGround) {
-  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml"}) {
+  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml", "chute.toml"}) {
     SCOPED_TRACE(f);
     const Scene s = tumble::readSceneFile(scenePath(f));
     const std::vector<Particle> ps = particlesOf(s);
@@ -316,7 +316,7 @@ TEST(SceneFiles, NoInitialContactsAndAboveGround) {
 }
 
 TEST(SceneFiles, Deterministic) {
-  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml"}) {
+  for (const char* f : {"spheres.toml", "molecules.toml", "bench-16k.toml", "chute.toml"}) {
     SCOPED_TRACE(f);
     const Scene a = tumble::readSceneFile(scenePath(f));
     const Scene b = tumble::readSceneFile(scenePath(f));
@@ -1312,4 +1312,134 @@ TEST(SceneIoErrors, Fills) {
   const Scene s = tumble::parseScene(join(ls) + f + "count = 3\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [9, 9, 9]\n",
                                      "test.toml");
   EXPECT_EQ(s.bodies.size(), 3u);
+}
+
+// [periodic] (docs/scenes.md#periodic-periodic-boundaries): the box of each periodic axis, and
+// what periodic boundaries refuse (a period too short, bodies outside the box, walls and pulls
+// that are not the same one period on), each at its line.
+TEST(SceneIo, Periodic) {
+  const Scene none = tumble::parseScene(join(baseLines()), "test.toml");
+  EXPECT_FALSE(none.periodic.any());
+  const Scene x = tumble::parseScene(withExtra("[periodic]\nx = [-2, 3]\n"), "test.toml");
+  EXPECT_TRUE(x.periodic.on[0]);
+  EXPECT_FALSE(x.periodic.on[1]);
+  EXPECT_EQ(x.periodic.lo[0], -2.0f);
+  EXPECT_EQ(x.periodic.hi[0], 3.0f);
+  EXPECT_EQ(x.periodic.conflictingPulls(), static_cast<std::uint32_t>(tumble::kPullX | tumble::kPullSwirl));
+  const Scene xy = tumble::parseScene(withExtra("[periodic]\nx = [-2, 3]\ny = [-1.5, 1.5]\n"), "test.toml");
+  EXPECT_TRUE(xy.periodic.on[0] && xy.periodic.on[1]);
+  EXPECT_EQ(xy.periodic.lo[1], -1.5f);
+  EXPECT_EQ(xy.periodic.hi[1], 1.5f);
+  // --set reaches the table like any single one.
+  const Scene set = tumble::parseScene(join(baseLines()), "test.toml", {"periodic.y=[-4, 4]"});
+  EXPECT_FALSE(set.periodic.on[0]);
+  EXPECT_TRUE(set.periodic.on[1]);
+  EXPECT_EQ(set.periodic.hi[1], 4.0f);
+  // What periodic boundaries allow: a plane containing the periodic axis, a box open across it,
+  // a pipe along it reaching half a period beyond the box, a pull along another axis.
+  const Scene walls = tumble::parseScene(
+      withExtra("[periodic]\nx = [-2, 3]\n[pulls]\non = [\"y\"]\n"
+                "[[wall]]\ntype = \"plane\"\npoint = [0, 0, -1]\nnormal = [0, 0.6, 0.8]\n"
+                "[[wall]]\ntype = \"box\"\nmin = [-9, -3, -3]\nmax = [9, 3, 3]\nopen = [\"-x\", \"+x\"]\n"
+                "[[wall]]\ntype = \"cylinder\"\npoint = [5.5, 0, 0]\naxis = [-11, 0, 0]\nradius = 2.5\n"),
+      "test.toml");
+  EXPECT_EQ(walls.walls.size(), 6u);
+  EXPECT_EQ(walls.pulls.active, static_cast<std::uint32_t>(tumble::kPullY));
+  // The shipped chute.
+  const Scene chute = tumble::readSceneFile(scenePath("chute.toml"));
+  EXPECT_TRUE(chute.periodic.on[0] && chute.periodic.on[1]);
+  EXPECT_EQ(chute.bodies.size(), 848u);
+  for (const BodyDef& b : chute.bodies) {
+    EXPECT_TRUE(b.position.x >= chute.periodic.lo[0] && b.position.x < chute.periodic.hi[0]);
+    EXPECT_TRUE(b.position.y >= chute.periodic.lo[1] && b.position.y < chute.periodic.hi[1]);
+  }
+}
+
+TEST(SceneIoErrors, Periodic) {
+  const std::string p = "[periodic]\n";  // line 12
+  expectError(withExtra(p), 12, {"[periodic]: give x = [x0, x1] and/or y = [y0, y1]"});
+  expectError(withExtra(p + "z = [0, 1]\n"), 13, {"[periodic]: unknown key 'z'; allowed keys: x, y"});
+  expectError(withExtra(p + "x = 4\n"), 13, {"x must be an array of 2 numbers [x0, x1]"});
+  expectError(withExtra(p + "y = [0, 1, 2]\n"), 13, {"y must be an array of 2 numbers [y0, y1]", "(got 3 elements)"});
+  expectError(withExtra(p + "x = [0, \"1\"]\n"), 13, {"x[1] must be a number"});
+  expectError(withExtra(p + "x = [nan, 1]\n"), 13, {"x[0] must be a finite number"});
+  expectError(withExtra(p + "x = [-1e39, 1]\n"), 13, {"x[0] is out of single-precision range"});
+  expectError(withExtra(p + "x = [3, 3]\n"), 13, {"x = [x0, x1] needs x1 > x0 (got [3, 3])"});
+  expectError(withExtra(p + "x = [-3, 3]\ny = [2, -2]\n"), 14, {"needs y1 > y0 (got [2, -2])"});
+  // The period: 2 × (extent 0.5 + radius 0.5 + automatic skin 0.25) = 2.5 m; a given skin counts.
+  expectError(withExtra(p + "x = [-1, 1]\n"), 13,
+              {"[periodic] x spans 2 m, not more than the shortest period this scene allows, 2.5 m = 2 x (the "
+               "largest body's extent 0.5 m + the largest radius 0.5 m + the skin 0.25 m)", "widen the box"});
+  expectError(withExtra(p + "x = [-1.25, 1.25]\n"), 13, {"spans 2.5 m, not more than"});
+  expectError(withExtra("[broadphase]\nskin = 2\n" + p + "y = [-2, 3]\n"), 15,
+              {"[periodic] y spans 5 m", "6 m", "the skin 2 m", "[broadphase] skin"});
+  EXPECT_NO_THROW((void)tumble::parseScene(withExtra(p + "x = [-1.3, 1.3]\n"), "test.toml"));
+  // Bodies start inside [x0, x1): the body at x = 0 (line 11), and a lattice's site.
+  expectError(withExtra(p + "x = [2, 10]\n"), 11,
+              {"[[body]] #1: its centre x = 0 lies outside the periodic box [2, 10) of [periodic] x"});
+  expectError(withExtra(p + "x = [-10, 0]\n"), 11, {"x = 0 lies outside the periodic box [-10, 0)"});
+  EXPECT_NO_THROW((void)tumble::parseScene(withExtra(p + "x = [0, 10]\n"), "test.toml")) << "x0 is inside";
+  expectError(withExtra(p + "y = [-3, 3]\n[[group]]\nshape = \"ball\"\ncount = [1, 3, 1]\nspacing = 3\norigin = [0, -2, 4]\n"),
+              14, {"[[group]] #1: the body at site (0, 2, 0) (0-based): its centre y = 4"});
+  // Walls must be the same one period on.
+  expectError(withExtra(p + "x = [-3, 3]\n[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0.1, 0, 1]\n"), 14,
+              {"[[wall]] #1: a plane across the periodic x axis (its normal has an x component)"});
+  expectError(withExtra(p + "y = [-3, 3]\n[[wall]]\ntype = \"box\"\nmin = [-5, -5, -5]\nmax = [5, 5, 5]\n"
+                        "open = [\"+z\"]\n"),
+              14, {"[[wall]] #1: face -y: a plane across the periodic y axis", "open = [\"-y\", \"+y\"]"});
+  expectError(withExtra(p + "x = [-3, 3]\n[[wall]]\ntype = \"cylinder\"\npoint = [0, 0, -5]\naxis = [0, 0, 10]\n"
+                        "radius = 2\n"),
+              14, {"only a cylinder whose axis lies along the periodic x axis is the same one period on"});
+  expectError(withExtra(p + "x = [-3, 3]\n[[wall]]\ntype = \"cylinder\"\npoint = [-5, 0, 0]\naxis = [10, 0, 0]\n"
+                        "radius = 2\n"),
+              14, {"the cylinder spans x from -5 to 5", "from -6 to 6 or further"});
+  expectError(withExtra(p + "x = [-3, 3]\n[[wall]]\ntype = \"cone\"\npoint = [-9, 0, 0]\naxis = [18, 0, 0]\n"
+                        "radius = [1, 2]\n"),
+              14, {"a cone, a disk or another axis is not"});
+  expectError(withExtra(p + "x = [-3, 3]\n[[wall]]\ntype = \"disk\"\npoint = [0, 0, 0]\nnormal = [1, 0, 0]\n"
+                        "radius = 2\n"),
+              14, {"a cone, a disk or another axis is not"});
+  expectError(withExtra(p + "x = [-3, 3]\ny = [-3, 3]\n[[wall]]\ntype = \"cylinder\"\npoint = [-9, 0, 0]\n"
+                        "axis = [18, 0, 0]\nradius = 2\n"),
+              15, {"not the same one period on along both periodic axes"});
+  // Pulls along a periodic axis (and the swirl) have no period.
+  expectError(withExtra(p + "x = [-3, 3]\n[pulls]\non = [\"y\",\n \"x\"]\n"), 16,
+              {"[pulls]: the pulls \"x\" pull along a periodic axis"});
+  expectError(withExtra(p + "y = [-3, 3]\n[pulls]\non = [\"swirl\"]\n"), 15, {"the pulls \"swirl\" pull along"});
+  // Overrides name themselves.
+  expectSetError(join(baseLines()), {"periodic.x=[1, -1]"}, "periodic.x=[1, -1]", {"needs x1 > x0"});
+  expectSetError(join(baseLines()), {"periodic.x=[-1, 1]"}, "periodic.x=[-1, 1]", {"not more than the shortest period"});
+}
+
+// A [[fill]] in a periodic box places every centre in the box and no two spheres overlapping
+// through the boundaries (the nearest images, brute force).
+TEST(SceneIo, FillInAPeriodicBox) {
+  const Scene s = tumble::parseScene(
+      withExtra("[periodic]\nx = [-2, 2]\ny = [-1.5, 1.5]\n[[fill]]\nshape = \"ball\"\ncount = 15\nregion = \"box\"\n"
+                "min = [-2.4, -1.9, 2]\nmax = [2.4, 1.9, 5]\n"),
+      "test.toml");
+  ASSERT_EQ(s.bodies.size(), 16u);
+  const std::vector<Particle> ps = particlesOf(s);
+  std::size_t overlaps = 0, across = 0;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GE(ps[i].x.x, -2.0f);
+      EXPECT_LT(ps[i].x.x, 2.0f);
+      EXPECT_GE(ps[i].x.y, -1.5f);
+      EXPECT_LT(ps[i].x.y, 1.5f);
+    }
+    for (std::size_t j = i + 1; j < ps.size(); ++j) {
+      double d[2] = {double(ps[i].x.x) - ps[j].x.x, double(ps[i].x.y) - ps[j].x.y};
+      const double L[2] = {4.0, 3.0};
+      bool wrapped = false;
+      for (int a = 0; a < 2; ++a)
+        if (std::abs(d[a]) > 0.5 * L[a]) d[a] -= std::copysign(L[a], d[a]), wrapped = true;
+      const double dz = double(ps[i].x.z) - ps[j].x.z, dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + dz * dz);
+      overlaps += dist < ps[i].r + ps[j].r;
+      across += wrapped && dist < 3.0 * (ps[i].r + ps[j].r);
+    }
+  }
+  std::printf("periodic fill: %zu pairs near each other across a boundary, %zu overlapping\n", across, overlaps);
+  EXPECT_EQ(overlaps, 0u);
+  EXPECT_GT(across, 0u) << "the test sees pairs across the boundaries";
 }

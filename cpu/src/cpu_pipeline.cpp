@@ -22,7 +22,12 @@
 //   any order. No float atomics, no parallel_reduce on floats that feed the state.
 // - A scene pays only for what it uses: single-sphere scenes skip the rotations, torques and
 //   couples (kClumps false); scenes without ground or walls skip the plane tests; pulls cost nothing
-//   while off. Nothing is allocated in a step once the sizes have settled.
+//   while off; scenes without periodic boundaries run no minimum image (kPeriodic false). Nothing
+//   is allocated in a step once the sizes have settled.
+// - Periodic boundaries (kernels/periodic.hpp): the step takes differences through the minimum
+//   image and wraps the bodies' centres; the detection sweeps the particles and their ghost
+//   images (periodic_images.hpp) and merges each particle's finds into its row, so the candidate
+//   list is the same canonical list as without boundaries.
 #include "tumble/cpu/cpu_pipeline.hpp"
 
 #include <tbb/blocked_range.h>
@@ -38,6 +43,7 @@
 
 #include "broadphase.hpp"
 #include "grow.hpp"
+#include "periodic_images.hpp"
 #include "tumble/cpu/radix_sort.hpp"
 #include "tumble/cpu/scan.hpp"
 #include "tumble/error.hpp"
@@ -106,9 +112,15 @@ class CpuPipeline final : public Pipeline {
     m_candOffsets.assign(std::size_t(n) + 1, 0u);
     m_cur = 0;
     m_skin = effectiveSkin(w);
-    m_fullLimit = skinClosureLimit(m_skin, w.maxRadius);
+    m_periodic = kernelPeriodic(w.params, m_frame);
+    for (int a = 0; a < 2; ++a)  // the skin may be another than the scene's (--skin)
+      if (const std::string why = periodTooShort(w.params.periodic, a, periodReach(w, m_skin)); !why.empty())
+        throw Error(why);
+    const double periodicReach = periodicRoundingReach(m_periodic);
+    m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * m_skin, m_periodic) : 0.0f;
+    m_fullLimit = skinClosureLimit(m_skin, w.maxRadius, periodicReach);
     m_nearSkin = kNearSkinFraction * m_skin;
-    m_nearLimit = skinClosureLimit(m_nearSkin, w.maxRadius);
+    m_nearLimit = skinClosureLimit(m_nearSkin, w.maxRadius, periodicReach);
     // Too thin to help, or a law whose history lives beside the candidate list: the forces read
     // the candidate list.
     if (!(m_nearLimit > 0.0f) || m_history) m_nearSkin = 0.0f;
@@ -117,7 +129,7 @@ class CpuPipeline final : public Pipeline {
     m_closed = 0.0;
     m_needRefresh = false;
     m_needRebuild = true;
-    m_pulls = w.params.pulls.active;
+    m_pulls = w.params.pulls.active & ~w.params.periodic.conflictingPulls();
     m_time = w.time;
     m_steps = 0;
     m_bp = cpu::detail::Broadphase{};
@@ -145,6 +157,8 @@ class CpuPipeline final : public Pipeline {
     const std::size_t ng = m_gtx.size();
     out.groundSpringX.resize(ng);
     out.groundSpringY.resize(ng);
+    out.imageX.resize(m_periodic.on(0) ? nb : 0);
+    out.imageY.resize(m_periodic.on(1) ? nb : 0);
     m_arena.execute([&] {
       forEach(nb, kGrain, [&](std::uint32_t k) {
         const BodyRow& b = m_bodies[k];
@@ -153,6 +167,8 @@ class CpuPipeline final : public Pipeline {
         out.vx[o] = b.v.x; out.vy[o] = b.v.y; out.vz[o] = b.v.z;
         out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
         out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
+        if (m_periodic.on(0)) out.imageX[o] = b.image[0];
+        if (m_periodic.on(1)) out.imageY[o] = b.image[1];
       });
       const std::size_t n = m_orig.size();
       forEach(static_cast<std::uint32_t>(ng), kGrain, [&](std::uint32_t s) {
@@ -203,7 +219,7 @@ class CpuPipeline final : public Pipeline {
         std::uint32_t k = 0;
         for (std::uint32_t p = begin; p < end; ++p) {
           if (m_touching[p] == 0) continue;  // the last step saw it touch nothing
-          k += emitContactsAbove(pos, orig, list, p, k, buf.i.data(), buf.j.data());
+          k += emitContactsAbove(pos, orig, list, p, k, buf.i.data(), buf.j.data(), m_periodic);
         }
         buf.i.resize(k);
         buf.j.resize(k);
@@ -253,12 +269,15 @@ class CpuPipeline final : public Pipeline {
           if (m_touching[p] == 0) continue;  // the last step saw it touch nothing
           const PosRow xi = now[p];
           const std::uint32_t me = orig[p];
-          forContactsAbove(was, orig, list, p, [&](std::uint32_t j, std::uint32_t other) {
-            const PosRow& xj = now[j];
-            const Vec3f& xb = m_bodies[m_bodyOf[j]].x;
-            addContactSum(a, xi.x, xi.y, xi.z, xi.r, xj.x, xj.y, xj.z, xj.r, errI, bodyRounding(xb.x, xb.y, xb.z), law, me,
-                          other);
-          });
+          forContactsAbove(
+              was, orig, list, p,
+              [&](std::uint32_t j, std::uint32_t other) {
+                const PosRow& xj = now[j];
+                const Vec3f& xb = m_bodies[m_bodyOf[j]].x;
+                addContactSum(a, xi.x, xi.y, xi.z, xi.r, xj.x, xj.y, xj.z, xj.r, errI, bodyRounding(xb.x, xb.y, xb.z),
+                              law, me, other, m_periodic);
+              },
+              m_periodic);
         }
         out[row.orig] = a;
       });
@@ -276,6 +295,10 @@ class CpuPipeline final : public Pipeline {
                              maxR,           tumble::detail::sizingRadius(cloud.r.data(), n)};
     std::vector<Pair> out;
     m_arena.execute([&] {
+      if (cloud.periodic.axes != 0) {
+        out = findPeriodicPairs(cloud, in, bp, b);
+        return;
+      }
       b.run(in, bp, sec);
       out = b.sortedPairs(static_cast<std::uint32_t>(n));
     });
@@ -298,7 +321,8 @@ class CpuPipeline final : public Pipeline {
     out.contacts = pairs();
   }
 
-  void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u; }
+  // A pull along a periodic axis is left off (its potential has no period; scene files refuse it).
+  void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u & ~m_world.params.periodic.conflictingPulls(); }
   std::uint32_t pulls() const override { return m_pulls; }
   const StepStats& stats() const override { return m_stats; }
   void resetStats() override {
@@ -341,18 +365,24 @@ class CpuPipeline final : public Pipeline {
     m_stats.numPairs = tot.contacts / 2;  // each contact is seen from both sides
   }
 
-  // advance() instantiated for the scene's law and bodies.
+  // advance() instantiated for the scene's law, bodies and periodic boundaries.
   template <bool kDebug>
   StepTotals advanceAs() {
+    return m_periodic.axes != 0 ? advanceLaw<kDebug, true>() : advanceLaw<kDebug, false>();
+  }
+  template <bool kDebug, bool kPeriodic>
+  StepTotals advanceLaw() {
     switch (m_law) {
-      case ContactLaw::HookeHistory: return advance<kDebug, true, ContactLaw::HookeHistory>();
-      case ContactLaw::HertzMindlin: return advance<kDebug, true, ContactLaw::HertzMindlin>();
-      default: return m_clumps ? advance<kDebug, true>() : advance<kDebug, false>();
+      case ContactLaw::HookeHistory: return advance<kDebug, true, ContactLaw::HookeHistory, kPeriodic>();
+      case ContactLaw::HertzMindlin: return advance<kDebug, true, ContactLaw::HertzMindlin, kPeriodic>();
+      default:
+        return m_clumps ? advance<kDebug, true, ContactLaw::Report, kPeriodic>()
+                        : advance<kDebug, false, ContactLaw::Report, kPeriodic>();
     }
   }
 
   // Stages 3–7 and the next step's stage 1, one pass over the bodies (see the design notes).
-  template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report>
+  template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic>
   StepTotals advance() {
     const StepView v = stepView();
     const ForceParams fp = makeForceParams(m_world.params, m_pulls);
@@ -371,11 +401,11 @@ class CpuPipeline final : public Pipeline {
             const BodyRow& self = v.bodies[k];
             Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
             for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
-              const ParticleForce pf = particleForce<kDebug, kClumps, kLaw>(v, fp, dbg, self, i);
+              const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic>(v, fp, dbg, self, i);
               addToBody<kClumps>(F, T, pf);
               acc.contacts += pf.contacts;
             }
-            finishBody<kClumps>(v, F, T, g, dt, scheme, k, &acc.drift);
+            finishBody<kClumps, kPeriodic>(v, F, T, g, dt, scheme, k, &acc.drift);
           }
           return acc;
         },
@@ -402,8 +432,9 @@ class CpuPipeline final : public Pipeline {
     t0 = Clock::now();
     computePositions();
     PosRow* pos = m_pos[m_cur].data();
-    // Detection input: the positions and the radii grown by skin/2.
-    const float h = 0.5f * m_skin;
+    // Detection input: the positions and the radii grown by skin/2 (and with periodic boundaries
+    // by the rounding of a difference across them, periodicGrowth()).
+    const float h = 0.5f * m_skin + m_periodicGrowth;
     float* bx = tumble::detail::grow(m_bx, n);
     float* by = tumble::detail::grow(m_by, n);
     float* bz = tumble::detail::grow(m_bz, n);
@@ -421,7 +452,12 @@ class CpuPipeline final : public Pipeline {
     const BroadphaseInput in{bx, by, bz, br, m_bodyOf.data(), n, m_world.maxRadius + h,
                              m_world.sizingRadius > 0.0f ? m_world.sizingRadius + h : 0.0f};
     try {
-      m_bp.run(in, m_world.params.broadphase, sec);
+      if (m_periodic.axes != 0) {  // the sweep over the particles and their ghost images
+        m_images.build(in, m_periodic, ghostReach(in.maxRadius, m_periodic));
+        m_bp.run(m_images.input(), m_world.params.broadphase, sec);
+      } else {
+        m_bp.run(in, m_world.params.broadphase, sec);
+      }
     } catch (const SimulationError& e) {
       if (e.particle() < 0) throw;
       const std::uint32_t o = m_orig[static_cast<std::uint32_t>(e.particle())];
@@ -450,14 +486,31 @@ class CpuPipeline final : public Pipeline {
   // latter keeps a particle that moves to and fro from forcing rebuilds).
   void refreshNear() {
     const auto t0 = Clock::now();
+    const Drift sinceRebuild = m_periodic.axes != 0 ? driftSinceRebuild<true>() : driftSinceRebuild<false>();
+    m_closed = std::min(m_closed + double(m_lastClosure), double(closureOf(sinceRebuild)));
+    fillNearList();
+    m_needRefresh = false;
+    ++m_stats.numNearRefreshes;
+    m_stats.seconds[int(Phase::List)] += since(t0);
+  }
+
+  // The displacements since the rebuild (minimum images with periodic boundaries), the
+  // positions now becoming the reference of the drift.
+  template <bool kPeriodic>
+  Drift driftSinceRebuild() {
     const std::uint32_t n = m_world.numParticles();
     const PosRow* pos = m_pos[m_cur].data();
-    const Drift sinceRebuild = tbb::parallel_reduce(
+    return tbb::parallel_reduce(
         tbb::blocked_range<std::uint32_t>(0, n, kGrain), noDrift(),
         [&](const auto& rg, Drift d) {
           for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
             const PosRow& a = m_rebuildPos[i];
-            addDisplacement(d, pos[i].x - a.x, pos[i].y - a.y, pos[i].z - a.z);
+            if constexpr (kPeriodic) {
+              const Vec3f dx = periodicDifference(m_periodic, Vec3f{pos[i].x, pos[i].y, pos[i].z}, Vec3f{a.x, a.y, a.z});
+              addDisplacement(d, dx.x, dx.y, dx.z);
+            } else {
+              addDisplacement(d, pos[i].x - a.x, pos[i].y - a.y, pos[i].z - a.z);
+            }
             m_buildPos[i] = pos[i];
           }
           return d;
@@ -466,11 +519,6 @@ class CpuPipeline final : public Pipeline {
           mergeDrift(x, y);  // min and max: exact in any order
           return x;
         });
-    m_closed = std::min(m_closed + double(m_lastClosure), double(closureOf(sinceRebuild)));
-    fillNearList();
-    m_needRefresh = false;
-    ++m_stats.numNearRefreshes;
-    m_stats.seconds[int(Phase::List)] += since(t0);
   }
 
   void fillNearList() {
@@ -479,7 +527,12 @@ class CpuPipeline final : public Pipeline {
     m_nearEnd.resize(n);
     const CandidateListView full = compactList(m_candOffsets.data(), m_cand.data());
     const PosRow* pos = m_pos[m_cur].data();
-    forEach(n, kGrain, [&](std::uint32_t i) { m_nearEnd[i] = fillNear(pos, full, m_nearSkin, m_near.data(), i); });
+    if (m_periodic.axes != 0)
+      forEach(n, kGrain, [&](std::uint32_t i) {
+        m_nearEnd[i] = fillNear<true>(pos, full, m_nearSkin, m_near.data(), i, m_periodic);
+      });
+    else
+      forEach(n, kGrain, [&](std::uint32_t i) { m_nearEnd[i] = fillNear(pos, full, m_nearSkin, m_near.data(), i); });
   }
 
   // The list the forces (and pairs()) iterate: the near list when there is one.
@@ -504,6 +557,10 @@ class CpuPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles();
     const SweepListView s{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
                           m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
+    if (m_periodic.axes != 0) {
+      buildPeriodicList(s);
+      return;
+    }
     std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
     forEach(n, kGrain, [&](std::uint32_t i) { count[i] = candidateCount(s, i); });
     count[n] = 0;
@@ -517,6 +574,86 @@ class CpuPipeline final : public Pipeline {
     forEach(n, kGrain, [&](std::uint32_t i) {
       fillCandidates(s, m_orig.data(), m_candOffsets.data(), m_cand.data(), key, i);
     });
+  }
+
+  // What a periodic detection grows the radii by, beyond half the skin: the sweep compares ghost
+  // coordinates shifted by a period, rounded at the size of the box, where the exact predicate
+  // takes the nearest image of a difference, rounded otherwise; twice the rounding margin of such
+  // a difference covers both (a pair within rounding of touching across the boundary was missed
+  // without it when the list is rebuilt every step: PeriodicTest.PairsWithinRoundingOfTouching...).
+  static float periodicGrowth(float maxRadius, const PeriodicBox& box) {
+    return static_cast<float>(2.0 * roundingMargin(0.0f, maxRadius, periodicRoundingReach(box)));
+  }
+  // How near a lower end of the periodic box a particle of (grown) radius up to maxRadius gets a
+  // ghost (PeriodicImages): any pair it may form, 2 maxRadius, and that margin again.
+  static float ghostReach(float maxRadius, const PeriodicBox& box) {
+    return 2.0f * maxRadius + periodicGrowth(maxRadius, box);
+  }
+
+  // buildList() with periodic boundaries: each particle's row gathers what it and its ghosts
+  // found (PeriodicImages::fillRow, sorted by scene index, each partner once), first at room for
+  // every image's candidates, then compacted.
+  void buildPeriodicList(const SweepListView& s) {
+    const std::uint32_t n = m_world.numParticles();
+    std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
+    forEach(n, kGrain, [&](std::uint32_t i) { count[i] = m_images.rowBound(s, i); });
+    count[n] = 0;
+    m_roomOffsets.resize(std::size_t(n) + 1);
+    std::size_t bytes = 0;
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_roomOffsets.data(), std::size_t(n) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_roomOffsets.data(),
+                                std::size_t(n) + 1);
+    const std::uint32_t room = m_roomOffsets[n];
+    std::uint32_t* rows = tumble::detail::grow(m_roomCand, room);
+    std::uint32_t* key = tumble::detail::grow(m_candKey, room);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      count[i] = m_images.fillRow(s, m_orig.data(), i, rows + m_roomOffsets[i], key + m_roomOffsets[i]);
+    });
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_candOffsets.data(), std::size_t(n) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_candOffsets.data(),
+                                std::size_t(n) + 1);
+    m_cand.resize(m_candOffsets[n]);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      std::copy(rows + m_roomOffsets[i], rows + m_roomOffsets[i] + count[i], m_cand.data() + m_candOffsets[i]);
+    });
+  }
+
+  // findPairs() of a cloud in a periodic box: the sweep over its images on radii grown by the
+  // rounding margin of a difference across the boundary, then the exact predicate (the minimum
+  // image, as the oracle) on each particle's merged row.
+  std::vector<Pair> findPeriodicPairs(const ParticleCloud& cloud, const BroadphaseInput& in, const BroadphaseParams& bp,
+                                      cpu::detail::Broadphase& b) {
+    const std::uint32_t n = in.n;
+    const PeriodicBox& box = cloud.periodic;
+    const float g = periodicGrowth(in.maxRadius, box);
+    std::vector<float> grown(n);
+    for (std::uint32_t i = 0; i < n; ++i) grown[i] = cloud.r[i] + g;
+    const BroadphaseInput gin{in.x, in.y, in.z, grown.data(), in.body, n, in.maxRadius + g,
+                              in.cellRadius > 0.0f ? in.cellRadius + g : 0.0f};
+    cpu::detail::PeriodicImages images;
+    images.build(gin, box, ghostReach(gin.maxRadius, box));
+    double sec[kNumPhases] = {};
+    b.run(images.input(), bp, sec);
+    const SweepListView s{b.recFirst.data(), b.inv.data(),         b.nbrOffsets.data(),
+                          b.nbr.data(),      b.backOffsets.data(), b.back.data()};
+    std::vector<std::uint32_t> orig(n), roomOffsets(std::size_t(n) + 1, 0u);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      orig[i] = i;
+      roomOffsets[i + 1] = roomOffsets[i] + images.rowBound(s, i);
+    }
+    std::vector<std::uint32_t> rows(roomOffsets[n]), key(roomOffsets[n]), len(n);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      len[i] = images.fillRow(s, orig.data(), i, rows.data() + roomOffsets[i], key.data() + roomOffsets[i]);
+    });
+    std::vector<Pair> out;
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (std::uint32_t t = roomOffsets[i]; t < roomOffsets[i] + len[i]; ++t) {
+        const std::uint32_t j = rows[t];
+        if (j > i && spheresOverlap(box, cloud.x[i], cloud.y[i], cloud.z[i], cloud.r[i], cloud.x[j], cloud.y[j],
+                                    cloud.z[j], cloud.r[j]))
+          out.push_back(Pair{i, j});
+      }
+    return out;
   }
 
   // Contact histories across a rebuild (laws with a history). Before it, the non-zero ξ of the
@@ -720,7 +857,8 @@ class CpuPipeline final : public Pipeline {
                     m_planes.data(),
                     static_cast<std::uint32_t>(m_planes.size()),
                     m_planeDamping.empty() ? nullptr : m_planeDamping.data(),
-                    m_planeHertz.empty() ? nullptr : m_planeHertz.data()};
+                    m_planeHertz.empty() ? nullptr : m_planeHertz.data(),
+                    m_periodic};
   }
 
   mutable tbb::task_arena m_arena;
@@ -733,6 +871,9 @@ class CpuPipeline final : public Pipeline {
   std::vector<float> m_planeDamping;   // planes 1.. (World::planeDamping), internal numbering
   std::vector<HertzPair> m_planeHertz;
   ContactLaw m_law = ContactLaw::Report;
+  PeriodicBox m_periodic;   // periodic boundaries in the integration frame (axes 0: none)
+  float m_periodicGrowth = 0.0f;  // what the detection grows the radii by beyond skin/2 (periodicGrowth())
+  cpu::detail::PeriodicImages m_images;  // the periodic detection's particles and ghosts
   bool m_history = false;   // the law keeps a tangential history per contact
   bool m_listBuilt = false; // a candidate list (and m_hist) exists since the load
 
@@ -770,6 +911,7 @@ class CpuPipeline final : public Pipeline {
   // Scratch (grow-only).
   std::vector<float> m_bx, m_by, m_bz, m_br;
   std::vector<std::uint32_t> m_count, m_candKey, m_first;
+  std::vector<std::uint32_t> m_roomOffsets, m_roomCand;  // buildPeriodicList(): rows before compaction
   std::vector<std::uint32_t> m_mKeys, m_mVals, m_mSortedKeys, m_perm;
   std::vector<std::byte> m_temp;
   std::vector<BodyStatic> m_bodyStaticTmp;

@@ -356,6 +356,21 @@ expect_status "pour with --record" 2 "$bin" run pour.toml --steps 10 --record po
 expect_msg "pour with --record" "pour.toml: recording a run whose bodies enter during it .*not there yet"
 [ -e pour.bin ] && bad "pour with --record wrote pour.bin" || ok "pour with --record wrote nothing"
 
+# The periodic chute (docs/model.md#periodic-boundaries) after 0.3 s: every centre inside the box
+# [0, 0.8) x [0, 0.4), the flow moving down the slope (+x; 0.51 m/s) and through the boundary
+# (136 crossings of x), the bed of 8 plates counted in.
+expect_status "chute.toml" 0 "$bin" run "$src/scenes/chute.toml" --steps 3000 --record chute.bin --state-out chute.csv -q
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  { n++; x = $c["x"]; y = $c["y"]; if (x < 0 || x >= 0.8 || y < 0 || y >= 0.4) outside++
+    if (n > 8) { m++; vx += $c["vx"]; cross += ($c["image_x"] < 0 ? -$c["image_x"] : $c["image_x"]) } }
+  END { printf "chute: %d bodies, %d outside the box, flow mean vx %.3f m/s, %d crossings of x\n", n, outside, vx / m, cross
+        exit !(n == 848 && outside == 0 && vx / m > 0.2 && cross > 20) }' chute.csv > chute.txt \
+  && ok "$(cat chute.txt)" || bad "$(cat chute.txt)"
+expect_status "a period too short for the skin" 2 "$bin" run "$src/scenes/chute.toml" --set broadphase.skin=0.3 -q
+expect_msg "a period too short for the skin" "chute.toml:[0-9]+: \[periodic\] x spans 0.8 m, not more than the shortest period this scene allows, 0.8597[0-9]* m"
+expect_status "a body outside the periodic box" 2 "$bin" run "$src/scenes/chute.toml" --set "periodic.y=[0, 0.3]" -q
+expect_msg "a body outside the periodic box" "chute.toml:[0-9]+: \[\[group\]\] #1: the body at site \(0, 1, 0\) \(0-based\): its centre y = 0.300000012 lies outside"
+
 # Outputs never replace what is not a file, and write through links (tumble/output_file.hpp).
 ln -sf real.csv link.csv
 expect_status "state-out through a link" 0 "$bin" run small.toml --steps 5 --state-out link.csv -q
@@ -526,6 +541,8 @@ else
   expect_status "render a camera path going back in time" 2 render_ ex.bin --still 1 -o x.png --camera-path back.csv
   expect_msg "render a camera path going back in time" "^tumble: back.csv:2: time: key times must increase"
   expect_status "render --camera-smooth -1" 2 render_ ex.bin --still 1 -o x.png --camera follow --camera-smooth -1
+  expect_status "render the periodic chute" 0 render_ chute.bin --still -1 -o chute.png --size 160x120 -q
+  [ -s chute.png ] && ok "chute.png rendered" || bad "no chute.png"
   expect_status "render --camera orbit" 2 render_ ex.bin --still 1 -o x.png --camera orbit
   [ ! -e x.png ] && ok "refused renders wrote nothing" || bad "a refused render wrote x.png"
   # Walls (docs/animation.md#walls): drawn by default, left out with --no-walls.

@@ -64,12 +64,17 @@ void applyRecEnv(RunOptions& o) {
 
 void writeState(const std::string& path, const World& world, const BodyState& s) {
   writeAtomically(path, [&](std::FILE* f) {
-    std::fprintf(f, "body,x,y,z,vx,vy,vz,qw,qx,qy,qz,lx,ly,lz\n");
+    // With periodic boundaries, the periods each centre has crossed (BodyState::imageX, imageY).
+    std::fprintf(f, "body,x,y,z,vx,vy,vz,qw,qx,qy,qz,lx,ly,lz%s%s\n", s.imageX.empty() ? "" : ",image_x",
+                 s.imageY.empty() ? "" : ",image_y");
     for (std::size_t k = 0; k < s.size(); ++k) {
       const Quatf q = shapeOrientation(world, s, k);  // the scene file's shape frame
       // %.9g: nine significant digits read back to the same float bits.
-      std::fprintf(f, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, s.px[k], s.py[k],
+      std::fprintf(f, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", k, s.px[k], s.py[k],
                    s.pz[k], s.vx[k], s.vy[k], s.vz[k], q.w, q.x, q.y, q.z, s.lx[k], s.ly[k], s.lz[k]);
+      if (!s.imageX.empty()) std::fprintf(f, ",%d", static_cast<int>(s.imageX[k]));
+      if (!s.imageY.empty()) std::fprintf(f, ",%d", static_cast<int>(s.imageY[k]));
+      std::fputc('\n', f);
     }
     if (std::ferror(f)) throw Error("cannot write " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
   });

@@ -197,6 +197,10 @@ __global__ void emitContactsKernel(const PosRow* pos, const std::uint32_t* orig,
   if (i < n && touching[i]) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ);
 }
 
+constexpr const char* kNoPeriodic =
+    "the CUDA pipeline has no periodic boundaries yet: a scene with [periodic] runs on the CPU pipeline "
+    "(--pipeline cpu)";
+
 class CudaPipeline final : public Pipeline {
  public:
   explicit CudaPipeline(const PipelineOptions& options) : m_reorder(options.reorder) {}
@@ -211,6 +215,7 @@ class CudaPipeline final : public Pipeline {
                   toString(world.params.contact.law) + "\" runs on the CPU pipeline (--pipeline cpu)");
     if (!world.params.walls.empty())
       throw Error("the CUDA pipeline has no walls yet: a scene with [[wall]] runs on the CPU pipeline (--pipeline cpu)");
+    if (world.params.periodic.any()) throw Error(kNoPeriodic);
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;
@@ -356,6 +361,7 @@ class CudaPipeline final : public Pipeline {
   // As CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
     const float maxR = checkCloud(cloud);
+    if (cloud.periodic.axes != 0) throw Error(kNoPeriodic);
     const std::size_t n = cloud.size();
     if (n == 0) return {};
     const cudaStream_t s = m_ctx.stream();

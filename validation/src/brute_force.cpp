@@ -5,6 +5,7 @@
 
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/kernels/overlap.hpp"
+#include "tumble/kernels/periodic.hpp"
 
 namespace tumble::validation {
 
@@ -13,7 +14,8 @@ std::vector<Pair> bruteForcePairs(const ParticleCloud& c) {
   std::vector<std::vector<Pair>> rows(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     for (std::size_t j = i + 1; j < n; ++j)
-      if (c.body[i] != c.body[j] && spheresOverlap(c.x[i], c.y[i], c.z[i], c.r[i], c.x[j], c.y[j], c.z[j], c.r[j]))
+      if (c.body[i] != c.body[j] &&
+          spheresOverlap(c.periodic, c.x[i], c.y[i], c.z[i], c.r[i], c.x[j], c.y[j], c.z[j], c.r[j]))
         rows[i].push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
   });
   std::vector<Pair> out;

@@ -83,6 +83,15 @@ std::optional<StateDifference> firstDifference(const BodyState& a, const BodySta
     for (std::size_t k = 0; k < ca.size(); ++k)
       if (!sameBits(ca[k], cb[k])) return StateDifference{names[c], static_cast<std::uint32_t>(k), ca[k], cb[k]};
   }
+  // Image counters of the periodic boundaries (index: the body).
+  for (const auto& [col, name] : {std::pair<const std::vector<std::int32_t> BodyState::*, const char*>{&BodyState::imageX, "imageX"},
+                                  {&BodyState::imageY, "imageY"}}) {
+    const std::vector<std::int32_t>& ca = a.*col;
+    const std::vector<std::int32_t>& cb = b.*col;
+    if (ca.size() != cb.size()) return StateDifference{std::string(name) + " (length)", 0, float(ca.size()), float(cb.size())};
+    for (std::size_t k = 0; k < ca.size(); ++k)
+      if (ca[k] != cb[k]) return StateDifference{name, static_cast<std::uint32_t>(k), float(ca[k]), float(cb[k])};
+  }
   // Contact histories: the same pairs with the same bits (index: the entry).
   if (a.contacts.size() != b.contacts.size())
     return StateDifference{"contacts (count)", 0, float(a.contacts.size()), float(b.contacts.size())};
@@ -96,6 +105,15 @@ std::optional<StateDifference> firstDifference(const BodyState& a, const BodySta
     if (!sameBits(ha.z, hb.z)) return StateDifference{"contact history z", at, ha.z, hb.z};
   }
   return std::nullopt;
+}
+
+BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, const PipelineOptions& options) {
+  auto p = makePipeline(backend, options);
+  p->load(world);
+  p->step(steps);
+  BodyState s;
+  p->readState(s);
+  return s;
 }
 
 TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& world, std::uint64_t steps,

@@ -167,10 +167,9 @@ TEST(Checkpoint, RejectsAnotherScene) {
   EXPECT_NE(warning.find("differ"), std::string::npos) << warning;
 }
 
-TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
-  Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
-  s.bodies.resize(12);
-  const World w = World::fromScene(s);
+namespace {
+
+void expectEveryDamageRefused(const World& w) {
   auto p = makePipeline(Backend::Cpu);
   p->load(w);
   p->step(5);
@@ -217,6 +216,20 @@ TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
   std::remove(path.c_str());
   EXPECT_THROW(Checkpoint::read(path), InputError) << "a missing file";
   EXPECT_EQ(errors, int(2 * bytes.size()));
+}
+
+World someBodies(const std::string& file, std::size_t first, std::size_t n) {
+  Scene s = readSceneFile(sourcePath(file));
+  s.bodies.erase(s.bodies.begin(), s.bodies.begin() + std::ptrdiff_t(first));
+  s.bodies.resize(n);
+  return World::fromScene(s);
+}
+
+}  // namespace
+
+TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
+  expectEveryDamageRefused(someBodies("scenes/molecules.toml", 0, 12));
+  expectEveryDamageRefused(someBodies("scenes/chute.toml", 8, 12));  // periodic: the image counters' block
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, CheckpointTest, ::testing::ValuesIn(compiledBackends()),

@@ -48,7 +48,8 @@ struct Checkpoint {
 
 /// 64-bit FNV-1a of the static bodies and particles of a world: counts, radius, mass,
 /// elasticity, body of each particle, the offsets u in the body frame (so the rotation scheme's
-/// body frame), mass properties.
+/// body frame), mass properties, and the periodic box when there is one (the frame and the image
+/// counters depend on it).
 std::uint64_t sceneFingerprint(const World& world);
 
 /// 64-bit FNV-1a of the parameters that set the motion: dt, gravity, contact, ground, pulls'

@@ -59,7 +59,7 @@ struct GuardTrip {
 /// after load() (it records the initial energy and overlaps); call check() whenever the caller
 /// is about to use the state (each recorded frame, or every few steps).
 ///
-/// Energy: E = kinetic + gravity (−M g·X) + the potentials of the x/y pulls that are on
+/// Energy: E = kinetic + gravity (−M g·X, X unwrapped across periodic boundaries) + the potentials of the x/y pulls that are on
 /// (½ m κ x²) + contact springs (½ k δ² for every pair and ground contact). Without the swirl
 /// pull, E can only fall (damping, friction); the swirl's work W = ∫ Σ f·v dt is added to the
 /// budget (trapezoid rule between checks). The guard trips when E − E₀ − W exceeds
@@ -136,9 +136,10 @@ class RunGuard {
 /// The guard's contact sums per body (Pipeline::contactSumsPerBody()) from a pair list sorted
 /// by (i, j), the particle positions x (3 per particle, scene order) and each body's rounding
 /// (bodyRounding of its position): the reference that a pipeline's own sums must equal bit for
-/// bit.
+/// bit. box: the periodic boundaries of the positions' frame (kernelPeriodic()), if any.
 void contactSumsOfPairs(const World& world, const std::vector<Pair>& pairs, const std::vector<float>& x,
-                        const std::vector<double>& bodyErr, const SpringLaw& law, std::vector<ContactSums>& out);
+                        const std::vector<double>& bodyErr, const SpringLaw& law, std::vector<ContactSums>& out,
+                        const PeriodicBox& box = PeriodicBox{});
 
 /// The springs' law of a world's contacts (SpringLaw): Hertz with its material pairs under
 /// hertz-mindlin, else linear with [contact] stiffness.

@@ -41,6 +41,8 @@ struct PipelineOptions {
 /// (automatic) kAutoSkinPerRadius × world.sizingRadius (the 99th percentile of the radii: the
 /// largest radius unless under 1 % of the particles are larger).
 float effectiveSkin(const World& world);
+/// The same from a given skin (negative: automatic) and the radii's sizing and largest radius.
+float effectiveSkin(float skin, float sizingRadius, float maxRadius);
 /// The automatic skin, in units of the largest radius (docs/performance.md measures it).
 inline constexpr float kAutoSkinPerRadius = 0.5f;
 
@@ -99,6 +101,9 @@ struct ParticleCloud {
   std::vector<float> x, y, z, r;
   std::vector<std::uint32_t> body;
   std::size_t size() const { return x.size(); }
+  /// Periodic boundaries (kernels/periodic.hpp; none by default): the pairs meet through their
+  /// minimum image, the coordinates being those of the frame whose box is [−h, h).
+  PeriodicBox periodic{};
 };
 
 /// Checks a cloud for Pipeline::findPairs(): equal column lengths, fewer than 2^31 particles,

@@ -152,6 +152,21 @@ struct PullParams {
   Vec3f centre{0.0f, 0.0f, 0.0f};
 };
 
+/// Periodic boundaries (`[periodic]`, docs/scenes.md#periodic-periodic-boundaries): on x and/or
+/// y the scene repeats with period L = hi − lo. A body's centre of mass is kept in [lo, hi), its
+/// crossings counted (BodyState::imageX, imageY), and two particles meet through their nearest
+/// images (docs/model.md#periodic-boundaries). World coordinates.
+struct PeriodicParams {
+  bool on[2] = {false, false};                  ///< x, y periodic
+  float lo[2] = {0.0f, 0.0f}, hi[2] = {0.0f, 0.0f};  ///< the box [lo, hi) on each periodic axis [m]
+  bool any() const { return on[0] || on[1]; }
+  /// The PullBits that pull along a periodic axis (their potential has no period): the x pull
+  /// and the swirl with x periodic, the y pull and the swirl with y periodic.
+  std::uint32_t conflictingPulls() const {
+    return (on[0] ? (kPullX | kPullSwirl) : 0u) | (on[1] ? (kPullY | kPullSwirl) : 0u);
+  }
+};
+
 /// One sphere of a shape, in the shape's own frame.
 struct SphereDef {
   Vec3f offset{0, 0, 0};
@@ -279,6 +294,7 @@ struct Scene {
   /// Some wall's surface moves at some step that starts in [t0, t1) (start < t1 and stop > t0).
   bool wallsMoveDuring(double t0, double t1) const;
   std::uint64_t thermoEvery = 100; ///< steps between two rows of the time series
+  PeriodicParams periodic;         ///< periodic boundaries on x and/or y (none by default)
 };
 
 }  // namespace tumble

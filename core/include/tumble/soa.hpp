@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "tumble/hd.hpp"
+#include "tumble/kernels/periodic.hpp"
 #include "tumble/math.hpp"
 
 namespace tumble {
@@ -33,6 +34,7 @@ struct alignas(64) BodyRow {
   Vec3f l;               ///< angular momentum L, world frame
   float invMass;
   std::uint32_t orig;    ///< scene index of the body
+  std::int32_t image[2]; ///< periodic boundaries: the periods X has crossed on x, y (kernels/periodic.hpp)
 };
 static_assert(sizeof(BodyRow) == 128, "two cache lines");
 
@@ -114,6 +116,9 @@ struct StepView {
   std::uint32_t numPlanes = 0;
   const float* planeDamping = nullptr;
   const HertzPair* planeHertz = nullptr;
+  /// Periodic boundaries (read by the kPeriodic instantiations only): positions are compared
+  /// through the minimum image and body centres kept in the box.
+  PeriodicBox periodic{};
 };
 
 }  // namespace tumble

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tumble/kernels/contact.hpp"
+#include "tumble/kernels/periodic.hpp"
 #include "tumble/kernels/wall.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
@@ -40,7 +41,13 @@ struct BodyState {
   /// Laws with a history (ContactParams::hasHistory): the contacts whose ξ is not zero, sorted
   /// by (i, j). Empty otherwise, or (on input) for no history.
   std::vector<ContactHistory> contacts;
-  /// Resizes the body columns to n bodies (the particle columns are left alone).
+  /// Periodic boundaries (Scene::periodic): per body, the periods its centre has crossed on x
+  /// and on y, +1 each time it left the box through its upper end, so that X + n L is where it
+  /// would be without the boundary (unwrappedPosition()). Empty for an axis that is not
+  /// periodic, or (on input) for zero everywhere.
+  std::vector<std::int32_t> imageX, imageY;
+  /// Resizes the body columns to n bodies (the particle columns and the image counters are left
+  /// alone).
   void resize(std::size_t n);
   std::size_t size() const { return px.size(); }
 };
@@ -59,7 +66,9 @@ struct LocalFrame {
   /// Per axis a: c_a, the centre of the bodies' bounding box rounded to float, when
   /// |c_a| > 4 × max(largest extent of the box, 2 × largest radius); otherwise 0 (that axis stays).
   /// The box also holds what the bodies move towards: the ground height (z), when the ground is
-  /// on, and the world origin on the axes of the pulls that are on at load.
+  /// on, and the world origin on the axes of the pulls that are on at load. On a periodic axis
+  /// (Scene::periodic) c_a is always the centre of the periodic box rounded to float, so that the
+  /// box is [−h, h) in the frame (kernelPeriodic()).
   static LocalFrame of(const World& world);
 };
 
@@ -113,6 +122,8 @@ struct World {
   /// Whether body k rotates: a clump, or any body under a law that turns spheres.
   bool bodyRotates(std::size_t k) const { return numParticlesOf[k] > 1 || params.contact.rotatesSpheres(); }
   float maxRadius = 0.0f;
+  /// The largest extent of a body's spheres about its centre of mass (shapeExtent), m.
+  double maxExtent = 0.0;
   /// The 99th percentile of the radii (detail::sizingRadius): what the automatic skin and cell
   /// size are sized from, so that a few large spheres do not set them for all the small ones.
   float sizingRadius = 0.0f;
@@ -151,6 +162,50 @@ std::string wallMotionOutOfRange(const WallDef& wall);
 /// given (WallDef::velocity; a plane along its normal only). Returns whether any changed (a
 /// pipeline whose walls live on a device uploads them then).
 bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t);
+
+/// The periodic box of a scene as the kernels see it in frame f (whose origin on a periodic axis
+/// is the box's centre, LocalFrame::of): h = (hi − lo) / 2 rounded to float, L = 2h; the box is
+/// [−h, h). axes = 0 without periodic boundaries. Throws tumble::Error when f is not centred on
+/// the box (a frame chosen for another scene).
+PeriodicBox kernelPeriodic(const Scene& scene, const LocalFrame& f);
+
+/// Body k's centre of mass without the periodic boundaries, X + n L on each periodic axis
+/// (BodyState::imageX, imageY; box from kernelPeriodic()), in double, in the frame of `state`.
+void unwrappedPosition(const BodyState& state, std::size_t k, const PeriodicBox& box, double out[3]);
+
+/// What the shortest period of a run is made of (docs/model.md#periodic-boundaries): E, the
+/// largest extent of a body's spheres about its centre of mass (shapeExtent), r, the largest
+/// radius, and the skin the run uses. A period of at most 2 (E + r + skin) could let a body meet
+/// its own image, or a pair of particles two images of each other within the skin.
+struct PeriodReach {
+  double extent = 0.0, radius = 0.0, skin = 0.0;
+  double minimum() const { return 2.0 * (extent + radius + skin); }
+};
+
+/// The reach of a scene's bodies (the shapes they use) with the scene's skin ([broadphase] skin,
+/// or the automatic one of its radii, effectiveSkin()).
+PeriodReach periodReach(const Scene& scene);
+/// The reach of a world's bodies with the given skin.
+PeriodReach periodReach(const World& world, float skin);
+
+/// Why periodic axis `axis` (0: x, 1: y) is too short for this reach (its period hi − lo at most
+/// reach.minimum()), as a phrase naming the shortest period allowed and what it is made of; empty
+/// when it is long enough or the axis is not periodic.
+std::string periodTooShort(const PeriodicParams& periodic, int axis, const PeriodReach& reach);
+
+/// Why a wall is not invariant under the periodic translations of a scene, as a phrase; empty
+/// when it is. A plane must contain each periodic axis (its normal's component along it is 0;
+/// a box's faces across a periodic axis must be open); a revolved wall must be a cylinder whose
+/// axis lies along the only periodic axis and reaches half a period beyond each end of the box.
+std::string periodicWallProblem(const WallDef& wall, const PeriodicParams& periodic);
+
+/// Why a body centred at x lies outside the periodic box ([lo, hi) on each periodic axis), as a
+/// phrase; empty when inside or without periodic boundaries.
+std::string outsidePeriodicBox(const PeriodicParams& periodic, Vec3f x);
+
+/// Why the pulls `active` (PullBits) cannot run with the periodic boundaries (a pull along a
+/// periodic axis: its potential has no period), as a phrase naming them; empty when they can.
+std::string periodicPullProblem(const PeriodicParams& periodic, std::uint32_t active);
 
 /// Body positions from frame f back to the world frame: X + o, rounded to float.
 void toWorld(BodyState& s, const LocalFrame& f);

@@ -33,6 +33,7 @@
 
 #include "tumble/hd.hpp"
 #include "tumble/kernels/overlap.hpp"
+#include "tumble/kernels/periodic.hpp"
 #include "tumble/math.hpp"
 #include "tumble/soa.hpp"
 
@@ -108,23 +109,32 @@ TUMBLE_HD_INLINE void sortRow(std::uint32_t* key, std::uint32_t* val, std::uint3
 
 }  // namespace detail
 
+/// Writes the candidates of the sweep's particle a (forward, then backward) to cand[e..], each
+/// neighbour b as map(b) (the identity, except for a periodic detection's ghost images, which
+/// stand for their particles), with its key orig[map(b)] at key[e..]; returns the new e.
+template <class Map>
+TUMBLE_HD_INLINE std::uint32_t appendCandidates(const SweepListView& s, const std::uint32_t* orig, std::uint32_t a,
+                                                Map&& map, std::uint32_t* cand, std::uint32_t* key, std::uint32_t e) {
+  for (std::uint32_t r = s.recFirst[a]; r < s.recFirst[a + 1]; ++r) {
+    const std::uint32_t sp = s.inv[r];
+    for (std::uint32_t t = s.nbrOffsets[sp]; t < s.nbrOffsets[sp + 1]; ++t, ++e) {
+      cand[e] = map(s.nbr[t]);
+      key[e] = orig[cand[e]];
+    }
+  }
+  for (std::uint32_t t = s.backOffsets[a]; t < s.backOffsets[a + 1]; ++t, ++e) {
+    cand[e] = map(s.back[t]);
+    key[e] = orig[cand[e]];
+  }
+  return e;
+}
+
 /// Writes particle i's row cand[offsets[i] .. offsets[i+1]) (internal indices) sorted by the
 /// partners' scene indices orig[·]; `key` is scratch of the list's size (receives orig of each
 /// entry). Each row has one writer, and its content is unique: the sort keys are distinct.
 TUMBLE_HD_INLINE void fillCandidates(const SweepListView& s, const std::uint32_t* orig, const std::uint32_t* offsets,
                                      std::uint32_t* cand, std::uint32_t* key, std::uint32_t i) {
-  std::uint32_t e = offsets[i];
-  for (std::uint32_t r = s.recFirst[i]; r < s.recFirst[i + 1]; ++r) {
-    const std::uint32_t sp = s.inv[r];
-    for (std::uint32_t t = s.nbrOffsets[sp]; t < s.nbrOffsets[sp + 1]; ++t, ++e) {
-      cand[e] = s.nbr[t];
-      key[e] = orig[s.nbr[t]];
-    }
-  }
-  for (std::uint32_t t = s.backOffsets[i]; t < s.backOffsets[i + 1]; ++t, ++e) {
-    cand[e] = s.back[t];
-    key[e] = orig[s.back[t]];
-  }
+  appendCandidates(s, orig, i, [](std::uint32_t b) { return b; }, cand, key, offsets[i]);
   const std::uint32_t a = offsets[i];
   detail::sortRow(key + a, cand + a, offsets[i + 1] - a);
 }
@@ -132,11 +142,13 @@ TUMBLE_HD_INLINE void fillCandidates(const SweepListView& s, const std::uint32_t
 /// Calls f(j, partner) for each contact of particle i with a partner of a higher scene index
 /// (the pairs i < j that pairs() lists for i), in row order (ascending partner), decided at the
 /// positions `pos`; j is the partner's internal index, partner its scene index. (The caller may
-/// skip the particles that the force stage saw touch nothing: StepView::touching.) Returns how
-/// many.
+/// skip the particles that the force stage saw touch nothing: StepView::touching.) With periodic
+/// boundaries (`box`), the pairs meet through their minimum image, as in the force stage.
+/// Returns how many.
 template <class F>
 TUMBLE_HD_INLINE std::uint32_t forContactsAbove(const PosRow* pos, const std::uint32_t* orig,
-                                                const CandidateListView& l, std::uint32_t i, F&& f) {
+                                                const CandidateListView& l, std::uint32_t i, F&& f,
+                                                const PeriodicBox& box = PeriodicBox{}) {
   const PosRow pi = pos[i];
   const std::uint32_t me = orig[i];
   std::uint32_t n = 0;
@@ -144,7 +156,7 @@ TUMBLE_HD_INLINE std::uint32_t forContactsAbove(const PosRow* pos, const std::ui
     const std::uint32_t j = l.cand[e];
     const PosRow pj = pos[j];
     const std::uint32_t other = orig[j];
-    if (other > me && spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) {
+    if (other > me && spheresOverlap(box, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) {
       f(j, other);
       ++n;
     }
@@ -154,33 +166,45 @@ TUMBLE_HD_INLINE std::uint32_t forContactsAbove(const PosRow* pos, const std::ui
 
 /// Number of those contacts.
 TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
-                                             std::uint32_t i) {
-  return forContactsAbove(pos, orig, l, i, [](std::uint32_t, std::uint32_t) {});
+                                             std::uint32_t i, const PeriodicBox& box = PeriodicBox{}) {
+  return forContactsAbove(pos, orig, l, i, [](std::uint32_t, std::uint32_t) {}, box);
 }
 
 /// Writes those contacts as scene-index pairs (i, j), ascending j, from outI/outJ[at] on (room
 /// for the whole row suffices); returns how many.
 TUMBLE_HD_INLINE std::uint32_t emitContactsAbove(const PosRow* pos, const std::uint32_t* orig,
                                                  const CandidateListView& l, std::uint32_t i, std::uint32_t at,
-                                                 std::uint32_t* outI, std::uint32_t* outJ) {
+                                                 std::uint32_t* outI, std::uint32_t* outJ,
+                                                 const PeriodicBox& box = PeriodicBox{}) {
   const std::uint32_t me = orig[i];
   std::uint32_t n = 0;
-  return forContactsAbove(pos, orig, l, i, [&](std::uint32_t, std::uint32_t other) {
-    outI[at + n] = me;
-    outJ[at + n] = other;
-    ++n;
-  });
+  return forContactsAbove(
+      pos, orig, l, i,
+      [&](std::uint32_t, std::uint32_t other) {
+        outI[at + n] = me;
+        outJ[at + n] = other;
+        ++n;
+      },
+      box);
+}
+
+/// The rounding margin of the skin test (skinClosureLimit()), 16 · 2^-24 · (2 r_max + skin/2 + W);
+/// also what the periodic detection grows radii by so that its candidates hold every contact.
+inline double roundingMargin(float skin, float maxRadius, double periodicReach = 0.0) {
+  return 16.0 * std::ldexp(1.0, -24) * (2.0 * double(maxRadius) + 0.5 * double(skin) + periodicReach);
 }
 
 /// The skin test's limit on how far two particles may have closed in since the rebuild (see
 /// Drift, closureOf): the skin less twice a margin for the rounding of the three float tests
 /// involved (the candidate test at the build on grown radii, the contact test now, the
 /// displacements themselves; each within a few units of 2^-24 relative, docs/model.md),
-/// margin = 16 · 2^-24 · (2 r_max + skin/2). 0 (a rebuild every step) when the skin is below
-/// twice that margin.
-inline float skinClosureLimit(float skin, float maxRadius) {
+/// margin = 16 · 2^-24 · (2 r_max + skin/2 + W). W = 0 without periodic boundaries; with them,
+/// periodicRoundingReach() of the box (a difference across the boundary is rounded at the size
+/// of the box, not of the pair). 0 (a rebuild every step) when the skin is below twice that
+/// margin.
+inline float skinClosureLimit(float skin, float maxRadius, double periodicReach = 0.0) {
   const double h = 0.5 * double(skin);
-  const double margin = 16.0 * std::ldexp(1.0, -24) * (2.0 * double(maxRadius) + h);
+  const double margin = roundingMargin(skin, maxRadius, periodicReach);
   const double t = h - margin;
   return t > 0.0 ? static_cast<float>(2.0 * t) : 0.0f;
 }
@@ -254,15 +278,22 @@ TUMBLE_HD_INLINE bool listStillValid(const Drift& d, float limit) { return closu
 /// the two have closed in by g (less a rounding margin: skinClosureLimit(g, ·)), so while that holds
 /// the forces may iterate the near list instead of the candidate list: the same contacts in the
 /// same order, so the same bits. It is refreshed from the candidate list (point 4 above).
+/// kPeriodic: the distances are minimum images in `box` (kernels/periodic.hpp).
+template <bool kPeriodic = false>
 TUMBLE_HD_INLINE std::uint32_t fillNear(const PosRow* pos, const CandidateListView& l, float g, std::uint32_t* nearCand,
-                                        std::uint32_t i) {
+                                        std::uint32_t i, const PeriodicBox& box = PeriodicBox{}) {
   const PosRow pi = pos[i];
   std::uint32_t out = l.begin[i];
   for (std::uint32_t e = l.begin[i]; e < l.end[i]; ++e) {
     const std::uint32_t j = l.cand[e];
     const PosRow pj = pos[j];
     nearCand[out] = j;
-    out += spheresOverlap(pi.x, pi.y, pi.z, pi.r + g, pj.x, pj.y, pj.z, pj.r) ? 1u : 0u;
+    bool near;
+    if constexpr (kPeriodic)
+      near = spheresOverlap(box, pi.x, pi.y, pi.z, pi.r + g, pj.x, pj.y, pj.z, pj.r);
+    else
+      near = spheresOverlap(pi.x, pi.y, pi.z, pi.r + g, pj.x, pj.y, pj.z, pj.r);
+    out += near ? 1u : 0u;
   }
   return out;
 }

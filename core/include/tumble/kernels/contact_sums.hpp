@@ -14,6 +14,7 @@
 
 #include "tumble/hd.hpp"
 #include "tumble/kernels/contact.hpp"
+#include "tumble/kernels/periodic.hpp"
 
 namespace tumble {
 
@@ -61,13 +62,15 @@ TUMBLE_HD_INLINE double bodyRounding(float x, float y, float z) {
 
 /// Adds the pair (i, j), i < j scene particle indices, at positions (xi, yi, zi) and (xj, yj, zj)
 /// (integration frame), with radii ri, rj, the rounding errI, errJ of their bodies' positions
-/// (bodyRounding) and the springs' law.
+/// (bodyRounding) and the springs' law; with periodic boundaries (`box`) through the minimum image.
 TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi, float ri, float xj, float yj, float zj,
                                     float rj, double errI, double errJ, const SpringLaw& law, std::uint32_t i,
-                                    std::uint32_t j) {
-  const double dx = double(xi) - xj;
-  const double dy = double(yi) - yj;
+                                    std::uint32_t j, const PeriodicBox& box = PeriodicBox{}) {
+  double dx = double(xi) - xj;
+  double dy = double(yi) - yj;
   const double dz = double(zi) - zj;
+  if (box.on(0)) dx = minimumImage<double>(dx, box.half[0], box.length[0]);
+  if (box.on(1)) dy = minimumImage<double>(dy, box.half[1], box.length[1]);
   const double delta = double(ri) + rj - sqrt(dx * dx + dy * dy + dz * dz);
   if (delta <= 0.0) return;
   const double e = 1.8 * (errI + errJ);

@@ -19,6 +19,7 @@
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/kernels/overlap.hpp"
+#include "tumble/kernels/periodic.hpp"
 #include "tumble/kernels/wall.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
@@ -74,16 +75,24 @@ struct DebugForcesView {
 /// Particle positions from their body's state (SPEC §2.1), x = X + R u (R = b.rot), for the
 /// particles first..first+count of body b, with their radii; their displacements since the
 /// skin test's reference (buildPos) are added to *drift (pass nullptrs for neither). Single-sphere scenes
-/// (kClumps false): x = X.
-template <bool kClumps>
+/// (kClumps false): x = X. kPeriodic: the displacements are minimum images in `box`, so that a
+/// body's wrap does not count as motion.
+template <bool kClumps, bool kPeriodic = false>
 TUMBLE_HD_INLINE void bodyParticles(const BodyRow& b, const OwnRow* own, const float* radius, const PosRow* buildPos,
-                                    PosRow* outPos, Drift* drift) {
+                                    PosRow* outPos, Drift* drift, const PeriodicBox& box = PeriodicBox{}) {
   const Mat3f& R = b.rot;
   for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i) {
     const Vec3f x = kClumps ? particlePosition(b.x, R, own[i].u) : b.x;
     const PosRow p{x.x, x.y, x.z, radius[i]};
     outPos[i] = p;
-    if (buildPos) addDisplacement(*drift, p.x - buildPos[i].x, p.y - buildPos[i].y, p.z - buildPos[i].z);
+    if constexpr (kPeriodic) {
+      if (buildPos) {
+        const Vec3f d = periodicDifference(box, x, Vec3f{buildPos[i].x, buildPos[i].y, buildPos[i].z});
+        addDisplacement(*drift, d.x, d.y, d.z);
+      }
+    } else {
+      if (buildPos) addDisplacement(*drift, p.x - buildPos[i].x, p.y - buildPos[i].y, p.z - buildPos[i].z);
+    }
   }
 }
 
@@ -196,7 +205,9 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
 /// contact law; with a history (hooke-history, hertz-mindlin) the view's `history` holds ξ per
 /// list entry (the list is then the candidate list), updated in place and zeroed when the pair
 /// does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
-template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report>
+/// kPeriodic: the pairs meet through their minimum image in the view's periodic box (the
+/// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
+template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report, bool kPeriodic = false>
 TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                              const BodyRow& self, std::uint32_t i) {
   const PosRow pi = v.pos[i];
@@ -219,7 +230,12 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     const PosRow pj = v.pos[j];
     Vec3f d;
     float d2;
-    if (!spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2)) {
+    bool touch;
+    if constexpr (kPeriodic)
+      touch = spheresOverlap(v.periodic, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2);
+    else
+      touch = spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2);
+    if (!touch) {
       if constexpr (kLaw != ContactLaw::Report) {  // an open contact forgets its history
         const Vec3f h = v.history[e];
         if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) v.history[e] = Vec3f{0.0f, 0.0f, 0.0f};
@@ -302,19 +318,22 @@ TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
 /// Stage 7 and the next step's stage 1 for body k, given the sums F and T of its particles
 /// (addToBody): adds the weight M g, integrates (rotation by `scheme`, only for bodies of more
 /// than one particle; Ω and R of the new state kept in the row), writes its particles' positions
-/// of the next state and adds their displacements since buildPos to *drift.
-template <bool kClumps>
+/// of the next state and adds their displacements since buildPos to *drift. kPeriodic: a centre
+/// that left the view's periodic box is moved back by a period and the crossing counted
+/// (wrapIntoBox()), before the particles' positions are taken from it.
+template <bool kClumps, bool kPeriodic = false>
 TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f gravity, float dt, RotationScheme scheme,
                                  std::uint32_t k, Drift* drift) {
   BodyRow b = v.bodies[k];  // this step's row; the new state goes to bodiesNext
   const BodyStatic bs = v.bodyStatic[k];
   F += bs.mass * gravity;
   integrateTranslation(F, b.invMass, dt, &b.x, &b.v);
+  if constexpr (kPeriodic) wrapIntoBox(v.periodic, &b.x, b.image);
   if (kClumps && (b.count > 1 || v.rotateSpheres))  // else a single sphere that does not rotate: q and R stay
     b.omega = scheme == RotationScheme::Splitting ? integrateRotationSplitting(T, bs.invInertia, dt, &b.l, &b.q, &b.rot)
                                                   : integrateRotation(T, bs.invInertia, dt, &b.l, &b.q, &b.rot);
   v.bodiesNext[k] = b;
-  bodyParticles<kClumps>(b, v.own, v.radius, v.buildPos, v.posNext, drift);
+  bodyParticles<kClumps, kPeriodic>(b, v.own, v.radius, v.buildPos, v.posNext, drift, v.periodic);
 }
 
 }  // namespace tumble

@@ -9,7 +9,8 @@
 namespace tumble::validation {
 
 /// Every pair i < j of particles of different bodies with spheresOverlap() true, sorted by
-/// (i, j). Uses the same predicate as the pipelines, so boundary cases agree by construction.
+/// (i, j); with periodic boundaries (cloud.periodic) its minimum-image form (kernels/periodic.hpp).
+/// Uses the same predicate as the pipelines, so boundary cases agree by construction.
 /// Parallel over i (TBB); output is deterministic.
 std::vector<Pair> bruteForcePairs(const ParticleCloud& cloud);
 

@@ -49,8 +49,9 @@ struct TrajectoryResult {
 };
 
 /// The first bit-level difference between two states (bodies first, in column order X, V, Q,
-/// L, then the per-particle contact history): the column's name ("px", …, "groundSpringY"), the
-/// body or particle index and both values. Empty when every bit agrees.
+/// L, then the plane springs, the periodic image counters, the contact histories): the column's
+/// name ("px", …, "groundSpringY", "imageX", …), the body or particle index and both values.
+/// Empty when every bit agrees.
 struct StateDifference {
   std::string quantity;
   std::uint32_t index = 0;
@@ -58,6 +59,9 @@ struct StateDifference {
   std::string describe() const;  ///< "vz of body 12: 0.125 vs 0.12500001"
 };
 std::optional<StateDifference> firstDifference(const BodyState& a, const BodyState& b);
+
+/// The state (readState()) of a fresh pipeline of `backend` loaded with `world` after `steps` steps.
+BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, const PipelineOptions& options = {});
 
 /// Steps pipelines a and b from the same world for `steps` steps and compares the body state
 /// (and the pair lists) after every step.
