@@ -121,7 +121,7 @@ void cellBlock(VtpFile& f, const char* tag, std::size_t cells, int size, const s
 
 void writeFrameVtp(const std::string& path, const Recording& table, const RecordedFrame& frame,
                    const std::vector<float>& x) {
-  const std::size_t n = table.radius.size();
+  const std::size_t n = table.particlesOf(frame.numBodies());  // those present
   const bool debug = frame.debug.v.size() == 3 * n;
   const std::size_t contacts = debug ? frame.debug.contacts.size() : 0;
   VtpFile f;
@@ -216,7 +216,7 @@ void writeWallsVtp(const std::string& path, const std::vector<WallSurface>& wall
 
 void writeFrameCsv(const std::string& path, const Recording& table, const RecordedFrame& frame,
                    const std::vector<float>& x) {
-  const std::size_t n = table.radius.size();
+  const std::size_t n = table.particlesOf(frame.numBodies());  // those present
   const bool debug = frame.debug.v.size() == 3 * n;
   std::string s = "particle,body,x,y,z,r,mass,elasticity";
   if (debug) {
@@ -351,7 +351,7 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
         break;
       }
       reader.readFrame(k, frame);
-      for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t i = 0, present = table.particlesOf(frame.numBodies()); i < present; ++i) {
         const std::uint32_t b = table.body[i];
         const Mat3f R = rotationMatrix(Quatf{frame.qw[b], frame.qx[b], frame.qy[b], frame.qz[b]});
         const Vec3f p = particlePosition(Vec3f{frame.px[b], frame.py[b], frame.pz[b]}, R,

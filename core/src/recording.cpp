@@ -54,7 +54,8 @@ constexpr char kMagic[8] = {'T', 'U', 'M', 'B', 'L', 'R', 'E', 'C'};
 constexpr std::uint64_t kUnfinished = std::numeric_limits<std::uint64_t>::max();
 constexpr std::uint32_t kFlagDebug = 1u;
 constexpr std::uint32_t kFlagGround = 2u;
-constexpr std::uint32_t kKnownFlags = kFlagDebug | kFlagGround;
+constexpr std::uint32_t kFlagGrows = 4u;  // version 2: bodies enter during the run
+constexpr std::uint32_t kKnownFlags = kFlagDebug | kFlagGround | kFlagGrows;
 constexpr std::uint32_t kMaxNameBytes = 65535;
 
 // Header layout (offsets from the start of the file); L = scene name length.
@@ -207,6 +208,7 @@ struct RecordingReader::File {
   // the same size), frameOffsets[k] in a debug one.
   std::uint64_t framesOffset = 0, frameBytes = 0;
   std::vector<std::uint64_t> frameOffsets;
+  std::vector<std::uint32_t> firstParticle;  // a recording that grows: of each body, and N
   explicit File(const std::string& path) : in(path, "recording") {}
 };
 
@@ -270,12 +272,13 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
   if (!std::isfinite(info.fps) || info.fps <= 0.0f) {
     in.fail(kOffFps, "frames per second is not a positive number");
   }
-  if ((flags & ~kKnownFlags) != 0) {
-    in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kKnownFlags) +
-                           " (versions 1 and 2 define bit 0 debug, bit 1 ground)");
+  if ((flags & ~kKnownFlags) != 0 || (info.version < 2 && (flags & kFlagGrows) != 0)) {
+    in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~(info.version < 2 ? kFlagDebug | kFlagGround : kKnownFlags)) +
+                           " (version 1 defines bit 0 debug, bit 1 ground; version 2 also bit 2 bodies entering)");
   }
   info.debug = (flags & kFlagDebug) != 0;
   info.groundEnabled = (flags & kFlagGround) != 0;
+  info.grows = (flags & kFlagGrows) != 0;
   if (!std::isfinite(info.groundHeight)) in.fail(kOffGroundHeight, "ground height is not finite");
   if (!std::isfinite(info.gravity.x) || !std::isfinite(info.gravity.y) ||
       !std::isfinite(info.gravity.z)) {
@@ -315,6 +318,19 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
     td.finiteColumn(rec.ux, n, "ux");
     td.finiteColumn(rec.uy, n, "uy");
     td.finiteColumn(rec.uz, n, "uz");
+    if (info.grows) {  // its frames hold a prefix of the bodies: the particles must follow them
+      std::vector<std::uint32_t>& first = m_file->firstParticle;
+      first.assign(static_cast<std::size_t>(numBodies) + 1, static_cast<std::uint32_t>(n));
+      for (std::size_t k = n; k-- > 0;) {
+        if (k + 1 < n && rec.body[k] > rec.body[k + 1])
+          in.fail(tableOffset + 12 * numParticles + 4 * k, "particle " + std::to_string(k) + " of body " +
+                                                               std::to_string(rec.body[k]) + " comes before one of body " +
+                                                               std::to_string(rec.body[k + 1]) +
+                                                               ": a recording that grows needs the particles in body order");
+        first[rec.body[k]] = static_cast<std::uint32_t>(k);
+      }
+      for (std::size_t b = numBodies; b-- > 0;) first[b] = std::min(first[b], first[b + 1]);
+    }
   }
 
   // Version 2: the walls.
@@ -330,7 +346,7 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
                     " bytes, only " + std::to_string(in.size() - at) + " left");
   };
   const std::uint64_t framesOffset = in.offset();
-  if (!info.debug) {
+  if (!info.debug && !info.grows) {
     const std::uint64_t frameBytes = basePayload + 8;
     const std::uint64_t whole = (in.size() - framesOffset) / frameBytes;
     const std::uint64_t tail = framesOffset + whole * frameBytes;
@@ -349,7 +365,11 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
       buf.clear();
       in.read(buf, 4, "frame size");
       const std::uint64_t payloadBytes = getU32(buf.data());
-      if (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0) {
+      // (A frame of a recording that grows is sized by its number of bodies: readFrame checks it.)
+      if (info.grows && payloadBytes < kFramePrefixBytes + 4)
+        in.fail(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) +
+                        ", less than the " + std::to_string(kFramePrefixBytes + 4) + " bytes before its bodies");
+      if (!info.grows && (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0)) {
         in.fail(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) +
                         ", expected " + std::to_string(minDebugPayload) + " + 8 per contact");
       }
@@ -375,21 +395,20 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
   InFile& in = m_file->in;
   const RecordingInfo& info = m_header.info;
   std::vector<std::uint8_t>& buf = m_buffer;
-  const std::uint64_t basePayload = m_file->basePayload;
-  const std::uint64_t minDebugPayload = m_file->minDebugPayload;
-  const std::uint64_t numParticles = info.numParticles;
-  const std::size_t nb = info.numBodies;
-  const std::size_t n3 = 3 * static_cast<std::size_t>(numParticles);
+  std::uint64_t basePayload = m_file->basePayload;
+  std::uint64_t minDebugPayload = m_file->minDebugPayload;
+  std::uint64_t numParticles = info.numParticles;
+  std::size_t nb = info.numBodies;
   const std::string frameName = "frame " + std::to_string(k);
-  const std::uint64_t frameOffset =
-      info.debug ? m_file->frameOffsets[k] : m_file->framesOffset + k * m_file->frameBytes;
+  const std::uint64_t frameOffset = info.debug || info.grows ? m_file->frameOffsets[k]
+                                                             : m_file->framesOffset + k * m_file->frameBytes;
   in.seek(frameOffset);
   buf.clear();
   in.read(buf, 4, "frame size");
   const std::uint64_t payloadBytes = getU32(buf.data());
   // The index checked a debug frame's size and that every frame fits; a plain frame's size
-  // field is checked here.
-  if (!info.debug && payloadBytes != basePayload) {
+  // field is checked here (that of a frame of a recording that grows once its size is read).
+  if (!info.debug && !info.grows && payloadBytes != basePayload) {
     in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
                              ", expected " + std::to_string(basePayload));
   }
@@ -406,6 +425,22 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
     if (!std::isfinite(f.time)) in.fail(at, frameName + " time is not finite");
   }
   f.pulls = fd.u32();
+  if (info.grows) {  // the bodies present, then the sizes that follow from them
+    const std::uint64_t at = fd.fileOffset();
+    const std::uint64_t present = fd.u32();
+    if (present > nb)
+      in.fail(at, frameName + " holds " + std::to_string(present) + " bodies, the recording " + std::to_string(nb));
+    nb = static_cast<std::size_t>(present);
+    numParticles = m_file->firstParticle[nb];
+    basePayload = kFramePrefixBytes + 4 + kBodyBytes * nb;
+    minDebugPayload = basePayload + kDebugParticleBytes * numParticles + 4;
+    if (info.debug ? payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0
+                   : payloadBytes != basePayload)
+      in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) + ", expected " +
+                               std::to_string(info.debug ? minDebugPayload : basePayload) +
+                               (info.debug ? " + 8 per contact" : "") + " for its " + std::to_string(nb) + " bodies");
+  }
+  const std::size_t n3 = 3 * static_cast<std::size_t>(numParticles);
   fd.finiteColumn(f.px, nb, frameName + " px");
   fd.finiteColumn(f.py, nb, frameName + " py");
   fd.finiteColumn(f.pz, nb, frameName + " pz");
@@ -440,6 +475,13 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
 
 // ---- Recording::read -----------------------------------------------------------------------
 
+std::size_t Recording::particlesOf(std::size_t bodies) const {
+  // Particles follow their bodies: the first whose body is not among the first `bodies`.
+  return static_cast<std::size_t>(std::partition_point(body.begin(), body.end(),
+                                                       [&](std::uint32_t b) { return b < bodies; }) -
+                                  body.begin());
+}
+
 Recording Recording::read(const std::string& path) {
   RecordingReader reader(path);
   Recording rec = reader.header();
@@ -451,10 +493,11 @@ Recording Recording::read(const std::string& path) {
 // ---- RecordingWriter -----------------------------------------------------------------------
 
 RecordingWriter::RecordingWriter(const std::string& path, const World& world, bool debug,
-                                 int stepsPerFrame, float fps)
+                                 int stepsPerFrame, float fps, bool grows)
     : m_path(path),
       m_numParticles(world.numParticles()),
       m_numBodies(world.numBodies()),
+      m_grows(grows),
       m_debug(debug) {
   const std::string where = "recording '" + path + "': ";
   const Scene& params = world.params;
@@ -486,6 +529,10 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
                   std::to_string(world.body[k]) + " of " + std::to_string(m_numBodies));
     }
   }
+  if (grows) {  // the particles of the bodies present are a prefix of the table
+    m_firstParticle.assign(world.first.begin(), world.first.end());
+    m_firstParticle.push_back(static_cast<std::uint32_t>(n));
+  }
   // Payloads are sized by a u32: refuse worlds whose frames could not be described.
   const std::uint64_t basePayload = kFramePrefixBytes + kBodyBytes * std::uint64_t{m_numBodies} +
                                     (debug ? kDebugParticleBytes * n + 4 : 0);
@@ -497,7 +544,7 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
 
   // Header (docs/recording.md), with the frame count at the sentinel until close().
   const std::uint32_t flags =
-      (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u);
+      (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u) | (grows ? kFlagGrows : 0u);
   Encoder h(m_header);
   h.bytes(kMagic, sizeof kMagic);
   h.u32(kRecordingVersion);
@@ -565,13 +612,14 @@ void RecordingWriter::writeBytes(const std::uint8_t* data, std::size_t size, con
 }
 
 std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& path, const World& world, bool debug,
-                                                             int stepsPerFrame, std::uint64_t step, float fps) {
+                                                             int stepsPerFrame, std::uint64_t step, float fps,
+                                                             bool grows) {
   // Nothing to continue where there is no file, where the target is a device or a FIFO, or
   // where it is a descriptor the process was given (`--record /dev/stdout > rec.bin`: the shell
   // has emptied the file, or appends to it; either way the output is a stream of its own).
   std::error_code ec;
   if (namesDescriptor(path) || !std::filesystem::is_regular_file(path, ec))
-    return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
+    return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps, grows);
   RecordingReader reader(path);
   const Recording& old = reader.header();
   const RecordingInfo& i = old.info;
@@ -582,8 +630,9 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
   };
   if (i.numParticles != world.numParticles() || i.numBodies != world.numBodies() || i.sceneName != p.name)
     differs("the scene name, bodies or particles");
-  if (i.stepsPerFrame != std::uint32_t(stepsPerFrame) || i.dt != p.dt || i.fps != fps || i.debug != debug)
-    differs("the steps per frame, dt, frame rate or debug setting");
+  if (i.stepsPerFrame != std::uint32_t(stepsPerFrame) || i.dt != p.dt || i.fps != fps || i.debug != debug ||
+      i.grows != grows)
+    differs("the steps per frame, dt, frame rate, debug setting or bodies entering");
   if (i.groundEnabled != p.ground.enabled || i.groundHeight != p.ground.height || i.gravity.x != p.gravity.x ||
       i.gravity.y != p.gravity.y || i.gravity.z != p.gravity.z)
     differs("the ground or gravity");
@@ -592,7 +641,7 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
     differs("the particle tables");
   if (i.version >= 2 && encodeWalls(old.walls, "") != encodeWalls(sceneWallSurfaces(p, world.bodiesExtent), ""))
     differs("the walls");
-  auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps);
+  auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps, grows);
   BodyState s;
   RecordedFrame f;
   try {
@@ -619,13 +668,15 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
     throw Error(where + (m_debug ? "a debug recording needs debug data for every frame"
                                  : "debug data given to a recording opened without debug"));
   }
-  const std::size_t nb = m_numBodies;
-  const std::size_t n3 = 3 * static_cast<std::size_t>(m_numParticles);
+  // The bodies present: all of them, or in a recording that grows a prefix.
+  const std::size_t nb = m_grows ? std::min<std::size_t>(state.size(), m_numBodies) : m_numBodies;
+  const std::size_t np = m_grows ? m_firstParticle[nb] : m_numParticles;
+  const std::size_t n3 = 3 * np;
   const std::vector<float>* columns[7] = {&state.px, &state.py, &state.pz, &state.qw,
                                           &state.qx, &state.qy, &state.qz};
   static const char* const kColumnNames[7] = {"px", "py", "pz", "qw", "qx", "qy", "qz"};
   for (int c = 0; c < 7; ++c) {
-    if (columns[c]->size() != nb) {
+    if (columns[c]->size() != nb || (m_grows && state.size() > m_numBodies)) {
       throw Error(where + "body state has " + std::to_string(columns[c]->size()) + " " +
                   kColumnNames[c] + " values for " + std::to_string(nb) + " bodies");
     }
@@ -656,16 +707,15 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
       }
     }
     for (const Pair& p : debug->contacts) {
-      if (!(p.i < p.j && p.j < m_numParticles)) {
+      if (!(p.i < p.j && p.j < np)) {
         throw Error(where + "contact (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
-                    ") is not a pair i < j < " + std::to_string(m_numParticles));
+                    ") is not a pair i < j < " + std::to_string(np));
       }
     }
   }
-  std::uint64_t payloadBytes = kFramePrefixBytes + kBodyBytes * nb;
+  std::uint64_t payloadBytes = kFramePrefixBytes + (m_grows ? 4 : 0) + kBodyBytes * nb;
   if (debug != nullptr) {
-    payloadBytes +=
-        kDebugParticleBytes * m_numParticles + 4 + kContactBytes * debug->contacts.size();
+    payloadBytes += kDebugParticleBytes * np + 4 + kContactBytes * debug->contacts.size();
   }
   if (payloadBytes > std::numeric_limits<std::uint32_t>::max() ||
       (debug != nullptr && debug->contacts.size() > std::numeric_limits<std::uint32_t>::max())) {
@@ -680,6 +730,7 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
   e.u64(step);
   e.f64(time);
   e.u32(pulls);
+  if (m_grows) e.u32(static_cast<std::uint32_t>(nb));
   for (int c = 0; c < 7; ++c) e.f32s(*columns[c], nb);
   if (debug != nullptr) {
     e.f32s(debug->v, n3);

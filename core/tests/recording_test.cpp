@@ -960,3 +960,57 @@ TEST_F(RecordingTest, ARecordingOfOtherWallsIsNotContinued) {
 }
 
 }  // namespace
+
+// A recording that grows (bodies entering during the run, [[pour]]): its frames hold 1, 2 and 3
+// bodies (plain and debug) and read back so, bit for bit; each frame's body count is checked
+// against the table (more bodies than it holds is an error at its byte), a flipped or cut byte
+// anywhere is an error, and a frame of more bodies than the table is refused by the writer.
+TEST_F(RecordingTest, ARecordingThatGrowsHoldsThePresentBodiesPerFrame) {
+  const World w = makeWorld();
+  for (const bool debug : {false, true}) {
+    SCOPED_TRACE(debug ? "debug" : "plain");
+    const std::string path = file(debug ? "grow-debug.bin" : "grow.bin");
+    {
+      RecordingWriter rec(path, w, debug, 10, 60.0f, /*grows=*/true);
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        BodyState s = makeState(k);
+        s.resize(k + 1);  // bodies 0..k present
+        ParticleDebug d = makeDebug(k);
+        const std::size_t np = k == 0 ? 2 : (k == 1 ? 3 : 5);  // the particles of those bodies
+        d.v.resize(3 * np);
+        for (auto& f : d.force) f.resize(3 * np);
+        d.contacts.clear();
+        if (k == 2) d.contacts = {{0, 2}, {3, 4}};
+        rec.writeFrame(10 * k, 0.1 * k, 0, s, debug ? &d : nullptr);
+      }
+      BodyState tooMany = makeState(3);
+      tooMany.resize(4);
+      const ParticleDebug d3 = makeDebug(3);
+      EXPECT_THROW(rec.writeFrame(30, 0.3, 0, tooMany, debug ? &d3 : nullptr), tumble::Error);
+      rec.close();
+    }
+    const Recording r = Recording::read(path);
+    EXPECT_TRUE(r.info.grows);
+    ASSERT_EQ(r.frames.size(), 3u);
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(r.frames[k].numBodies(), k + 1);
+      EXPECT_EQ(r.particlesOf(k + 1), k == 0 ? 2u : (k == 1 ? 3u : 5u));
+      const BodyState s = makeState(k);
+      for (std::uint32_t b = 0; b <= k; ++b)
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(r.frames[k].px[b]), std::bit_cast<std::uint32_t>(s.px[b])) << k << " " << b;
+      if (debug) {
+        EXPECT_EQ(r.frames[k].debug.v.size(), 3 * r.particlesOf(k + 1));
+      }
+    }
+    // Damage: every flipped byte and every cut is reported with its offset.
+    const std::vector<std::uint8_t> bytes = readAll(path);
+    for (std::size_t n = 0; n < bytes.size(); ++n) {
+      std::vector<std::uint8_t> copy = bytes;
+      copy[n] ^= 0xFF;
+      writeAll(file("bad.bin"), copy);
+      EXPECT_EQ(readError(file("bad.bin")).rfind("byte ", 0), 0u) << "byte " << n;
+      writeAll(file("cut.bin"), bytes, n);
+      EXPECT_EQ(readError(file("cut.bin")).rfind("byte ", 0), 0u) << "cut at " << n;
+    }
+  }
+}

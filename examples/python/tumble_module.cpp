@@ -227,10 +227,11 @@ class Simulation {
     if (stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
     if (m_thermo && sameFile(path, m_thermo->path()))
       throw Error("record: " + path + " is the time series' file (write_thermo): name another file");
-    if (m_pouring.any())
-      throw Error("record: recording a run whose bodies enter during it ([[pour]]) is not there yet");
-    // The new writer first: when it cannot be opened, the recording under way goes on.
-    auto rec = std::make_unique<RecordingWriter>(path, m_world, debug, stepsPerFrame);
+    // The new writer first: when it cannot be opened, the recording under way goes on. With pours
+    // its table holds every body that may enter, each frame those present.
+    auto rec = std::make_unique<RecordingWriter>(
+        path, m_pouring.any() ? m_pouring.worldWith(m_pouring.finalBodies()) : m_world, debug, stepsPerFrame, 60.0f,
+        m_pouring.any());
     closeRecordingLocked();
     m_rec = std::move(rec);
     m_perFrame = static_cast<std::uint64_t>(stepsPerFrame);

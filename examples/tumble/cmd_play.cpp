@@ -92,7 +92,7 @@ void play(const PlayOptions& o) {
       d.colors = particleColors(table, color);
     }
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
-                    d.spheres);
+                    d.spheres, rec.particlesOf(f.numBodies()));
     d.pulls = f.pulls;
     d.time = f.time;
     d.wallsShown = controls.wallsShown();

@@ -367,7 +367,7 @@ void render(const RenderOptions& o) {
     const std::size_t i = sequence[k];
     reader.readFrame(i, f);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
-                    d.spheres);
+                    d.spheres, rec.particlesOf(f.numBodies()));
     d.pulls = f.pulls;
     d.time = f.time;
     if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);

@@ -131,9 +131,6 @@ void run(RunOptions o) {
 
   // Bodies that enter during the run (tumble/pour.hpp): the world grows at its batch steps.
   const Pouring pouring(scene);
-  if (pouring.any() && !o.record.empty())
-    throw Error(o.scene + ": recording a run whose bodies enter during it ([[pour]]) is not there yet; run without "
-                          "--record (and [output] record), or use --state-out and --checkpoint");
   World world = pouring.worldWith(pouring.initialBodies());
   if (const std::string w = timeStepWarning(world); !w.empty())
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), w.c_str());
@@ -183,10 +180,12 @@ void run(RunOptions o) {
   BodyState state;
   ParticleDebug dbg;
   if (!o.record.empty() && start < recSteps) {
+    // With pours the recording's table holds every body that may enter, each frame those present.
+    const World& table = pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world;
     if (start == 0) {
-      rec = std::make_unique<RecordingWriter>(o.record, world, debug, static_cast<int>(perFrame));
+      rec = std::make_unique<RecordingWriter>(o.record, table, debug, static_cast<int>(perFrame), 60.0f, pouring.any());
     } else {
-      rec = RecordingWriter::continueAt(o.record, world, debug, static_cast<int>(perFrame), start);
+      rec = RecordingWriter::continueAt(o.record, table, debug, static_cast<int>(perFrame), start, 60.0f, pouring.any());
       if (rec->numFrames() > 0) checkContinues(*rec, start, recSteps, perFrame, debug);
     }
     pipeline->readState(state);

@@ -143,13 +143,11 @@ void view(const ViewOptions& o) {
     const CameraMotion cm = cameraMotionFromKeys(kb);
     if (cm.any()) cam.move(cm.forward, cm.right, cm.up, cm.turn, static_cast<float>(dt));
 
-    if (controls.recording() && pouring.any()) {
-      std::fprintf(stderr, "tumble view: recording a run whose bodies enter during it ([[pour]]) is not there yet\n");
-      controls.setRecording(false);
-    }
     if (controls.recording() && !rec && stopped.empty()) {
-      rec = std::make_unique<RecordingWriter>(numbered(recordPath, ++recordings), world, debug,
-                                              static_cast<int>(perFrame));
+      // With pours the recording's table holds every body that may enter, each frame those present.
+      rec = std::make_unique<RecordingWriter>(numbered(recordPath, ++recordings),
+                                              pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world, debug,
+                                              static_cast<int>(perFrame), 60.0f, pouring.any());
       if (!debug) {
         pipeline->readState(state);
         rec->writeFrame(steps, pipeline->time(), pulls, state);

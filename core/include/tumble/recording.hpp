@@ -31,6 +31,9 @@ struct RecordingInfo {
   float fps = 60.0f;
   bool debug = false;
   bool groundEnabled = false;
+  /// Bodies enter during the run ([[pour]]): the table holds every body that may, and each frame
+  /// the first RecordedFrame::numBodies() of them, those present (flag bit 2).
+  bool grows = false;
   float groundHeight = 0.0f;
   Vec3f gravity{0, 0, 0};
   std::string sceneName;
@@ -41,9 +44,11 @@ struct RecordedFrame {
   std::uint64_t step = 0;
   double time = 0.0;
   std::uint32_t pulls = 0;                  ///< PullBits on during this frame
-  std::vector<float> px, py, pz;            ///< per body
+  std::vector<float> px, py, pz;            ///< per body present: the first numBodies() of the table
   std::vector<float> qw, qx, qy, qz;        ///< per body
-  ParticleDebug debug;                      ///< filled only in debug recordings
+  ParticleDebug debug;                      ///< filled only in debug recordings (the particles present)
+  /// Bodies in this frame: all of the table's, or in a recording that grows the first so many.
+  std::size_t numBodies() const { return px.size(); }
 };
 
 /// A whole recording in memory.
@@ -57,6 +62,9 @@ struct Recording {
   /// entry, a box's faces each), with their motion; empty in a version 1 recording.
   std::vector<WallSurface> walls;
   std::vector<RecordedFrame> frames;
+  /// The particles of the first `bodies` bodies (particles follow their bodies): those a frame of
+  /// that many bodies shows.
+  std::size_t particlesOf(std::size_t bodies) const;
 
   /// Reads a whole recording: RecordingReader, then every frame. Throws what RecordingReader
   /// and RecordingReader::readFrame throw. Memory: the whole recording (about the file size, plus
@@ -111,8 +119,10 @@ class RecordingWriter {
   /// world.params) and its walls (sceneWallSurfaces(world.params, world.bodiesExtent)). Throws tumble::Error if the
   /// file cannot be opened (naming it and the reason), if stepsPerFrame < 1, fps or dt is not
   /// positive, or the table is inconsistent or non-finite.
+  /// `grows`: bodies enter during the run (tumble/pour.hpp): `world` holds every body that may,
+  /// and each frame the bodies present, a prefix of them.
   RecordingWriter(const std::string& path, const World& world, bool debug, int stepsPerFrame,
-                  float fps = 60.0f);
+                  float fps = 60.0f, bool grows = false);
   /// Continues the recording at `path` for a run resumed at `step` (tumble run --resume): its
   /// frames up to that step are written again, with the same bytes, to a temporary and
   /// the writer appends from there, so that the finished file equals the uninterrupted run's;
@@ -122,13 +132,15 @@ class RecordingWriter {
   /// when it records another scene or other settings (its frames would not belong to this run).
   /// A version 1 recording is continued as version 2 (its frames, with this world's walls).
   static std::unique_ptr<RecordingWriter> continueAt(const std::string& path, const World& world, bool debug,
-                                                     int stepsPerFrame, std::uint64_t step, float fps = 60.0f);
+                                                     int stepsPerFrame, std::uint64_t step, float fps = 60.0f,
+                                                     bool grows = false);
   /// Calls close(), swallowing its exceptions.
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
 
-  /// Appends a frame. `debug` must be given iff the recording was opened with debug = true.
+  /// Appends a frame. `debug` must be given iff the recording was opened with debug = true. In a
+  /// recording that grows, `state` (and `debug`) hold the first bodies (particles) present.
   /// Throws tumble::Error if the state holds a non-finite value (NaN is never recorded), if
   /// sizes do not match the world, or on a write error. Values are checked before anything is
   /// written, so a frame rejected for its values leaves the file unchanged and the writer usable.
@@ -160,6 +172,8 @@ class RecordingWriter {
   std::uint64_t m_lastStep = 0;
   std::uint32_t m_numParticles = 0;
   std::uint32_t m_numBodies = 0;
+  bool m_grows = false;
+  std::vector<std::uint32_t> m_firstParticle;  ///< grows: the first particle of each body, and N
   bool m_debug = false;
   bool m_failed = false;                 ///< a failed frame could not be cut off: close() keeps the temporary
   long m_frameCountOffset = 0;           ///< byte offset of the header's frame count

@@ -64,8 +64,9 @@ std::vector<float> particleColors(const ParticleTable& table, ColorMode mode) {
 }
 
 void particleSpheres(const ParticleTable& table, const float* px, const float* py, const float* pz,
-                     const float* qw, const float* qx, const float* qy, const float* qz, std::vector<float>& out) {
-  const std::size_t n = table.size();
+                     const float* qw, const float* qx, const float* qy, const float* qz, std::vector<float>& out,
+                     std::size_t count) {
+  const std::size_t n = std::min(count, table.size());
   out.resize(4 * n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t k = table.body[i];
@@ -81,7 +82,7 @@ void particleSpheres(const ParticleTable& table, const float* px, const float* p
 void forceLines(const ParticleTable& table, const std::vector<float>& spheres, const ParticleDebug& debug,
                 const bool show[kNumForces], std::vector<float>& outLines) {
   outLines.clear();
-  const std::size_t n = table.size();
+  const std::size_t n = std::min(table.size(), spheres.size() / 4);  // the particles present
   // A robust scale: the 90th percentile of the non-zero magnitudes (over the shown kinds) is
   // drawn 2.5 largest radii long, and no line is longer than 6 radii. Scaling by the maximum
   // would let one hard impact shrink every other line inside its sphere.
@@ -153,7 +154,8 @@ Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::ve
   for (std::size_t k = 0; k < rec.numFrames(); ++k) {
     rec.readFrame(k, f);
     if (times) times->push_back(f.time);
-    particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(), s);
+    particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(), s,
+                    rec.header().particlesOf(f.numBodies()));
     Bounds fb = robustBounds(s);
     if (!fb.empty) {
       b.add(fb.lo, 0.0f);

@@ -4,6 +4,7 @@
 /// radius, colour), force lines, the ground and the walls, from a recording frame or a live
 /// body state.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -73,9 +74,12 @@ std::vector<float> particleColors(const ParticleTable& table, ColorMode mode);
 /// 1: the largest, dark): cream to dark red for mass, ice blue to navy for elasticity.
 Rgb rampColor(ColorMode mode, float t);
 
-/// Particle centres x = X + R(Q) u from per-body columns (writes x, y, z, radius per particle).
+/// Particle centres x = X + R(Q) u from per-body columns (writes x, y, z, radius per particle),
+/// for the first `count` particles of the table (a frame of a recording that grows holds the
+/// bodies present: Recording::particlesOf()); all of them by default.
 void particleSpheres(const ParticleTable& table, const float* px, const float* py, const float* pz,
-                     const float* qw, const float* qx, const float* qy, const float* qz, std::vector<float>& out);
+                     const float* qw, const float* qx, const float* qy, const float* qz, std::vector<float>& out,
+                     std::size_t count = SIZE_MAX);
 
 /// One line per particle from its centre along each shown force kind (show[k]), one scale for
 /// all: the 90th percentile of the frame's non-zero magnitudes (over the shown kinds) is drawn
