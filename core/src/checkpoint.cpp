@@ -22,6 +22,7 @@
 
 #include "binary_io.hpp"
 #include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -30,7 +31,7 @@ using namespace tumble::detail;  // binary_io.hpp
 
 constexpr char kMagic[8] = {'T', 'U', 'M', 'B', 'L', 'E', 'C', 'K'};
 constexpr std::uint32_t kFlagGroundSprings = 1u;
-constexpr std::uint64_t kHeaderBytes = 92;  // through the header checksum
+constexpr std::uint64_t kHeaderBytes = 92;  // through the header checksum (version 1; 96 in version 2)
 constexpr std::uint64_t kOffVersion = 8, kOffFlags = 12, kOffNumParticles = 16, kOffNumBodies = 20;
 
 /// 64-bit FNV-1a over the bytes of values.
@@ -127,6 +128,12 @@ std::uint64_t physicsFingerprint(const Scene& s) {
         f.add(w.start);
         f.add(w.stop);
       }
+      if (w.shape == WallDef::Shape::Mesh && w.mesh) {  // its placement and its triangles
+        f.add(w.scale);
+        f.add(w.orientation);
+        f.addAll(w.mesh->vertices);
+        f.addAll(w.mesh->triangles);
+      }
     }
   }
   return f.value();
@@ -158,7 +165,13 @@ void Checkpoint::write(const std::string& path) const {
         throw SimulationError("checkpoint " + path + " not written: body " + std::to_string(k) + "'s " +
                                   kColumnNames[c] + " is not finite (the run diverged; run it with the guard, "
                                   "without --no-guard, to see where)");
-  if (state.contacts.size() > 0xFFFFFFFFu) throw Error("checkpoint " + path + ": too many contact histories");
+  if (state.contacts.size() > 0xFFFFFFFFu || state.meshContacts.size() > 0xFFFFFFFFu)
+    throw Error("checkpoint " + path + ": too many contact histories");
+  for (const MeshContactHistory& h : state.meshContacts)
+    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+      throw SimulationError("checkpoint " + path + " not written: the mesh spring of particle " + std::to_string(h.particle) +
+                                " on triangle " + std::to_string(h.triangle) + " is not finite (the run diverged)",
+                            static_cast<std::int64_t>(h.particle));
   for (const ContactHistory& h : state.contacts)
     if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
       throw SimulationError("checkpoint " + path + " not written: the contact history of particles " +
@@ -171,8 +184,10 @@ void Checkpoint::write(const std::string& path) const {
                             static_cast<std::int64_t>(i));
   std::vector<std::uint8_t> buf;
   Encoder e(buf);
+  // Version 1 unless there are mesh springs: the checkpoints of scenes without them keep their bytes.
+  const std::uint32_t version = state.meshContacts.empty() ? 1u : 2u;
   e.bytes(kMagic, 8);
-  e.u32(kCheckpointVersion);
+  e.u32(version);
   e.u32(np > 0 ? kFlagGroundSprings : 0u);
   e.u32(static_cast<std::uint32_t>(np));
   e.u32(static_cast<std::uint32_t>(nb));
@@ -185,6 +200,7 @@ void Checkpoint::write(const std::string& path) const {
   e.f64(frame.z);
   e.u64(sceneFingerprint);
   e.u64(physicsFingerprint);
+  if (version >= 2) e.u32(static_cast<std::uint32_t>(state.meshContacts.size()));
   e.u32(fnv1a(buf.data(), buf.size()));
   const std::size_t stateStart = buf.size();
   for (const auto* c : bodyColumns(state)) e.f32s(*c, nb);
@@ -193,6 +209,13 @@ void Checkpoint::write(const std::string& path) const {
   for (const ContactHistory& h : state.contacts) {
     e.u32(h.i);
     e.u32(h.j);
+    e.f32(h.x);
+    e.f32(h.y);
+    e.f32(h.z);
+  }
+  for (const MeshContactHistory& h : state.meshContacts) {
+    e.u32(h.particle);
+    e.u32(h.triangle);
     e.f32(h.x);
     e.f32(h.y);
     e.f32(h.z);
@@ -213,11 +236,16 @@ Checkpoint Checkpoint::read(const std::string& path) {
     in.fail(0, "not a tumble checkpoint (bad magic; expected \"TUMBLECK\")");
   if (buf.size() < kOffFlags) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
   const std::uint32_t version = getU32(buf.data() + kOffVersion);
-  if (version != kCheckpointVersion)
+  if (version != 1 && version != 2)
     in.fail(kOffVersion, "unsupported checkpoint version " + std::to_string(version) +
-                             " (this build of tumble reads version " + std::to_string(kCheckpointVersion) + " only)");
+                             " (this build of tumble reads versions 1 and 2)");
+  const std::uint64_t headerBytes = version == 1 ? kHeaderBytes : kHeaderBytes + 4;  // version 2: + M
   if (buf.size() < kHeaderBytes) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
-  checkChecksum(in, buf, 0, kHeaderBytes - 4, kHeaderBytes - 4, "header");
+  if (headerBytes > kHeaderBytes) {  // appends its last field
+    in.read(buf, std::min<std::uint64_t>(in.remaining(), headerBytes - kHeaderBytes), "header");
+    if (buf.size() < headerBytes) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
+  }
+  checkChecksum(in, buf, 0, static_cast<std::size_t>(headerBytes - 4), headerBytes - 4, "header");
   Decoder d(in, buf, 0, kOffFlags);
   const std::uint32_t flags = d.u32();
   if ((flags & ~kFlagGroundSprings) != 0) in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kFlagGroundSprings));
@@ -240,15 +268,17 @@ Checkpoint Checkpoint::read(const std::string& path) {
     in.fail(frameAt, "the frame origin is not finite");
   c.sceneFingerprint = d.u64();
   c.physicsFingerprint = d.u64();
+  const std::uint64_t nm = version >= 2 ? d.u32() : 0;  // mesh springs
+  if (version >= 2 && nm == 0) in.fail(kHeaderBytes - 4, "a version 2 checkpoint holds mesh springs (its count is 0: a version 1 file has none)");
   if (nb == 0) in.fail(kOffNumBodies, "the checkpoint holds no bodies");
 
   // The state block: its size follows from the counts; checked before anything is read.
   const std::uint64_t stateAt = in.offset();
-  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc;
+  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc + 20 * nm;
   if (stateBytes + 4 != in.remaining())
-    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " plane springs and " +
-                         std::to_string(nc) + " contact histories needs " + std::to_string(stateBytes + 4) +
-                         " bytes, the file has " + std::to_string(in.remaining()) + " left");
+    in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " plane springs, " +
+                         std::to_string(nc) + " contact histories and " + std::to_string(nm) + " mesh springs needs " +
+                         std::to_string(stateBytes + 4) + " bytes, the file has " + std::to_string(in.remaining()) + " left");
   buf.clear();
   in.read(buf, stateBytes + 4, "state");
   checkChecksum(in, buf, 0, static_cast<std::size_t>(stateBytes), stateAt + stateBytes, "state");
@@ -272,6 +302,21 @@ Checkpoint Checkpoint::read(const std::string& path) {
     if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
       in.fail(at, "contact history " + std::to_string(k) + " is not finite");
   }
+  c.state.meshContacts.resize(static_cast<std::size_t>(nm));
+  for (std::size_t k = 0; k < nm; ++k) {
+    const std::uint64_t at = sd.fileOffset();
+    MeshContactHistory& h = c.state.meshContacts[k];
+    h.particle = sd.u32();
+    h.triangle = sd.u32();
+    h.x = sd.f32();
+    h.y = sd.f32();
+    h.z = sd.f32();
+    const MeshContactHistory* p = k > 0 ? &c.state.meshContacts[k - 1] : nullptr;
+    if (p && !(p->particle < h.particle || (p->particle == h.particle && p->triangle < h.triangle)))
+      in.fail(at, "mesh spring " + std::to_string(k) + ": expected (particle, triangle) sorted and each once");
+    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+      in.fail(at, "mesh spring " + std::to_string(k) + " is not finite");
+  }
   return c;
 }
 
@@ -288,6 +333,12 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
     if (h.j >= world.numParticles())
       throw Error("the checkpoint's contact histories name particle " + std::to_string(h.j) + ", the scene has " +
                   std::to_string(world.numParticles()) + ": it was written by a run of another scene");
+  const std::uint32_t triangles = meshTriangleCount(world.params);
+  for (const MeshContactHistory& h : state.meshContacts)
+    if (h.particle >= world.numParticles() || h.triangle >= triangles)
+      throw Error("the checkpoint's mesh springs name particle " + std::to_string(h.particle) + " and triangle " +
+                  std::to_string(h.triangle) + ", the scene has " + std::to_string(world.numParticles()) +
+                  " particles and " + std::to_string(triangles) + " mesh triangles: it was written by a run of another scene");
   if (sceneFingerprint != tumble::sceneFingerprint(world))
     throw Error("the checkpoint was written by a run of another scene (the same counts, but other shapes, "
                 "masses, radii, materials or rotation scheme)");

@@ -95,6 +95,18 @@ std::optional<StateDifference> firstDifference(const BodyState& a, const BodySta
     if (!sameBits(ha.y, hb.y)) return StateDifference{"contact history y", at, ha.y, hb.y};
     if (!sameBits(ha.z, hb.z)) return StateDifference{"contact history z", at, ha.z, hb.z};
   }
+  // Mesh springs: the same (particle, triangle) with the same bits (index: the entry).
+  if (a.meshContacts.size() != b.meshContacts.size())
+    return StateDifference{"contact (mesh) count", 0, float(a.meshContacts.size()), float(b.meshContacts.size())};
+  for (std::size_t k = 0; k < a.meshContacts.size(); ++k) {
+    const MeshContactHistory &ha = a.meshContacts[k], &hb = b.meshContacts[k];
+    const auto at = static_cast<std::uint32_t>(k);
+    if (ha.particle != hb.particle) return StateDifference{"contact (mesh) particle", at, float(ha.particle), float(hb.particle)};
+    if (ha.triangle != hb.triangle) return StateDifference{"contact (mesh) triangle", at, float(ha.triangle), float(hb.triangle)};
+    if (!sameBits(ha.x, hb.x)) return StateDifference{"contact (mesh) spring x", at, ha.x, hb.x};
+    if (!sameBits(ha.y, hb.y)) return StateDifference{"contact (mesh) spring y", at, ha.y, hb.y};
+    if (!sameBits(ha.z, hb.z)) return StateDifference{"contact (mesh) spring z", at, ha.z, hb.z};
+  }
   return std::nullopt;
 }
 
@@ -111,7 +123,7 @@ TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& worl
     a.readState(sa);
     b.readState(sb);
     r.steps = s;
-    if (r.pairsIdentical && a.pairs() != b.pairs()) {
+    if (r.pairsIdentical && (a.pairs() != b.pairs() || a.meshContacts() != b.meshContacts())) {
       r.pairsIdentical = false;
       r.firstPairMismatchStep = s;
     }

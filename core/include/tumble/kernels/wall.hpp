@@ -20,6 +20,9 @@ namespace tumble {
 /// Wall::axis of a general plane and of a revolved wall (0, 1, 2: a plane n = sign e_axis).
 inline constexpr std::int32_t kGeneralPlane = -1;
 inline constexpr std::int32_t kRevolvedWall = -2;
+/// Wall::axis of a mesh wall: only its coeffs are read here; its triangles are in the
+/// MeshView (kernels/mesh.hpp), and the plane loops skip it.
+inline constexpr std::int32_t kMeshWall = -3;
 
 /// One wall.
 ///
