@@ -113,7 +113,9 @@ TUMBLE_HD_INLINE TrianglePoint nearestOnTriangle(const MeshView& m, std::uint32_
     }
   }
   out.dist = std::sqrt(best);
-  if (out.dist > 0.0f && best < FLT_MAX) out.n = (1.0f / out.dist) * diff;
+  // Divided per component: a point straight above a vertex or an edge of an aligned mesh gets
+  // the axis itself, as a plane there would.
+  if (out.dist > 0.0f && best < FLT_MAX) out.n = Vec3f{diff.x / out.dist, diff.y / out.dist, diff.z / out.dist};
   return out;
 }
 
