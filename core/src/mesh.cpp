@@ -170,7 +170,7 @@ void parseAsciiStl(std::string_view text, TriangleMesh& m) {
   const auto expect = [&](const char* word, const char* after) {
     const std::string_view t = tok.next(&line);
     if (t != word)
-      failAt(line, std::string("expected '") + word + "' after '" + after + "' (got '" +
+      failAt(line, std::string("expected '") + word + "' after " + after + " (got '" +
                        (t.empty() ? std::string("the end of the file") : std::string(t.substr(0, 40))) +
                        "'); " + kFacetForm + (t.empty() ? " (the file may be truncated)" : ""));
   };
@@ -193,16 +193,16 @@ void parseAsciiStl(std::string_view text, TriangleMesh& m) {
     if (t != "facet")
       failAt(line, "expected 'facet' or 'endsolid' (got '" + std::string(t.substr(0, 40)) + "'); " + kFacetForm);
     const std::uint64_t facetLine = line;
-    expect("normal", "facet");
+    expect("normal", "'facet'");
     for (int k = 0; k < 3; ++k) {  // the normal is not read (the kernels compute theirs), but must be there
       const std::string_view n = tok.next(&line);
       if (n.empty()) failAt(line, "the facet's normal is cut short: the file is truncated; export it again");
     }
     expect("outer", "the facet's normal");
-    expect("loop", "outer");
+    expect("loop", "'outer'");
     std::uint32_t corner[3];
     for (int c = 0; c < 3; ++c) {
-      expect("vertex", c == 0 ? "outer loop" : "vertex x y z");
+      expect("vertex", c == 0 ? "'outer loop'" : "a vertex");
       float v[3];
       for (int a = 0; a < 3; ++a) {
         const std::string_view n = tok.next(&line);
@@ -214,7 +214,7 @@ void parseAsciiStl(std::string_view text, TriangleMesh& m) {
       corner[c] = b.vertex(Vec3f{v[0], v[1], v[2]});
     }
     expect("endloop", "the third vertex (a facet has exactly three)");
-    expect("endfacet", "endloop");
+    expect("endfacet", "'endloop'");
     b.triangle(corner[0], corner[1], corner[2], facetLine, failAt);
   }
 }

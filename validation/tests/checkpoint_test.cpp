@@ -12,6 +12,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"
@@ -167,56 +168,80 @@ TEST(Checkpoint, RejectsAnotherScene) {
   EXPECT_NE(warning.find("differ"), std::string::npos) << warning;
 }
 
+// Version 1 (a scene without meshes) and version 2 (with mesh springs: a ball sliding on a
+// mesh floor): every cut and every flipped byte is refused.
 TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
   Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
   s.bodies.resize(12);
-  const World w = World::fromScene(s);
-  auto p = makePipeline(Backend::Cpu);
-  p->load(w);
-  p->step(5);
-  const std::string path = tempPath("damage.ck");
-  Checkpoint::of(w, *p).write(path);
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  ASSERT_GT(bytes.size(), 200u);
-  const Checkpoint good = Checkpoint::read(path);
-  EXPECT_EQ(good.step, 5u);
-  auto writeBytes = [&](const std::string& b) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(b.data(), std::streamsize(b.size()));
-  };
-  int errors = 0;
-  for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
-    writeBytes(bytes.substr(0, cut));
-    try {
-      Checkpoint::read(path);
-      ADD_FAILURE() << "a file cut at byte " << cut << " was accepted";
-    } catch (const InputError&) {
-      ++errors;
+  Scene m;
+  m.ground.enabled = false;
+  m.contact.law = ContactLaw::HookeHistory;
+  auto floor = std::make_shared<TriangleMesh>();
+  floor->vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  floor->triangles = {0, 1, 2, 0, 2, 3};
+  floor->source = {1, 2};
+  WallDef w;
+  w.shape = WallDef::Shape::Mesh;
+  w.mesh = floor;
+  m.walls = {w};
+  m.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 0.1f, 0.5f}}}};
+  BodyDef b;
+  b.position = {0.0f, 0.0f, 0.0499f};
+  b.velocity = {1.0f, 0.5f, 0.0f};
+  m.bodies = {b};
+  for (const Scene& sc : {s, m}) {
+    const bool mesh = !sc.walls.empty();
+    SCOPED_TRACE(mesh ? "version 2, with mesh springs" : "version 1");
+    const World w = World::fromScene(sc);
+    auto p = makePipeline(Backend::Cpu);
+    p->load(w);
+    p->step(5);
+    const std::string path = tempPath("damage.ck");
+    Checkpoint::of(w, *p).write(path);
+    std::string bytes;
+    {
+      std::ifstream in(path, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), {});
     }
-  }
-  for (std::size_t at = 0; at < bytes.size(); ++at) {
-    std::string b = bytes;
-    b[at] = static_cast<char>(b[at] ^ 0x10);
-    writeBytes(b);
-    try {
-      Checkpoint::read(path);
-      ADD_FAILURE() << "a file with byte " << at << " flipped was accepted";
-    } catch (const InputError& e) {
-      ++errors;
-      if (at == 0) {
-        EXPECT_NE(std::string(e.what()).find("not a tumble checkpoint"), std::string::npos) << e.what();
+    ASSERT_GT(bytes.size(), mesh ? 100u : 200u);
+    EXPECT_EQ(bytes[8], mesh ? 2 : 1) << "the version";
+    const Checkpoint good = Checkpoint::read(path);
+    EXPECT_EQ(good.step, 5u);
+    EXPECT_EQ(good.state.meshContacts.size(), mesh ? 1u : 0u);
+    auto writeBytes = [&](const std::string& b) {
+      std::ofstream out(path, std::ios::binary | std::ios::trunc);
+      out.write(b.data(), std::streamsize(b.size()));
+    };
+    int errors = 0;
+    for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+      writeBytes(bytes.substr(0, cut));
+      try {
+        Checkpoint::read(path);
+        ADD_FAILURE() << "a file cut at byte " << cut << " was accepted";
+      } catch (const InputError&) {
+        ++errors;
       }
     }
+    for (std::size_t at = 0; at < bytes.size(); ++at) {
+      std::string b = bytes;
+      b[at] = static_cast<char>(b[at] ^ 0x10);
+      writeBytes(b);
+      try {
+        Checkpoint::read(path);
+        ADD_FAILURE() << "a file with byte " << at << " flipped was accepted";
+      } catch (const InputError& e) {
+        ++errors;
+        if (at == 0) {
+          EXPECT_NE(std::string(e.what()).find("not a tumble checkpoint"), std::string::npos) << e.what();
+        }
+      }
+    }
+    writeBytes(bytes + "x");
+    EXPECT_THROW(Checkpoint::read(path), InputError) << "trailing bytes";
+    std::remove(path.c_str());
+    EXPECT_THROW(Checkpoint::read(path), InputError) << "a missing file";
+    EXPECT_EQ(errors, int(2 * bytes.size()));
   }
-  writeBytes(bytes + "x");
-  EXPECT_THROW(Checkpoint::read(path), InputError) << "trailing bytes";
-  std::remove(path.c_str());
-  EXPECT_THROW(Checkpoint::read(path), InputError) << "a missing file";
-  EXPECT_EQ(errors, int(2 * bytes.size()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, CheckpointTest, ::testing::ValuesIn(compiledBackends()),

@@ -492,13 +492,25 @@ TEST(MeshWallTest, ABowlOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
   const BodyState a = run(w, 300, PipelineOptions{2, true});
   Scene s0 = s, sBig = s;
   s0.broadphase.skin = 0.0f;
-  sBig.broadphase.skin = 0.02f;
+  sBig.broadphase.skin = 0.2f;  // 4 radii (the automatic one is half a radius)
   const BodyState one = run(w, 300, PipelineOptions{1, false});
   const BodyState noSkin = run(World::fromScene(s0), 300);
   const BodyState bigSkin = run(World::fromScene(sBig), 300);
   for (const BodyState* o : {&one, &noSkin, &bigSkin}) {
     const auto d = firstDifference(a, *o);
     EXPECT_FALSE(d.has_value()) << d->describe();
+  }
+  {  // the report's law: its forces read the near list, a thinner skin refreshed in between
+    Scene r = s, r0 = s0, rBig = sBig;
+    for (Scene* x : {&r, &r0, &rBig}) x->contact = benchScene(8).contact;
+    const World wr = World::fromScene(r);
+    const BodyState ra = run(wr, 300, PipelineOptions{2, true});
+    for (const BodyState& o : {run(wr, 300, PipelineOptions{1, false}), run(World::fromScene(r0), 300),
+                               run(World::fromScene(rBig), 300)}) {
+      const auto d = firstDifference(ra, o);
+      EXPECT_FALSE(d.has_value()) << "the report's law: " << d->describe();
+    }
+    EXPECT_FALSE(ra.meshContacts.empty()) << "its mesh springs too";
   }
   std::printf("bowl of %u clumps (%zu triangles): %zu mesh springs held at step 300\n", w.numBodies(), t.size() / 3,
               a.meshContacts.size());
