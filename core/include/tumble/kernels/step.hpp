@@ -121,17 +121,20 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
       wallOmega = wall.omega * wall.n;
     }
   }
+  float sx = *tx, sy = *ty;  // locals: the spring is read once and written once
   GroundForces g;
   float muR;
   if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
-    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, tx, ty);
+    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy);
     muR = hp.muR;
   } else {
     const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[std::size_t(k - 1) * v.numParticles + i];
-    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, tx, ty);
+    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &sx, &sy);
     muR = w.coeffs.rollingFriction;
   }
+  *tx = sx;
+  *ty = sy;
   const float fn = g.normal.z;
   g = GroundForces{fromWall<kAxis>(w, g.normal), fromWall<kAxis>(w, g.friction), fromWall<kAxis>(w, g.arm)};
   const Vec3f fg = g.normal + g.friction;
