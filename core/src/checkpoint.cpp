@@ -65,6 +65,41 @@ std::vector<std::vector<float>*> bodyColumns(BodyState& s) {
 const char* const kColumnNames[13] = {"px", "py", "pz", "vx", "vy", "vz", "qw",
                                       "qx", "qy", "qz", "lx", "ly", "lz"};
 
+// The histories (ContactHistory: i, j; MeshContactHistory: particle, triangle) are records of
+// two u32 indices a, b and ξ as 3 × f32, sorted by (a, b).
+template <class H>
+void writeHistories(Encoder& e, const std::vector<H>& hs, std::uint32_t H::*a, std::uint32_t H::*b) {
+  for (const H& h : hs) {
+    e.u32(h.*a);
+    e.u32(h.*b);
+    e.f32(h.x);
+    e.f32(h.y);
+    e.f32(h.z);
+  }
+}
+
+// Reads n of them, refusing one that does not follow the previous in (a, b) order (or, for
+// pairs, whose a is not below its b), or that is not finite; `what` and `order` name them.
+template <class H>
+void readHistories(Decoder& d, const InFile& in, std::size_t n, std::uint32_t H::*a, std::uint32_t H::*b, bool pairs,
+                   const std::string& what, const std::string& order, std::vector<H>& out) {
+  out.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint64_t at = d.fileOffset();
+    H& h = out[k];
+    h.*a = d.u32();
+    h.*b = d.u32();
+    h.x = d.f32();
+    h.y = d.f32();
+    h.z = d.f32();
+    const H* p = k > 0 ? &out[k - 1] : nullptr;
+    if ((pairs && !(h.*a < h.*b)) || (p && !(p->*a < h.*a || (p->*a == h.*a && p->*b < h.*b))))
+      in.fail(at, what + " " + std::to_string(k) + ": expected " + order);
+    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+      in.fail(at, what + " " + std::to_string(k) + " is not finite");
+  }
+}
+
 }  // namespace
 
 std::uint64_t sceneFingerprint(const World& w) {
@@ -206,20 +241,8 @@ void Checkpoint::write(const std::string& path) const {
   for (const auto* c : bodyColumns(state)) e.f32s(*c, nb);
   e.f32s(state.groundSpringX, np);
   e.f32s(state.groundSpringY, np);
-  for (const ContactHistory& h : state.contacts) {
-    e.u32(h.i);
-    e.u32(h.j);
-    e.f32(h.x);
-    e.f32(h.y);
-    e.f32(h.z);
-  }
-  for (const MeshContactHistory& h : state.meshContacts) {
-    e.u32(h.particle);
-    e.u32(h.triangle);
-    e.f32(h.x);
-    e.f32(h.y);
-    e.f32(h.z);
-  }
+  writeHistories(e, state.contacts, &ContactHistory::i, &ContactHistory::j);
+  writeHistories(e, state.meshContacts, &MeshContactHistory::particle, &MeshContactHistory::triangle);
   e.u32(fnv1a(buf.data() + stateStart, buf.size() - stateStart));
 
   OutputFile out(path);  // a temporary renamed into place (output_file.hpp)
@@ -287,36 +310,10 @@ Checkpoint Checkpoint::read(const std::string& path) {
   for (int k = 0; k < 13; ++k) sd.finiteColumn(*cols[k], static_cast<std::size_t>(nb), kColumnNames[k]);
   sd.finiteColumn(c.state.groundSpringX, static_cast<std::size_t>(np), "groundSpringX");
   sd.finiteColumn(c.state.groundSpringY, static_cast<std::size_t>(np), "groundSpringY");
-  c.state.contacts.resize(static_cast<std::size_t>(nc));
-  for (std::size_t k = 0; k < nc; ++k) {
-    const std::uint64_t at = sd.fileOffset();
-    ContactHistory& h = c.state.contacts[k];
-    h.i = sd.u32();
-    h.j = sd.u32();
-    h.x = sd.f32();
-    h.y = sd.f32();
-    h.z = sd.f32();
-    if (!(h.i < h.j) || (k > 0 && !(c.state.contacts[k - 1].i < h.i ||
-                                     (c.state.contacts[k - 1].i == h.i && c.state.contacts[k - 1].j < h.j))))
-      in.fail(at, "contact history " + std::to_string(k) + ": expected pairs i < j sorted by (i, j)");
-    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
-      in.fail(at, "contact history " + std::to_string(k) + " is not finite");
-  }
-  c.state.meshContacts.resize(static_cast<std::size_t>(nm));
-  for (std::size_t k = 0; k < nm; ++k) {
-    const std::uint64_t at = sd.fileOffset();
-    MeshContactHistory& h = c.state.meshContacts[k];
-    h.particle = sd.u32();
-    h.triangle = sd.u32();
-    h.x = sd.f32();
-    h.y = sd.f32();
-    h.z = sd.f32();
-    const MeshContactHistory* p = k > 0 ? &c.state.meshContacts[k - 1] : nullptr;
-    if (p && !(p->particle < h.particle || (p->particle == h.particle && p->triangle < h.triangle)))
-      in.fail(at, "mesh spring " + std::to_string(k) + ": expected (particle, triangle) sorted and each once");
-    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
-      in.fail(at, "mesh spring " + std::to_string(k) + " is not finite");
-  }
+  readHistories(sd, in, static_cast<std::size_t>(nc), &ContactHistory::i, &ContactHistory::j, true, "contact history",
+                "pairs i < j sorted by (i, j)", c.state.contacts);
+  readHistories(sd, in, static_cast<std::size_t>(nm), &MeshContactHistory::particle, &MeshContactHistory::triangle, false,
+                "mesh spring", "(particle, triangle) sorted and each once", c.state.meshContacts);
   return c;
 }
 

@@ -28,6 +28,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "binary_io.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -72,23 +73,9 @@ class MeshBuilder {
   void triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint64_t source, Fail&& fail) {
     const std::size_t t = m_mesh.numTriangles();
     if (t >= (std::size_t{1} << 31)) fail(source, "more than 2^31 triangles; split the mesh into several [[wall]]s");
-    const std::uint32_t v[3] = {a, b, c};
-    const std::string which = "triangle " + std::to_string(t + 1);
-    for (int i = 0; i < 3; ++i)
-      for (int j = i + 1; j < 3; ++j)
-        if (v[i] == v[j])
-          fail(source, which + " is degenerate: its corners " + std::to_string(i + 1) + " and " + std::to_string(j + 1) +
-                           " are the same point " + point(m_mesh.vertices[v[i]]) +
-                           "; remove it from the mesh (a triangle needs three distinct corners)");
-    const Vec3f& p = m_mesh.vertices[a];
-    const Vec3f& q = m_mesh.vertices[b];
-    const Vec3f& r = m_mesh.vertices[c];
-    const double e[3] = {double(q.x) - p.x, double(q.y) - p.y, double(q.z) - p.z};
-    const double f[3] = {double(r.x) - p.x, double(r.y) - p.y, double(r.z) - p.z};
-    const double n[3] = {e[1] * f[2] - e[2] * f[1], e[2] * f[0] - e[0] * f[2], e[0] * f[1] - e[1] * f[0]};
-    if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0)
-      fail(source, which + " is degenerate: its corners " + point(p) + ", " + point(q) + ", " + point(r) +
-                       " lie on one line (zero area); remove it from the mesh");
+    if (const std::string why = degenerateTriangle(m_mesh.vertices[a], m_mesh.vertices[b], m_mesh.vertices[c]);
+        !why.empty())
+      fail(source, "triangle " + std::to_string(t + 1) + " is degenerate: " + why + "; remove it from the mesh");
     m_mesh.triangles.insert(m_mesh.triangles.end(), {a, b, c});
     m_mesh.source.push_back(source);
   }
@@ -344,14 +331,7 @@ TriangleMesh parseMesh(std::string_view bytes, const std::string& name) {
   return m;
 }
 
-TriangleMesh readMeshFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, std::string("cannot open the mesh file: ") + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path, 0, std::string("cannot read the mesh file: ") + std::strerror(errno));
-  return parseMesh(text.str(), path);
-}
+TriangleMesh readMeshFile(const std::string& path) { return parseMesh(detail::readWholeFile(path, "the mesh file"), path); }
 
 std::vector<Vec3f> meshWallVertices(const WallDef& wall, const LocalFrame& f) {
   if (!wall.mesh) throw Error(wall.where + ": not a mesh wall");
@@ -524,6 +504,33 @@ void incidence(const std::vector<std::uint32_t>& keys, std::size_t count, std::v
 
 }  // namespace
 
+std::string degenerateTriangle(Vec3f p, Vec3f q, Vec3f r) {
+  const Vec3f c[3] = {p, q, r};
+  double longest2 = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j) {
+      const Vec3f e = c[j] - c[i];
+      if (c[i].x == c[j].x && c[i].y == c[j].y && c[i].z == c[j].z)
+        return "its corners " + std::to_string(i + 1) + " and " + std::to_string(j + 1) + " are the same point " + point(c[i]);
+      if (!(dot(e, e) > 0.0f))
+        return "its corners " + std::to_string(i + 1) + " and " + std::to_string(j + 1) + " (" + point(c[i]) + ", " +
+               point(c[j]) + ") are too close for single precision (their squared distance is 0 there)";
+      const Vec3d ed = sub(toD(c[j]), toD(c[i]));
+      longest2 = std::max(longest2, dotD(ed, ed));
+    }
+  const Vec3d n = crossD(sub(toD(q), toD(p)), sub(toD(r), toD(p)));
+  const double twiceArea = std::sqrt(dotD(n, n));
+  if (!(twiceArea > 0.0)) return "its corners " + point(p) + ", " + point(q) + ", " + point(r) + " lie on one line (zero area)";
+  const double thin = twiceArea / longest2;  // its smallest height over its longest edge
+  if (!(thin >= kThinnestTriangle)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "it is too thin for single precision: its smallest height is %.3g times its longest "
+                  "edge (at least %.3g), at ", thin, kThinnestTriangle);
+    return buf + point(p) + ", " + point(q) + ", " + point(r);
+  }
+  return {};
+}
+
 KernelMesh kernelMesh(const Scene& scene, const LocalFrame& f) {
   KernelMesh km;
   const std::uint32_t firstWall = scene.ground.enabled ? 1u : 0u;  // plane index of walls[0]
@@ -550,15 +557,11 @@ KernelMesh kernelMesh(const Scene& scene, const LocalFrame& f) {
     const std::uint32_t* c = &km.triangles[3 * t];
     const Vec3f p = km.vertices[c[0]], q = km.vertices[c[1]], r = km.vertices[c[2]];
     const WallDef& w = scene.walls[wallOf[t].first];
-    const Vec3d n = crossD(sub(toD(q), toD(p)), sub(toD(r), toD(p)));
-    const auto same = [](Vec3f a, Vec3f b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
-    const auto len2 = [](Vec3f a, Vec3f b) { const Vec3f e = b - a; return dot(e, e); };
-    if (same(p, q) || same(q, r) || same(p, r) || !(dotD(n, n) > 0.0) || !(len2(p, q) > 0.0f) ||
-        !(len2(q, r) > 0.0f) || !(len2(r, p) > 0.0f))
+    if (const std::string why = degenerateTriangle(p, q, r); !why.empty())
       throw Error(w.where + ": triangle " + std::to_string(wallOf[t].second + 1) + " (" +
-                  w.mesh->where(wallOf[t].second) + ") is degenerate in single precision once scaled and placed, at " +
-                  point(p) + ", " + point(q) + ", " + point(r) + "; use a larger scale, or remove the triangle");
-    normal[t] = unit(n);
+                  w.mesh->where(wallOf[t].second) + ") is degenerate once scaled and placed: " + why +
+                  "; use a larger scale, or remove it from the mesh");
+    normal[t] = unit(crossD(sub(toD(q), toD(p)), sub(toD(r), toD(p))));
     MeshTriangle& tr = km.tri[t];
     tr.n = toF(normal[t]);
     tr.wall = firstWall + wallOf[t].first;

@@ -40,6 +40,7 @@
 #include <utility>
 #include <vector>
 
+#include "binary_io.hpp"
 #include "tumble/error.hpp"
 #include "tumble/math.hpp"
 #include "tumble/memory.hpp"
@@ -688,14 +689,12 @@ class SceneParser {
     std::filesystem::path path(file);
     if (path.is_relative()) path = std::filesystem::path(m_file).parent_path() / path;
     const std::string resolved = path.lexically_normal().string();
-    {
-      std::error_code ec;
-      std::ifstream probe(resolved, std::ios::binary);
-      const int err = errno;
-      if (std::filesystem::is_directory(resolved, ec) || !probe)
-        r.fail(sourceOf(fn), "cannot open the mesh file '" + file + "' (" + resolved + "): " +
-                                 (std::filesystem::is_directory(resolved, ec) ? std::strerror(EISDIR) : std::strerror(err)) +
-                                 "; a relative file is found from the scene file's folder");
+    std::string bytes;
+    try {
+      bytes = detail::readWholeFile(resolved, "the mesh file");
+    } catch (const InputError& e) {
+      r.fail(sourceOf(fn), e.problem() + " (file = \"" + file + "\", looked for at " + resolved +
+                               "); a relative file is found from the scene file's folder");
     }
     if (const toml::node* sn = r.find("scale")) {
       if (sn->is_array()) {
@@ -708,8 +707,20 @@ class SceneParser {
     wall->point = r.vec3("position", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
     if (const toml::node* q = r.find("orientation")) wall->orientation = r.orientation(*q);
     try {
-      wall->mesh = std::make_shared<const TriangleMesh>(readMeshFile(resolved));
-      meshWallVertices(*wall);  // every vertex placed within single precision
+      const auto mesh = std::make_shared<const TriangleMesh>(parseMesh(bytes, resolved));
+      wall->mesh = mesh;
+      // Every vertex placed within single precision, and every triangle still a triangle there.
+      const std::vector<Vec3f> v = meshWallVertices(*wall);
+      for (std::size_t t = 0; t < mesh->numTriangles(); ++t) {
+        const std::uint32_t* c = &mesh->triangles[3 * t];
+        if (const std::string why = degenerateTriangle(v[c[0]], v[c[1]], v[c[2]]); !why.empty())
+          throw mesh->binary ? InputError(mesh->file, 0, "byte " + std::to_string(mesh->source[t]) + ": triangle " +
+                                                             std::to_string(t + 1) + " is degenerate once scaled and placed: " +
+                                                             why + "; use a larger scale, or remove it from the mesh")
+                             : InputError(mesh->file, static_cast<long>(mesh->source[t]),
+                                          "triangle " + std::to_string(t + 1) + " is degenerate once scaled and placed: " +
+                                              why + "; use a larger scale, or remove it from the mesh");
+      }
     } catch (const InputError& e) {
       throw InputError(e.file(), e.line(), e.problem() + " (the mesh of " + wall->where + ")");
     } catch (const Error& e) {  // a vertex beyond single precision once placed (its message names the wall)
@@ -1355,22 +1366,7 @@ Scene parseScene(std::string_view text, const std::string& sourceName, const std
 
 Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides) {
   std::vector<Override> parsed = parseOverrides(overrides);  // mistakes on the command line first
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw InputError(path, 0, std::string("cannot open: ") + std::strerror(EISDIR));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw InputError(path, 0, std::string("cannot open: ") + std::strerror(err));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    const int err = errno;
-    throw InputError(path, 0, std::string("cannot read: ") + std::strerror(err));
-  }
-  return parseWith(text.str(), path, parsed);
+  return parseWith(detail::readWholeFile(path), path, parsed);
 }
 
 }  // namespace tumble

@@ -178,6 +178,8 @@ TEST(MeshReader, EveryErrorNamesItsPlace) {
   expectMeshError("o8.obj", v + "f 1 2 2\n", 4, {"triangle 1 is degenerate", "corners 2 and 3"});
   expectMeshError("o9.obj", v + "v 2 2 0\nf 1 3 4\n", 5, {"triangle 1 is degenerate", "lie on one line"});
   expectMeshError("o10.obj", v + "v 1 1 0\n", 0, {"no triangles"});
+  expectMeshError("o12.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1e10 0 0\nv 1e10 1e-3 0\nf 1 2 3\nf 1 4 5\n", 7,
+                  {"triangle 2 is degenerate", "too thin for single precision", "1e-13 times its longest edge"});
   expectMeshError("o11.obj", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 1 1 0\n", 1, {"0 vertices are defined before this line"});
 }
 
@@ -267,7 +269,8 @@ TEST(MeshWallKeys, EveryKey) {
 TEST(MeshWallKeys, EveryError) {
   writeFile("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
   expectSceneError(meshScene(""), 12, {"[[wall]] #1", "missing required key 'file'", "relative to the scene file's folder"});
-  expectSceneError(meshScene("file = \"nowhere.stl\"\n"), 14, {"cannot open the mesh file 'nowhere.stl'", "No such file",
+  expectSceneError(meshScene("file = \"nowhere.stl\"\n"), 14, {"[[wall]] #1: cannot open the mesh file: No such file",
+                                                             "file = \"nowhere.stl\"",
                                                              "relative file is found from the scene file's folder"});
   expectSceneError(meshScene("file = 3\n"), 14, {"file must be a string"});
   expectSceneError(meshScene("file = \"\"\n"), 14, {"file must name an STL or OBJ file"});
@@ -282,6 +285,11 @@ TEST(MeshWallKeys, EveryError) {
   expectSceneError(meshScene("file = \"square.obj\"\nscale = 3e38\nposition = [3e38, 0, 0]\n"), 12,
                    {"beyond single precision once scaled, turned and placed"});
   expectSceneError(meshScene("file = \"square.obj\"\nmaterial = \"x\"\n"), 15, {"material is read under law = \"hertz-mindlin\" only"});
+  // A triangle that a scale shrinks to nothing in single precision: at its line in the mesh file.
+  const std::string sq = dir() + "/square.obj";
+  expectSceneError(meshScene("file = \"square.obj\"\nscale = 1e-30\n"), 5,
+                   {"triangle 1 is degenerate once scaled and placed", "too close for single precision", "use a larger scale",
+                    "(the mesh of [[wall]] #1"}, sq);
   // A problem inside the mesh file: its file and line, and the wall that reads it.
   const std::string bad = writeFile("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
   expectSceneError(meshScene("file = \"bad.obj\"\n"), 3, {"index 3", "(the mesh of [[wall]] #1 ("}, bad);

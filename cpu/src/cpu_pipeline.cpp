@@ -621,12 +621,20 @@ class CpuPipeline final : public Pipeline {
     });
   }
 
-  // The entries of the rows with a key and a non-zero ξ that `take` accepts, as out[...] =
-  // make(scene index, key, ξ), sorted by (scene index, key).
+  // The entries with a key and a non-zero ξ that `take` accepts, as out[...] = make(scene index,
+  // key, ξ), sorted by (scene index, key): from the rows of a list, or before the first rebuild
+  // (loaded, not stepped) from the kept histories.
   template <class Out, class KeyOf, class Take, class Make>
-  void readRows(const std::vector<std::uint32_t>& offsets, const std::vector<Vec3f>& hist, KeyOf&& keyOf, Take&& take,
-                Make&& make, std::vector<Out>& out) const {
+  void readRows(const KeptHistories& kept, const std::vector<std::uint32_t>& offsets, const std::vector<Vec3f>& hist,
+                KeyOf&& keyOf, Take&& take, Make&& make, std::vector<Out>& out) const {
     const std::uint32_t n = m_world.numParticles();
+    out.clear();
+    if (!m_listBuilt) {
+      for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t k = kept.offsets[i]; k < kept.offsets[i + 1]; ++k)
+          if (take(i, kept.key[k])) out.push_back(make(i, kept.key[k], kept.hist[k]));
+      return;
+    }
     std::vector<std::uint32_t> count(std::size_t(n) + 1, 0u);
     m_arena.execute([&] {
       forEach(n, kGrain, [&](std::uint32_t i) {
@@ -679,14 +687,8 @@ class CpuPipeline final : public Pipeline {
   void readHistory(std::vector<ContactHistory>& out) const {
     out.clear();
     if (!m_history) return;
-    if (!m_listBuilt) {  // loaded, not stepped: as loaded
-      for (std::uint32_t i = 0; i < m_world.numParticles(); ++i)
-        for (std::uint32_t k = m_keep.offsets[i]; k < m_keep.offsets[i + 1]; ++k)
-          if (m_keep.key[k] > i) out.push_back({i, m_keep.key[k], m_keep.hist[k].x, m_keep.hist[k].y, m_keep.hist[k].z});
-      return;
-    }
     readRows(
-        m_candOffsets, m_hist, [&](std::uint32_t e) { return m_orig[m_cand[e]]; },
+        m_keep, m_candOffsets, m_hist, [&](std::uint32_t e) { return m_orig[m_cand[e]]; },
         [](std::uint32_t me, std::uint32_t other) { return other > me; },
         [](std::uint32_t me, std::uint32_t other, Vec3f h) { return ContactHistory{me, other, h.x, h.y, h.z}; }, out);
   }
@@ -714,14 +716,8 @@ class CpuPipeline final : public Pipeline {
   void readMeshHistory(std::vector<MeshContactHistory>& out) const {
     out.clear();
     if (!m_hasMesh) return;
-    if (!m_listBuilt) {  // loaded, not stepped: as loaded
-      for (std::uint32_t i = 0; i < m_world.numParticles(); ++i)
-        for (std::uint32_t k = m_meshKeep.offsets[i]; k < m_meshKeep.offsets[i + 1]; ++k)
-          out.push_back({i, m_meshKeep.key[k], m_meshKeep.hist[k].x, m_meshKeep.hist[k].y, m_meshKeep.hist[k].z});
-      return;
-    }
     readRows(
-        m_meshOffsets, m_meshHist, [&](std::uint32_t e) { return m_meshTri[e]; },
+        m_meshKeep, m_meshOffsets, m_meshHist, [&](std::uint32_t e) { return m_meshTri[e]; },
         [](std::uint32_t, std::uint32_t) { return true; },
         [](std::uint32_t me, std::uint32_t t, Vec3f h) { return MeshContactHistory{me, t, h.x, h.y, h.z}; }, out);
   }

@@ -35,16 +35,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
-
-GroundParams contactOf(float k, float mu) {
-  GroundParams c;
-  c.enabled = true;
-  c.stiffness = k;
-  c.friction = mu;
-  return c;
-}
-
 // A mesh wall of the given (welded) vertices and triangles, built in code.
 WallDef meshWall(std::vector<Vec3f> vertices, std::vector<std::uint32_t> triangles, const GroundParams& c) {
   auto m = std::make_shared<TriangleMesh>();
@@ -84,15 +74,6 @@ WallDef gridMesh(int nx, int ny, float h, float x0, float y0, Height&& height, c
 }
 WallDef flatGrid(int nx, int ny, float h, float x0, float y0, const GroundParams& c) {
   return gridMesh(nx, ny, h, x0, y0, [](float, float) { return 0.0f; }, c);
-}
-
-BodyState run(const World& w, std::uint64_t steps, const PipelineOptions& o = {}) {
-  auto p = makePipeline(Backend::Cpu, o);
-  p->load(w);
-  p->step(steps);
-  BodyState s;
-  p->readState(s);
-  return s;
 }
 
 // The pipeline's mesh contacts against the oracle's at every step; returns the contacts seen
@@ -202,7 +183,7 @@ TEST(MeshWallTest, NearestPointMatchesDoublePrecision) {
     for (Vec3f& c : v) c = Vec3f{float(u(rng)) * scale, float(u(rng)) * scale, float(u(rng)) * scale};
     if (k % 5 == 0) v[2] = Vec3f{0.5f * (v[0].x + v[1].x), 0.5f * (v[0].y + v[1].y) + 0.01f * scale, 0.5f * (v[0].z + v[1].z)};  // thin
     Scene s;
-    s.walls = {meshWall(v, {0, 1, 2}, contactOf(1e4f, 0.5f))};
+    s.walls = {meshWall(v, {0, 1, 2}, wallContact(1e4f, 0.5f))};
     const KernelMesh km = kernelMesh(s, LocalFrame{});
     for (int n = 0; n < 20; ++n) {
       const Vec3f x{float(u(rng)) * 1.5f * scale, float(u(rng)) * 1.5f * scale, float(u(rng)) * 1.5f * scale};
@@ -226,12 +207,27 @@ TEST(MeshWallTest, NearestPointMatchesDoublePrecision) {
   EXPECT_GT(vertices, 100);
 }
 
+// A point whose squared distance to a triangle's edges overflows single precision (9e22 m
+// away) is at an infinite distance, never a contact: the squared distances once started from
+// FLT_MAX, and such a point got the distance 1.8e19 m, a contact for a sphere of 3.6e22 m that
+// the hierarchy's query (rightly) did not find (fuzz_mesh, corpus/mesh/huge_coordinates.stl).
+TEST(MeshWallTest, APointBeyondSinglePrecisionSquaresIsNoContact) {
+  Scene s;
+  s.walls = {meshWall({{-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0.5f, 0.5f, 0}}, {0, 1, 2}, wallContact(1e4f, 0.5f))};
+  const KernelMesh km = kernelMesh(s, LocalFrame{});
+  const Vec3f x{9.01851e22f, 1.5e-19f, 7.21485e21f};
+  const TrianglePoint p = nearestOnTriangle(km.view(), 0, x);
+  EXPECT_FALSE(p.dist < 9e22f) << "got " << p.dist;
+  EXPECT_FALSE(meshHit(km.view(), 0, x, 3.6e22f).counts);
+  EXPECT_EQ(findMeshContacts(km, {x.x, x.y, x.z}, {3.6e22f}), bruteForceMeshContacts(km, {x.x, x.y, x.z}, {3.6e22f}));
+}
+
 // The counting rule on the hard cases, by count: a sphere above a shared edge or a shared
 // vertex of a flat mesh meets it once (the edge's plane is shared: a point on it is on the
 // edge for both triangles); in a concave corner twice (two faces); on a convex ridge once (the
 // ridge edge); exactly touching (distance r) not at all.
 TEST(MeshWallTest, ASphereCountsOncePerLocalMinimum) {
-  const GroundParams c = contactOf(1e5f, 0.5f);
+  const GroundParams c = wallContact(1e5f, 0.5f);
   const auto contactsAt = [](const WallDef& wall, Vec3f x, float r) {
     Scene s;
     s.walls = {wall};
@@ -268,7 +264,7 @@ TEST(MeshWallTest, ASphereCountsOncePerLocalMinimum) {
 // The pipeline's mesh contacts equal the oracle's at every step, on the hard cases (with the
 // contact counts checked where they are known).
 TEST(MeshWallTest, ContactsEqualTheOracleAtEveryStep) {
-  const GroundParams c = contactOf(1e5f, 0.5f);
+  const GroundParams c = wallContact(1e5f, 0.5f);
   const float r = 0.05f, rest = r - 0.1f * 9.81f / 1e5f;
   const WallDef grid = flatGrid(8, 8, 0.1f, 0.0f, 0.0f, c);
   struct Case {
@@ -330,7 +326,7 @@ TEST(MeshWallTest, ContactsEqualTheOracleOnAHundredThousandTriangles) {
   const auto height = [](float x, float y) {
     return 0.2f * (x * x + y * y) + 0.0005f * std::sin(40.0f * x) * std::cos(37.0f * y);
   };
-  const WallDef wall = gridMesh(224, 224, 1.0f / 224.0f, -0.5f, -0.5f, height, contactOf(1e5f, 0.5f));
+  const WallDef wall = gridMesh(224, 224, 1.0f / 224.0f, -0.5f, -0.5f, height, wallContact(1e5f, 0.5f));
   ASSERT_EQ(wall.mesh->numTriangles(), 100352u);
   // Six balls just touching the bowl (along its normal, the ripples aside), thrown across it.
   const auto onBowl = [&](float x, float y) {
@@ -361,13 +357,13 @@ TEST(MeshWallTest, ABallOnAMeshVertexIsABallOnAPlane) {
     World worlds[2];
     for (int k = 0; k < 2; ++k) {
       WallDef plane;
-      plane.contact = contactOf(1e5f, 0.5f);
-      Scene s = ballOn(k == 0 ? flatGrid(4, 4, 0.25f, -0.5f, -0.5f, contactOf(1e5f, 0.5f)) : plane, 0.05f,
+      plane.contact = wallContact(1e5f, 0.5f);
+      Scene s = ballOn(k == 0 ? flatGrid(4, 4, 0.25f, -0.5f, -0.5f, wallContact(1e5f, 0.5f)) : plane, 0.05f,
                        {0.0f, 0.0f, 0.08f}, {0, 0, 0});
       s.contact.law = law;
       if (law == ContactLaw::HertzMindlin) s.materials = {MaterialDef{"soft", 0.0f, 1.0e7f, 0.3f, 0.5f, 0.5f, 0.0f}};
       worlds[k] = World::fromScene(s);
-      got[k] = run(worlds[k], 6000);
+      got[k] = runCpu(worlds[k], 6000);
     }
     EXPECT_EQ(got[0].pz[0], got[1].pz[0]);
     EXPECT_EQ(got[0].vz[0], got[1].vz[0]);
@@ -393,14 +389,14 @@ TEST(MeshWallTest, ABallOnAMeshVertexIsABallOnAPlane) {
 // crossing its edges and vertices (hooke-history, μ = 0.5 > 2/7 tan θ).
 TEST(MeshWallTest, ABallRollsDownAMeshInclineAtFiveSevenths) {
   const double theta = 20.0 * kPi / 180.0, g = 9.81, r = 0.05;
-  WallDef incline = flatGrid(40, 6, 0.1f, -2.0f, -0.3f, contactOf(1e5f, 0.5f));
+  WallDef incline = flatGrid(40, 6, 0.1f, -2.0f, -0.3f, wallContact(1e5f, 0.5f));
   incline.orientation = Quatf{float(std::cos(theta / 2)), 0.0f, float(std::sin(theta / 2)), 0.0f};  // about +y: x goes down
   const Vec3f n{float(std::sin(theta)), 0.0f, float(std::cos(theta))};  // R(q) e_z
   const float lift = float(r - 0.1 * g * std::cos(theta) / 1e5);
   Scene s = ballOn(incline, float(r), Vec3f{n.x * lift - 1.2f * float(std::cos(theta)), 0.01f,
                                             n.z * lift + 1.2f * float(std::sin(theta))}, {0, 0, 0});
   const World w = World::fromScene(s);
-  const BodyState a = run(w, 3000), b = run(w, 6000);  // 0.3 s and 0.6 s
+  const BodyState a = runCpu(w, 3000), b = runCpu(w, 6000);  // 0.3 s and 0.6 s
   const double along = std::cos(theta), down = std::sin(theta);
   const double va = a.vx[0] * along - a.vz[0] * down, vb = b.vx[0] * along - b.vz[0] * down;
   const double acc = (vb - va) / 0.3, want = 5.0 / 7.0 * g * std::sin(theta);
@@ -414,7 +410,7 @@ TEST(MeshWallTest, ABallRollsDownAMeshInclineAtFiveSevenths) {
 // A ball bouncing in a box made of a mesh (12 triangles) moves as in the box of six planes,
 // within rounding, through bounces off the floor and two side walls.
 TEST(MeshWallTest, AMeshBoxIsABoxOfPlanes) {
-  const GroundParams c = contactOf(1e5f, 0.3f);
+  const GroundParams c = wallContact(1e5f, 0.3f);
   const WallDef box = meshWall({{-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0.5f, 0.5f, 0}, {-0.5f, 0.5f, 0},
                                 {-0.5f, -0.5f, 1}, {0.5f, -0.5f, 1}, {0.5f, 0.5f, 1}, {-0.5f, 0.5f, 1}},
                                {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 5, 1, 0, 4, 5, 1, 6, 2, 1, 5, 6,
@@ -481,7 +477,7 @@ TEST(MeshWallTest, ABowlOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
   Scene s = withHookeHistory(benchScene(800));
   s.ground.enabled = false;
   s.dt = 5e-4f;
-  s.walls = {meshWall(v, t, contactOf(s.ground.stiffness, 0.5f))};
+  s.walls = {meshWall(v, t, wallContact(s.ground.stiffness, 0.5f))};
   for (ShapeDef& sh : s.shapes)
     for (SphereDef& sp : sh.spheres) sp.offset = 0.1f * sp.offset, sp.radius *= 0.1f;
   for (std::size_t k = 0; k < s.bodies.size(); ++k) {
@@ -489,13 +485,13 @@ TEST(MeshWallTest, ABowlOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
     s.bodies[k].velocity.z = -2.0f;
   }
   const World w = World::fromScene(s);
-  const BodyState a = run(w, 300, PipelineOptions{2, true});
+  const BodyState a = runCpu(w, 300, PipelineOptions{2, true});
   Scene s0 = s, sBig = s;
   s0.broadphase.skin = 0.0f;
   sBig.broadphase.skin = 0.2f;  // 4 radii (the automatic one is half a radius)
-  const BodyState one = run(w, 300, PipelineOptions{1, false});
-  const BodyState noSkin = run(World::fromScene(s0), 300);
-  const BodyState bigSkin = run(World::fromScene(sBig), 300);
+  const BodyState one = runCpu(w, 300, PipelineOptions{1, false});
+  const BodyState noSkin = runCpu(World::fromScene(s0), 300);
+  const BodyState bigSkin = runCpu(World::fromScene(sBig), 300);
   for (const BodyState* o : {&one, &noSkin, &bigSkin}) {
     const auto d = firstDifference(a, *o);
     EXPECT_FALSE(d.has_value()) << d->describe();
@@ -504,9 +500,9 @@ TEST(MeshWallTest, ABowlOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
     Scene r = s, r0 = s0, rBig = sBig;
     for (Scene* x : {&r, &r0, &rBig}) x->contact = benchScene(8).contact;
     const World wr = World::fromScene(r);
-    const BodyState ra = run(wr, 300, PipelineOptions{2, true});
-    for (const BodyState& o : {run(wr, 300, PipelineOptions{1, false}), run(World::fromScene(r0), 300),
-                               run(World::fromScene(rBig), 300)}) {
+    const BodyState ra = runCpu(wr, 300, PipelineOptions{2, true});
+    for (const BodyState& o : {runCpu(wr, 300, PipelineOptions{1, false}), runCpu(World::fromScene(r0), 300),
+                               runCpu(World::fromScene(rBig), 300)}) {
       const auto d = firstDifference(ra, o);
       EXPECT_FALSE(d.has_value()) << "the report's law: " << d->describe();
     }
@@ -530,7 +526,7 @@ TEST(MeshWallTest, ABowlOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
   const World w2 = back.resume(w, &warning);
   std::remove(path.c_str());
   EXPECT_TRUE(warning.empty()) << warning;
-  const BodyState resumed = run(w2, 150);
+  const BodyState resumed = runCpu(w2, 150);
   const auto d = firstDifference(a, resumed);
   EXPECT_FALSE(d.has_value()) << "resumed: " << d->describe();
 }
@@ -538,7 +534,7 @@ TEST(MeshWallTest, ABowlOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
 // pointInsideMesh(): a closed cube and a closed faceted sphere, points inside and outside,
 // on the rays' awkward alignments (through vertices and edges along the axes).
 TEST(MeshWallTest, PointInsideAClosedMesh) {
-  const GroundParams c = contactOf(1e4f, 0.5f);
+  const GroundParams c = wallContact(1e4f, 0.5f);
   Scene s;
   s.ground.enabled = true;  // the walls' plane numbers start after the ground
   s.walls.push_back(meshWall({{-0.5f, -0.5f, -0.5f}, {0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, -0.5f}, {-0.5f, 0.5f, -0.5f},
@@ -594,7 +590,7 @@ TEST(MeshWallTest, PointInsideAClosedMesh) {
 
 // meshWallTriangles(): the corners scaled, turned and placed in world coordinates.
 TEST(MeshWallTest, TrianglesInWorldCoordinates) {
-  WallDef w = meshWall({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2}, contactOf(1e4f, 0.5f));
+  WallDef w = meshWall({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2}, wallContact(1e4f, 0.5f));
   w.scale = {2.0f, 3.0f, 1.0f};
   w.orientation = Quatf{std::sqrt(0.5f), 0.0f, 0.0f, std::sqrt(0.5f)};  // 90 degrees about z
   w.point = {1.0f, 2.0f, 3.0f};

@@ -24,8 +24,6 @@ using namespace tumble::validation;
 
 namespace {
 
-ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
-
 WallDef plane(Vec3f point, Vec3f normal, const GroundParams& contact) {
   WallDef w;
   w.point = point;
@@ -58,15 +56,6 @@ Scene boxed(Scene s) {
   return s;
 }
 
-BodyState run(const World& w, std::uint64_t steps, const PipelineOptions& o = {}) {
-  auto p = makePipeline(Backend::Cpu, o);
-  p->load(w);
-  p->step(steps);
-  BodyState s;
-  p->readState(s);
-  return s;
-}
-
 }  // namespace
 
 // The ground and the wall through (0, 0, h) with normal +z and the ground's parameters are the
@@ -77,11 +66,11 @@ TEST(WallTest, TheGroundAsAWallIsTheGround) {
     Scene s = law == 0 ? base : law == 1 ? withHookeHistory(base) : withHertzMindlin(base, 1.0e6f, true);
     s.ground.height = 0.125f;
     SCOPED_TRACE(toString(s.contact.law));
-    const BodyState ground = run(World::fromScene(s), 1600);
+    const BodyState ground = runCpu(World::fromScene(s), 1600);
     Scene w = s;
     w.ground.enabled = false;
     w.walls = {plane(Vec3f{3.0f, -2.0f, s.ground.height}, Vec3f{0.0f, 0.0f, 1.0f}, s.ground)};
-    const BodyState wall = run(World::fromScene(w), 1600);
+    const BodyState wall = runCpu(World::fromScene(w), 1600);
     std::size_t held = 0;
     for (std::size_t i = 0; i < ground.groundSpringX.size(); ++i)
       held += ground.groundSpringX[i] != 0.0f || ground.groundSpringY[i] != 0.0f;
@@ -103,11 +92,11 @@ TEST(WallTest, ABoxHoldsItsClumpsAndResumes) {
     SCOPED_TRACE(toString(s.contact.law));
     for (BodyDef& b : s.bodies) b.velocity = Vec3f{8.0f * b.velocity.x, 8.0f * b.velocity.y, 8.0f * b.velocity.z};
     const World w = World::fromScene(s);
-    const BodyState a = run(w, 300, PipelineOptions{2, true});
-    const BodyState one = run(w, 300, PipelineOptions{1, false});
+    const BodyState a = runCpu(w, 300, PipelineOptions{2, true});
+    const BodyState one = runCpu(w, 300, PipelineOptions{1, false});
     Scene s0 = s;
     s0.broadphase.skin = 0.0f;
-    const BodyState noSkin = run(World::fromScene(s0), 300);
+    const BodyState noSkin = runCpu(World::fromScene(s0), 300);
     for (const BodyState* o : {&one, &noSkin}) {
       const auto d = firstDifference(a, *o);
       EXPECT_FALSE(d.has_value()) << d->describe();
@@ -313,7 +302,7 @@ TEST(WallTest, APlaneIsTheSameWhereverItsPointIs) {
     b.velocity = {0.8f, 0.3f, -0.6f};
     s.bodies = {b};
     const World w = World::fromScene(s);
-    st[k] = run(w, 3000);
+    st[k] = runCpu(w, 3000);
     if (k == 0) {
       EXPECT_NEAR(shortestContactTime(w), 3.14159265358979 * std::sqrt(0.1 / 1.0e5), 1e-9);
       s.walls[0].contact.stiffness = 1.0e9f;

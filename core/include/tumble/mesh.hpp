@@ -84,6 +84,18 @@ struct KernelMesh {
   MeshView view() const;
 };
 
+/// The thinnest triangle a mesh may have: its smallest height over its longest edge. Thinner,
+/// the orientation of its edges' planes (computed in double at load) and the kernels' tests (in
+/// float) cannot tell it from a line.
+inline constexpr double kThinnestTriangle = 0x1p-30;
+
+/// Why the triangle of corners p, q, r (floats, as the kernels see them) cannot be a mesh
+/// wall's, as a phrase ("its corners 1 and 2 are the same point (…)"): two corners equal, an
+/// edge whose squared length is 0 in single precision, no area, or thinner than
+/// kThinnestTriangle (in double); empty when it can. The reader refuses such a triangle in the
+/// file, the scene reader and kernelMesh() once it is scaled and placed.
+std::string degenerateTriangle(Vec3f p, Vec3f q, Vec3f r);
+
 /// Builds the KernelMesh of a scene's mesh walls in frame f. Throws tumble::Error naming the
 /// wall and the triangle (its file and line) when a triangle is degenerate in single precision
 /// there (a scale that shrinks it to nothing, coordinates too large for its size).

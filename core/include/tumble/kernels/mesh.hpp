@@ -26,7 +26,6 @@
 /// convex ridge meets it once (on the edge), a sphere in a concave corner meets both faces, and
 /// a sphere above a shared edge or vertex of a flat mesh meets it once.
 #pragma once
-#include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -80,7 +79,9 @@ TUMBLE_HD_INLINE TrianglePoint nearestOnTriangle(const MeshView& m, std::uint32_
     if (h < 0.0f) out.n = -tr.n;
     return out;
   }
-  float best = FLT_MAX;
+  // Infinite until an edge gives a finite squared distance: one that overflows (a point more
+  // than 1.8e19 m away), or a NaN, leaves the distance infinite, never a contact.
+  float best = INFINITY;
   Vec3f diff{0.0f, 0.0f, 0.0f};
   for (int j = 0; j < 3; ++j) {
     if (d[j] < 0.0f) continue;  // inside this edge's plane (a NaN counts as outside)
@@ -115,7 +116,7 @@ TUMBLE_HD_INLINE TrianglePoint nearestOnTriangle(const MeshView& m, std::uint32_
   out.dist = std::sqrt(best);
   // Divided per component: a point straight above a vertex or an edge of an aligned mesh gets
   // the axis itself, as a plane there would.
-  if (out.dist > 0.0f && best < FLT_MAX) out.n = Vec3f{diff.x / out.dist, diff.y / out.dist, diff.z / out.dist};
+  if (out.dist > 0.0f && best < INFINITY) out.n = Vec3f{diff.x / out.dist, diff.y / out.dist, diff.z / out.dist};
   return out;
 }
 
