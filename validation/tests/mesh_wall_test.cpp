@@ -384,6 +384,28 @@ TEST(MeshWallTest, ABallOnAMeshVertexIsABallOnAPlane) {
   }
 }
 
+// The time-step warning counts a mesh's stiffness as a wall's, and the guard measures its
+// springs and names the triangle of the deepest overlap (a ball starting 30 % of its radius
+// inside a mesh floor).
+TEST(MeshWallTest, TheTimeStepWarningAndTheGuardSeeTheMesh) {
+  const WallDef floor = flatGrid(4, 4, 0.25f, -0.5f, -0.5f, wallContact(1e9f, 0.5f));
+  Scene stiff = ballOn(floor, 0.05f, {0.1f, 0.1f, 0.2f}, {0, 0, 0});
+  const std::string warning = timeStepWarning(World::fromScene(stiff));
+  EXPECT_NE(warning.find("t_c = 3.14e-05 s"), std::string::npos) << warning;
+  Scene soft = stiff;
+  soft.walls[0].contact.stiffness = 1e5f;
+  EXPECT_EQ(timeStepWarning(World::fromScene(soft)), "");
+  soft.bodies[0].position = {0.1f, 0.1f, 0.035f};  // 30 % of its radius into the floor
+  const World w = World::fromScene(soft);
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  RunGuard guard(w, *p);
+  std::printf("%s\n", guard.initialWarning().c_str());
+  EXPECT_NE(guard.initialWarning().find("body 0 starts 30% of its radius inside a mesh wall, triangle"), std::string::npos)
+      << guard.initialWarning();
+  EXPECT_NEAR(guard.sample().springs, 0.5 * 1e5 * 0.015 * 0.015, 1e-3) << "1/2 k delta^2";
+}
+
 // A ball (I = 2/5 m r²) set on a 20-degree incline made of a tilted mesh (a
 // grid of 0.1 m squares, turned by its orientation) rolls without slipping at a = 5/7 g sin θ,
 // crossing its edges and vertices (hooke-history, μ = 0.5 > 2/7 tan θ).
