@@ -138,10 +138,13 @@ case "$cmd" in
     seconds=60
     if [ $# -gt 0 ] && [[ "$1" =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
     targets=("$@")
-    [ ${#targets[@]} -eq 0 ] && targets=(scene recording checkpoint particle_csv)
+    # Every target has a seed corpus: the corpus folders name them.
+    all=()
+    for d in "$here"/validation/fuzz/corpus/*/; do all+=("$(basename "$d")"); done
+    [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
     for t in "${targets[@]}"; do
       [ -d "$here/validation/fuzz/corpus/$t" ] ||
-        { echo "tumble.sh fuzz: no target '$t' (expected scene, recording, checkpoint or particle_csv)" >&2; exit 2; }
+        { echo "tumble.sh fuzz: no target '$t' (expected one of: ${all[*]})" >&2; exit 2; }
     done
     build=${FUZZ_BUILD_DIR:-$here/build-fuzz}
     CC=clang-14 CXX=clang++-14 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \

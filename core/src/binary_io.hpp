@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -39,6 +41,27 @@ inline std::string hex32(std::uint32_t v) {
   std::string s = "0x00000000";
   for (int k = 0; k < 8; ++k) s[9 - k] = kDigits[(v >> (4 * k)) & 0xFu];
   return s;
+}
+
+/// The bytes of the file at `path` (a scene, a particle list, a mesh): InputError(path, 0,
+/// "cannot open[ WHAT]: reason") when it cannot be opened (a folder included), "cannot read…"
+/// when reading fails.
+inline std::string readWholeFile(const std::string& path, const std::string& what = "") {
+  const std::string of = what.empty() ? std::string() : " " + what;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, 0, "cannot open" + of + ": " + errnoText(EISDIR));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    throw InputError(path, 0, "cannot open" + of + ": " + errnoText(err));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    const int err = errno;
+    throw InputError(path, 0, "cannot read" + of + ": " + errnoText(err));
+  }
+  return text.str();
 }
 
 // ---- encoding ------------------------------------------------------------------------------

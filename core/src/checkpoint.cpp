@@ -22,6 +22,7 @@
 
 #include "binary_io.hpp"
 #include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
 
 namespace tumble {
 namespace {
@@ -30,10 +31,10 @@ using namespace tumble::detail;  // binary_io.hpp
 
 constexpr char kMagic[8] = {'T', 'U', 'M', 'B', 'L', 'E', 'C', 'K'};
 constexpr std::uint32_t kFlagGroundSprings = 1u;
-// Periodic boundaries: the image counters of x, of y follow the contact histories (optional blocks).
+// Periodic boundaries: the image counters of x, of y follow the histories (optional blocks).
 constexpr std::uint32_t kFlagImageX = 2u, kFlagImageY = 4u;
 constexpr std::uint32_t kKnownFlags = kFlagGroundSprings | kFlagImageX | kFlagImageY;
-constexpr std::uint64_t kHeaderBytes = 92;  // through the header checksum
+constexpr std::uint64_t kHeaderBytes = 92;  // through the header checksum (version 1; 96 in version 2)
 constexpr std::uint64_t kOffVersion = 8, kOffFlags = 12, kOffNumParticles = 16, kOffNumBodies = 20;
 
 /// 64-bit FNV-1a over the bytes of values.
@@ -66,6 +67,41 @@ std::vector<std::vector<float>*> bodyColumns(BodyState& s) {
 }
 const char* const kColumnNames[13] = {"px", "py", "pz", "vx", "vy", "vz", "qw",
                                       "qx", "qy", "qz", "lx", "ly", "lz"};
+
+// The histories (ContactHistory: i, j; MeshContactHistory: particle, triangle) are records of
+// two u32 indices a, b and ξ as 3 × f32, sorted by (a, b).
+template <class H>
+void writeHistories(Encoder& e, const std::vector<H>& hs, std::uint32_t H::*a, std::uint32_t H::*b) {
+  for (const H& h : hs) {
+    e.u32(h.*a);
+    e.u32(h.*b);
+    e.f32(h.x);
+    e.f32(h.y);
+    e.f32(h.z);
+  }
+}
+
+// Reads n of them, refusing one that does not follow the previous in (a, b) order (or, for
+// pairs, whose a is not below its b), or that is not finite; `what` and `order` name them.
+template <class H>
+void readHistories(Decoder& d, const InFile& in, std::size_t n, std::uint32_t H::*a, std::uint32_t H::*b, bool pairs,
+                   const std::string& what, const std::string& order, std::vector<H>& out) {
+  out.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint64_t at = d.fileOffset();
+    H& h = out[k];
+    h.*a = d.u32();
+    h.*b = d.u32();
+    h.x = d.f32();
+    h.y = d.f32();
+    h.z = d.f32();
+    const H* p = k > 0 ? &out[k - 1] : nullptr;
+    if ((pairs && !(h.*a < h.*b)) || (p && !(p->*a < h.*a || (p->*a == h.*a && p->*b < h.*b))))
+      in.fail(at, what + " " + std::to_string(k) + ": expected " + order);
+    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+      in.fail(at, what + " " + std::to_string(k) + " is not finite");
+  }
+}
 
 }  // namespace
 
@@ -137,6 +173,12 @@ std::uint64_t physicsFingerprint(const Scene& s) {
         f.add(w.start);
         f.add(w.stop);
       }
+      if (w.shape == WallDef::Shape::Mesh && w.mesh) {  // its placement and its triangles
+        f.add(w.scale);
+        f.add(w.orientation);
+        f.addAll(w.mesh->vertices);
+        f.addAll(w.mesh->triangles);
+      }
     }
   }
   return f.value();
@@ -168,7 +210,13 @@ void Checkpoint::write(const std::string& path) const {
         throw SimulationError("checkpoint " + path + " not written: body " + std::to_string(k) + "'s " +
                                   kColumnNames[c] + " is not finite (the run diverged; run it with the guard, "
                                   "without --no-guard, to see where)");
-  if (state.contacts.size() > 0xFFFFFFFFu) throw Error("checkpoint " + path + ": too many contact histories");
+  if (state.contacts.size() > 0xFFFFFFFFu || state.meshContacts.size() > 0xFFFFFFFFu)
+    throw Error("checkpoint " + path + ": too many contact histories");
+  for (const MeshContactHistory& h : state.meshContacts)
+    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+      throw SimulationError("checkpoint " + path + " not written: the mesh spring of particle " + std::to_string(h.particle) +
+                                " on triangle " + std::to_string(h.triangle) + " is not finite (the run diverged)",
+                            static_cast<std::int64_t>(h.particle));
   for (const auto* c : {&state.imageX, &state.imageY})
     if (!c->empty() && c->size() != nb) throw Error("checkpoint " + path + ": image counters differ in length");
   for (const ContactHistory& h : state.contacts)
@@ -183,8 +231,10 @@ void Checkpoint::write(const std::string& path) const {
                             static_cast<std::int64_t>(i));
   std::vector<std::uint8_t> buf;
   Encoder e(buf);
+  // Version 1 unless there are mesh springs: the checkpoints of scenes without them keep their bytes.
+  const std::uint32_t version = state.meshContacts.empty() ? 1u : 2u;
   e.bytes(kMagic, 8);
-  e.u32(kCheckpointVersion);
+  e.u32(version);
   e.u32((np > 0 ? kFlagGroundSprings : 0u) | (state.imageX.empty() ? 0u : kFlagImageX) |
         (state.imageY.empty() ? 0u : kFlagImageY));
   e.u32(static_cast<std::uint32_t>(np));
@@ -198,18 +248,14 @@ void Checkpoint::write(const std::string& path) const {
   e.f64(frame.z);
   e.u64(sceneFingerprint);
   e.u64(physicsFingerprint);
+  if (version >= 2) e.u32(static_cast<std::uint32_t>(state.meshContacts.size()));
   e.u32(fnv1a(buf.data(), buf.size()));
   const std::size_t stateStart = buf.size();
   for (const auto* c : bodyColumns(state)) e.f32s(*c, nb);
   e.f32s(state.groundSpringX, np);
   e.f32s(state.groundSpringY, np);
-  for (const ContactHistory& h : state.contacts) {
-    e.u32(h.i);
-    e.u32(h.j);
-    e.f32(h.x);
-    e.f32(h.y);
-    e.f32(h.z);
-  }
+  writeHistories(e, state.contacts, &ContactHistory::i, &ContactHistory::j);
+  writeHistories(e, state.meshContacts, &MeshContactHistory::particle, &MeshContactHistory::triangle);
   for (const auto* c : {&state.imageX, &state.imageY})
     for (std::int32_t n : *c) e.u32(static_cast<std::uint32_t>(n));
   e.u32(fnv1a(buf.data() + stateStart, buf.size() - stateStart));
@@ -228,11 +274,16 @@ Checkpoint Checkpoint::read(const std::string& path) {
     in.fail(0, "not a tumble checkpoint (bad magic; expected \"TUMBLECK\")");
   if (buf.size() < kOffFlags) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
   const std::uint32_t version = getU32(buf.data() + kOffVersion);
-  if (version != kCheckpointVersion)
+  if (version != 1 && version != 2)
     in.fail(kOffVersion, "unsupported checkpoint version " + std::to_string(version) +
-                             " (this build of tumble reads version " + std::to_string(kCheckpointVersion) + " only)");
+                             " (this build of tumble reads versions 1 and 2)");
+  const std::uint64_t headerBytes = version == 1 ? kHeaderBytes : kHeaderBytes + 4;  // version 2: + M
   if (buf.size() < kHeaderBytes) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
-  checkChecksum(in, buf, 0, kHeaderBytes - 4, kHeaderBytes - 4, "header");
+  if (headerBytes > kHeaderBytes) {  // appends its last field
+    in.read(buf, std::min<std::uint64_t>(in.remaining(), headerBytes - kHeaderBytes), "header");
+    if (buf.size() < headerBytes) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
+  }
+  checkChecksum(in, buf, 0, static_cast<std::size_t>(headerBytes - 4), headerBytes - 4, "header");
   Decoder d(in, buf, 0, kOffFlags);
   const std::uint32_t flags = d.u32();
   if ((flags & ~kKnownFlags) != 0) in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~kKnownFlags));
@@ -256,16 +307,19 @@ Checkpoint Checkpoint::read(const std::string& path) {
     in.fail(frameAt, "the frame origin is not finite");
   c.sceneFingerprint = d.u64();
   c.physicsFingerprint = d.u64();
+  const std::uint64_t nm = version >= 2 ? d.u32() : 0;  // mesh springs
+  if (version >= 2 && nm == 0) in.fail(kHeaderBytes - 4, "a version 2 checkpoint holds mesh springs (its count is 0: a version 1 file has none)");
   if (nb == 0) in.fail(kOffNumBodies, "the checkpoint holds no bodies");
 
   // The state block: its size follows from the counts; checked before anything is read.
   const std::uint64_t stateAt = in.offset();
-  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc + 4 * imageColumns * nb;
+  const std::uint64_t stateBytes = 4 * (13 * nb + 2 * np) + 20 * nc + 20 * nm + 4 * imageColumns * nb;
   if (stateBytes + 4 != in.remaining())
     in.fail(stateAt, "state block of " + std::to_string(nb) + " bodies, " + std::to_string(np) + " plane springs, " +
-                         std::to_string(nc) + " contact histories and " + std::to_string(imageColumns) +
-                         " columns of image counters needs " + std::to_string(stateBytes + 4) + " bytes, the file has " +
-                         std::to_string(in.remaining()) + " left");
+                         std::to_string(nc) + " contact histories, " + std::to_string(nm) + " mesh springs and " +
+                         std::to_string(imageColumns) + " columns of image counters needs " +
+                         std::to_string(stateBytes + 4) + " bytes, the file has " + std::to_string(in.remaining()) +
+                         " left");
   buf.clear();
   in.read(buf, stateBytes + 4, "state");
   checkChecksum(in, buf, 0, static_cast<std::size_t>(stateBytes), stateAt + stateBytes, "state");
@@ -274,21 +328,10 @@ Checkpoint Checkpoint::read(const std::string& path) {
   for (int k = 0; k < 13; ++k) sd.finiteColumn(*cols[k], static_cast<std::size_t>(nb), kColumnNames[k]);
   sd.finiteColumn(c.state.groundSpringX, static_cast<std::size_t>(np), "groundSpringX");
   sd.finiteColumn(c.state.groundSpringY, static_cast<std::size_t>(np), "groundSpringY");
-  c.state.contacts.resize(static_cast<std::size_t>(nc));
-  for (std::size_t k = 0; k < nc; ++k) {
-    const std::uint64_t at = sd.fileOffset();
-    ContactHistory& h = c.state.contacts[k];
-    h.i = sd.u32();
-    h.j = sd.u32();
-    h.x = sd.f32();
-    h.y = sd.f32();
-    h.z = sd.f32();
-    if (!(h.i < h.j) || (k > 0 && !(c.state.contacts[k - 1].i < h.i ||
-                                     (c.state.contacts[k - 1].i == h.i && c.state.contacts[k - 1].j < h.j))))
-      in.fail(at, "contact history " + std::to_string(k) + ": expected pairs i < j sorted by (i, j)");
-    if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
-      in.fail(at, "contact history " + std::to_string(k) + " is not finite");
-  }
+  readHistories(sd, in, static_cast<std::size_t>(nc), &ContactHistory::i, &ContactHistory::j, true, "contact history",
+                "pairs i < j sorted by (i, j)", c.state.contacts);
+  readHistories(sd, in, static_cast<std::size_t>(nm), &MeshContactHistory::particle, &MeshContactHistory::triangle, false,
+                "mesh spring", "(particle, triangle) sorted and each once", c.state.meshContacts);
   for (const auto& [flag, column] : {std::pair<std::uint32_t, std::vector<std::int32_t>*>{kFlagImageX, &c.state.imageX},
                                      {kFlagImageY, &c.state.imageY}})
     if (flags & flag) {
@@ -316,6 +359,12 @@ World Checkpoint::resume(const World& world, std::string* warning) const {
       throw Error(std::string("the checkpoint ") + (world.params.periodic.on[a] ? "has no" : "has") +
                   " image counters on " + "xy"[a] + ", and the scene " + (world.params.periodic.on[a] ? "is" : "is not") +
                   " periodic there ([periodic]): it was written by a run of another scene");
+  const std::uint32_t triangles = meshTriangleCount(world.params);
+  for (const MeshContactHistory& h : state.meshContacts)
+    if (h.particle >= world.numParticles() || h.triangle >= triangles)
+      throw Error("the checkpoint's mesh springs name particle " + std::to_string(h.particle) + " and triangle " +
+                  std::to_string(h.triangle) + ", the scene has " + std::to_string(world.numParticles()) +
+                  " particles and " + std::to_string(triangles) + " mesh triangles: it was written by a run of another scene");
   if (sceneFingerprint != tumble::sceneFingerprint(world))
     throw Error("the checkpoint was written by a run of another scene (the same counts, but other shapes, "
                 "masses, radii, materials or rotation scheme)");

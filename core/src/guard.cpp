@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/mesh.hpp"
 
 namespace tumble {
 
@@ -105,6 +106,7 @@ std::string divergenceMessage(const World& world, std::uint64_t step, std::uint3
 }
 
 RunGuard::RunGuard(const World& world, Pipeline& pipeline, GuardParams params) : m_world(world), m_params(params) {
+  m_mesh = kernelMesh(world.params, pipeline.frame());  // as the pipeline's (its frame is chosen at load)
   m_mask = pipeline.pulls();
   const Snapshot s = measure(pipeline, m_mask, pipeline.stats().steps == 0 ? &pipeline : nullptr);
   m_reference = s.energy;
@@ -309,13 +311,56 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       out.overlapContactTime = kPi * std::sqrt(meff / double(sc.contact.stiffness));
     }
   }
+  // The planes (the ground, the walls) and the mesh walls' triangles: a sphere's spring and
+  // overlap on plane q at depth delta (e: its rounding), summed into a.
+  struct GroundSums {
+    double springs = 0.0, slack = 0.0, maxOverlap = 0.0, contactTime = 0.0;
+    std::uint32_t body = 0, triangle = 0;
+  };
+  const auto addPlane = [&](GroundSums& a, std::size_t q, std::size_t i, double delta, double e) {
+    double K = 0.0;  // Hertz: F = K δ^{3/2}
+    const double stiffness = planeDefs[q].contact.stiffness;
+    if (law.hertz) {
+      K = hertzStiffness(w.planeHertz[q * law.numMaterials + w.material[i]], w.radius[i]);
+      a.springs += 0.4 * K * delta * delta * std::sqrt(delta);
+      a.slack += K * (delta + e) * std::sqrt(delta + e) * e;
+    } else {
+      a.springs += 0.5 * stiffness * delta * delta;
+      a.slack += stiffness * e * (delta + e);
+    }
+    const double frac = delta / w.radius[i];
+    if (frac > a.maxOverlap) {
+      a.maxOverlap = frac;
+      a.body = w.body[i];
+      a.contactTime = law.hertz ? hertzTimeAtOverlap(K, w.mass[i], delta) : kPi * std::sqrt(double(w.mass[i]) / stiffness);
+      return true;
+    }
+    return false;
+  };
+  const auto mergePlanes = [](GroundSums& l, const GroundSums& r) {
+    l.springs += r.springs;
+    l.slack += r.slack;
+    if (r.maxOverlap > l.maxOverlap) {
+      l.maxOverlap = r.maxOverlap;
+      l.body = r.body;
+      l.contactTime = r.contactTime;
+      l.triangle = r.triangle;
+    }
+  };
+  const auto addDeepest = [&](const GroundSums& gs, const std::string& where) {
+    springs += gs.springs;
+    slack += gs.slack;
+    if (gs.maxOverlap > out.maxOverlap) {
+      out.maxOverlap = gs.maxOverlap;
+      out.overlapBody = gs.body;
+      out.groundOverlap = true;
+      out.overlapPlane = where;
+      out.overlapContactTime = gs.contactTime;
+    }
+  };
   for (std::size_t q = 0; q < planes.size(); ++q) {
     const Wall& pw = planes[q];
-    const double stiffness = planeDefs[q].contact.stiffness;
-    struct GroundSums {
-      double springs = 0.0, slack = 0.0, maxOverlap = 0.0, contactTime = 0.0;
-      std::uint32_t body = 0;
-    };
+    if (pw.axis == kMeshWall) continue;  // its triangles below
     const GroundSums gs = chunkedSum<GroundSums>(np, [&](std::size_t begin, std::size_t end, GroundSums& a) {
       for (std::size_t i = begin; i < end; ++i) {
         const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
@@ -334,41 +379,30 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
           delta = w.radius[i] - (d - pw.coeffs.height);
           e = 1.8 * err[w.body[i]] + floatRounding(pw.coeffs.height);
         }
-        if (delta <= 0.0) continue;
-        double K = 0.0;  // Hertz: F = K δ^{3/2}
-        if (law.hertz) {
-          K = hertzStiffness(w.planeHertz[q * law.numMaterials + w.material[i]], w.radius[i]);
-          a.springs += 0.4 * K * delta * delta * std::sqrt(delta);
-          a.slack += K * (delta + e) * std::sqrt(delta + e) * e;
-        } else {
-          a.springs += 0.5 * stiffness * delta * delta;
-          a.slack += stiffness * e * (delta + e);
-        }
-        const double frac = delta / w.radius[i];
-        if (frac > a.maxOverlap) {
-          a.maxOverlap = frac;
-          a.body = w.body[i];
-          a.contactTime = law.hertz ? hertzTimeAtOverlap(K, w.mass[i], delta) : kPi * std::sqrt(double(w.mass[i]) / stiffness);
-        }
+        if (delta > 0.0) addPlane(a, q, i, delta, e);
       }
-    }, [](GroundSums& l, const GroundSums& r) {
-      l.springs += r.springs;
-      l.slack += r.slack;
-      if (r.maxOverlap > l.maxOverlap) {
-        l.maxOverlap = r.maxOverlap;
-        l.body = r.body;
-        l.contactTime = r.contactTime;
+    }, mergePlanes);
+    addDeepest(gs, q == 0 && sc.ground.enabled ? "the ground" : planeDefs[q].where);
+  }
+  // The mesh contacts of the last step (of the initial state before the first: found here),
+  // with the kernels' distance to the same triangle at the present positions, in (particle,
+  // triangle) order over fixed chunks. The rounding of a distance: the triangle's box growth.
+  if (m_mesh.numTriangles() > 0) {
+    const MeshView mv = m_mesh.view();
+    const std::vector<MeshContact> mc = findPairsWith ? findMeshContacts(m_mesh, x, w.radius) : pipeline.meshContacts();
+    const GroundSums gs = chunkedSum<GroundSums>(mc.size(), [&](std::size_t begin, std::size_t end, GroundSums& a) {
+      for (std::size_t c = begin; c < end; ++c) {
+        const std::size_t i = mc[c].particle;
+        const std::uint32_t t = mc[c].triangle;
+        const Vec3f xf{x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+        const double delta = w.radius[i] - double(nearestOnTriangle(mv, t, xf).dist);
+        const MeshTriangle& tr = mv.tri[t];
+        const double size = std::max({double(tr.hi.x) - tr.lo.x, double(tr.hi.y) - tr.lo.y, double(tr.hi.z) - tr.lo.z});
+        if (delta > 0.0 && addPlane(a, tr.wall, i, delta, 2.0 * err[w.body[i]] + 64.0 * 0x1p-24 * size)) a.triangle = t;
       }
-    });
-    springs += gs.springs;
-    slack += gs.slack;
-    if (gs.maxOverlap > out.maxOverlap) {
-      out.maxOverlap = gs.maxOverlap;
-      out.overlapBody = gs.body;
-      out.groundOverlap = true;
-      out.overlapPlane = q == 0 && sc.ground.enabled ? "the ground" : planeDefs[q].where;
-      out.overlapContactTime = gs.contactTime;
-    }
+    }, mergePlanes);
+    if (gs.maxOverlap > 0.0)
+      addDeepest(gs, meshTriangleWhere(sc, gs.triangle));
   }
 
   out.energy = kinetic + gravity + pullPotential + springs;

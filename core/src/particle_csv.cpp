@@ -5,9 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
+#include "binary_io.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble {
@@ -86,12 +85,7 @@ ParticleCloud parseParticleCsv(std::string_view text, const std::string& path) {
 }
 
 ParticleCloud readParticleCsv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path, 0, "read error");
-  return parseParticleCsv(text.view(), path);
+  return parseParticleCsv(detail::readWholeFile(path), path);
 }
 
 }  // namespace tumble

@@ -40,10 +40,12 @@
 #include <utility>
 #include <vector>
 
+#include "binary_io.hpp"
 #include "tumble/error.hpp"
 #include "tumble/fill.hpp"
 #include "tumble/math.hpp"
 #include "tumble/memory.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/random.hpp"
 #include "tumble/world.hpp"
 #include "placement.hpp"
@@ -282,6 +284,17 @@ class TableReader {
     return {f[0], f[1], f[2]};
   }
 
+  /// A quaternion [w, x, y, z], not zero, normalised in double.
+  Quatf orientation(const toml::node& q) const {
+    const std::array<double, 4> d = numbers<4>(q, "orientation", Rule::Any);
+    const double n2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[3] * d[3];
+    if (!(n2 > 0.0)) fail(sourceOf(q), "orientation must not be the zero quaternion; use [1, 0, 0, 0] for no rotation");
+    if (!std::isfinite(n2)) fail(sourceOf(q), "orientation is too large to normalise");
+    const double inv = 1.0 / std::sqrt(n2);
+    return Quatf{static_cast<float>(d[0] * inv), static_cast<float>(d[1] * inv), static_cast<float>(d[2] * inv),
+                 static_cast<float>(d[3] * inv)};
+  }
+
   Vec3f vec3(std::string_view key, Vec3f fallback, Rule rule) const {
     const toml::node* n = find(key);
     return n != nullptr ? vec3(*n, std::string(key), rule) : fallback;
@@ -510,8 +523,9 @@ class SceneParser {
       const std::string name = "[[wall]] #" + std::to_string(k + 1);
       const TableReader r(m_file, *tables[k], name,
                           {"type", "point", "normal", "min", "max", "open", "axis", "radius", "inner_radius",
-                           "velocity", "angular_velocity", "start", "stop", "stiffness", "friction",
-                           "tangential_stiffness", "rolling_friction", "material"});
+                           "velocity", "angular_velocity", "start", "stop", "file", "scale", "position",
+                           "orientation", "stiffness", "friction", "tangential_stiffness", "rolling_friction",
+                           "material"});
       const std::string where =
           name + " (" + m_file + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
       WallDef wall;
@@ -519,7 +533,7 @@ class SceneParser {
       readPlaneContact(scene, r, "wall", &wall.contact);
       wall.contact.enabled = true;
       const toml::node& typeNode =
-          r.require("type", "type = \"plane\", \"box\", \"cylinder\", \"cone\" or \"disk\"");
+          r.require("type", "type = \"plane\", \"box\", \"cylinder\", \"cone\", \"disk\" or \"mesh\"");
       const std::string type = r.string(typeNode, "type");
       // Every key but the contact's belongs to some types only.
       static const std::pair<const char*, const char*> kKeysOf[] = {
@@ -527,14 +541,15 @@ class SceneParser {
           {"box", "min max open velocity start stop"},
           {"cylinder", "point axis radius velocity angular_velocity start stop"},
           {"cone", "point axis radius velocity angular_velocity start stop"},
-          {"disk", "point normal radius inner_radius velocity angular_velocity start stop"}};
+          {"disk", "point normal radius inner_radius velocity angular_velocity start stop"},
+          {"mesh", "file scale position orientation"}};
       const auto* entry = std::find_if(std::begin(kKeysOf), std::end(kKeysOf),
                                        [&](const auto& e) { return type == e.first; });
       if (entry == std::end(kKeysOf))
-        r.fail(sourceOf(typeNode), "unknown wall type \"" + type + "\" (\"plane\", \"box\", \"cylinder\", \"cone\" "
-                                   "or \"disk\"; triangle meshes are not there yet)");
+        r.fail(sourceOf(typeNode), "unknown wall type \"" + type + "\" (\"plane\", \"box\", \"cylinder\", \"cone\", "
+                                   "\"disk\" or \"mesh\")");
       for (const char* key : {"point", "normal", "min", "max", "open", "axis", "radius", "inner_radius", "velocity",
-                              "angular_velocity", "start", "stop"}) {
+                              "angular_velocity", "start", "stop", "file", "scale", "position", "orientation"}) {
         const std::string keys = std::string(" ") + entry->second + " ";
         if (const toml::node* e = r.find(key); e != nullptr && keys.find(std::string(" ") + key + " ") == std::string::npos)
           r.fail(sourceOf(*e), std::string(key) + " is not a key of type = \"" + type + "\" (its keys: " +
@@ -542,6 +557,9 @@ class SceneParser {
       }
       if (type == "cylinder" || type == "cone" || type == "disk") {
         readRevolvedWall(r, type, &wall);
+        scene.walls.push_back(wall);
+      } else if (type == "mesh") {
+        readMeshWall(r, &wall);
         scene.walls.push_back(wall);
       } else if (type == "plane") {
         wall.point = r.vec3(r.require("point", "a point of the plane in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
@@ -644,6 +662,56 @@ class SceneParser {
     }
     wall->angularVelocity = r.single("angular_velocity", 0.0f, Rule::Any);
     readWallMotionWindow(r, wall);
+  }
+
+  // A triangle mesh (file, scale, position, orientation): the file is read here, relative to
+  // the scene file's folder; its problems are reported at its own lines, naming the wall.
+  void readMeshWall(const TableReader& r, WallDef* wall) {
+    wall->shape = WallDef::Shape::Mesh;
+    const toml::node& fn = r.require("file", "the mesh's STL or OBJ file, relative to the scene file's folder, e.g. "
+                                             "file = \"hopper.stl\"");
+    const std::string file = r.string(fn, "file");
+    if (file.empty()) r.fail(sourceOf(fn), "file must name an STL or OBJ file (got \"\")");
+    std::filesystem::path path(file);
+    if (path.is_relative()) path = std::filesystem::path(m_file).parent_path() / path;
+    const std::string resolved = path.lexically_normal().string();
+    std::string bytes;
+    try {
+      bytes = detail::readWholeFile(resolved, "the mesh file");
+    } catch (const InputError& e) {
+      r.fail(sourceOf(fn), e.problem() + " (file = \"" + file + "\", looked for at " + resolved +
+                               "); a relative file is found from the scene file's folder");
+    }
+    if (const toml::node* sn = r.find("scale")) {
+      if (sn->is_array()) {
+        wall->scale = r.vec3(*sn, "scale", Rule::Positive);
+      } else {
+        const float k = r.single(*sn, "scale", Rule::Positive);
+        wall->scale = Vec3f{k, k, k};
+      }
+    }
+    wall->point = r.vec3("position", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
+    if (const toml::node* q = r.find("orientation")) wall->orientation = r.orientation(*q);
+    try {
+      const auto mesh = std::make_shared<const TriangleMesh>(parseMesh(bytes, resolved));
+      wall->mesh = mesh;
+      // Every vertex placed within single precision, and every triangle still a triangle there.
+      const std::vector<Vec3f> v = meshWallVertices(*wall);
+      for (std::size_t t = 0; t < mesh->numTriangles(); ++t) {
+        const std::uint32_t* c = &mesh->triangles[3 * t];
+        if (const std::string why = degenerateTriangle(v[c[0]], v[c[1]], v[c[2]]); !why.empty())
+          throw mesh->binary ? InputError(mesh->file, 0, "byte " + std::to_string(mesh->source[t]) + ": triangle " +
+                                                             std::to_string(t + 1) + " is degenerate once scaled and placed: " +
+                                                             why + "; use a larger scale, or remove it from the mesh")
+                             : InputError(mesh->file, static_cast<long>(mesh->source[t]),
+                                          "triangle " + std::to_string(t + 1) + " is degenerate once scaled and placed: " +
+                                              why + "; use a larger scale, or remove it from the mesh");
+      }
+    } catch (const InputError& e) {
+      throw InputError(e.file(), e.line(), e.problem() + " (the mesh of " + wall->where + ")");
+    } catch (const Error& e) {  // a vertex beyond single precision once placed (its message names the wall)
+      throw errorAt(m_file, r.header().begin.line ? r.header() : sourceOf(fn), e.what());
+    }
   }
 
   // velocity [m/s] and start and stop of a wall's motion [s] (start and stop only with a
@@ -1183,17 +1251,7 @@ class SceneParser {
         r.fail(r.header(), "the body's spheres reach beyond single-precision range from this position");
     }
     b.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
-    if (const toml::node* q = r.find("orientation")) {
-      const std::array<double, 4> d = r.numbers<4>(*q, "orientation", Rule::Any);
-      const double n2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[3] * d[3];
-      if (!(n2 > 0.0)) {
-        r.fail(sourceOf(*q), "orientation must not be the zero quaternion; use [1, 0, 0, 0] for no rotation");
-      }
-      if (!std::isfinite(n2)) r.fail(sourceOf(*q), "orientation is too large to normalise");
-      const double inv = 1.0 / std::sqrt(n2);
-      b.orientation = Quatf{static_cast<float>(d[0] * inv), static_cast<float>(d[1] * inv),
-                            static_cast<float>(d[2] * inv), static_cast<float>(d[3] * inv)};
-    }
+    if (const toml::node* q = r.find("orientation")) b.orientation = r.orientation(*q);
     b.angularVelocity = r.vec3("angular_velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
     {
       const Vec3f& om = b.angularVelocity;
@@ -1504,22 +1562,7 @@ Scene parseScene(std::string_view text, const std::string& sourceName, const std
 
 Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides) {
   std::vector<Override> parsed = parseOverrides(overrides);  // mistakes on the command line first
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw InputError(path, 0, std::string("cannot open: ") + std::strerror(EISDIR));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw InputError(path, 0, std::string("cannot open: ") + std::strerror(err));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    const int err = errno;
-    throw InputError(path, 0, std::string("cannot read: ") + std::strerror(err));
-  }
-  return parseWith(text.str(), path, parsed);
+  return parseWith(detail::readWholeFile(path), path, parsed);
 }
 
 }  // namespace tumble

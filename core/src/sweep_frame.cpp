@@ -61,7 +61,7 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cell
   // l_p ⟂ l_z from a cross product with the coordinate axis least aligned with l_z.
   const double az[3] = {axis.x, axis.y, axis.z};
   double p[3], q[3];
-  perpendicularPair(az, p, q);
+  tumble::perpendicularPair(az, p, q);
   f.lp = {float(p[0]), float(p[1]), float(p[2])};
   f.lq = {float(q[0]), float(q[1]), float(q[2])};
 
@@ -117,22 +117,6 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cell
   }
   const std::uint64_t cells = std::uint64_t(f.numA) << f.bShift;
   return cells > 1 ? static_cast<int>(std::bit_width(cells - 1)) : 0;
-}
-
-void perpendicularPair(const double n[3], double t[3], double u[3]) {
-  int least = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(n[k]) < std::abs(n[least])) least = k;
-  double e[3] = {0, 0, 0};
-  e[least] = 1.0;
-  t[0] = n[1] * e[2] - n[2] * e[1];
-  t[1] = n[2] * e[0] - n[0] * e[2];
-  t[2] = n[0] * e[1] - n[1] * e[0];
-  const double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-  for (int k = 0; k < 3; ++k) t[k] /= tn;
-  u[0] = n[1] * t[2] - n[2] * t[1];
-  u[1] = n[2] * t[0] - n[0] * t[2];
-  u[2] = n[0] * t[1] - n[1] * t[0];
 }
 
 MortonGrid mortonGridOf(const BoundsPartial& b) {

@@ -134,7 +134,7 @@ void revolved(const WallDef& w, const V3* inside, int segments, std::vector<floa
       (r0 == 0.0 && r1 == 0.0) || (len == 0.0 && r0 == r1))
     return;
   V3 t, u;
-  detail::perpendicularPair(a.data(), t.data(), u.data());
+  perpendicularPair(a.data(), t.data(), u.data());
   // Which side is inner: m = (−(r1 − r0), L) in (s, ρ) against the centre's (s_c, ρ_c) − (0, r0).
   const V3 c = inside ? *inside : plus(p, scale(0.5 * len, a));
   const V3 d = sub(c, p);
@@ -246,7 +246,7 @@ std::vector<WallSurface> wallSurfaces(const std::vector<WallDef>& walls, const E
   for (const std::size_t k : planes) {
     const HalfSpace& s = half[k];
     V3 t, u;
-    detail::perpendicularPair(s.n.data(), t.data(), u.data());  // (t, u, n) right-handed: counter-clockwise about n
+    perpendicularPair(s.n.data(), t.data(), u.data());  // (t, u, n) right-handed: counter-clockwise about n
     const V3 o = plus(focusCentre, scale(s.h - dot(s.n, focusCentre), s.n));  // the centre projected on the plane
     Polygon& poly = polys[k];
     for (const auto& [a, b] : {std::pair{-1.0, -1.0}, std::pair{1.0, -1.0}, std::pair{1.0, 1.0}, std::pair{-1.0, 1.0}})

@@ -14,6 +14,7 @@
 #include "tumble/error.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/sweep_frame.hpp"
 
 namespace tumble {
@@ -102,6 +103,18 @@ World localWorld(const World& world, LocalFrame* outFrame) {
     if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
       throw Error("contact history " + std::to_string(k) + " is not finite");
   }
+  const std::uint32_t numTriangles = meshTriangleCount(world.params);
+  for (std::size_t k = 0; k < s.meshContacts.size(); ++k) {
+    const MeshContactHistory& c = s.meshContacts[k];
+    const MeshContactHistory* p = k > 0 ? &s.meshContacts[k - 1] : nullptr;
+    if (!(c.particle < np && c.triangle < numTriangles) ||
+        (p && !(p->particle < c.particle || (p->particle == c.particle && p->triangle < c.triangle))))
+      throw Error("mesh contact history " + std::to_string(k) + " (particle " + std::to_string(c.particle) +
+                  ", triangle " + std::to_string(c.triangle) + "): expected particles below " + std::to_string(np) +
+                  " and triangles below " + std::to_string(numTriangles) + ", sorted by (particle, triangle)");
+    if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+      throw Error("mesh contact history " + std::to_string(k) + " is not finite");
+  }
   if (!s.contacts.empty() && !world.params.contact.hasHistory())
     throw Error(std::string("the state holds contact histories, but the scene's law (") +
                 toString(world.params.contact.law) + ") keeps none");
@@ -161,7 +174,13 @@ Quatf shapeOrientation(const World& world, const BodyState& s, std::size_t k) {
 std::vector<WallDef> Scene::planes() const {
   std::vector<WallDef> out;
   out.reserve(walls.size() + 1);
-  if (ground.enabled) out.push_back(WallDef{Vec3f{0.0f, 0.0f, ground.height}, Vec3f{0.0f, 0.0f, 1.0f}, ground, "[ground]"});
+  if (ground.enabled) {
+    WallDef g;
+    g.point = Vec3f{0.0f, 0.0f, ground.height};
+    g.contact = ground;
+    g.where = "[ground]";
+    out.push_back(g);
+  }
   for (const WallDef& w : walls) {
     out.push_back(w);
     out.back().contact.enabled = true;
@@ -188,7 +207,7 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
     Wall w{};
     const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
                                  double(d.normal.z) * d.normal.z);
-    if (!(len > 0.0) || !std::isfinite(len))
+    if ((!(len > 0.0) || !std::isfinite(len)) && d.shape != WallDef::Shape::Mesh)
       throw Error(d.where + (d.shape == WallDef::Shape::Plane ? ": the normal" : ": the axis") +
                   " must be a non-zero, finite vector");
     const double n[3] = {d.normal.x / len, d.normal.y / len, d.normal.z / len};
@@ -198,11 +217,19 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
     w.coeffs = GroundCoeffs{0.0f, g.stiffness, kt, g.friction, params.rollingFrictionOf(g)};
     w.velocity = d.velocity;
     w.omega = d.angularVelocity;
+    if (d.shape == WallDef::Shape::Mesh) {  // its triangles: kernelMesh()
+      if (!d.mesh) throw Error(d.where + ": a mesh wall needs a mesh (WallDef::mesh)");
+      if (d.moves()) throw Error(d.where + ": a mesh wall does not move (velocity and angular_velocity are 0)");
+      w.axis = kMeshWall;
+      w.sign = 1.0f;
+      out.push_back(w);
+      continue;
+    }
     if (d.shape == WallDef::Shape::Revolved) {
       w.axis = kRevolvedWall;
       w.sign = 1.0f;
       double t[3], u[3];
-      detail::perpendicularPair(n, t, u);
+      perpendicularPair(n, t, u);
       w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
       // The axis's point nearest the frame's origin, and the segment's start from it, in double.
@@ -245,7 +272,7 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       w.coeffs.height = w.sign * static_cast<float>(checkedHeight(p[a] - o[a], d.where));
     } else {  // t1, t2 ⟂ n (double), as the sweep frame's p, q
       double t[3], u[3];
-      detail::perpendicularPair(n, t, u);
+      perpendicularPair(n, t, u);
       w.t1 = Vec3f{float(t[0]), float(t[1]), float(t[2])};
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
       // h = (p − o)·n in double, rounded once.
@@ -259,6 +286,7 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
 }
 
 std::string wallMotionOutOfRange(const WallDef& d) {
+  if (d.shape == WallDef::Shape::Mesh) return d.moves() ? "a mesh wall does not move" : "";
   if (!std::isfinite(d.angularVelocity)) return "angular_velocity must be finite";
   if (d.shape == WallDef::Shape::Plane && d.angularVelocity != 0.0f)
     return "a plane does not turn (angular_velocity is for cylinders, cones and disks)";
@@ -601,7 +629,7 @@ World World::fromScene(const Scene& scene) {
   const std::vector<Wall> walls = tumble::kernelWalls(w.params, LocalFrame{});
   for (std::size_t q = scene.ground.enabled ? 1 : 0; q < walls.size(); ++q) {
     const Wall& pw = walls[q];
-    if (pw.axis == kRevolvedWall) continue;  // a thin surface, met from either side
+    if (pw.axis == kRevolvedWall || pw.axis == kMeshWall) continue;  // thin surfaces, met from either side
     for (std::uint32_t k = 0; k < nb; ++k) {
       const BodyState& s = w.state;
       const Mat3f R = rotationMatrix(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]});
@@ -850,6 +878,9 @@ std::string periodicWallProblem(const WallDef& wall, const PeriodicParams& p) {
                "open = [\"-" + "xy"[a] + "\", \"+" + "xy"[a] + "\"])";
     return {};
   }
+  if (wall.shape == WallDef::Shape::Mesh)
+    return "a triangle mesh is not the same one period on: a periodic scene's walls are planes containing its "
+           "periodic axes and pipes along one";
   // A revolved wall: only a cylinder along the one periodic axis is the same one period on.
   const int a = p.on[0] ? 0 : 1;
   const bool along = wall.normal.z == 0.0f && n[1 - a] == 0.0f && n[a] != 0.0f;
@@ -912,7 +943,8 @@ std::uint64_t stateHash(const BodyState& s) {
   for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz,
                         &s.groundSpringX, &s.groundSpringY})
     mix(*c);
-  // Contact histories (none under the report's law, whose hashes therefore stay as they were).
+  // Contact histories (none under the report's law, whose hashes therefore stay as they were),
+  // then the mesh springs (none without meshes).
   for (const ContactHistory& c : s.contacts) {
     mixWord(c.i);
     mixWord(c.j);
@@ -923,6 +955,13 @@ std::uint64_t stateHash(const BodyState& s) {
   // Image counters (periodic boundaries only: the other scenes' hashes stay as they were).
   for (const auto* c : {&s.imageX, &s.imageY})
     for (std::int32_t n : *c) mixWord(static_cast<std::uint32_t>(n));
+  for (const MeshContactHistory& c : s.meshContacts) {
+    mixWord(c.particle);
+    mixWord(c.triangle);
+    mixFloat(c.x);
+    mixFloat(c.y);
+    mixFloat(c.z);
+  }
   return h;
 }
 

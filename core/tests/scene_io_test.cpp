@@ -1074,7 +1074,8 @@ TEST(SceneIo, Walls) {
 
 TEST(SceneIoErrors, Walls) {
   expectError(withExtra("[[wall]]\npoint = [0, 0, 0]\n"), 12, {"[[wall]] #1", "missing required key 'type'"});
-  expectError(withExtra("[[wall]]\ntype = \"mesh\"\n"), 13, {"unknown wall type \"mesh\"", "triangle meshes are not there yet"});
+  expectError(withExtra("[[wall]]\ntype = \"mesh\"\n"), 12, {"[[wall]] #1", "missing required key 'file'"});
+  expectError(withExtra("[[wall]]\ntype = \"pipe\"\n"), 13, {"unknown wall type \"pipe\"", "\"mesh\""});
   expectError(withExtra("[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n"), 15,
               {"normal must be a non-zero"});
   expectError(withExtra("[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\n"), 12, {"missing required key 'normal'"});

@@ -50,6 +50,7 @@
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/step.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/sweep_frame.hpp"
 
 namespace tumble::cpu {
@@ -126,6 +127,12 @@ class CpuPipeline final : public Pipeline {
     if (!(m_nearLimit > 0.0f) || m_history) m_nearSkin = 0.0f;
     m_listBuilt = false;
     if (m_history) keepLoadedHistory(s.contacts);
+    m_mesh = kernelMesh(world.params, m_frame);  // from the world's scene and the run's frame, as the guard's
+    m_hasMesh = m_mesh.numTriangles() > 0;
+    m_meshOffsets.assign(std::size_t(n) + 1, 0u);
+    m_meshTri.clear();
+    m_meshHist.clear();
+    keepLoadedMeshHistory(s.meshContacts);
     m_closed = 0.0;
     m_needRefresh = false;
     m_needRebuild = true;
@@ -178,6 +185,7 @@ class CpuPipeline final : public Pipeline {
       });
     });
     readHistory(out.contacts);
+    readMeshHistory(out.meshContacts);
   }
 
   void readLocalPositions(std::vector<float>& out) const override {
@@ -242,6 +250,35 @@ class CpuPipeline final : public Pipeline {
                                                    svals, total, 0, bits);
       out.resize(total);
       for (std::size_t k = 0; k < total; ++k) out[k] = Pair{skeys[k], svals[k]};
+    });
+    return out;
+  }
+
+  std::vector<MeshContact> meshContacts() const override {
+    if (m_steps == 0 || !m_hasMesh) return {};
+    const std::uint32_t n = m_world.numParticles();
+    const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used, with its mesh rows
+    const MeshView mv = m_mesh.view();
+    const auto forHits = [&](std::uint32_t i, auto&& f) {
+      const Vec3f x{pos[i].x, pos[i].y, pos[i].z};
+      for (std::uint32_t e = m_meshOffsets[i]; e < m_meshOffsets[i + 1]; ++e)
+        if (meshHit(mv, m_meshTri[e], x, pos[i].r).counts) f(m_meshTri[e]);
+    };
+    std::vector<std::uint32_t> start(std::size_t(n) + 1, 0u);
+    m_arena.execute([&] {
+      forEach(n, kGrain, [&](std::uint32_t i) {
+        std::uint32_t c = 0;
+        forHits(i, [&](std::uint32_t) { ++c; });
+        start[m_orig[i] + 1] = c;
+      });
+    });
+    for (std::uint32_t o = 0; o < n; ++o) start[o + 1] += start[o];
+    std::vector<MeshContact> out(start[n]);
+    m_arena.execute([&] {
+      forEach(n, kGrain, [&](std::uint32_t i) {
+        std::uint32_t at = start[m_orig[i]];
+        forHits(i, [&](std::uint32_t t) { out[at++] = MeshContact{m_orig[i], t}; });
+      });
     });
     return out;
   }
@@ -353,7 +390,7 @@ class CpuPipeline final : public Pipeline {
     }
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
-    const float closure = closureOf(tot.drift);
+    const float closure = closureFor(tot.drift);
     m_needRebuild = !(m_closed + double(closure) < double(m_fullLimit));
     m_needRefresh = m_nearSkin > 0.0f && !(closure < m_nearLimit);
     m_lastClosure = closure;
@@ -364,6 +401,10 @@ class CpuPipeline final : public Pipeline {
     ++m_stats.steps;
     m_stats.numPairs = tot.contacts / 2;  // each contact is seen from both sides
   }
+
+  // How far the particles may have closed in under a drift: on each other (closureOf()), and
+  // with mesh walls on a static wall too (wallClosureOf(), which is at least that).
+  float closureFor(const Drift& d) const { return m_hasMesh ? wallClosureOf(d) : closureOf(d); }
 
   // advance() instantiated for the scene's law, bodies and periodic boundaries.
   template <bool kDebug>
@@ -422,9 +463,10 @@ class CpuPipeline final : public Pipeline {
     double* sec = m_stats.seconds;
     const std::uint32_t n = m_world.numParticles();
     auto t0 = Clock::now();
-    if (m_history && m_listBuilt) {
-      keepHistory();       // by scene index: survives the renumbering
-      m_listBuilt = false; // until the new list holds them (a failed rebuild keeps the kept ones)
+    if (m_listBuilt && (m_history || m_hasMesh)) {  // by scene index: survives the renumbering
+      if (m_history) keepHistory();
+      if (m_hasMesh) keepMeshHistory();
+      m_listBuilt = false;  // until the new lists hold them (a failed rebuild keeps the kept ones)
     }
     if (m_reorder) reorder();
     sec[int(Phase::Reorder)] += since(t0);
@@ -467,6 +509,10 @@ class CpuPipeline final : public Pipeline {
     t0 = Clock::now();
     buildList();
     if (m_history) restoreHistory();
+    if (m_hasMesh) {
+      buildMeshList();
+      restoreMeshHistory();
+    }
     m_listBuilt = true;
     m_closed = 0.0;
     if (m_nearSkin > 0.0f) fillNearList();
@@ -487,7 +533,7 @@ class CpuPipeline final : public Pipeline {
   void refreshNear() {
     const auto t0 = Clock::now();
     const Drift sinceRebuild = m_periodic.axes != 0 ? driftSinceRebuild<true>() : driftSinceRebuild<false>();
-    m_closed = std::min(m_closed + double(m_lastClosure), double(closureOf(sinceRebuild)));
+    m_closed = std::min(m_closed + double(m_lastClosure), double(closureFor(sinceRebuild)));
     fillNearList();
     m_needRefresh = false;
     ++m_stats.numNearRefreshes;
@@ -656,89 +702,81 @@ class CpuPipeline final : public Pipeline {
     return out;
   }
 
-  // Contact histories across a rebuild (laws with a history). Before it, the non-zero ξ of the
-  // candidate list are kept per particle by scene index (both directions, each row in ascending
-  // partner, as the list's rows); after it, each row of the new list takes the ξ of its
-  // partners there, by a merge of the two sorted rows, and zero for the others. So the history
-  // depends on the contacts only, not on the list, the skin or the numbering.
-  void keepHistory() {
+  // Histories across a rebuild (the contact histories of laws with a history, the mesh
+  // springs). Before it, the non-zero ξ of a list are kept per particle by scene index, each
+  // with its key (the partner's scene index, or the triangle), in the row's order (ascending
+  // key); after it, each row of the new list takes the ξ of its keys there, by a merge of the
+  // two sorted rows, and zero for the others. So the history depends on the contacts only, not
+  // on the list, the skin or the numbering.
+  struct KeptHistories {
+    std::vector<std::uint32_t> offsets, key, count;  // CSR by scene index; count: scratch
+    std::vector<Vec3f> hist;
+  };
+
+  // keyOf(e): the key of entry e of the rows offsets[i] .. offsets[i+1] (internal numbering).
+  template <class KeyOf>
+  void keepRows(const std::vector<std::uint32_t>& offsets, const std::vector<Vec3f>& hist, KeyOf&& keyOf,
+                KeptHistories& out) {
     const std::uint32_t n = m_world.numParticles();
-    std::uint32_t* count = tumble::detail::grow(m_keepCount, std::size_t(n) + 1);
+    std::uint32_t* count = tumble::detail::grow(out.count, std::size_t(n) + 1);
     forEach(n, kGrain, [&](std::uint32_t i) {
       std::uint32_t c = 0;
-      for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e) c += isZero(m_hist[e]) ? 0u : 1u;
+      for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += isZero(hist[e]) ? 0u : 1u;
       count[m_orig[i]] = c;
     });
     count[n] = 0;
-    m_keepOffsets.resize(std::size_t(n) + 1);
+    out.offsets.resize(std::size_t(n) + 1);
     std::size_t bytes = 0;
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_keepOffsets.data(), std::size_t(n) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_keepOffsets.data(), std::size_t(n) + 1);
-    m_keepPartner.resize(m_keepOffsets[n]);
-    m_keepHist.resize(m_keepOffsets[n]);
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, out.offsets.data(), std::size_t(n) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, out.offsets.data(), std::size_t(n) + 1);
+    out.key.resize(out.offsets[n]);
+    out.hist.resize(out.offsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
-      std::uint32_t at = m_keepOffsets[m_orig[i]];
-      for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e)
-        if (!isZero(m_hist[e])) {
-          m_keepPartner[at] = m_orig[m_cand[e]];
-          m_keepHist[at++] = m_hist[e];
+      std::uint32_t at = out.offsets[m_orig[i]];
+      for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
+        if (!isZero(hist[e])) {
+          out.key[at] = keyOf(e);
+          out.hist[at++] = hist[e];
         }
     });
   }
 
-  // The histories of a loaded state (BodyState::contacts, i < j sorted) in the same form.
-  void keepLoadedHistory(const std::vector<ContactHistory>& contacts) {
+  template <class KeyOf>
+  void restoreRows(const KeptHistories& kept, const std::vector<std::uint32_t>& offsets, KeyOf&& keyOf,
+                   std::vector<Vec3f>& hist) {
     const std::uint32_t n = m_world.numParticles();
-    m_keepOffsets.assign(std::size_t(n) + 1, 0u);
-    for (const ContactHistory& c : contacts) {
-      ++m_keepOffsets[c.i + 1];
-      ++m_keepOffsets[c.j + 1];
-    }
-    for (std::uint32_t i = 0; i < n; ++i) m_keepOffsets[i + 1] += m_keepOffsets[i];
-    m_keepPartner.resize(m_keepOffsets[n]);
-    m_keepHist.resize(m_keepOffsets[n]);
-    // In (i, j) order, row p receives its partners below p before those above, each ascending.
-    std::vector<std::uint32_t> at(m_keepOffsets.begin(), m_keepOffsets.end() - 1);
-    for (const ContactHistory& c : contacts) {
-      m_keepPartner[at[c.i]] = c.j;
-      m_keepHist[at[c.i]++] = Vec3f{c.x, c.y, c.z};
-      m_keepPartner[at[c.j]] = c.i;
-      m_keepHist[at[c.j]++] = Vec3f{-c.x, -c.y, -c.z};
-    }
-  }
-
-  void restoreHistory() {
-    const std::uint32_t n = m_world.numParticles();
-    m_hist.resize(m_cand.size());
+    hist.resize(offsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
       const std::uint32_t o = m_orig[i];
-      std::uint32_t k = m_keepOffsets[o];
-      const std::uint32_t kEnd = m_keepOffsets[o + 1];
-      for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e) {
-        const std::uint32_t partner = m_orig[m_cand[e]];
-        while (k < kEnd && m_keepPartner[k] < partner) ++k;
-        m_hist[e] = k < kEnd && m_keepPartner[k] == partner ? m_keepHist[k] : Vec3f{0.0f, 0.0f, 0.0f};
+      std::uint32_t k = kept.offsets[o];
+      const std::uint32_t kEnd = kept.offsets[o + 1];
+      for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+        const std::uint32_t key = keyOf(e);
+        while (k < kEnd && kept.key[k] < key) ++k;
+        hist[e] = k < kEnd && kept.key[k] == key ? kept.hist[k] : Vec3f{0.0f, 0.0f, 0.0f};
       }
     });
   }
 
-  // BodyState::contacts: the non-zero ξ of the pairs i < j (scene indices), sorted.
-  void readHistory(std::vector<ContactHistory>& out) const {
+  // The entries with a key and a non-zero ξ that `take` accepts, as out[...] = make(scene index,
+  // key, ξ), sorted by (scene index, key): from the rows of a list, or before the first rebuild
+  // (loaded, not stepped) from the kept histories.
+  template <class Out, class KeyOf, class Take, class Make>
+  void readRows(const KeptHistories& kept, const std::vector<std::uint32_t>& offsets, const std::vector<Vec3f>& hist,
+                KeyOf&& keyOf, Take&& take, Make&& make, std::vector<Out>& out) const {
+    const std::uint32_t n = m_world.numParticles();
     out.clear();
-    if (!m_history) return;
-    if (!m_listBuilt) {  // loaded, not stepped: as loaded
-      for (std::uint32_t i = 0; i < m_world.numParticles(); ++i)
-        for (std::uint32_t k = m_keepOffsets[i]; k < m_keepOffsets[i + 1]; ++k)
-          if (m_keepPartner[k] > i) out.push_back({i, m_keepPartner[k], m_keepHist[k].x, m_keepHist[k].y, m_keepHist[k].z});
+    if (!m_listBuilt) {
+      for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t k = kept.offsets[i]; k < kept.offsets[i + 1]; ++k)
+          if (take(i, kept.key[k])) out.push_back(make(i, kept.key[k], kept.hist[k]));
       return;
     }
-    const std::uint32_t n = m_world.numParticles();
     std::vector<std::uint32_t> count(std::size_t(n) + 1, 0u);
     m_arena.execute([&] {
       forEach(n, kGrain, [&](std::uint32_t i) {
         std::uint32_t c = 0;
-        for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e)
-          c += m_orig[m_cand[e]] > m_orig[i] && !isZero(m_hist[e]) ? 1u : 0u;
+        for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += take(m_orig[i], keyOf(e)) && !isZero(hist[e]) ? 1u : 0u;
         count[m_orig[i] + 1] = c;
       });
     });
@@ -748,11 +786,105 @@ class CpuPipeline final : public Pipeline {
       forEach(n, kGrain, [&](std::uint32_t i) {
         const std::uint32_t me = m_orig[i];
         std::uint32_t at = count[me];
-        for (std::uint32_t e = m_candOffsets[i]; e < m_candOffsets[i + 1]; ++e) {
-          const std::uint32_t other = m_orig[m_cand[e]];
-          if (other > me && !isZero(m_hist[e])) out[at++] = ContactHistory{me, other, m_hist[e].x, m_hist[e].y, m_hist[e].z};
-        }
+        for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
+          if (take(me, keyOf(e)) && !isZero(hist[e])) out[at++] = make(me, keyOf(e), hist[e]);
       });
+    });
+  }
+
+  void keepHistory() {
+    keepRows(m_candOffsets, m_hist, [&](std::uint32_t e) { return m_orig[m_cand[e]]; }, m_keep);
+  }
+  void restoreHistory() {
+    restoreRows(m_keep, m_candOffsets, [&](std::uint32_t e) { return m_orig[m_cand[e]]; }, m_hist);
+  }
+
+  // The histories of a loaded state (BodyState::contacts, i < j sorted) in the kept form.
+  void keepLoadedHistory(const std::vector<ContactHistory>& contacts) {
+    const std::uint32_t n = m_world.numParticles();
+    m_keep.offsets.assign(std::size_t(n) + 1, 0u);
+    for (const ContactHistory& c : contacts) {
+      ++m_keep.offsets[c.i + 1];
+      ++m_keep.offsets[c.j + 1];
+    }
+    for (std::uint32_t i = 0; i < n; ++i) m_keep.offsets[i + 1] += m_keep.offsets[i];
+    m_keep.key.resize(m_keep.offsets[n]);
+    m_keep.hist.resize(m_keep.offsets[n]);
+    // In (i, j) order, row p receives its partners below p before those above, each ascending.
+    std::vector<std::uint32_t> at(m_keep.offsets.begin(), m_keep.offsets.end() - 1);
+    for (const ContactHistory& c : contacts) {
+      m_keep.key[at[c.i]] = c.j;
+      m_keep.hist[at[c.i]++] = Vec3f{c.x, c.y, c.z};
+      m_keep.key[at[c.j]] = c.i;
+      m_keep.hist[at[c.j]++] = Vec3f{-c.x, -c.y, -c.z};
+    }
+  }
+
+  // BodyState::contacts: the non-zero ξ of the pairs i < j (scene indices), sorted.
+  void readHistory(std::vector<ContactHistory>& out) const {
+    out.clear();
+    if (!m_history) return;
+    readRows(
+        m_keep, m_candOffsets, m_hist, [&](std::uint32_t e) { return m_orig[m_cand[e]]; },
+        [](std::uint32_t me, std::uint32_t other) { return other > me; },
+        [](std::uint32_t me, std::uint32_t other, Vec3f h) { return ContactHistory{me, other, h.x, h.y, h.z}; }, out);
+  }
+
+  // The mesh springs: kept and restored by triangle; a loaded state's (BodyState::meshContacts,
+  // sorted by (particle, triangle)) in the kept form.
+  void keepMeshHistory() {
+    keepRows(m_meshOffsets, m_meshHist, [&](std::uint32_t e) { return m_meshTri[e]; }, m_meshKeep);
+  }
+  void restoreMeshHistory() {
+    restoreRows(m_meshKeep, m_meshOffsets, [&](std::uint32_t e) { return m_meshTri[e]; }, m_meshHist);
+  }
+  void keepLoadedMeshHistory(const std::vector<MeshContactHistory>& contacts) {
+    const std::uint32_t n = m_world.numParticles();
+    m_meshKeep.offsets.assign(std::size_t(n) + 1, 0u);
+    for (const MeshContactHistory& c : contacts) ++m_meshKeep.offsets[c.particle + 1];
+    for (std::uint32_t i = 0; i < n; ++i) m_meshKeep.offsets[i + 1] += m_meshKeep.offsets[i];
+    m_meshKeep.key.resize(contacts.size());
+    m_meshKeep.hist.resize(contacts.size());
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      m_meshKeep.key[k] = contacts[k].triangle;
+      m_meshKeep.hist[k] = Vec3f{contacts[k].x, contacts[k].y, contacts[k].z};
+    }
+  }
+  void readMeshHistory(std::vector<MeshContactHistory>& out) const {
+    out.clear();
+    if (!m_hasMesh) return;
+    readRows(
+        m_meshKeep, m_meshOffsets, m_meshHist, [&](std::uint32_t e) { return m_meshTri[e]; },
+        [](std::uint32_t, std::uint32_t) { return true; },
+        [](std::uint32_t me, std::uint32_t t, Vec3f h) { return MeshContactHistory{me, t, h.x, h.y, h.z}; }, out);
+  }
+
+  // The mesh candidate list at the current positions (those of the rebuild): per particle the
+  // triangles whose grown box comes within r + skin/2 + margin (forTrianglesNear()), sorted by
+  // triangle (so that the rows do not depend on the hierarchy), count → scan → fill. A particle
+  // that has moved less than skin/2 − margin since (the skin test with wallClosureOf()) cannot
+  // touch a triangle outside its row.
+  void buildMeshList() {
+    const std::uint32_t n = m_world.numParticles();
+    const MeshView mv = m_mesh.view();
+    const PosRow* pos = m_pos[m_cur].data();
+    const float grow = static_cast<float>(0.5 * double(m_skin) + roundingMargin(m_skin, m_world.maxRadius));
+    std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      std::uint32_t c = 0;
+      forTrianglesNear(mv, Vec3f{pos[i].x, pos[i].y, pos[i].z}, pos[i].r + grow, [&](std::uint32_t) { ++c; });
+      count[i] = c;
+    });
+    count[n] = 0;
+    m_meshOffsets.resize(std::size_t(n) + 1);
+    std::size_t bytes = 0;
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_meshOffsets.data(), std::size_t(n) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_meshOffsets.data(), std::size_t(n) + 1);
+    m_meshTri.resize(m_meshOffsets[n]);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      std::uint32_t at = m_meshOffsets[i];
+      forTrianglesNear(mv, Vec3f{pos[i].x, pos[i].y, pos[i].z}, pos[i].r + grow, [&](std::uint32_t t) { m_meshTri[at++] = t; });
+      tumble::detail::sortRow(m_meshTri.data() + m_meshOffsets[i], nullptr, at - m_meshOffsets[i]);
     });
   }
 
@@ -858,7 +990,9 @@ class CpuPipeline final : public Pipeline {
                     static_cast<std::uint32_t>(m_planes.size()),
                     m_planeDamping.empty() ? nullptr : m_planeDamping.data(),
                     m_planeHertz.empty() ? nullptr : m_planeHertz.data(),
-                    m_periodic};
+                    m_periodic,
+                    m_mesh.view(),
+                    MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_meshHist.data()}};
   }
 
   mutable tbb::task_arena m_arena;
@@ -894,8 +1028,13 @@ class CpuPipeline final : public Pipeline {
   std::vector<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
   std::vector<Vec3f> m_hist;             // laws with a history: ξ per candidate-list entry
   // The histories kept across a rebuild (or from the load): CSR by scene index (keepHistory).
-  std::vector<std::uint32_t> m_keepOffsets, m_keepPartner, m_keepCount;
-  std::vector<Vec3f> m_keepHist;
+  KeptHistories m_keep, m_meshKeep;
+  // Mesh walls: their kernels' data (in the integration frame) and the mesh candidate list,
+  // rows by internal particle at m_meshOffsets, with the springs ξ per entry (buildMeshList()).
+  KernelMesh m_mesh;
+  bool m_hasMesh = false;
+  std::vector<std::uint32_t> m_meshOffsets, m_meshTri;
+  std::vector<Vec3f> m_meshHist;
   float m_skin = 0.0f;
   bool m_needRebuild = true;
   // The near list (kernels/contact_list.hpp fillNear): rows at the candidate list's offsets.

@@ -37,6 +37,7 @@
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/step.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/sweep_frame.hpp"
 
 namespace tumble::gpu {
@@ -214,7 +215,9 @@ class CudaPipeline final : public Pipeline {
       throw Error(std::string("the CUDA pipeline runs the report's contact law only so far; [contact] law = \"") +
                   toString(world.params.contact.law) + "\" runs on the CPU pipeline (--pipeline cpu)");
     if (!world.params.walls.empty())
-      throw Error("the CUDA pipeline has no walls yet: a scene with [[wall]] runs on the CPU pipeline (--pipeline cpu)");
+      throw Error(std::string("the CUDA pipeline has no walls yet") +
+                  (meshTriangleCount(world.params) > 0 ? " (triangle meshes included)" : "") +
+                  ": a scene with [[wall]] runs on the CPU pipeline (--pipeline cpu)");
     if (world.params.periodic.any()) throw Error(kNoPeriodic);
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
@@ -443,7 +446,10 @@ class CudaPipeline final : public Pipeline {
                     m_planes.data(),
                     m_ground ? 1u : 0u,
                     nullptr,   // one plane at most: its damping is in the own rows
-                    nullptr};
+                    nullptr,
+                    PeriodicBox{},  // no periodic boundaries (load())
+                    MeshView{},     // no mesh walls (load())
+                    MeshListView{}};
   }
 
   // As CpuPipeline::stepOnce.

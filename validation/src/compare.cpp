@@ -2,6 +2,7 @@
 #include "tumble/validation/compare.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -27,6 +28,25 @@ std::string firstDifference(const std::vector<Pair>& got, const std::vector<Pair
 }
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The first difference of two history lists (ContactHistory, MeshContactHistory: indices a, b
+// and ξ), named by names: the count, a, b, and ξ (its component appended).
+template <class H>
+std::optional<StateDifference> firstHistoryDifference(const std::vector<H>& x, const std::vector<H>& y,
+                                                      std::uint32_t H::*a, std::uint32_t H::*b,
+                                                      const std::array<const char*, 4>& names) {
+  if (x.size() != y.size()) return StateDifference{names[0], 0, float(x.size()), float(y.size())};
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const H &hx = x[k], &hy = y[k];
+    const auto at = static_cast<std::uint32_t>(k);
+    if (hx.*a != hy.*a) return StateDifference{names[1], at, float(hx.*a), float(hy.*a)};
+    if (hx.*b != hy.*b) return StateDifference{names[2], at, float(hx.*b), float(hy.*b)};
+    if (!sameBits(hx.x, hy.x)) return StateDifference{std::string(names[3]) + " x", at, hx.x, hy.x};
+    if (!sameBits(hx.y, hy.y)) return StateDifference{std::string(names[3]) + " y", at, hx.y, hy.y};
+    if (!sameBits(hx.z, hy.z)) return StateDifference{std::string(names[3]) + " z", at, hx.z, hy.z};
+  }
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -92,19 +112,14 @@ std::optional<StateDifference> firstDifference(const BodyState& a, const BodySta
     for (std::size_t k = 0; k < ca.size(); ++k)
       if (ca[k] != cb[k]) return StateDifference{name, static_cast<std::uint32_t>(k), float(ca[k]), float(cb[k])};
   }
-  // Contact histories: the same pairs with the same bits (index: the entry).
-  if (a.contacts.size() != b.contacts.size())
-    return StateDifference{"contacts (count)", 0, float(a.contacts.size()), float(b.contacts.size())};
-  for (std::size_t k = 0; k < a.contacts.size(); ++k) {
-    const ContactHistory &ha = a.contacts[k], &hb = b.contacts[k];
-    const auto at = static_cast<std::uint32_t>(k);
-    if (ha.i != hb.i) return StateDifference{"contact i", at, float(ha.i), float(hb.i)};
-    if (ha.j != hb.j) return StateDifference{"contact j", at, float(ha.j), float(hb.j)};
-    if (!sameBits(ha.x, hb.x)) return StateDifference{"contact history x", at, ha.x, hb.x};
-    if (!sameBits(ha.y, hb.y)) return StateDifference{"contact history y", at, ha.y, hb.y};
-    if (!sameBits(ha.z, hb.z)) return StateDifference{"contact history z", at, ha.z, hb.z};
-  }
-  return std::nullopt;
+  // Contact histories and mesh springs: the same pairs with the same bits (index: the entry).
+  if (auto d = firstHistoryDifference(a.contacts, b.contacts, &ContactHistory::i, &ContactHistory::j,
+                                      {"contacts (count)", "contact i", "contact j", "contact history"}))
+    return d;
+  return firstHistoryDifference(a.meshContacts, b.meshContacts, &MeshContactHistory::particle,
+                                &MeshContactHistory::triangle,
+                                {"contact (mesh) count", "contact (mesh) particle", "contact (mesh) triangle",
+                                 "contact (mesh) spring"});
 }
 
 BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, const PipelineOptions& options) {
@@ -129,7 +144,7 @@ TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& worl
     a.readState(sa);
     b.readState(sb);
     r.steps = s;
-    if (r.pairsIdentical && a.pairs() != b.pairs()) {
+    if (r.pairsIdentical && (a.pairs() != b.pairs() || a.meshContacts() != b.meshContacts())) {
       r.pairsIdentical = false;
       r.firstPairMismatchStep = s;
     }

@@ -194,4 +194,23 @@ std::vector<NamedCloud> hardCases(std::uint64_t seed) {
   return out;
 }
 
+ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
+
+GroundParams wallContact(float k, float mu) {
+  GroundParams c;
+  c.enabled = true;
+  c.stiffness = k;
+  c.friction = mu;
+  return c;
+}
+
+BodyState runCpu(const World& w, std::uint64_t steps, const PipelineOptions& o) {
+  auto p = makePipeline(Backend::Cpu, o);
+  p->load(w);
+  p->step(steps);
+  BodyState s;
+  p->readState(s);
+  return s;
+}
+
 }  // namespace tumble::validation

@@ -12,6 +12,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"
@@ -169,7 +170,9 @@ TEST(Checkpoint, RejectsAnotherScene) {
 
 namespace {
 
-void expectEveryDamageRefused(const World& w) {
+// Every cut and every flipped byte of a checkpoint of `w` after 5 steps is refused; `version` is
+// the one it must have (1, or 2 with mesh springs), with `meshSprings` of them.
+void expectEveryDamageRefused(const World& w, int version, std::size_t meshSprings) {
   auto p = makePipeline(Backend::Cpu);
   p->load(w);
   p->step(5);
@@ -180,9 +183,11 @@ void expectEveryDamageRefused(const World& w) {
     std::ifstream in(path, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), {});
   }
-  ASSERT_GT(bytes.size(), 200u);
+  ASSERT_GT(bytes.size(), version == 2 ? 100u : 200u);
+  EXPECT_EQ(bytes[8], version) << "the version";
   const Checkpoint good = Checkpoint::read(path);
   EXPECT_EQ(good.step, 5u);
+  EXPECT_EQ(good.state.meshContacts.size(), meshSprings);
   auto writeBytes = [&](const std::string& b) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(b.data(), std::streamsize(b.size()));
@@ -225,11 +230,35 @@ World someBodies(const std::string& file, std::size_t first, std::size_t n) {
   return World::fromScene(s);
 }
 
+// A ball sliding on a mesh floor (hooke-history): one mesh spring.
+World aBallOnAMeshFloor() {
+  Scene m;
+  m.ground.enabled = false;
+  m.contact.law = ContactLaw::HookeHistory;
+  auto floor = std::make_shared<TriangleMesh>();
+  floor->vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  floor->triangles = {0, 1, 2, 0, 2, 3};
+  floor->source = {1, 2};
+  WallDef w;
+  w.shape = WallDef::Shape::Mesh;
+  w.mesh = floor;
+  m.walls = {w};
+  m.shapes = {ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.05f, 0.1f, 0.5f}}}};
+  BodyDef b;
+  b.position = {0.0f, 0.0f, 0.0499f};
+  b.velocity = {1.0f, 0.5f, 0.0f};
+  m.bodies = {b};
+  return World::fromScene(m);
+}
+
 }  // namespace
 
+// Version 1 (molecules; the periodic chute: the image counters' block) and version 2 (with mesh
+// springs): every cut and every flipped byte is refused.
 TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
-  expectEveryDamageRefused(someBodies("scenes/molecules.toml", 0, 12));
-  expectEveryDamageRefused(someBodies("scenes/chute.toml", 8, 12));  // periodic: the image counters' block
+  expectEveryDamageRefused(someBodies("scenes/molecules.toml", 0, 12), 1, 0);
+  expectEveryDamageRefused(someBodies("scenes/chute.toml", 8, 12), 1, 0);
+  expectEveryDamageRefused(aBallOnAMeshFloor(), 2, 1);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, CheckpointTest, ::testing::ValuesIn(compiledBackends()),

@@ -579,7 +579,8 @@ TEST(PeriodicTest, ScenesBuiltInCodeAreCheckedToo) {
   s.pulls.active = kPullSwirl;
   expectRefused(s, "the pulls \"swirl\" pull along a periodic axis");
   s = ok;
-  s.walls.push_back(WallDef{{0, 0, 0}, {1, 0, 0}, GroundParams{}, "the plane"});
+  s.walls.push_back(planeWall(Vec3f{0, 0, 0}, Vec3f{1, 0, 0}));
+  s.walls.back().where = "the plane";
   expectRefused(s, "the plane: a plane across the periodic x axis");
   s = ok;
   s.periodic.hi[0] = 2.0f;

@@ -12,6 +12,7 @@
 #include "tumble/world.hpp"
 
 using namespace tumble;
+using tumble::validation::sphereShape;
 
 namespace {
 
@@ -21,8 +22,6 @@ class PhysicsTest : public ::testing::TestWithParam<Backend> {
     if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
   }
 };
-
-ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
 
 // A flat 3×3 clump of spheres (radius r, spacing 2r), wide and low so it cannot tip.
 ShapeDef plateShape(float r, float m, float e) {

@@ -30,16 +30,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
-
-GroundParams contactOf(float k, float mu) {
-  GroundParams c;
-  c.enabled = true;
-  c.stiffness = k;
-  c.friction = mu;
-  return c;
-}
-
 // The segment (0, r0)–(length, r1) about the axis from `point` along `axis` (length |axis|;
 // for a disk or ring, `axis` is its normal and length 0).
 WallDef revolved(Vec3f point, Vec3f axis, float length, float r0, float r1, const GroundParams& c) {
@@ -49,15 +39,6 @@ WallDef revolved(Vec3f point, Vec3f axis, float length, float r0, float r1, cons
 }
 WallDef cylinder(Vec3f point, Vec3f axis, float r, const GroundParams& c) {
   return revolved(point, axis, std::sqrt(dot(axis, axis)), r, r, c);
-}
-
-BodyState run(const World& w, std::uint64_t steps, const PipelineOptions& o = {}) {
-  auto p = makePipeline(Backend::Cpu, o);
-  p->load(w);
-  p->step(steps);
-  BodyState s;
-  p->readState(s);
-  return s;
 }
 
 // The oracle: the distance from x to the surface P(t, φ) = c + (s0 + t L) a + (r0 + t (r1 − r0))
@@ -95,7 +76,7 @@ double oracleDistance(const Wall& w, const double x[3], double nearest[3]) {
 // and a ring at general orientations, on random points around them (seed printed) and on the
 // hard cases, whose values are exact.
 TEST(RevolvedWallTest, DistanceMatchesABruteForceOracle) {
-  const GroundParams c = contactOf(1e5f, 0.5f);
+  const GroundParams c = wallContact(1e5f, 0.5f);
   const Vec3f axis{0.3f, -0.5f, 0.8f};
   Scene s;
   s.ground.enabled = false;
@@ -194,7 +175,7 @@ TEST(RevolvedWallTest, ASphereBouncesOffACylinderFromEitherSide) {
     s.dt = 1e-5f;
     s.gravity = {0, 0, 0};
     s.ground.enabled = false;
-    s.walls = {cylinder(Vec3f{0, 0, -5}, Vec3f{0, 0, 10}, 1.0f, contactOf(1e5f, 0.0f))};
+    s.walls = {cylinder(Vec3f{0, 0, -5}, Vec3f{0, 0, 10}, 1.0f, wallContact(1e5f, 0.0f))};
     s.shapes = {sphereShape(0.1f, 1.0f, float(e))};
     BodyDef b;
     const Vec3f er{0.6f, 0.8f, 0.0f};
@@ -203,7 +184,7 @@ TEST(RevolvedWallTest, ASphereBouncesOffACylinderFromEitherSide) {
     const float vr = inside ? float(speed) : -float(speed);
     b.velocity = {vr * er.x, vr * er.y, 0.5f};
     s.bodies = {b};
-    const BodyState st = run(World::fromScene(s), 4000);
+    const BodyState st = runCpu(World::fromScene(s), 4000);
     const double out = st.vx[0] * er.x + st.vy[0] * er.y;
     std::printf("%s: radial %.4f -> %.5f (e %.4f), axial %.6f\n", inside ? "inside" : "outside", double(vr), out,
                 -out / vr, double(st.vz[0]));
@@ -229,12 +210,12 @@ TEST(RevolvedWallTest, ABallRestsOnTheRimOfAHole) {
   s.contact.law = ContactLaw::HookeHistory;
   s.ground.enabled = false;
   // Without friction: the stick spring along the rim's meridian would carry part of the weight.
-  s.walls = {revolved(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.0f, float(a), 0.5f, contactOf(float(k), 0.0f))};
+  s.walls = {revolved(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.0f, float(a), 0.5f, wallContact(float(k), 0.0f))};
   s.shapes = {sphereShape(float(r), float(m), 0.3f)};
   BodyDef b;
   b.position = {0.0f, 0.0f, float(std::sqrt(r * r - a * a))};
   s.bodies = {b};
-  const BodyState st = run(World::fromScene(s), 40000);
+  const BodyState st = runCpu(World::fromScene(s), 40000);
   const double off = std::hypot(st.px[0], st.py[0]);
   std::printf("ball on a %.2f m hole: centre at %.6f m (the edge's equilibrium %.6f m), %.2e m off the axis, "
               "speed %.2e m/s\n", a, double(st.pz[0]), want, off, std::hypot(st.vx[0], st.vy[0], st.vz[0]));
@@ -254,7 +235,7 @@ TEST(RevolvedWallTest, ABeltCarriesABallToTwoSevenths) {
     s.contact.law = law;
     s.ground.enabled = false;
     WallDef belt;
-    belt.contact = contactOf(float(k), float(mu));
+    belt.contact = wallContact(float(k), float(mu));
     belt.velocity = {float(u), 0.0f, 0.0f};
     s.walls = {belt};
     s.shapes = {sphereShape(float(r), float(m), 0.5f)};
@@ -264,8 +245,8 @@ TEST(RevolvedWallTest, ABeltCarriesABallToTwoSevenths) {
     s.bodies = {b};
     const World w = World::fromScene(s);
     const double tRoll = 2.0 * u / (7.0 * mu * g);
-    const BodyState half = run(w, std::uint64_t(0.5 * tRoll / s.dt));
-    const BodyState end = run(w, std::uint64_t(3.0 * tRoll / s.dt));
+    const BodyState half = runCpu(w, std::uint64_t(0.5 * tRoll / s.dt));
+    const BodyState end = runCpu(w, std::uint64_t(3.0 * tRoll / s.dt));
     std::printf("%s: v at t_roll/2 %.4f m/s (mu g t = %.4f); at 3 t_roll %.5f m/s (2u/7 = %.5f), omega r %.5f\n",
                 toString(law), double(half.vx[0]), mu * g * 0.5 * tRoll, double(end.vx[0]), 2.0 * u / 7.0,
                 -double(end.ly[0]) / (0.4 * m * r * r) * r);
@@ -286,23 +267,23 @@ TEST(RevolvedWallTest, ATurningDrumDragsABallAndStopsOnTime) {
   s.dt = 1e-4f;
   s.contact.law = ContactLaw::HookeHistory;
   s.ground.enabled = false;
-  WallDef drum = cylinder(Vec3f{0, -0.5f, 0}, Vec3f{0, 1.0f, 0}, float(R), contactOf(float(k), float(mu)));
+  WallDef drum = cylinder(Vec3f{0, -0.5f, 0}, Vec3f{0, 1.0f, 0}, float(R), wallContact(float(k), float(mu)));
   drum.angularVelocity = float(omega);
   s.walls = {drum};
   s.shapes = {sphereShape(float(r), float(m), 0.5f)};
   BodyDef b;
   b.position = {0.0f, 0.0f, float(-(R - r) + m * g / k)};
   s.bodies = {b};
-  const BodyState early = run(World::fromScene(s), 200);  // 0.02 s, slipping (ω R = 2 m/s)
+  const BodyState early = runCpu(World::fromScene(s), 200);  // 0.02 s, slipping (ω R = 2 m/s)
   std::printf("drum: v_x after 0.02 s %.5f m/s (-mu g t = %.5f)\n", double(early.vx[0]), -mu * g * 0.02);
   EXPECT_NEAR(early.vx[0], -mu * g * 0.02, 0.05 * mu * g * 0.02);
 
   Scene stopping = s;
   stopping.walls[0].stop = 0.05;
   const World turning = World::fromScene(s), stops = World::fromScene(stopping);
-  const auto before = firstDifference(run(turning, 450), run(stops, 450));
+  const auto before = firstDifference(runCpu(turning, 450), runCpu(stops, 450));
   EXPECT_FALSE(before.has_value()) << "before the stop: " << before->describe();
-  const BodyState a = run(turning, 1500), bst = run(stops, 1500);
+  const BodyState a = runCpu(turning, 1500), bst = runCpu(stops, 1500);
   EXPECT_TRUE(firstDifference(a, bst).has_value()) << "the drum stopped at 0.05 s";
   std::printf("at 0.15 s: v_x %.4f m/s turning, %.4f m/s stopped at 0.05 s\n", double(a.vx[0]), double(bst.vx[0]));
 }
@@ -320,17 +301,17 @@ TEST(RevolvedWallTest, ADrumOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
     s.bodies[k].position = Vec3f{step * float(k % 7), step * float((k / 7) % 6), step * float(k / 42)};
   const Vec3f c{3.0f * step, -reach, 3.0f * step};
   const float R = std::sqrt(18.0f) * step + reach, L = 5.0f * step + 2.0f * reach;
-  const GroundParams g = contactOf(s.ground.stiffness, 0.5f);
+  const GroundParams g = wallContact(s.ground.stiffness, 0.5f);
   s.walls = {cylinder(c, Vec3f{0, L, 0}, R, g), revolved(c, Vec3f{0, 1, 0}, 0.0f, 0.0f, R, g),
              revolved(Vec3f{c.x, c.y + L, c.z}, Vec3f{0, 1, 0}, 0.0f, 0.0f, R, g)};
   for (WallDef& w : s.walls) w.angularVelocity = 3.0f, w.stop = 0.07;
   for (BodyDef& b : s.bodies) b.velocity = Vec3f{8.0f * b.velocity.x, 8.0f * b.velocity.y, 8.0f * b.velocity.z};
   const World w = World::fromScene(s);
-  const BodyState a = run(w, 1000, PipelineOptions{2, true});
-  const BodyState one = run(w, 1000, PipelineOptions{1, false});
+  const BodyState a = runCpu(w, 1000, PipelineOptions{2, true});
+  const BodyState one = runCpu(w, 1000, PipelineOptions{1, false});
   Scene s0 = s;
   s0.broadphase.skin = 0.0f;
-  const BodyState noSkin = run(World::fromScene(s0), 1000);
+  const BodyState noSkin = runCpu(World::fromScene(s0), 1000);
   for (const BodyState* o : {&one, &noSkin}) {
     const auto d = firstDifference(a, *o);
     EXPECT_FALSE(d.has_value()) << d->describe();
@@ -352,7 +333,7 @@ TEST(RevolvedWallTest, ADrumOfClumpsIsTheSameForAnyThreadsSkinAndResume) {
   const World w2 = Checkpoint::read(path).resume(w, &warning);
   std::remove(path.c_str());
   EXPECT_TRUE(warning.empty()) << warning;
-  const BodyState resumed = run(w2, 500);
+  const BodyState resumed = runCpu(w2, 500);
   const auto d = firstDifference(a, resumed);
   EXPECT_FALSE(d.has_value()) << "resumed: " << d->describe();
 
@@ -388,13 +369,13 @@ TEST(RevolvedWallTest, APipeIsTheSameWhereverItsPointIs) {
     s.contact.gammaN = 50.0f;
     const float back = k == 0 ? 1e4f : 2e4f;
     s.walls = {cylinder(Vec3f{-back * axis.x, -back * axis.y, 0.0f}, Vec3f{3e4f * axis.x, 3e4f * axis.y, 0.0f}, 0.3f,
-                        contactOf(1e4f, 0.4f))};
+                        wallContact(1e4f, 0.4f))};
     s.shapes = {sphereShape(0.05f, 0.1f, 0.5f)};
     BodyDef b;
     b.position = {0.0f, 0.0f, -0.25f};
     b.velocity = {0.3f, -0.6f, 0.0f};  // along and across the pipe: it climbs the side and rolls back
     s.bodies = {b};
-    got[k] = run(World::fromScene(s), 6000);
+    got[k] = runCpu(World::fromScene(s), 6000);
   }
   std::printf("ball at (%.4f, %.4f, %.4f) after 0.6 s\n", double(got[0].px[0]), double(got[0].py[0]),
               double(got[0].pz[0]));
@@ -415,12 +396,12 @@ TEST(RevolvedWallTest, ADiskFaceIsAPlane) {
     s.dt = 1e-5f;
     s.ground.enabled = false;
     s.contact.law = ContactLaw::HookeHistory;
-    WallDef w = k == 0 ? revolved(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.0f, 0.0f, 1.0f, contactOf(1e4f, 0.3f))
+    WallDef w = k == 0 ? revolved(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.0f, 0.0f, 1.0f, wallContact(1e4f, 0.3f))
                        : WallDef{};
     if (k == 1) {
       w.point = {0, 0, 0};
       w.normal = {0, 0, 1};
-      w.contact = contactOf(1e4f, 0.3f);
+      w.contact = wallContact(1e4f, 0.3f);
     }
     s.walls = {w};
     s.shapes = {sphereShape(0.05f, 0.1f, 0.5f)};
@@ -428,7 +409,7 @@ TEST(RevolvedWallTest, ADiskFaceIsAPlane) {
     b.position = {-0.03f, 0.001f, 0.05f - 0.1f * 9.81f / 1e4f};  // resting depth
     b.velocity = {1.0f, 0.0f, 0.0f};  // sliding: it rolls after 2 v0 / (7 mu g) = 0.097 s
     s.bodies = {b};
-    got[k] = run(World::fromScene(s), 8000);
+    got[k] = runCpu(World::fromScene(s), 8000);
   }
   std::printf("disk: x %.6f y %.3e vx %.6f; plane: x %.6f y %.3e vx %.6f\n", double(got[0].px[0]),
               double(got[0].py[0]), double(got[0].vx[0]), double(got[1].px[0]), double(got[1].py[0]),
@@ -448,13 +429,13 @@ TEST(RevolvedWallTest, AMovingCylinderThrowsABallAtOnePlusETimesItsSpeed) {
   s.dt = 1e-5f;
   s.gravity = {0, 0, 0};
   s.ground.enabled = false;
-  WallDef w = cylinder(Vec3f{0, 0, -1}, Vec3f{0, 0, 2}, 0.5f, contactOf(1e5f, 0.0f));
+  WallDef w = cylinder(Vec3f{0, 0, -1}, Vec3f{0, 0, 2}, 0.5f, wallContact(1e5f, 0.0f));
   w.velocity = {float(u * 0.6), float(u * 0.8), 0.0f};
   w.stop = 0.6;
   s.walls = {w};
   s.shapes = {sphereShape(0.1f, 1.0f, float(e))};
   s.bodies = {BodyDef{}};
-  const BodyState st = run(World::fromScene(s), 70000);  // it arrives after 0.4 m, at 0.5 s
+  const BodyState st = runCpu(World::fromScene(s), 70000);  // it arrives after 0.4 m, at 0.5 s
   const double along = st.vx[0] * 0.6 + st.vy[0] * 0.8;
   std::printf("ball at %.5f m/s along the motion, (1 + e) u = %.5f; across %.2e\n", along, (1.0 + e) * u,
               st.vx[0] * 0.8 - st.vy[0] * 0.6);

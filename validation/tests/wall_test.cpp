@@ -24,8 +24,6 @@ using namespace tumble::validation;
 
 namespace {
 
-ShapeDef sphereShape(float r, float m, float e) { return ShapeDef{"sphere", {SphereDef{{0, 0, 0}, r, m, e}}}; }
-
 WallDef plane(Vec3f point, Vec3f normal, const GroundParams& contact) {
   WallDef w;
   w.point = point;
@@ -58,15 +56,6 @@ Scene boxed(Scene s) {
   return s;
 }
 
-BodyState run(const World& w, std::uint64_t steps, const PipelineOptions& o = {}) {
-  auto p = makePipeline(Backend::Cpu, o);
-  p->load(w);
-  p->step(steps);
-  BodyState s;
-  p->readState(s);
-  return s;
-}
-
 }  // namespace
 
 // The ground and the wall through (0, 0, h) with normal +z and the ground's parameters are the
@@ -77,11 +66,11 @@ TEST(WallTest, TheGroundAsAWallIsTheGround) {
     Scene s = law == 0 ? base : law == 1 ? withHookeHistory(base) : withHertzMindlin(base, 1.0e6f, true);
     s.ground.height = 0.125f;
     SCOPED_TRACE(toString(s.contact.law));
-    const BodyState ground = run(World::fromScene(s), 1600);
+    const BodyState ground = runCpu(World::fromScene(s), 1600);
     Scene w = s;
     w.ground.enabled = false;
     w.walls = {plane(Vec3f{3.0f, -2.0f, s.ground.height}, Vec3f{0.0f, 0.0f, 1.0f}, s.ground)};
-    const BodyState wall = run(World::fromScene(w), 1600);
+    const BodyState wall = runCpu(World::fromScene(w), 1600);
     std::size_t held = 0;
     for (std::size_t i = 0; i < ground.groundSpringX.size(); ++i)
       held += ground.groundSpringX[i] != 0.0f || ground.groundSpringY[i] != 0.0f;
@@ -103,11 +92,11 @@ TEST(WallTest, ABoxHoldsItsClumpsAndResumes) {
     SCOPED_TRACE(toString(s.contact.law));
     for (BodyDef& b : s.bodies) b.velocity = Vec3f{8.0f * b.velocity.x, 8.0f * b.velocity.y, 8.0f * b.velocity.z};
     const World w = World::fromScene(s);
-    const BodyState a = run(w, 300, PipelineOptions{2, true});
-    const BodyState one = run(w, 300, PipelineOptions{1, false});
+    const BodyState a = runCpu(w, 300, PipelineOptions{2, true});
+    const BodyState one = runCpu(w, 300, PipelineOptions{1, false});
     Scene s0 = s;
     s0.broadphase.skin = 0.0f;
-    const BodyState noSkin = run(World::fromScene(s0), 300);
+    const BodyState noSkin = runCpu(World::fromScene(s0), 300);
     for (const BodyState* o : {&one, &noSkin}) {
       const auto d = firstDifference(a, *o);
       EXPECT_FALSE(d.has_value()) << d->describe();
@@ -313,7 +302,7 @@ TEST(WallTest, APlaneIsTheSameWhereverItsPointIs) {
     b.velocity = {0.8f, 0.3f, -0.6f};
     s.bodies = {b};
     const World w = World::fromScene(s);
-    st[k] = run(w, 3000);
+    st[k] = runCpu(w, 3000);
     if (k == 0) {
       EXPECT_NEAR(shortestContactTime(w), 3.14159265358979 * std::sqrt(0.1 / 1.0e5), 1e-9);
       s.walls[0].contact.stiffness = 1.0e9f;
@@ -422,7 +411,7 @@ TEST(WallTest, APistonThrowsABallAtOnePlusETimesItsSpeed) {
     s.shapes = {sphereShape(0.1f, 1.0f, float(e))};
     s.bodies = {BodyDef{}};
     const World world = World::fromScene(s);
-    const BodyState st = run(world, 30000);  // 0.3 s
+    const BodyState st = runCpu(world, 30000);  // 0.3 s
     const double out = st.vx[0] * n.x + st.vy[0] * n.y;
     std::printf("turned %.1f rad: ball at %.5f m/s, (1 + e) u = %.5f\n", turn, out, (1.0 + e) * u);
     EXPECT_NEAR(out, (1.0 + e) * u, 0.02 * (1.0 + e) * u);
@@ -473,7 +462,7 @@ TEST(WallTest, ALiftCarriesABallAndResumes) {
   EXPECT_NEAR(st.pz[0], -0.2 + 0.1 - 9.81 / 1e4, 1e-4) << "at rest on the lowered floor";
   EXPECT_NEAR(st.vz[0], 0.0, 1e-3);
 
-  const BodyState straight = run(w, 4000);
+  const BodyState straight = runCpu(w, 4000);
   const std::string path = "/tmp/tumble_lift_test_" + std::to_string(::getpid()) + ".ck";
   {
     auto q = makePipeline(Backend::Cpu);
@@ -484,7 +473,7 @@ TEST(WallTest, ALiftCarriesABallAndResumes) {
   std::string warning;
   const World w2 = Checkpoint::read(path).resume(w, &warning);
   std::remove(path.c_str());
-  const BodyState resumed = run(w2, 2000);
+  const BodyState resumed = runCpu(w2, 2000);
   const auto d = firstDifference(straight, resumed);
   EXPECT_FALSE(d.has_value()) << d->describe();
 }
@@ -514,7 +503,7 @@ TEST(WallTest, AMovingBoxThrowsABallAsAPlaneDoes) {
     }
   s.shapes = {sphereShape(0.1f, 1.0f, float(e))};
   s.bodies = {BodyDef{}};
-  const BodyState st = run(World::fromScene(s), 45000);  // the -x face arrives at 0.4 s
+  const BodyState st = runCpu(World::fromScene(s), 45000);  // the -x face arrives at 0.4 s
   std::printf("box: ball at (%.5f, %.2e, %.2e) m/s, (1 + e) u = %.5f\n", double(st.vx[0]), double(st.vy[0]),
               double(st.vz[0]), (1.0 + e) * u);
   EXPECT_NEAR(st.vx[0], (1.0 + e) * u, 0.02 * (1.0 + e) * u);

@@ -13,7 +13,9 @@
 
 namespace tumble {
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+/// The newest format (docs/checkpoint.md): version 2 adds the mesh springs. A state without
+/// them is written as version 1, byte for byte as before, and both are read.
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 /// The state of a run between two steps.
 struct Checkpoint {

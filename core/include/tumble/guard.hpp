@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "tumble/mesh.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/thermo.hpp"
 #include "tumble/world.hpp"
@@ -121,6 +122,7 @@ class RunGuard {
   std::vector<float> m_x;             ///< particle positions (Pipeline::readLocalPositions), per check
   std::vector<double> m_err, m_errZ;  ///< the rounding of each body's position, per check
   std::vector<ContactSums> m_contacts;  ///< per body, per check
+  KernelMesh m_mesh;                    ///< the mesh walls in the pipeline's frame (as the pipeline's)
   double m_reference = 0.0;   ///< E₀ (rebased when the pull mask changes)
   double m_referenceSlack = 0.0;
   double m_scale = 0.0;       ///< S

@@ -112,6 +112,27 @@ TUMBLE_HD_INLINE Vec3f mul(const Sym3f& s, Vec3f v) {
           s.xz * v.x + s.yz * v.y + s.zz * v.z};
 }
 
+/// Two unit vectors t, u completing the unit vector n to a right-handed orthonormal frame
+/// (t, u, n): t = n × e / |n × e| with e the coordinate axis least aligned with n (the first of
+/// equals), u = n × t. In double on the host (the sweep frame's p, q of its axis, a general
+/// wall's t1, t2), in float in the kernels (a mesh contact's tangent plane).
+template <class T>
+TUMBLE_HD_INLINE void perpendicularPair(const T n[3], T t[3], T u[3]) {
+  int least = 0;
+  for (int k = 1; k < 3; ++k)
+    if ((n[k] < T(0) ? -n[k] : n[k]) < (n[least] < T(0) ? -n[least] : n[least])) least = k;
+  T e[3] = {T(0), T(0), T(0)};
+  e[least] = T(1);
+  t[0] = n[1] * e[2] - n[2] * e[1];
+  t[1] = n[2] * e[0] - n[0] * e[2];
+  t[2] = n[0] * e[1] - n[1] * e[0];
+  const T tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+  for (int k = 0; k < 3; ++k) t[k] /= tn;
+  u[0] = n[1] * t[2] - n[2] * t[1];
+  u[1] = n[2] * t[0] - n[0] * t[2];
+  u[2] = n[0] * t[1] - n[1] * t[0];
+}
+
 /// sin and cos of a float angle from our own polynomials, so that host and device give the same
 /// bits. Range reduction by a two-constant Cody–Waite split of π/2 (exact for |a| up to ~1e5),
 /// then Taylor polynomials on [-π/4, π/4] (error < 1 ulp·few). Beyond 1e5 (a rotation by ω dt

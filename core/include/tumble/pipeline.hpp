@@ -139,6 +139,10 @@ class Pipeline {
   /// scene indices; {} before the first step. Exactly the brute-force pair set of that state,
   /// whatever the detection settings and the skin.
   virtual std::vector<Pair> pairs() const = 0;
+  /// The mesh contacts of the last step (the (particle, triangle) that met at its start, as
+  /// kernels/mesh.hpp counts them), sorted, scene indices; {} before the first step and without
+  /// mesh walls. Exactly the brute-force set of that state, whatever the skin and the hierarchy.
+  virtual std::vector<MeshContact> meshContacts() const { return {}; }
   /// The guard's contact sums (kernels/contact_sums.hpp) per body, scene order, over the contacts
   /// of the last step (the pairs() set) at the current positions (readLocalPositions()): body b's
   /// entry sums the pairs (i, j) whose particle i is one of b's, each body's rounding taken from

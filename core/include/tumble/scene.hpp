@@ -5,12 +5,15 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "tumble/math.hpp"
 
 namespace tumble {
+
+struct TriangleMesh;
 
 /// The particle–particle contact law of a scene (docs/model.md#contact-laws).
 enum class ContactLaw : std::uint8_t {
@@ -88,15 +91,17 @@ struct GroundParams {
 /// Plane: the spheres live on the side its normal points to (a half-space). Revolved (a
 /// cylinder, a cone, a disk or a ring): the segment from (0, radius0) to (length, radius1) in
 /// (s, ρ), s along the axis from `point` and ρ the distance from the axis, turned about the
-/// axis: a thin surface that a sphere meets from either side.
+/// axis: a thin surface that a sphere meets from either side. Mesh: the triangles of `mesh`
+/// (a file's, tumble/mesh.hpp) scaled, turned and placed, position + R(orientation) (scale ⊙ v)
+/// with position = `point`: thin surfaces met from either side (kernels/mesh.hpp).
 struct WallDef {
-  Vec3f point{0.0f, 0.0f, 0.0f};   ///< plane: a point of it; revolved: the axis's start [m]
+  Vec3f point{0.0f, 0.0f, 0.0f};   ///< plane: a point of it; revolved: the axis's start; mesh: its position [m]
   /// plane: the normal towards the spheres; revolved: the axis's direction; any length but 0
   /// (kernelWalls() normalises it in double)
   Vec3f normal{0.0f, 0.0f, 1.0f};
   GroundParams contact;
   std::string where;               ///< "[[wall]] #k (file:line)" for messages; empty in code
-  enum class Shape : std::uint8_t { Plane, Revolved };
+  enum class Shape : std::uint8_t { Plane, Revolved, Mesh };
   Shape shape = Shape::Plane;
   float length = 0.0f;             ///< revolved: the segment's extent along the axis [m] (0: a disk or ring)
   float radius0 = 0.0f, radius1 = 0.0f;  ///< revolved: its distances from the axis at s = 0 and s = length [m]
@@ -109,6 +114,12 @@ struct WallDef {
   Vec3f velocity{0.0f, 0.0f, 0.0f};
   float angularVelocity = 0.0f;
   double start = 0.0, stop = std::numeric_limits<double>::infinity();
+  /// mesh: the triangles as read (shared, never changed), the scale of the file's coordinates
+  /// (per axis, > 0) and the orientation applied after it (a unit quaternion, or any non-zero
+  /// one: normalised in double)
+  std::shared_ptr<const TriangleMesh> mesh;
+  Vec3f scale{1.0f, 1.0f, 1.0f};
+  Quatf orientation{1.0f, 0.0f, 0.0f, 0.0f};
   bool moves() const { return velocity.x != 0.0f || velocity.y != 0.0f || velocity.z != 0.0f || angularVelocity != 0.0f; }
 };
 

@@ -79,6 +79,53 @@ TUMBLE_HD_INLINE CandidateListView compactList(const std::uint32_t* offsets, con
   return CandidateListView{offsets, offsets + 1, cand};
 }
 
+/// One triangle of a mesh wall (kernels/mesh.hpp; built by KernelMesh, tumble/mesh.hpp): its unit normal, the normals of the planes through
+/// its three edges (outwards: x is outside edge j when (x − a_j)·m[j] ≥ 0, a_j the edge's
+/// lower-indexed vertex; edge j runs from corner j to corner j + 1), its bounding box grown by a
+/// bound on the kernels' rounding (the candidate test), and its wall (the plane index k of
+/// Scene::planes() whose contact it has).
+struct MeshTriangle {
+  Vec3f n;
+  Vec3f m[3];
+  Vec3f lo, hi;
+  std::uint32_t wall;
+};
+
+/// A node of the bounding-volume hierarchy over the triangles: its box (the union of its
+/// triangles' boxes, exact), and either two children at `first` and `first + 1` (count 0) or
+/// `count` triangles prims[first .. first + count) (a leaf).
+struct MeshBvhNode {
+  Vec3f lo, hi;
+  std::uint32_t first, count;
+};
+
+/// Everything the kernels read of the meshes (all the scene's mesh walls, one numbering):
+/// vertices in the frame the pipeline integrates in, 3 vertex indices per triangle, the
+/// triangles' static data, their edges (3 global edge ids per triangle) and, for each edge and
+/// each vertex, the triangles incident to it in ascending order (CSR), and the hierarchy.
+struct MeshView {
+  const Vec3f* vertices = nullptr;
+  const std::uint32_t* triangles = nullptr;
+  const MeshTriangle* tri = nullptr;
+  const std::uint32_t* triEdges = nullptr;
+  const std::uint32_t* edgeTriOffsets = nullptr;
+  const std::uint32_t* edgeTris = nullptr;
+  const std::uint32_t* vertexTriOffsets = nullptr;
+  const std::uint32_t* vertexTris = nullptr;
+  const MeshBvhNode* nodes = nullptr;
+  const std::uint32_t* prims = nullptr;
+  std::uint32_t numTriangles = 0;
+};
+
+/// The mesh candidate list: particle i's candidate triangles are tri[offsets[i] ..
+/// offsets[i+1]) in ascending triangle index (internal numbering of the particles), each with
+/// the stick spring ξ of that (particle, triangle), zero out of contact (kernels/mesh.hpp).
+struct MeshListView {
+  const std::uint32_t* offsets = nullptr;
+  const std::uint32_t* tri = nullptr;
+  Vec3f* hist = nullptr;
+};
+
 /// Everything one step reads and writes (internal numbering).
 struct StepView {
   const BodyRow* bodies;         ///< the body state at the start of the step (neighbours read it)
@@ -119,6 +166,10 @@ struct StepView {
   /// Periodic boundaries (read by the kPeriodic instantiations only): positions are compared
   /// through the minimum image and body centres kept in the box.
   PeriodicBox periodic{};
+  /// Mesh walls (their planes are kMeshWall entries of `planes`): the meshes and the candidate
+  /// triangles of each particle; mesh.numTriangles is 0 without meshes.
+  MeshView mesh;
+  MeshListView meshList;
 };
 
 }  // namespace tumble

@@ -80,11 +80,6 @@ Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std
 int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cellRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame);
 
-/// Two unit vectors t, u completing the unit vector n to a right-handed orthonormal frame
-/// (t, u, n): t = n × e / |n × e| with e the coordinate axis least aligned with n, u = n × t,
-/// in double. The sweep frame's p, q (of its axis) and a general wall's t1, t2.
-void perpendicularPair(const double n[3], double t[3], double u[3]);
-
 /// The radius that sizes the automatic cells: the 99th percentile of the radii, so that a few
 /// large spheres among many small ones do not make every cell hold hundreds of small ones (the
 /// sweep then tests them all against each other). All radii equal: that radius. 0 for none.

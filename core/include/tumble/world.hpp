@@ -28,6 +28,27 @@ struct ContactHistory {
   float x, y, z;
 };
 
+/// A sphere in contact with a mesh wall's triangle: the particle (scene index) and the
+/// triangle (meshTriangleCount()'s numbering, tumble/mesh.hpp), as counted by the rule of
+/// kernels/mesh.hpp (once per local minimum of the distance).
+struct MeshContact {
+  std::uint32_t particle, triangle;
+  friend bool operator==(const MeshContact& a, const MeshContact& b) {
+    return a.particle == b.particle && a.triangle == b.triangle;
+  }
+  friend bool operator<(const MeshContact& a, const MeshContact& b) {
+    return a.particle != b.particle ? a.particle < b.particle : a.triangle < b.triangle;
+  }
+};
+
+/// The stick spring of a particle on a mesh triangle (docs/model.md#mesh-walls): the
+/// elongation ξ as a vector in the frame the run integrates in (world axes), projected on the
+/// contact's tangent plane each step.
+struct MeshContactHistory {
+  std::uint32_t particle, triangle;
+  float x, y, z;
+};
+
 struct BodyState {
   std::vector<float> px, py, pz;      ///< centre of mass X
   std::vector<float> vx, vy, vz;      ///< V
@@ -46,6 +67,9 @@ struct BodyState {
   /// would be without the boundary (unwrappedPosition()). Empty for an axis that is not
   /// periodic, or (on input) for zero everywhere.
   std::vector<std::int32_t> imageX, imageY;
+  /// Mesh walls: the springs ξ that are not zero, per (particle, triangle), sorted. Empty
+  /// without meshes, or (on input) for none.
+  std::vector<MeshContactHistory> meshContacts;
   /// Resizes the body columns to n bodies (the particle columns and the image counters are left
   /// alone).
   void resize(std::size_t n);

@@ -66,18 +66,26 @@ namespace detail {
 
 /// Sorts (key, value) pairs of one row by key (keys distinct): insertion sort for short rows,
 /// heap sort (O(n log n), no extra memory, no recursion) for long ones. The result is unique
-/// because the keys are distinct, so the algorithm does not matter for the bits.
+/// because the keys are distinct, so the algorithm does not matter for the bits. val may be
+/// nullptr: the keys alone (a mesh candidate row, kernels/mesh.hpp).
+TUMBLE_HD_INLINE void swapEntries(std::uint32_t* key, std::uint32_t* val, std::uint32_t a, std::uint32_t b) {
+  const std::uint32_t k = key[a];
+  key[a] = key[b];
+  key[b] = k;
+  if (val) {
+    const std::uint32_t v = val[a];
+    val[a] = val[b];
+    val[b] = v;
+  }
+}
+
 TUMBLE_HD_INLINE void siftDown(std::uint32_t* key, std::uint32_t* val, std::uint32_t root, std::uint32_t n) {
   for (;;) {
     std::uint32_t c = 2 * root + 1;
     if (c >= n) return;
     if (c + 1 < n && key[c + 1] > key[c]) ++c;
     if (!(key[c] > key[root])) return;
-    const std::uint32_t k = key[c], v = val[c];
-    key[c] = key[root];
-    val[c] = val[root];
-    key[root] = k;
-    val[root] = v;
+    swapEntries(key, val, c, root);
     root = c;
   }
 }
@@ -85,24 +93,20 @@ TUMBLE_HD_INLINE void siftDown(std::uint32_t* key, std::uint32_t* val, std::uint
 TUMBLE_HD_INLINE void sortRow(std::uint32_t* key, std::uint32_t* val, std::uint32_t n) {
   if (n <= 24) {
     for (std::uint32_t a = 1; a < n; ++a) {
-      const std::uint32_t k = key[a], v = val[a];
+      const std::uint32_t k = key[a], v = val ? val[a] : 0u;
       std::uint32_t b = a;
       for (; b > 0 && key[b - 1] > k; --b) {
         key[b] = key[b - 1];
-        val[b] = val[b - 1];
+        if (val) val[b] = val[b - 1];
       }
       key[b] = k;
-      val[b] = v;
+      if (val) val[b] = v;
     }
     return;
   }
   for (std::uint32_t r = n / 2; r-- > 0;) siftDown(key, val, r, n);
   for (std::uint32_t end = n - 1; end > 0; --end) {
-    const std::uint32_t k = key[0], v = val[0];
-    key[0] = key[end];
-    val[0] = val[end];
-    key[end] = k;
-    val[end] = v;
+    swapEntries(key, val, 0, end);
     siftDown(key, val, 0, end);
   }
 }
@@ -264,6 +268,17 @@ TUMBLE_HD_INLINE float closureOf(const Drift& d) {
     diag2 += w * w;
   }
   const float m2 = 4.0f * d.max2 < diag2 ? 4.0f * d.max2 : diag2;
+  if (!(m2 < FLT_MAX)) return FLT_MAX;
+  return sqrtf(m2) * (1.0f + 0x1p-20f);
+}
+
+/// The same bound for a static wall (a mesh, whose candidate triangles are found within
+/// r + skin/2 + margin at a rebuild): a particle may have closed in on it by max |Δx|, which
+/// the common motion of a pile does not hide; doubled, 2 max |Δx| rounded up, so that it is
+/// held against the same limit (skinClosureLimit()) as closureOf(): the list holds while every
+/// particle has moved less than skin/2 − margin. At least closureOf().
+TUMBLE_HD_INLINE float wallClosureOf(const Drift& d) {
+  const float m2 = 4.0f * d.max2;
   if (!(m2 < FLT_MAX)) return FLT_MAX;
   return sqrtf(m2) * (1.0f + 0x1p-20f);
 }

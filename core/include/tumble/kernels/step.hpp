@@ -18,6 +18,7 @@
 #include "tumble/kernels/contact.hpp"
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/kernels/mesh.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/kernels/periodic.hpp"
 #include "tumble/kernels/wall.hpp"
@@ -107,16 +108,17 @@ struct ParticleForce {
   std::uint32_t contacts;
 };
 
-/// Particle i (of body `self`, radius r, its contact side `side`) in contact with wall k (s =
-/// k n + i its spring), at xl in the wall's frame w (axis kAxis, see wall.hpp: the plane's own
-/// or, for a revolved wall, that of its surface at the nearest point): the ground's contact in
-/// that frame, turned back to the world frame, with the spring updated; its force, torque and
-/// rolling torque are added to *out, and the forces returned (for the debug capture). When the
-/// wall moves (w.moving), the velocities are relative to its material at the contact point.
+/// Particle i (of body `self`, radius r, its contact side `side`) in contact with wall k, at xl
+/// in the wall's frame w (axis kAxis, see wall.hpp: the plane's own or, for a revolved wall or a
+/// mesh, that of its surface at the nearest point): the ground's contact in that frame, turned
+/// back to the world frame, with the stick spring (*tx, *ty, along w's t1, t2) updated; its
+/// force, torque and rolling torque are added to *out, and the forces returned (for the debug
+/// capture). When the wall moves (w.moving), the velocities are relative to its material at the
+/// contact point.
 template <int kAxis, bool kClumps, ContactLaw kLaw>
 TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams& fp, const Wall& w, std::uint32_t k,
-                                           std::size_t s, std::uint32_t i, Vec3f xi, Vec3f xl, float r,
-                                           const BodyRow& self, const ContactSide& side, ParticleForce* out) {
+                                           std::uint32_t i, Vec3f xi, Vec3f xl, float r, const BodyRow& self,
+                                           const ContactSide& side, float* tx, float* ty, ParticleForce* out) {
   ContactSide sl = toWall<kAxis>(w, side);
   Vec3f wallOmega{0.0f, 0.0f, 0.0f};
   if constexpr (kAxis != kGroundFrame) {  // the ground does not move
@@ -128,20 +130,20 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
       wallOmega = wall.omega * wall.n;
     }
   }
-  float tx = v.ground.tx[s], ty = v.ground.ty[s];
+  float sx = *tx, sy = *ty;  // locals: the spring is read once and written once
   GroundForces g;
   float muR;
   if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
-    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &tx, &ty);
+    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy);
     muR = hp.muR;
   } else {
-    const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[s - v.numParticles];
-    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &tx, &ty);
+    const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[std::size_t(k - 1) * v.numParticles + i];
+    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &sx, &sy);
     muR = w.coeffs.rollingFriction;
   }
-  v.ground.tx[s] = tx;
-  v.ground.ty[s] = ty;
+  *tx = sx;
+  *ty = sy;
   const float fn = g.normal.z;
   g = GroundForces{fromWall<kAxis>(w, g.normal), fromWall<kAxis>(w, g.friction), fromWall<kAxis>(w, g.arm)};
   const Vec3f fg = g.normal + g.friction;
@@ -152,8 +154,57 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
   return g;
 }
 
-/// The walls (after the ground) on particle i, in their order; *gf (debug) gains their
-/// forces. Not inlined: the loop stays out of the force pass of a scene without walls.
+/// The mesh walls on particle i, after the other walls: each triangle of its candidate row, in
+/// ascending triangle index, that meshHit() counts meets it as a plane through its nearest
+/// point (planeContact() in the frame there: n from that point to the centre, t1, t2 from
+/// perpendicularPair(), the triangle's wall's coefficients). Its stick spring is that of the
+/// (particle, triangle) entry, kept as a vector in the integration frame and projected on the
+/// contact's tangent plane each step, so that a contact that moves from a face to an edge of
+/// the same triangle keeps it; an entry that does not count releases it (a contact that passes
+/// to a neighbouring triangle starts afresh there).
+template <bool kClumps, ContactLaw kLaw>
+TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
+                                       Vec3f xi, float r, ContactSide& side, bool& haveSide, ParticleForce* out,
+                                       GroundForces* gf, bool& anyPlane) {
+  const MeshListView& l = v.meshList;
+  for (std::uint32_t e = l.offsets[i]; e < l.offsets[i + 1]; ++e) {
+    const std::uint32_t t = l.tri[e];
+    const MeshHit h = meshHit(v.mesh, t, xi, r);
+    if (!h.counts) {  // not a contact of this triangle: its spring is released
+      const Vec3f z = l.hist[e];
+      if (z.x != 0.0f || z.y != 0.0f || z.z != 0.0f) l.hist[e] = Vec3f{0.0f, 0.0f, 0.0f};
+      continue;
+    }
+    if (!haveSide) {
+      side = sideOf(self, v.own[i].u);
+      haveSide = true;
+    }
+    const std::uint32_t k = v.mesh.tri[t].wall;
+    Wall f = v.planes[k];
+    f.n = h.p.n;
+    const float n3[3] = {f.n.x, f.n.y, f.n.z};
+    float a[3], b[3];
+    perpendicularPair(n3, a, b);
+    f.t1 = Vec3f{a[0], a[1], a[2]};
+    f.t2 = Vec3f{b[0], b[1], b[2]};
+    f.axis = kGeneralPlane;
+    f.sign = 1.0f;
+    f.coeffs.height = 0.0f;
+    f.moving = 0u;
+    const Vec3f xs = l.hist[e];
+    float tx = dot(xs, f.t1), ty = dot(xs, f.t2);
+    const GroundForces g = planeContact<-1, kClumps, kLaw>(v, fp, f, k, i, xi, Vec3f{0.0f, 0.0f, h.p.dist}, r, self,
+                                                           side, &tx, &ty, out);
+    l.hist[e] = tx * f.t1 + ty * f.t2;
+    gf->normal = anyPlane ? gf->normal + g.normal : g.normal;
+    gf->friction = anyPlane ? gf->friction + g.friction : g.friction;
+    anyPlane = true;
+  }
+}
+
+/// The walls (after the ground) on particle i, in their order, then the mesh walls'
+/// triangles (meshWallContacts()); *gf (debug) gains their forces. Not inlined: the loop stays
+/// out of the force pass of a scene without walls.
 template <bool kClumps, ContactLaw kLaw>
 TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                      Vec3f xi, float r, ParticleForce* out, GroundForces* gf, bool anyPlane) {
@@ -161,6 +212,7 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
   bool haveSide = !kClumps;
   for (std::uint32_t k = fp.hasGround ? 1u : 0u; k < v.numPlanes; ++k) {
     const Wall& w = v.planes[k];
+    if (w.axis == kMeshWall) continue;  // its triangles below
     const std::size_t s = std::size_t(k) * v.numParticles + i;
     RevolvedPoint rp;
     const bool revolved = w.axis == kRevolvedWall;
@@ -171,17 +223,19 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
         side = sideOf(self, v.own[i].u);
         haveSide = true;
       }
+      float* tx = &v.ground.tx[s];
+      float* ty = &v.ground.ty[s];
       GroundForces g;
       switch (w.axis) {
-        case 0: g = planeContact<0, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<0>(w, xi), r, self, side, out); break;
-        case 1: g = planeContact<1, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<1>(w, xi), r, self, side, out); break;
-        case 2: g = planeContact<2, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<2>(w, xi), r, self, side, out); break;
+        case 0: g = planeContact<0, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<0>(w, xi), r, self, side, tx, ty, out); break;
+        case 1: g = planeContact<1, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<1>(w, xi), r, self, side, tx, ty, out); break;
+        case 2: g = planeContact<2, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<2>(w, xi), r, self, side, tx, ty, out); break;
         case kGeneralPlane:
-          g = planeContact<-1, kClumps, kLaw>(v, fp, w, k, s, i, xi, toWall<-1>(w, xi), r, self, side, out);
+          g = planeContact<-1, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<-1>(w, xi), r, self, side, tx, ty, out);
           break;
         default:  // the sphere at height dist above the surface's tangent plane
-          g = planeContact<-1, kClumps, kLaw>(v, fp, rp.frame, k, s, i, xi, Vec3f{0.0f, 0.0f, rp.dist}, r, self, side,
-                                              out);
+          g = planeContact<-1, kClumps, kLaw>(v, fp, rp.frame, k, i, xi, Vec3f{0.0f, 0.0f, rp.dist}, r, self, side, tx,
+                                              ty, out);
           break;
       }
       gf->normal = anyPlane ? gf->normal + g.normal : g.normal;
@@ -192,6 +246,7 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
       v.ground.ty[s] = 0.0f;
     }
   }
+  if (v.mesh.numTriangles != 0) meshWallContacts<kClumps, kLaw>(v, fp, self, i, xi, r, side, haveSide, out, gf, anyPlane);
 }
 
 /// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
@@ -278,7 +333,8 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
   GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};  // debug: their sum
   if (fp.hasGround) {
     if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {  // fp.ground = planes[0].coeffs; wallHeight() is z there
-      gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, i, xi, xi, pi.r, self, side(), &out);
+      gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, xi, xi, pi.r, self, side(), &v.ground.tx[i],
+                                                     &v.ground.ty[i], &out);
     } else {  // out of contact the stick spring is released
       v.ground.tx[i] = 0.0f;
       v.ground.ty[i] = 0.0f;

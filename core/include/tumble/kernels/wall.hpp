@@ -8,6 +8,7 @@
 /// exact: the ground as a plane gives today's bits. A revolved wall's frame is that of its
 /// surface at the point nearest the sphere (revolvedContact()).
 #pragma once
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 
@@ -20,6 +21,9 @@ namespace tumble {
 /// Wall::axis of a general plane and of a revolved wall (0, 1, 2: a plane n = sign e_axis).
 inline constexpr std::int32_t kGeneralPlane = -1;
 inline constexpr std::int32_t kRevolvedWall = -2;
+/// Wall::axis of a mesh wall: only its coeffs are read here; its triangles are in the
+/// MeshView (kernels/mesh.hpp), and the plane loops skip it.
+inline constexpr std::int32_t kMeshWall = -3;
 
 /// One wall.
 ///
@@ -162,8 +166,10 @@ TUMBLE_HD_INLINE RevolvedPoint revolvedContact(const Wall& w, Vec3f x) {
 }
 
 /// The distance of a sphere centre from any wall along its normal: x·n − h for a plane (negative
-/// behind it), revolvedContact()'s for a revolved wall. In contact when it is below the radius.
+/// behind it), revolvedContact()'s for a revolved wall; FLT_MAX for a mesh wall, whose triangles
+/// are measured by the mesh's own functions (mesh.hpp). In contact when it is below the radius.
 TUMBLE_HD_INLINE float wallGap(const Wall& w, Vec3f x) {
+  if (w.axis == kMeshWall) return FLT_MAX;  // a mesh's triangles are met through kernels/mesh.hpp
   return w.axis == kRevolvedWall ? revolvedContact(w, x).dist : wallHeight(w, x) - w.coeffs.height;
 }
 

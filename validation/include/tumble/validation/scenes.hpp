@@ -42,6 +42,15 @@ Scene withHookeHistory(Scene s, float gammaN = 100.0f, float friction = 0.5f);
 /// near those of their linear springs.
 Scene withHertzMindlin(Scene s, float youngsModulus = 1.0e6f, bool twoMaterials = false);
 
+/// A shape of one sphere (radius r, mass m, elasticity e) at its centre, named "sphere".
+ShapeDef sphereShape(float r, float m, float e);
+
+/// A wall's contact (WallDef::contact): on, stiffness k, friction μ, the ground's other defaults.
+GroundParams wallContact(float k, float mu);
+
+/// The state of a world after `steps` steps on a fresh CPU pipeline with the given options.
+BodyState runCpu(const World& world, std::uint64_t steps, const PipelineOptions& options = {});
+
 /// Path of a file in the source tree (scenes/…, validation/golden/…); when the source tree is
 /// gone (an installed tumble), of the installed data (share/tumble: the scenes).
 std::string sourcePath(const std::string& relative);

@@ -1,0 +1,313 @@
+// SPDX-License-Identifier: MIT
+// The mesh reader (core/src/mesh.cpp) and the `[[wall]] type = "mesh"` keys (scene_io.cpp,
+// docs/scenes.md): binary and ASCII STL and OBJ read to the same welded triangles; every key of
+// a mesh wall; each refusal names the file and the line (or the byte offset of a binary STL),
+// what is wrong and what to do.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+#include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
+#include "tumble/scene_io.hpp"
+#include "tumble/world.hpp"
+
+#ifndef TUMBLE_SOURCE_DIR
+#error "TUMBLE_SOURCE_DIR must name the source tree (set by core/CMakeLists.txt)"
+#endif
+
+namespace {
+
+using namespace tumble;
+
+// A scratch folder of this test binary.
+std::string dir() {
+  static const std::string d = [] {
+    const std::string p = ::testing::TempDir() + "tumble_mesh_io_" + std::to_string(::getpid());
+    std::filesystem::create_directories(p);
+    return p;
+  }();
+  return d;
+}
+
+std::string writeFile(const std::string& name, const std::string& bytes) {
+  const std::string path = dir() + "/" + name;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+  return path;
+}
+
+// A binary STL of the triangles (9 floats each); `count` overrides the header's count.
+std::string binaryStl(const std::vector<std::array<float, 9>>& tris, long count = -1) {
+  std::string b(80, ' ');
+  const std::uint32_t n = count < 0 ? std::uint32_t(tris.size()) : std::uint32_t(count);
+  b.append(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : tris) {
+    const float normal[3] = {0, 0, 1};
+    b.append(reinterpret_cast<const char*>(normal), 12);
+    b.append(reinterpret_cast<const char*>(t.data()), 36);
+    b.append(2, '\0');
+  }
+  return b;
+}
+
+// The unit square at z = 0 as two triangles, in each format.
+const std::vector<std::array<float, 9>> kSquare = {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}};
+const char* const kAsciiSquare =
+    "solid square\n"                       // 1
+    "  facet normal 0 0 1\n"               // 2
+    "    outer loop\n"                     // 3
+    "      vertex 0 0 0\n"                 // 4
+    "      vertex 1 0 0\n"                 // 5
+    "      vertex 1 1 0\n"                 // 6
+    "    endloop\n"                        // 7
+    "  endfacet\n"                         // 8
+    "  facet normal 0 0 1\n"               // 9
+    "    outer loop\n"                     // 10
+    "      vertex 0.0 -0.0 0e0\n"          // 11 (-0 welds with +0)
+    "      vertex +1 1 0\n"                // 12
+    "      vertex 0 1 0\n"                 // 13
+    "    endloop\n"                        // 14
+    "  endfacet\n"                         // 15
+    "endsolid square\n";                   // 16
+
+void expectMeshError(const std::string& name, const std::string& bytes, long line,
+                     std::initializer_list<const char*> needles) {
+  const std::string path = writeFile(name, bytes);
+  try {
+    (void)readMeshFile(path);
+    ADD_FAILURE() << "no error for " << name;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.line(), line) << e.what();
+    for (const char* n : needles)
+      EXPECT_NE(std::string(e.what()).find(n), std::string::npos) << "message lacks \"" << n << "\": " << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(MeshReader, TheThreeFormatsGiveTheSameWeldedTriangles) {
+  const TriangleMesh bin = readMeshFile(writeFile("square.stl", binaryStl(kSquare)));
+  const TriangleMesh ascii = readMeshFile(writeFile("square_ascii.stl", kAsciiSquare));
+  const TriangleMesh obj = readMeshFile(writeFile("square.obj",
+                                                  "# a square\no square\nv 0 0 0\nv 1 0 0\nvt 0 0\nv 1 1 0\nv 0 1 0\n"
+                                                  "vn 0 0 1\ns off\nusemtl none\nf 1/1/1 2//1 3 -1\n"));
+  for (const TriangleMesh* m : {&bin, &ascii, &obj}) {
+    SCOPED_TRACE(m->file);
+    ASSERT_EQ(m->numTriangles(), 2u);
+    EXPECT_EQ(m->vertices.size(), 4u) << "corners welded (STL repeats them)";
+    EXPECT_EQ(m->triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
+    EXPECT_EQ(m->vertices[2].x, 1.0f);
+    EXPECT_EQ(m->vertices[2].y, 1.0f);
+  }
+  EXPECT_TRUE(bin.binary);
+  EXPECT_EQ(bin.source, (std::vector<std::uint64_t>{84, 134})) << "byte offsets of the triangles";
+  EXPECT_EQ(ascii.source, (std::vector<std::uint64_t>{2, 9})) << "the facet lines";
+  EXPECT_EQ(obj.source, (std::vector<std::uint64_t>{11, 11})) << "a quad fanned into two, both from its line";
+  EXPECT_EQ(bin.where(1), bin.file + ": byte 134");
+  EXPECT_EQ(ascii.where(1), ascii.file + ":9");
+  // A binary STL whose header begins with "solid" is binary when its size says so.
+  std::string solid = binaryStl(kSquare);
+  solid.replace(0, 5, "solid");
+  EXPECT_TRUE(readMeshFile(writeFile("solid_header.stl", solid)).binary);
+  // A pentagon fanned into three triangles; negative indices count back from the last vertex.
+  const TriangleMesh pent = readMeshFile(writeFile("pentagon.obj", "v 0 0 0\nv 2 0 0\nv 3 1 0\nv 1 2 0\nv -1 1 0\nf -5 -4 -3 -2 -1\n"));
+  EXPECT_EQ(pent.triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
+}
+
+TEST(MeshReader, EveryErrorNamesItsPlace) {
+  expectMeshError("missing.stl", "", 0, {"byte 0", "too short for a binary STL"});  // empty: no header, no solid
+  std::remove((dir() + "/missing.stl").c_str());
+  try {
+    (void)readMeshFile(dir() + "/missing.stl");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open the mesh file"), std::string::npos) << e.what();
+  }
+  expectMeshError("square.ply", "ply\n", 0, {"unknown mesh format '.ply'", ".stl", ".obj"});
+  // Binary STL: the size against the count, a short file, a coordinate that is not finite.
+  expectMeshError("cut.stl", binaryStl(kSquare).substr(0, 150), 0, {"byte 80", "2 triangles", "184 bytes", "150", "truncated"});
+  expectMeshError("long.stl", binaryStl(kSquare, 1), 0, {"byte 80", "bytes follow its last triangle"});
+  expectMeshError("short.stl", std::string(40, 'x'), 0, {"byte 40", "too short for a binary STL"});
+  std::vector<std::array<float, 9>> bad = kSquare;
+  bad[1][4] = std::numeric_limits<float>::quiet_NaN();
+  expectMeshError("nan.stl", binaryStl(bad), 0, {"byte 162", "coordinate y of vertex 2 of triangle 2 is not finite"});
+  std::vector<std::array<float, 9>> degenerate = kSquare;
+  degenerate[1] = {0, 0, 0, 1, 1, 0, 0, 0, 0};
+  expectMeshError("degenerate.stl", binaryStl(degenerate), 0, {"byte 134", "triangle 2 is degenerate", "corners 1 and 3"});
+  std::vector<std::array<float, 9>> line = kSquare;
+  line[0] = {0, 0, 0, 1, 1, 0, 2, 2, 0};
+  expectMeshError("collinear.stl", binaryStl(line), 0, {"byte 84", "triangle 1 is degenerate", "lie on one line"});
+  // ASCII STL: the line of each problem.
+  const auto ascii = [](int line, const std::string& text) {
+    std::string s = kAsciiSquare;
+    std::size_t at = 0;
+    for (int l = 1; l < line; ++l) at = s.find('\n', at) + 1;
+    return s.substr(0, at) + text + "\n" + s.substr(s.find('\n', at) + 1);
+  };
+  expectMeshError("a1.stl", ascii(5, "      vertex 1 zero 0"), 5, {"coordinate y of vertex 2 of facet 1 must be a number", "'zero'"});
+  expectMeshError("a2.stl", ascii(5, "      vertex 1 nan 0"), 5, {"must be a finite number"});
+  expectMeshError("a3.stl", ascii(5, "      vertex 1 1e39 0"), 5, {"beyond single precision", "scale the mesh"});
+  expectMeshError("a4.stl", ascii(5, "      vertx 1 0 0"), 5, {"expected 'vertex'", "'vertx'", "facet normal"});
+  expectMeshError("a5.stl", ascii(7, "      vertex 0 1 0\n    endloop"), 7, {"expected 'endloop' after the third vertex"});
+  expectMeshError("a6.stl", ascii(9, "  facets normal 0 0 1"), 9, {"expected 'facet' or 'endsolid'", "'facets'"});
+  expectMeshError("a7.stl", std::string(kAsciiSquare).substr(0, std::string(kAsciiSquare).find("    endloop\n  endfacet\nendsolid")),
+                  14, {"expected 'endloop'", "the end of the file", "truncated"});
+  expectMeshError("a8.stl", std::string(kAsciiSquare).substr(0, std::string(kAsciiSquare).find("endsolid")), 16,
+                  {"missing 'endsolid'", "truncated"});
+  expectMeshError("a9.stl", ascii(13, "      vertex 1 1 0"), 9, {"triangle 2 is degenerate", "corners 2 and 3 are the same point (1, 1, 0)"});
+  expectMeshError("a10.stl", "solid empty\nendsolid empty\n", 0, {"no triangles"});
+  expectMeshError("a11.stl", "solid x\nendsolid x\nstuff\n", 3, {"expected the end of the file or another 'solid'"});
+  // OBJ.
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 1 1 0\n";  // lines 1-3
+  expectMeshError("o1.obj", v + "f 1 2 4\n", 4, {"vertex 3 of the face is index 4", "3 vertices are defined before this line"});
+  expectMeshError("o2.obj", v + "f 1 2 -4\n", 4, {"index -4"});
+  expectMeshError("o3.obj", v + "f 0 1 2\n", 4, {"OBJ indices start at 1"});
+  expectMeshError("o4.obj", v + "f 1 2 x/1\n", 4, {"must be an index", "'x/1'"});
+  expectMeshError("o5.obj", v + "f 1 2\n", 4, {"a face needs at least three vertices"});
+  expectMeshError("o6.obj", "v 0 0\n", 1, {"a vertex needs three coordinates"});
+  expectMeshError("o7.obj", "v 0 0 inf\n", 1, {"coordinate z of vertex 1 must be a finite number"});
+  expectMeshError("o8.obj", v + "f 1 2 2\n", 4, {"triangle 1 is degenerate", "corners 2 and 3"});
+  expectMeshError("o9.obj", v + "v 2 2 0\nf 1 3 4\n", 5, {"triangle 1 is degenerate", "lie on one line"});
+  expectMeshError("o10.obj", v + "v 1 1 0\n", 0, {"no triangles"});
+  expectMeshError("o12.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1e10 0 0\nv 1e10 1e-3 0\nf 1 2 3\nf 1 4 5\n", 7,
+                  {"triangle 2 is degenerate", "too thin for single precision", "1e-13 times its longest edge"});
+  expectMeshError("o11.obj", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 1 1 0\n", 1, {"0 vertices are defined before this line"});
+}
+
+namespace {
+
+// A scene with one ball above a mesh wall whose table holds `keys` (line 12 on).
+std::string meshScene(const std::string& keys, const std::string& law = "") {
+  return "[scene]\ndt = 1e-4\nsteps = 10\n" + law +
+         "[[shape]]\nname = \"ball\"\n[[shape.sphere]]\nradius = 0.1\nmass = 1.0\n[[body]]\nshape = \"ball\"\n"
+         "position = [0.5, 0.5, 0.5]\n[[wall]]\ntype = \"mesh\"\n" + keys;
+}
+
+void expectSceneError(const std::string& text, long line, std::initializer_list<const char*> needles,
+                      const std::string& file = "") {
+  const std::string path = writeFile("scene.toml", text);
+  try {
+    (void)readSceneFile(path);
+    ADD_FAILURE() << "no error for:\n" << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), file.empty() ? path : file) << e.what();
+    EXPECT_EQ(e.line(), line) << e.what();
+    for (const char* n : needles)
+      EXPECT_NE(std::string(e.what()).find(n), std::string::npos) << "message lacks \"" << n << "\": " << e.what();
+  }
+}
+
+}  // namespace
+
+// Every key of a mesh wall: the file relative to the scene's folder, scale (a number or per
+// axis), position and orientation applied to its vertices (meshWallTriangles()), and the
+// walls' contact keys under each law.
+TEST(MeshWallKeys, EveryKey) {
+  writeFile("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  std::filesystem::create_directories(dir() + "/meshes");
+  writeFile("meshes/square.stl", binaryStl(kSquare));
+  {
+    const Scene s = readSceneFile(writeFile("scene.toml", meshScene("file = \"square.obj\"\n")));
+    ASSERT_EQ(s.walls.size(), 1u);
+    const WallDef& w = s.walls[0];
+    EXPECT_EQ(w.shape, WallDef::Shape::Mesh);
+    ASSERT_TRUE(w.mesh);
+    EXPECT_EQ(w.mesh->numTriangles(), 2u);
+    EXPECT_EQ(w.scale.x, 1.0f);
+    EXPECT_EQ(w.orientation.w, 1.0f);
+    EXPECT_EQ(w.contact.stiffness, s.contact.stiffness) << "the ground's defaults";
+    EXPECT_EQ(w.contact.friction, 0.5f);
+    EXPECT_NE(w.where.find("[[wall]] #1 ("), std::string::npos);
+    EXPECT_EQ(meshTriangleCount(s), 2u);
+    EXPECT_NO_THROW(World::fromScene(s));
+  }
+  {
+    const Scene s = readSceneFile(writeFile("scene.toml", meshScene(
+        "file = \"meshes/square.stl\"\nscale = [2, 3, 1]\nposition = [1, 2, 3]\norientation = [2, 0, 0, 2]\n"
+        "stiffness = 5e4\nfriction = 0.3\ntangential_stiffness = 1e4\n")));
+    const WallDef& w = s.walls[0];
+    EXPECT_EQ(w.scale.y, 3.0f);
+    EXPECT_NEAR(w.orientation.w, std::sqrt(0.5f), 1e-7f) << "normalised";
+    EXPECT_EQ(w.point.z, 3.0f);
+    EXPECT_EQ(w.contact.stiffness, 5e4f);
+    EXPECT_EQ(w.contact.friction, 0.3f);
+    EXPECT_EQ(w.contact.tangentialStiffness, 1e4f);
+    const std::vector<Vec3f> t = meshWallTriangles(w);  // (1, 1, 0) -> (2, 3, 0) -> (-3, 2, 0) -> (-2, 4, 3)
+    ASSERT_EQ(t.size(), 6u);
+    EXPECT_NEAR(t[2].x, -2.0f, 1e-6f);
+    EXPECT_NEAR(t[2].y, 4.0f, 1e-6f);
+    EXPECT_NEAR(t[2].z, 3.0f, 1e-6f);
+  }
+  {
+    const Scene s = readSceneFile(writeFile("scene.toml", meshScene("file = \"square.obj\"\nscale = 0.5\nrolling_friction = 0.1\n",
+                                                                   "[contact]\nlaw = \"hooke-history\"\n")));
+    EXPECT_EQ(s.walls[0].scale.z, 0.5f);
+    EXPECT_EQ(s.walls[0].contact.rollingFriction, 0.1f);
+  }
+  {
+    const Scene s = readSceneFile(writeFile("scene.toml", meshScene(
+        "file = \"square.obj\"\nmaterial = \"steel\"\nfriction = 0.2\n",
+        "[contact]\nlaw = \"hertz-mindlin\"\n[[material]]\nname = \"steel\"\ndensity = 7800\nyoungs_modulus = 2e8\n"
+        "poisson_ratio = 0.3\nrestitution = 0.5\n")));
+    EXPECT_EQ(s.walls[0].contact.material, 0);
+    EXPECT_EQ(s.walls[0].contact.frictionOverride, 0.2f);
+    EXPECT_NO_THROW(World::fromScene(s));
+  }
+}
+
+// Each refusal of a mesh wall's table, at its line; a problem in the mesh file at the file's
+// own line, naming the wall.
+TEST(MeshWallKeys, EveryError) {
+  writeFile("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  expectSceneError(meshScene(""), 12, {"[[wall]] #1", "missing required key 'file'", "relative to the scene file's folder"});
+  expectSceneError(meshScene("file = \"nowhere.stl\"\n"), 14, {"[[wall]] #1: cannot open the mesh file: No such file",
+                                                             "file = \"nowhere.stl\"",
+                                                             "relative file is found from the scene file's folder"});
+  expectSceneError(meshScene("file = 3\n"), 14, {"file must be a string"});
+  expectSceneError(meshScene("file = \"\"\n"), 14, {"file must name an STL or OBJ file"});
+  expectSceneError(meshScene("file = \"square.obj\"\nscale = 0\n"), 15, {"scale must be > 0"});
+  expectSceneError(meshScene("file = \"square.obj\"\nscale = [1, -1, 1]\n"), 15, {"component y of scale must be > 0"});
+  expectSceneError(meshScene("file = \"square.obj\"\nscale = [1, 1]\n"), 15, {"scale must be an array of 3 numbers"});
+  expectSceneError(meshScene("file = \"square.obj\"\nposition = [0, 0]\n"), 15, {"position must be an array of 3 numbers"});
+  expectSceneError(meshScene("file = \"square.obj\"\norientation = [0, 0, 0, 0]\n"), 15, {"must not be the zero quaternion"});
+  expectSceneError(meshScene("file = \"square.obj\"\nnormal = [0, 0, 1]\n"), 15,
+                   {"normal is not a key of type = \"mesh\"", "file scale position orientation"});
+  expectSceneError(meshScene("file = \"square.obj\"\nvelocity = [1, 0, 0]\n"), 15, {"velocity is not a key of type = \"mesh\""});
+  expectSceneError(meshScene("file = \"square.obj\"\nscale = 3e38\nposition = [3e38, 0, 0]\n"), 12,
+                   {"beyond single precision once scaled, turned and placed"});
+  expectSceneError(meshScene("file = \"square.obj\"\nmaterial = \"x\"\n"), 15, {"material is read under law = \"hertz-mindlin\" only"});
+  // A triangle that a scale shrinks to nothing in single precision: at its line in the mesh file.
+  const std::string sq = dir() + "/square.obj";
+  expectSceneError(meshScene("file = \"square.obj\"\nscale = 1e-30\n"), 5,
+                   {"triangle 1 is degenerate once scaled and placed", "too close for single precision", "use a larger scale",
+                    "(the mesh of [[wall]] #1"}, sq);
+  // A problem inside the mesh file: its file and line, and the wall that reads it.
+  const std::string bad = writeFile("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+  expectSceneError(meshScene("file = \"bad.obj\"\n"), 3, {"index 3", "(the mesh of [[wall]] #1 ("}, bad);
+}
+
+// A mesh wall built in code without its mesh is refused when the world is built.
+TEST(MeshWallKeys, AMeshWallWithoutAMeshIsRefused) {
+  Scene s;
+  s.shapes = {ShapeDef{"ball", {SphereDef{}}}};
+  s.bodies = {BodyDef{}};
+  WallDef w;
+  w.shape = WallDef::Shape::Mesh;
+  w.where = "wall 1";
+  s.walls = {w};
+  try {
+    (void)World::fromScene(s);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("a mesh wall needs a mesh"), std::string::npos) << e.what();
+  }
+}
