@@ -4,6 +4,7 @@
 #include "tumble/fill.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -109,7 +110,27 @@ bool SphereHash::hits(Vec3f x, float r) const {
   return false;
 }
 
-RegionFrame::RegionFrame(const FillRegion& g) : region(g) {
+MeshObstacles::MeshObstacles(const Scene& scene, const LocalFrame& f) : m_scene(scene) {
+  if (meshTriangleCount(scene) > 0) m_mesh = kernelMesh(scene, f);
+}
+
+bool MeshObstacles::clear(Vec3f x, float r) const {
+  return m_mesh.numTriangles() == 0 || findMeshContacts(m_mesh, {x.x, x.y, x.z}, {r * (1.0f + 1e-5f)}).empty();
+}
+
+bool MeshObstacles::inside(std::size_t wall, Vec3f x) const { return pointInsideMesh(m_mesh, m_scene, wall, x); }
+
+RegionFrame::RegionFrame(const FillRegion& g, const Scene& scene, const LocalFrame& f, const MeshObstacles& m)
+    : region(g), meshes(&m) {
+  if (g.kind == FillRegion::Kind::Mesh) {  // sampled in the box of its vertices
+    region.min = Vec3f{FLT_MAX, FLT_MAX, FLT_MAX};
+    region.max = Vec3f{-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (const Vec3f& v : meshWallVertices(scene.walls[g.wall], f)) {
+      region.min = Vec3f{std::min(region.min.x, v.x), std::min(region.min.y, v.y), std::min(region.min.z, v.z)};
+      region.max = Vec3f{std::max(region.max.x, v.x), std::max(region.max.y, v.y), std::max(region.max.z, v.z)};
+    }
+    return;
+  }
   if (g.kind != FillRegion::Kind::Cylinder) return;
   length = std::sqrt(double(g.axis.x) * g.axis.x + double(g.axis.y) * g.axis.y + double(g.axis.z) * g.axis.z);
   a[0] = g.axis.x / length, a[1] = g.axis.y / length, a[2] = g.axis.z / length;
@@ -118,6 +139,7 @@ RegionFrame::RegionFrame(const FillRegion& g) : region(g) {
 
 bool RegionFrame::inside(Vec3f x, float r) const {
   const FillRegion& g = region;
+  if (g.kind == FillRegion::Kind::Mesh) return meshes->inside(g.wall, x);
   if (g.kind == FillRegion::Kind::Box)
     return x.x - r >= g.min.x && x.x + r <= g.max.x && x.y - r >= g.min.y && x.y + r <= g.max.y &&
            x.z - r >= g.min.z && x.z + r <= g.max.z;
@@ -129,7 +151,7 @@ bool RegionFrame::inside(Vec3f x, float r) const {
 
 Vec3f RegionFrame::point(float u1, float u2, float u3) const {
   const FillRegion& g = region;
-  if (g.kind == FillRegion::Kind::Box)
+  if (g.kind != FillRegion::Kind::Cylinder)
     return Vec3f{float(g.min.x + double(u1) * (double(g.max.x) - g.min.x)),
                  float(g.min.y + double(u2) * (double(g.max.y) - g.min.y)),
                  float(g.min.z + double(u3) * (double(g.max.z) - g.min.z))};
@@ -140,8 +162,8 @@ Vec3f RegionFrame::point(float u1, float u2, float u3) const {
 }
 
 bool placeBody(Rng& rng, const RegionFrame& g, const std::vector<Ball>& balls, SphereHash& hash,
-               const std::vector<Wall>& walls, std::uint64_t attempts, bool drawOrientation, bool randomOrientation,
-               Vec3f* position, Quatf* q) {
+               const std::vector<Wall>& walls, const MeshObstacles& meshes, std::uint64_t attempts,
+               bool drawOrientation, bool randomOrientation, Vec3f* position, Quatf* q) {
   for (std::uint64_t attempt = 0; attempt < attempts; ++attempt) {
     const float u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
     const Vec3f x0 = g.point(u1, u2, u3);
@@ -154,7 +176,8 @@ bool placeBody(Rng& rng, const RegionFrame& g, const std::vector<Ball>& balls, S
     const bool fits = std::all_of(balls.begin(), balls.end(), [&](const Ball& s) {
       const Vec3f x = x0 + mul(R, s.u);
       if (!g.inside(x, s.r) || hash.hits(x, s.r)) return false;
-      return std::all_of(walls.begin(), walls.end(), [&](const Wall& w) { return wallGap(w, x) >= s.r; });
+      return std::all_of(walls.begin(), walls.end(), [&](const Wall& w) { return wallGap(w, x) >= s.r; }) &&
+             meshes.clear(x, s.r);
     });
     if (!fits) continue;
     for (const Ball& s : balls) hash.add(x0 + mul(R, s.u), s.r);
@@ -220,17 +243,18 @@ void fillScene(Scene& scene, const FillDef& def) {
     const Mat3f R = rotationMatrix(b.orientation);
     for (const Ball& s : balls[b.shape]) hash.add(b.position + mul(R, s.u), s.r);
   }
-  // The ground and the walls where they are at t = 0.
+  // The ground, the walls and the meshes where they are at t = 0.
   const std::vector<Wall> walls = kernelWalls(scene, LocalFrame{});
-  const RegionFrame g(def.region);
+  const MeshObstacles meshes(scene, LocalFrame{});
+  const RegionFrame g(def.region, scene, LocalFrame{}, meshes);
   std::map<std::pair<std::uint32_t, float>, std::uint32_t> scaled;  // (shape, factor) → index
   Rng rng(def.seed);
   for (std::uint64_t n = 0; n < def.count; ++n) {
     BodyDef b;
     b.shape = drawShape(scene, rng, def.shapes, def.weights, def.scaleMin, def.scaleMax, scaled, def.where);
     if (b.shape >= balls.size()) balls.push_back(ballsOf(scene.shapes[b.shape]));
-    if (!placeBody(rng, g, balls[b.shape], hash, walls, def.attempts, true, def.randomOrientation, &b.position,
-                   &b.orientation)) {
+    if (!placeBody(rng, g, balls[b.shape], hash, walls, meshes, def.attempts, true, def.randomOrientation,
+                   &b.position, &b.orientation)) {
       char buf[320];
       std::snprintf(buf, sizeof buf, ": placed %llu of %llu bodies; body %llu found no free place in %llu draws: the "
                     "region is too full for random packing (it reaches about a third of the volume at most); use a "

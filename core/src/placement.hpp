@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tumble/kernels/wall.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/math.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene.hpp"
@@ -56,26 +57,45 @@ class SphereHash {
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> m_cells;
 };
 
-/// A region with its axis (a cylinder: unit axis a, length, two unit directions across it).
+/// The scene's mesh walls as what placed bodies keep clear of, in frame f (their kernels' data,
+/// kernelMesh(); none when the scene has no mesh).
+class MeshObstacles {
+ public:
+  MeshObstacles(const Scene& scene, const LocalFrame& f);
+  /// Whether a sphere at x of radius r meets no mesh triangle (grown by a relative margin of
+  /// 1e-5, as SphereHash::hits()).
+  bool clear(Vec3f x, float r) const;
+  /// Whether x lies inside the closed mesh wall `wall` (pointInsideMesh()).
+  bool inside(std::size_t wall, Vec3f x) const;
+
+ private:
+  const Scene& m_scene;
+  KernelMesh m_mesh;
+};
+
+/// A region with its axis (a cylinder: unit axis a, length, two unit directions across it), or
+/// the bounding box of a mesh wall (a mesh region), in frame f.
 struct RegionFrame {
   FillRegion region;
   double a[3] = {0, 0, 1}, e1[3] = {1, 0, 0}, e2[3] = {0, 1, 0}, length = 0.0;
-  explicit RegionFrame(const FillRegion& g);
-  /// Whether a sphere at x of radius r lies wholly inside the region.
+  const MeshObstacles* meshes = nullptr;  ///< a mesh region: its inside
+  RegionFrame(const FillRegion& g, const Scene& scene, const LocalFrame& f, const MeshObstacles& meshes);
+  /// Whether a sphere at x of radius r lies wholly inside the region (a mesh region: its centre
+  /// inside the mesh; MeshObstacles::clear() keeps it off the triangles).
   bool inside(Vec3f x, float r) const;
-  /// A point of the region from three uniforms in [0, 1): a box's uniform in it, a cylinder's
-  /// uniform in its volume (s = L u1, ρ = R √u2, φ = 2π u3).
+  /// A point of the region from three uniforms in [0, 1): a box's (a mesh's box's) uniform in
+  /// it, a cylinder's uniform in its volume (s = L u1, ρ = R √u2, φ = 2π u3).
   Vec3f point(float u1, float u2, float u3) const;
 };
 
 /// Draws up to `attempts` positions for a body of spheres `balls` with orientation q in the
 /// region (rng: three uniforms each) until every sphere is inside it, clear of the hash and
-/// out of contact with every wall; then registers its spheres in the hash and returns true with
-/// *position set. `drawOrientation`: each attempt also draws three uniforms and, when
+/// out of contact with every wall and mesh; then registers its spheres in the hash and returns
+/// true with *position set. `drawOrientation`: each attempt also draws three uniforms and, when
 /// `randomOrientation`, turns *q to randomRotation() of them.
 bool placeBody(Rng& rng, const RegionFrame& g, const std::vector<Ball>& balls, SphereHash& hash,
-               const std::vector<Wall>& walls, std::uint64_t attempts, bool drawOrientation, bool randomOrientation,
-               Vec3f* position, Quatf* q);
+               const std::vector<Wall>& walls, const MeshObstacles& meshes, std::uint64_t attempts,
+               bool drawOrientation, bool randomOrientation, Vec3f* position, Quatf* q);
 
 /// A body's shape drawn with the odds of `weights` (one uniform), scaled by a factor uniform in
 /// [scaleMin, scaleMax] (one more uniform when they differ): the index of the scaled shape in

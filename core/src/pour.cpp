@@ -71,12 +71,16 @@ std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std:
     balls.push_back(ballsOf(m_scene.shapes[m_scene.pourBodies[b].body.shape]));
     for (const Ball& s : balls.back()) largest = std::max(largest, s.r);
   }
-  // The particles near some pour's region (its bounding box, grown by the largest reach).
+  // The pours' regions in the frame, and the particles near one (its bounding box, grown by the
+  // largest reach).
+  const MeshObstacles& meshes = meshesIn(frame);
+  std::vector<RegionFrame> regions;
+  for (const PourDef& p : m_scene.pours) regions.emplace_back(shifted(p.region, frame), m_scene, frame, meshes);
   const double reach = 2.0 * (double(largest) + maxRadius);
   std::vector<std::array<double, 6>> boxes;
-  for (const PourDef& p : m_scene.pours) {
-    const FillRegion g = shifted(p.region, frame);
-    if (g.kind == FillRegion::Kind::Box) {
+  for (const RegionFrame& rf : regions) {
+    const FillRegion& g = rf.region;
+    if (g.kind != FillRegion::Kind::Cylinder) {  // a box, or a mesh's box
       boxes.push_back({g.min.x - reach, g.min.y - reach, g.min.z - reach, g.max.x + reach, g.max.y + reach,
                        g.max.z + reach});
     } else {
@@ -104,12 +108,19 @@ std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std:
     Rng rng(groupSeed(p.seed ^ (0x9E3779B97F4A7C15ull * (step + 1)), pb.index));
     Vec3f at;
     Quatf q = pb.body.orientation;
-    if (!placeBody(rng, RegionFrame(shifted(p.region, frame)), balls[b - first], hash, walls, p.attempts, false, false,
-                   &at, &q))
+    if (!placeBody(rng, regions[pb.pour], balls[b - first], hash, walls, meshes, p.attempts, false, false, &at, &q))
       break;
     placed.push_back(at);
   }
   return placed;
+}
+
+const detail::MeshObstacles& Pouring::meshesIn(const LocalFrame& frame) const {
+  if (!m_meshes || m_meshesFrame.x != frame.x || m_meshesFrame.y != frame.y || m_meshesFrame.z != frame.z) {
+    m_meshes = std::make_shared<const detail::MeshObstacles>(m_scene, frame);
+    m_meshesFrame = frame;
+  }
+  return *m_meshes;
 }
 
 std::size_t Pouring::dueBy(std::size_t first, double t) const {

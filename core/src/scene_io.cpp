@@ -520,6 +520,7 @@ class SceneParser {
     const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'wall'", "[[wall]]");
     for (std::size_t k = 0; k < tables.size(); ++k) {
       const std::size_t first = scene.walls.size();  // this table's walls (a box: up to six)
+      m_wallOfTable.push_back(first);
       const std::string name = "[[wall]] #" + std::to_string(k + 1);
       const TableReader r(m_file, *tables[k], name,
                           {"type", "point", "normal", "min", "max", "open", "axis", "radius", "inner_radius",
@@ -606,6 +607,7 @@ class SceneParser {
           p[a] = atMax ? h[a] : l[a];
           nv[a] = atMax ? -1.0f : 1.0f;
           WallDef face = wall;
+          face.boxFace = true;
           face.point = Vec3f{p[0], p[1], p[2]};
           face.normal = Vec3f{nv[0], nv[1], nv[2]};
           face.where = where + " face " + kFaces[f];
@@ -1097,21 +1099,31 @@ class SceneParser {
     for (std::uint32_t s : f.shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
     if (f.count > kMaxParticles) r.fail(sourceOf(countNode), "count asks for more than 2^31 bodies");
     checkBodyBudget(r, countNode, scene, f.count + scene.pourBodies.size(), minSpheres);
-    const toml::node& regionNode = r.require("region", "where to put them: region = \"box\" or \"cylinder\"");
+    const toml::node& regionNode =
+        r.require("region", "where to put them: region = \"box\", \"cylinder\" or \"mesh\"");
     const std::string region = r.string(regionNode, "region");
-    static const std::pair<const char*, const char*> kKeysOf[] = {{"box", "min max"}, {"cylinder", "point axis radius"}};
+    static const std::pair<const char*, const char*> kKeysOf[] = {
+        {"box", "min max"}, {"cylinder", "point axis radius"}, {"mesh", "wall"}};
     const auto* entry = std::find_if(std::begin(kKeysOf), std::end(kKeysOf),
                                      [&](const auto& e) { return region == e.first; });
     if (entry == std::end(kKeysOf))
-      r.fail(sourceOf(regionNode), "unknown region \"" + region + "\" (\"box\" or \"cylinder\")");
-    for (const char* key : {"min", "max", "point", "axis", "radius"}) {
+      r.fail(sourceOf(regionNode), "unknown region \"" + region + "\" (\"box\", \"cylinder\" or \"mesh\")");
+    for (const char* key : {"min", "max", "point", "axis", "radius", "wall"}) {
       const std::string keys = std::string(" ") + entry->second + " ";
       if (const toml::node* e = r.find(key); e != nullptr && keys.find(std::string(" ") + key + " ") == std::string::npos)
         r.fail(sourceOf(*e), std::string(key) + " is not a key of region = \"" + region + "\" (its keys: " +
                                  entry->second + ")");
     }
     FillRegion& g = f.region;
-    if (region == "box") {
+    if (region == "mesh") {  // the inside of a closed mesh wall: [[wall]] #k
+      g.kind = FillRegion::Kind::Mesh;
+      const toml::node& wn = r.require("wall", "the number of the [[wall]] table of a closed mesh, e.g. wall = 1");
+      const std::int64_t k = r.integer(wn, "wall", 1);
+      if (std::size_t(k) > m_wallOfTable.size() || scene.walls[m_wallOfTable[std::size_t(k) - 1]].shape != WallDef::Shape::Mesh)
+        r.fail(sourceOf(wn), "wall = " + std::to_string(k) + " names no [[wall]] of type = \"mesh\" (the scene has " +
+                                 std::to_string(m_wallOfTable.size()) + " [[wall]] tables; count them from 1)");
+      g.wall = m_wallOfTable[std::size_t(k) - 1];
+    } else if (region == "box") {
       g.kind = FillRegion::Kind::Box;
       g.min = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
       const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
@@ -1171,7 +1183,8 @@ class SceneParser {
     for (std::size_t k = 0; k < tables.size(); ++k) {
       const TableReader r(m_file, *tables[k], "[[fill]] #" + std::to_string(k + 1),
                           {"shape", "shapes", "weights", "count", "region", "min", "max", "point", "axis", "radius",
-                           "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed", "attempts"});
+                           "wall", "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
+                           "attempts"});
       const FillDef f = readPlacement(r, scene, "fill", k);
       const std::size_t before = scene.bodies.size();
       try {
@@ -1194,8 +1207,8 @@ class SceneParser {
     for (std::size_t k = 0; k < tables.size(); ++k) {
       const TableReader r(m_file, *tables[k], "[[pour]] #" + std::to_string(k + 1),
                           {"shape", "shapes", "weights", "count", "region", "min", "max", "point", "axis", "radius",
-                           "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed", "attempts",
-                           "rate", "start", "interval"});
+                           "wall", "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
+                           "attempts", "rate", "start", "interval"});
       const FillDef f = readPlacement(r, scene, "pour", k);
       PourDef p;
       p.region = f.region;
@@ -1386,6 +1399,7 @@ class SceneParser {
   toml::source_region m_periodicAt[2];  ///< [periodic] x and y, for the period check
   std::unordered_map<std::string, std::uint32_t> m_materialIndex;
   std::vector<std::string> m_materialNames;  ///< in file order, for messages
+  std::vector<std::size_t> m_wallOfTable;     ///< per [[wall]] table, the index of its first wall
 };
 
 // Non-ASCII bytes outside strings and comments are refused before toml++ sees them: its 3.3.0

@@ -23,6 +23,7 @@
 #include <array>
 #include <cmath>
 
+#include "tumble/mesh.hpp"
 #include "tumble/sweep_frame.hpp"
 #include "tumble/world.hpp"
 
@@ -107,22 +108,29 @@ struct Region {
 
 WallKind kindOf(const WallDef& w) {
   if (w.shape == WallDef::Shape::Plane) return WallKind::Plane;
+  if (w.shape == WallDef::Shape::Mesh) return WallKind::Mesh;
   if (w.length == 0.0f) return WallKind::Disk;
   return w.radius0 == w.radius1 ? WallKind::Cylinder : WallKind::Cone;
 }
 
+// How a wall's drawing moves (WallDef::velocity, angularVelocity): a revolved wall turns about
+// its axis and translates with its velocity; a plane translates with its velocity when it moves
+// along its normal (a piston) or is a face of a box that moves (its faces along the motion
+// then travel with the others), and stands still when only its surface moves (a belt).
 WallMotion motionOf(const WallDef& w) {
   WallMotion m;
   V3 a;
-  if (w.shape != WallDef::Shape::Revolved || w.angularVelocity == 0.0f || !std::isfinite(w.angularVelocity) ||
-      !unit(w.normal, &a) || !(w.stop > w.start))
-    return m;
-  m.angularVelocity = Vec3f{static_cast<float>(a[0] * w.angularVelocity), static_cast<float>(a[1] * w.angularVelocity),
-                            static_cast<float>(a[2] * w.angularVelocity)};
-  m.pivot = w.point;
+  if (w.shape == WallDef::Shape::Mesh || !(w.stop > w.start) || !unit(w.normal, &a)) return m;
+  const V3 v = of(w.velocity);
+  if (w.shape == WallDef::Shape::Revolved && w.angularVelocity != 0.0f && std::isfinite(w.angularVelocity)) {
+    m.angularVelocity = Vec3f{static_cast<float>(a[0] * w.angularVelocity), static_cast<float>(a[1] * w.angularVelocity),
+                              static_cast<float>(a[2] * w.angularVelocity)};
+    m.pivot = w.point;
+  }
+  if (w.shape == WallDef::Shape::Revolved || w.boxFace || dot(v, a) != 0.0) m.velocity = w.velocity;
   m.start = w.start;
   m.stop = w.stop;
-  return m;
+  return m.moves() ? m : WallMotion{};
 }
 
 // A revolved wall's triangles, wound towards `inside` (its centre when there is no focus).
@@ -216,12 +224,19 @@ std::vector<WallSurface> wallSurfaces(const std::vector<WallDef>& walls, const E
     region.add(of(focus.hi));
   }
   const V3 focusCentre = region.centre();
-  // Revolved walls first: their extents join the drawing region.
+  // Revolved walls and meshes first: their extents join the drawing region. A mesh is drawn as
+  // its file winds it (its triangles in world coordinates).
   for (std::size_t k = 0; k < walls.size(); ++k) {
     out[k].kind = kindOf(walls[k]);
     out[k].motion = motionOf(walls[k]);
-    if (walls[k].shape != WallDef::Shape::Revolved) continue;
-    revolved(walls[k], focus.empty() ? nullptr : &focusCentre, options.segments, out[k].triangles);
+    if (walls[k].shape == WallDef::Shape::Mesh) {
+      for (const Vec3f& c : meshWallTriangles(walls[k]))
+        for (const float x : {c.x, c.y, c.z}) out[k].triangles.push_back(x);
+    } else if (walls[k].shape == WallDef::Shape::Revolved) {
+      revolved(walls[k], focus.empty() ? nullptr : &focusCentre, options.segments, out[k].triangles);
+    } else {
+      continue;
+    }
     const std::vector<float>& tri = out[k].triangles;
     for (std::size_t i = 0; i + 2 < tri.size(); i += 3) region.add(V3{tri[i], tri[i + 1], tri[i + 2]});
   }

@@ -311,3 +311,43 @@ TEST(MeshWallKeys, AMeshWallWithoutAMeshIsRefused) {
     EXPECT_NE(std::string(e.what()).find("a mesh wall needs a mesh"), std::string::npos) << e.what();
   }
 }
+
+// [[fill]] and meshes: region = "mesh" packs the inside of a closed mesh wall (a cube of side 2
+// as an OBJ, the bodies' centres inside it and every sphere clear of its faces), and a box region
+// that a mesh floor cuts keeps the bodies off its triangles and above it. An open mesh or a wall
+// that is not a mesh is refused at its line.
+TEST(MeshWallKeys, FillsKeepClearOfMeshesAndPackTheirInside) {
+  writeFile("cube.obj",
+            "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+            "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+  writeFile("tilted.obj", "v -3 -3 -0.5\nv 3 -3 0.5\nv 3 3 0.5\nv -3 3 -0.5\nf 1 2 3 4\n");
+  const std::string shapes = "[[shape]]\nname = \"b\"\n[[shape.sphere]]\nradius = 0.15\nmass = 1\n";
+  const Scene s = readSceneFile(writeFile(
+      "fill.toml", "[scene]\ndt = 1e-4\nsteps = 10\n" + shapes +
+                       "[[wall]]\ntype = \"mesh\"\nfile = \"cube.obj\"\n"
+                       "[[wall]]\ntype = \"mesh\"\nfile = \"tilted.obj\"\nposition = [10, 0, 0]\n"
+                       "[[fill]]\nshape = \"b\"\ncount = 120\nregion = \"mesh\"\nwall = 1\n"
+                       "[[fill]]\nshape = \"b\"\ncount = 120\nregion = \"box\"\nmin = [7, -3, -1.5]\nmax = [13, 3, 1.5]\n"));
+  ASSERT_EQ(s.bodies.size(), 240u);
+  const KernelMesh mesh = kernelMesh(s, LocalFrame{});
+  std::vector<float> x, r;
+  for (const BodyDef& b : s.bodies) {
+    x.insert(x.end(), {b.position.x, b.position.y, b.position.z});
+    r.push_back(0.15f);
+  }
+  EXPECT_TRUE(findMeshContacts(mesh, x, r).empty()) << "a body placed on a mesh";
+  std::size_t above = 0;
+  for (std::size_t k = 0; k < 120; ++k) {
+    const Vec3f p = s.bodies[k].position;
+    EXPECT_LE(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}), 1.0f - 0.15f) << "inside the cube, body " << k;
+    const Vec3f q = s.bodies[120 + k].position;  // the tilted floor: z = (x - 10) / 6 there
+    above += q.z > (q.x - 10.0f) / 6.0f;
+  }
+  std::printf("fill: %zu of 120 bodies above the tilted mesh, the rest below it\n", above);
+  EXPECT_GT(above, 20u);
+  EXPECT_LT(above, 100u);
+  const std::string bad = "[scene]\ndt = 1e-4\nsteps = 10\n" + shapes + "[[wall]]\ntype = \"mesh\"\nfile = \"cube.obj\"\n"
+                          "[[fill]]\nshape = \"b\"\ncount = 1\nregion = \"mesh\"\n";  // [[fill]] at line 12
+  expectSceneError(bad + "wall = 2\n", 16, {"wall = 2 names no [[wall]] of type = \"mesh\""});
+  expectSceneError(bad, 12, {"missing required key 'wall'"});
+}

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -247,4 +248,35 @@ TEST(WallGeometry, ATurningDrumIsPosedAndTheGroundIsLeftOut) {
   ASSERT_EQ(box.size(), 5u);
   for (const WallSurface& w : box) EXPECT_EQ(w.numTriangles(), 2u);
   EXPECT_NEAR(area(box[4]), 0.8 * 0.2, 1e-6);
+}
+
+// Walls that move as a whole are drawn moving: a piston with its velocity, every face of a box
+// moving as a whole with the box's (those along the motion too), a cylinder swept sideways with
+// its; a belt (a plane whose surface only moves) stands still. A mesh wall is drawn as its
+// triangles in world coordinates (hopper-mesh.toml's hopper, 480 facets), kind Mesh.
+TEST(WallGeometry, MovingWallsAndMeshesAreDrawnAsTheyAre) {
+  const Scene s = parseScene(
+      "[scene]\ndt = 1e-4\nsteps = 10\n[[shape]]\nname = \"b\"\n[[shape.sphere]]\nradius = 0.1\nmass = 1\n"
+      "[[body]]\nshape = \"b\"\nposition = [0, 0, 0.5]\n"
+      "[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\nvelocity = [0, 0, 0.5]\nstop = 1\n"
+      "[[wall]]\ntype = \"plane\"\npoint = [0, 0, 2]\nnormal = [0, 0, -1]\nvelocity = [1, 0, 0]\n"
+      "[[wall]]\ntype = \"box\"\nmin = [-1, -1, -1]\nmax = [1, 1, 3]\nopen = [\"+z\", \"-z\"]\nvelocity = [0, 0.5, 0]\n"
+      "[[wall]]\ntype = \"cylinder\"\npoint = [0, 0, -1]\naxis = [0, 0, 4]\nradius = 3\nvelocity = [0.2, 0, 0]\n",
+      "moving.toml");
+  const std::vector<WallSurface> w = sceneWallSurfaces(s, sceneBodiesExtent(s));
+  ASSERT_EQ(w.size(), 7u) << "a piston, a belt, four box faces, a cylinder";
+  EXPECT_EQ(w[0].motion.velocity.z, 0.5f) << "the piston";
+  EXPECT_EQ(w[0].motion.stop, 1.0);
+  EXPECT_FALSE(w[1].motion.moves()) << "the belt's plane stands still";
+  for (std::size_t k = 2; k < 6; ++k) EXPECT_EQ(w[k].motion.velocity.y, 0.5f) << "box face " << k;
+  EXPECT_EQ(w[6].motion.velocity.x, 0.2f) << "the cylinder";
+  const Vec3f p = wallPose(w[0].motion, 2.0).apply(Vec3f{0, 0, 0});
+  EXPECT_FLOAT_EQ(p.z, 0.5f) << "the piston stopped at t = 1, 0.5 m up";
+
+  const Scene h = readSceneFile(std::string(TUMBLE_SOURCE_DIR) + "/scenes/hopper-mesh.toml");
+  const std::vector<WallSurface> hw = sceneWallSurfaces(h, sceneBodiesExtent(h));
+  const auto mesh = std::find_if(hw.begin(), hw.end(), [](const WallSurface& x) { return x.kind == WallKind::Mesh; });
+  ASSERT_NE(mesh, hw.end());
+  EXPECT_EQ(mesh->numTriangles(), 480u);
+  EXPECT_FALSE(mesh->motion.moves());
 }

@@ -18,6 +18,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -27,10 +28,17 @@
 
 namespace tumble {
 
+namespace detail {
+class MeshObstacles;
+}
+
 class Pouring {
  public:
   /// `scene` as read (Scene::bodies the bodies at the start, Scene::pourBodies those to come).
   explicit Pouring(const Scene& scene);
+  // Its cache of the meshes refers to its scene: not copied or moved.
+  Pouring(const Pouring&) = delete;
+  Pouring& operator=(const Pouring&) = delete;
 
   /// Whether the scene pours anything.
   bool any() const { return !m_scene.pourBodies.empty(); }
@@ -68,7 +76,13 @@ class Pouring {
   /// and then the placed ones (positions in frame).
   World withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame) const;
 
+  /// The scene's mesh walls in a frame (built at the first batch of a run that has some, and
+  /// again if the frame changes).
+  const detail::MeshObstacles& meshesIn(const LocalFrame& frame) const;
+
   Scene m_scene;
+  mutable std::shared_ptr<const detail::MeshObstacles> m_meshes;
+  mutable LocalFrame m_meshesFrame;
   std::uint64_t m_firstStep = std::numeric_limits<std::uint64_t>::max();
   std::uint64_t m_everySteps = 1;
 };

@@ -113,6 +113,8 @@ struct WallDef {
   /// A turning revolved wall keeps its shape and place: its surface moves.
   Vec3f velocity{0.0f, 0.0f, 0.0f};
   float angularVelocity = 0.0f;
+  /// A face of a `[[wall]] type = "box"` (drawing: the faces of a moving box travel together).
+  bool boxFace = false;
   double start = 0.0, stop = std::numeric_limits<double>::infinity();
   /// mesh: the triangles as read (shared, never changed), the scale of the file's coordinates
   /// (per axis, > 0) and the orientation applied after it (a unit quaternion, or any non-zero
@@ -202,10 +204,12 @@ struct BodyDef {
   Vec3f angularVelocity{0, 0, 0};  ///< world frame
 };
 
-/// Where a `[[fill]]` or a `[[pour]]` puts bodies: a box or a cylinder.
+/// Where a `[[fill]]` or a `[[pour]]` puts bodies: a box, a cylinder or the inside of a closed
+/// mesh wall.
 struct FillRegion {
-  enum class Kind : std::uint8_t { Box, Cylinder };
+  enum class Kind : std::uint8_t { Box, Cylinder, Mesh };
   Kind kind = Kind::Box;
+  std::size_t wall = 0;              ///< mesh: the index of the mesh wall in Scene::walls
   Vec3f min{0, 0, 0}, max{0, 0, 0};  ///< box: its corners
   Vec3f point{0, 0, 0};              ///< cylinder: the start of its axis
   Vec3f axis{0, 0, 1};               ///< cylinder: from point to the far end (its length is the cylinder's)
