@@ -510,3 +510,40 @@ TEST(WallTest, AMovingBoxThrowsABallAsAPlaneDoes) {
   EXPECT_EQ(st.vy[0], 0.0f);
   EXPECT_EQ(st.vz[0], 0.0f);
 }
+
+// A sphere hitting a wall at 60 degrees from its normal with friction (hooke-history, mu = 0.2,
+// e = 0.8), on an aligned and on a turned wall: in the sliding regime (the contact point slips
+// throughout, since v_t / |v_n| = 1.73 > mu (1 + e) (1 + m r^2 / I) = 1.26) impulse theory gives
+// the normal velocity -e v_n, the tangential one v_t - mu (1 + e) |v_n| and the spin
+// (5/2) mu (1 + e) |v_n| / r about the axis n x t.
+TEST(WallTest, ASphereSlidingOffAWallLosesMuOnePlusETimesItsNormalSpeed) {
+  const double e = 0.8, mu = 0.2, speed = 2.0, phi = 60.0 * 3.14159265358979 / 180.0, r = 0.1;
+  for (const double turn : {0.0, 0.7}) {
+    const Vec3f n{float(-std::cos(turn)), float(-std::sin(turn)), 0.0f};
+    const Vec3f t{-n.y, n.x, 0.0f};
+    Scene s;
+    s.dt = 1e-5f;
+    s.gravity = {0, 0, 0};
+    s.ground.enabled = false;
+    s.contact.law = ContactLaw::HookeHistory;
+    GroundParams c;
+    c.stiffness = 1.0e5f;
+    c.friction = float(mu);
+    s.walls = {plane(Vec3f{0, 0, 0}, n, c)};
+    s.shapes = {sphereShape(float(r), 1.0f, float(e))};
+    BodyDef b;
+    b.position = {0.101f * n.x, 0.101f * n.y, 0.0f};
+    const double vn = -speed * std::cos(phi), vt = speed * std::sin(phi);
+    b.velocity = {float(vn * n.x + vt * t.x), float(vn * n.y + vt * t.y), 0.0f};
+    s.bodies = {b};
+    const BodyState st = runCpu(World::fromScene(s), 4000);
+    const double outN = st.vx[0] * n.x + st.vy[0] * n.y, outT = st.vx[0] * t.x + st.vy[0] * t.y;
+    const double spin = st.lz[0] / (0.4 * r * r);  // L = I omega, about z = n x t
+    const double wantT = vt - mu * (1.0 + e) * std::abs(vn), wantSpin = 2.5 * mu * (1.0 + e) * std::abs(vn) / r;
+    std::printf("turned %.1f rad: e %.4f, v_t %.5f (theory %.5f), spin %.4f (theory %.4f)\n", turn, -outN / vn, outT,
+                wantT, spin, wantSpin);
+    EXPECT_NEAR(-outN / vn, e, 0.02 * e);
+    EXPECT_NEAR(outT, wantT, 0.03 * (vt - wantT)) << "the tangential velocity lost";
+    EXPECT_NEAR(spin, wantSpin, 0.03 * wantSpin);
+  }
+}
