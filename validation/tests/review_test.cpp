@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+// Review of issue 12 (walls, fill, pour): failing tests that demonstrate findings.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include "tumble/checkpoint.hpp"
+#include "tumble/error.hpp"
+#include "tumble/pour.hpp"
+#include "tumble/scene_io.hpp"
+#include "tumble/validation/compare.hpp"
+
+using namespace tumble;
+using namespace tumble::validation;
+
+namespace {
+
+// Steps `p` (running `w`) to the first batch that adds bodies and returns the state just before
+// it and the world the pour gives.
+std::pair<BodyState, World> firstPour(const Pouring& pouring, World& w, Pipeline& p) {
+  for (;;) {
+    const std::uint64_t next = pouring.nextBatch(p.stepCount(), w.numBodies());
+    if (next > p.stepCount()) p.step(next - p.stepCount());
+    BodyState before;
+    p.readLocalState(before);
+    if (std::optional<World> grown = pouring.pour(w, p)) return {before, std::move(*grown)};
+    p.step(1);
+  }
+}
+
+}  // namespace
+
+// A ball crosses a periodic x boundary twice before a pour adds a body: the pour must keep its
+// image counter (it is reset to 0: the unwrapped position, the thermo's potential energy with
+// gravity along the periodic axis, the --state-out column all jump).
+TEST(ReviewPour, ABatchKeepsTheImageCounters) {
+  const Scene s = parseScene(R"(
+[scene]
+dt = 1e-4
+steps = 10
+gravity = [0, 0, 0]
+[periodic]
+x = [0.0, 0.4]
+[ground]
+enabled = false
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.01
+mass = 0.01
+[[body]]
+shape = "ball"
+position = [0.35, 0, 0]
+velocity = [5, 0, 0]
+[[pour]]
+shape = "ball"
+count = 3
+rate = 100
+start = 0.1
+interval = 0.01
+region = "box"
+min = [0.1, 0.3, -0.05]
+max = [0.3, 0.4, 0.05]
+)", "periodic-pour.toml");
+  const Pouring pouring(s);
+  World w = pouring.worldWith(pouring.initialBodies());
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  const auto [before, grown] = firstPour(pouring, w, *p);
+  ASSERT_EQ(before.imageX.size(), 1u);
+  ASSERT_EQ(before.imageX[0], 2) << "crossed the box twice by t = 0.1 s";
+  ASSERT_EQ(grown.state.imageX.size(), grown.numBodies());
+  EXPECT_EQ(grown.state.imageX[0], before.imageX[0]) << "the pour reset the old body's image counter";
+}
+
+// A ball rolls on a mesh floor under hooke-history (its mesh spring is not zero) while a pour
+// adds a body far away: the pour must keep the mesh springs, as it keeps the plane springs and
+// the pair histories (it drops them: the ball's trajectory differs from the same run with a
+// plane floor, which a pour leaves alone).
+TEST(ReviewPour, ABatchKeepsTheMeshSprings) {
+  const std::string obj = "/tmp/tumble_review_floor_" + std::to_string(::getpid()) + ".obj";
+  {
+    std::ofstream f(obj);
+    f << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+  }
+  const Scene s = parseScene(R"(
+[scene]
+dt = 1e-4
+steps = 10
+gravity = [1.7, 0, -9.66]
+[contact]
+law = "hooke-history"
+stiffness = 2e4
+gamma_n = 100
+friction = 0.5
+[ground]
+enabled = false
+[[wall]]
+type = "mesh"
+file = ")" + obj + R"("
+stiffness = 2e4
+friction = 0.5
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.01
+mass = 0.01
+[[body]]
+shape = "ball"
+position = [-0.5, 0, 0.0099]
+[[pour]]
+shape = "ball"
+count = 3
+rate = 100
+start = 0.1
+interval = 0.01
+region = "box"
+min = [0.5, 0.5, 0.1]
+max = [0.6, 0.6, 0.2]
+)", "mesh-pour.toml");
+  std::remove(obj.c_str());
+  const Pouring pouring(s);
+  World w = pouring.worldWith(pouring.initialBodies());
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  const auto [before, grown] = firstPour(pouring, w, *p);
+  ASSERT_FALSE(before.meshContacts.empty()) << "the rolling ball's spring on the floor";
+  ASSERT_EQ(grown.state.meshContacts.size(), before.meshContacts.size()) << "the pour dropped the mesh springs";
+  for (std::size_t k = 0; k < before.meshContacts.size(); ++k) {
+    EXPECT_EQ(grown.state.meshContacts[k].particle, before.meshContacts[k].particle);
+    EXPECT_EQ(grown.state.meshContacts[k].x, before.meshContacts[k].x);
+  }
+}
