@@ -255,3 +255,43 @@ max = [0.2, 0.1, 0.3]
   }
   EXPECT_EQ(w.numBodies(), 21u);
 }
+
+// The shortest period counts the bodies at the start only (periodReach(scene) reads
+// Scene::bodies, not Scene::pourBodies): a pour of larger bodies passes the reader, runs to its
+// first batch and stops there (status 2) with the period's message, without the scene's line.
+TEST(ReviewPour, APeriodTooShortForThePouredBodiesIsRefusedAtLoad) {
+  const std::string text = R"(
+[scene]
+dt = 1e-4
+steps = 10
+[periodic]
+x = [0.0, 0.12]
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.01
+mass = 0.01
+[[shape]]
+name = "big"
+[[shape.sphere]]
+radius = 0.03
+mass = 0.1
+[[body]]
+shape = "ball"
+position = [0.05, 0.0, 0.0101]
+[[pour]]
+shape = "big"
+count = 3
+rate = 100
+start = 0.1
+region = "box"
+min = [0.0, -0.2, 0.1]
+max = [0.12, 0.2, 0.3]
+)";
+  try {
+    (void)parseScene(text, "periodic-big-pour.toml");
+    ADD_FAILURE() << "accepted: the first batch (step 1000) will refuse the period";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 6) << e.what();
+  }
+}
