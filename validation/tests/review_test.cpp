@@ -295,3 +295,43 @@ max = [0.12, 0.2, 0.3]
     EXPECT_EQ(e.line(), 6) << e.what();
   }
 }
+
+// docs/checkpoint.md: a resume with other physical parameters continues "with a warning that it
+// is not the uninterrupted run's continuation". A [[pour]] changed between the two parts (its
+// rate, velocity, start, region, seed) changes the bodies to come, yet the checkpoint's
+// fingerprints leave the pours out: the run continues silently.
+TEST(ReviewPour, ResumingWithAnotherPourWarns) {
+  const std::string head = R"(
+[scene]
+dt = 1e-4
+steps = 10
+[ground]
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.01
+mass = 0.01
+[[body]]
+shape = "ball"
+position = [0.0, 0.0, 0.0101]
+[[pour]]
+shape = "ball"
+count = 50
+interval = 0.005
+region = "box"
+min = [-0.1, -0.1, 0.05]
+max = [0.1, 0.1, 0.2]
+)";
+  const Scene a = parseScene(head + "rate = 1000\nvelocity = [0, 0, -1]\n", "a.toml");
+  const Scene b = parseScene(head + "rate = 500\nvelocity = [0, 0, -3]\n", "b.toml");
+  const Pouring pa(a), pb(b);
+  World w = pa.worldWith(pa.initialBodies());
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  pa.step(*p, w, 200, nullptr);
+  ASSERT_GT(w.numBodies(), 1u);
+  const Checkpoint ck = Checkpoint::of(w, *p);
+  std::string warning;
+  (void)ck.resume(pb.worldWith(ck.state.size()), &warning);
+  EXPECT_FALSE(warning.empty()) << "resumed with another pour without a warning";
+}
