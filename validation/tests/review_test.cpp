@@ -375,3 +375,41 @@ attempts = 100000
     }
   EXPECT_EQ(overlaps, 0u) << "deepest " << -worst << " m through the boundary";
 }
+
+// The same root cause as APourRegionCutByAPlaneRuns: a periodic pour region whose centre lies
+// outside the box (the bodies enter with their centres inside it) stops the run at the second
+// batch: "body 1: its centre x = 0.450000018 lies outside the periodic box [0, 0.4)".
+TEST(ReviewPour, APeriodicPourRegionCentredOutsideTheBoxRuns) {
+  const Scene s = parseScene(R"(
+[scene]
+dt = 1e-4
+steps = 10
+[periodic]
+x = [0.0, 0.4]
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.01
+mass = 0.01
+[[body]]
+shape = "ball"
+position = [0.05, 0.0, 0.0101]
+[[pour]]
+shape = "ball"
+count = 20
+rate = 200
+region = "box"
+min = [0.3, -0.1, 0.1]
+max = [0.6, 0.1, 0.3]
+)", "periodic-pour-off-centre.toml");
+  const Pouring pouring(s);
+  World w = pouring.worldWith(pouring.initialBodies());
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  try {
+    pouring.step(*p, w, 1000, nullptr);
+  } catch (const Error& e) {
+    ADD_FAILURE() << "at step " << p->stepCount() << ": " << e.what();
+  }
+  EXPECT_EQ(w.numBodies(), 21u);
+}
