@@ -61,17 +61,21 @@ bool SphereHash::centreInBox(Vec3f x) const {
 
 void SphereHash::add(Vec3f x, float r) {
   // Within reach of an end of a periodic box (two cells and the radius), the sphere's image one
-  // period on as well, on each axis and across the corner.
-  const auto imageShift = [&](int a, float c) {
-    if (!m_on[a]) return 0.0f;
+  // period on as well, on each axis and across the corner; in a box shorter than twice the reach
+  // a sphere may be within reach of both ends, and needs both images.
+  const auto imageShifts = [&](int a, float c, float* out) {
+    int n = 0;
+    out[n++] = 0.0f;
+    if (!m_on[a]) return n;
     const double reach = 2.0 * m_cell + r, L = m_hi[a] - m_lo[a];
-    return c - m_lo[a] < reach ? float(L) : (m_hi[a] - c < reach ? float(-L) : 0.0f);
+    if (c - m_lo[a] < reach) out[n++] = float(L);
+    if (m_hi[a] - c < reach) out[n++] = float(-L);
+    return n;
   };
-  const float ix = imageShift(0, x.x), iy = imageShift(1, x.y);
-  addOne(x, r);
-  if (ix != 0.0f) addOne(Vec3f{x.x + ix, x.y, x.z}, r);
-  if (iy != 0.0f) addOne(Vec3f{x.x, x.y + iy, x.z}, r);
-  if (ix != 0.0f && iy != 0.0f) addOne(Vec3f{x.x + ix, x.y + iy, x.z}, r);
+  float sx[3], sy[3];
+  const int nx = imageShifts(0, x.x, sx), ny = imageShifts(1, x.y, sy);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) addOne(Vec3f{x.x + sx[i], x.y + sy[j], x.z}, r);
 }
 
 void SphereHash::addOne(Vec3f x, float r) {

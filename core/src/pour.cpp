@@ -164,6 +164,13 @@ std::optional<World> Pouring::pour(const World& world, const Pipeline& pipeline)
     std::copy_n(now.groundSpringY.begin() + std::ptrdiff_t(k * np), np, st.groundSpringY.begin() + std::ptrdiff_t(k * npOut));
   }
   st.contacts = std::move(now.contacts);  // the old particles keep their indices
+  st.meshContacts = std::move(now.meshContacts);  // (particle, triangle): likewise
+  // The periods the old bodies have crossed; the new ones have crossed none.
+  for (auto [to, from] : {std::pair{&st.imageX, &now.imageX}, {&st.imageY, &now.imageY}})
+    if (!from->empty()) {
+      to->assign(out.numBodies(), 0);
+      std::copy(from->begin(), from->end(), to->begin());
+    }
   out.frame = frame;
   out.step = step;
   out.time = t;
