@@ -181,6 +181,22 @@ std::uint64_t physicsFingerprint(const Scene& s) {
       }
     }
   }
+  if (!s.pours.empty()) {  // scenes without pours keep their fingerprints
+    for (const PourDef& p : s.pours) {
+      f.add(static_cast<std::uint32_t>(p.region.kind));
+      for (const Vec3f& v : {p.region.min, p.region.max, p.region.point, p.region.axis}) f.add(v);
+      f.add(p.region.radius);
+      f.add(static_cast<std::uint64_t>(p.region.wall));
+      for (double v : {p.start, p.rate, p.interval}) f.add(v);
+      for (std::uint64_t v : {p.count, p.seed, p.attempts}) f.add(v);
+    }
+    for (const PourBody& b : s.pourBodies) {  // what each body brings in
+      f.add(b.body.shape);
+      f.add(b.body.velocity);
+      f.add(b.body.orientation);
+      f.add(b.body.angularVelocity);
+    }
+  }
   return f.value();
 }
 

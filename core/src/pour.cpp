@@ -37,7 +37,8 @@ Pouring::Pouring(const Scene& scene) : m_scene(scene) {
   double start = std::numeric_limits<double>::infinity(), interval = std::numeric_limits<double>::infinity();
   for (const PourDef& p : m_scene.pours) start = std::min(start, p.start), interval = std::min(interval, p.interval);
   const double dt = m_scene.dt;
-  m_firstStep = static_cast<std::uint64_t>(std::ceil(start / dt - 1e-9));
+  const double first = std::ceil(start / dt - 1e-9);  // (a start beyond any step: never)
+  m_firstStep = first < 1.8e19 ? static_cast<std::uint64_t>(first) : std::numeric_limits<std::uint64_t>::max();
   m_everySteps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / dt)));
 }
 
@@ -56,9 +57,11 @@ World Pouring::worldWith(std::size_t bodies) const {
                                         : m_scene.pours[0].where + ": the scene's bodies all come from [[pour]] and none "
                                           "could enter at t = 0; give the first pour start = 0 (and room), or add a "
                                           "[[body]], [[group]] or [[fill]]");
-    return withBodies(0, placed, LocalFrame{});
+    return withBodies(0, placed, LocalFrame{}, true);
   }
-  return withBodies(bodies - std::min(bodies, m_scene.bodies.size()), {}, LocalFrame{});
+  // The scene's own bodies are checked as any scene's (behind a wall, outside a periodic box);
+  // a world with poured bodies holds them where the run has them.
+  return withBodies(bodies - std::min(bodies, m_scene.bodies.size()), {}, LocalFrame{}, bodies <= m_scene.bodies.size());
 }
 
 std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std::vector<float>& x,
@@ -146,7 +149,7 @@ std::optional<World> Pouring::pour(const World& world, const Pipeline& pipeline)
   if (placed.empty()) return std::nullopt;
 
   // The world with them: the pipeline's state (as it integrates it, in its frame) and theirs.
-  World out = withBodies(first, placed, frame);
+  World out = withBodies(first, placed, frame, false);
   BodyState now;
   pipeline.readLocalState(now);
   BodyState& st = out.state;
@@ -177,7 +180,8 @@ std::optional<World> Pouring::pour(const World& world, const Pipeline& pipeline)
   return out;
 }
 
-World Pouring::withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame) const {
+World Pouring::withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame,
+                          bool checkPlacement) const {
   Scene s = m_scene;
   s.pourBodies.clear();
   for (std::size_t b = 0; b < first + placed.size(); ++b) {
@@ -187,7 +191,7 @@ World Pouring::withBodies(std::size_t first, const std::vector<Vec3f>& placed, c
                                    float(double(placed[b - first].z) + frame.z)};
     s.bodies.push_back(d);
   }
-  World out = World::fromScene(s);
+  World out = World::fromScene(s, checkPlacement);
   for (std::size_t b = 0; b < placed.size(); ++b) {  // as placed, in the frame
     const std::size_t k = s.bodies.size() - placed.size() + b;
     out.state.px[k] = placed[b].x;

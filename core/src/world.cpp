@@ -429,23 +429,25 @@ Sym3f toSym(const Eigen::Matrix3d& m) {
           static_cast<float>(m(0, 1)), static_cast<float>(m(0, 2)), static_cast<float>(m(1, 2))};
 }
 
-// The largest shapeExtent over the shapes the scene's bodies use.
+// The largest shapeExtent over the shapes the scene's bodies use (those that pour in too).
 double largestExtent(const Scene& scene) {
   std::vector<char> used(scene.shapes.size(), 0);
   for (const BodyDef& b : scene.bodies) used[b.shape] = 1;
+  for (const PourBody& b : scene.pourBodies) used[b.body.shape] = 1;
   double e = 0.0;
   for (std::size_t s = 0; s < used.size(); ++s)
     if (used[s]) e = std::max(e, shapeExtent(scene.shapes[s]));
   return e;
 }
 
-// The periodic boundaries of a scene built in code (the scene reader names the line of each).
-void checkPeriodic(const World& w, const Scene& scene) {
+// The periodic boundaries of a scene built in code (the scene reader names the line of each);
+// `placement`: the bodies' centres in the box too.
+void checkPeriodic(const World& w, const Scene& scene, bool placement) {
   const PeriodicParams& p = scene.periodic;
   for (int a = 0; a < 2; ++a)
     if (p.on[a] && !(p.lo[a] < p.hi[a] && std::isfinite(p.lo[a]) && std::isfinite(p.hi[a])))
       throw Error(std::string("periodic ") + "xy"[a] + ": the box [lo, hi) needs finite lo < hi");
-  for (std::size_t k = 0; k < scene.bodies.size(); ++k)
+  for (std::size_t k = 0; placement && k < scene.bodies.size(); ++k)
     if (const std::string why = outsidePeriodicBox(p, scene.bodies[k].position); !why.empty())
       throw Error("body " + std::to_string(k) + ": " + why);
   if (const std::string why = periodicPullProblem(p, scene.pulls.active); !why.empty()) throw Error(why);
@@ -458,7 +460,7 @@ void checkPeriodic(const World& w, const Scene& scene) {
 
 }  // namespace
 
-World World::fromScene(const Scene& scene) {
+World World::fromScene(const Scene& scene, bool checkPlacement) {
   if (scene.bodies.empty()) throw Error("scene '" + scene.name + "' has no bodies");
   if (!(scene.dt > 0.0f) || !std::isfinite(scene.dt)) throw Error("dt must be a positive number");
   World w;
@@ -589,7 +591,7 @@ World World::fromScene(const Scene& scene) {
   }
   w.sizingRadius = detail::sizingRadius(w.radius.data(), w.radius.size());
   w.maxExtent = largestExtent(scene);
-  if (scene.periodic.any()) checkPeriodic(w, scene);
+  if (scene.periodic.any()) checkPeriodic(w, scene, checkPlacement);
   if (scene.periodic.on[0]) w.state.imageX.assign(nb, 0);
   if (scene.periodic.on[1]) w.state.imageY.assign(nb, 0);
   if (scene.contact.usesMaterials()) {
@@ -626,6 +628,7 @@ World World::fromScene(const Scene& scene) {
 
   // A sphere whose centre is behind a wall would be pushed through it from the wrong side: a
   // box that does not enclose its bodies, or a plane whose normal points away from them.
+  if (!checkPlacement) return w;
   const std::vector<Wall> walls = tumble::kernelWalls(w.params, LocalFrame{});
   for (std::size_t q = scene.ground.enabled ? 1 : 0; q < walls.size(); ++q) {
     const Wall& pw = walls[q];
@@ -843,11 +846,14 @@ void unwrappedPosition(const BodyState& s, std::size_t k, const PeriodicBox& box
 PeriodReach periodReach(const Scene& scene) {
   std::vector<float> radii;
   float rMax = 0.0f;
-  for (const BodyDef& b : scene.bodies)
+  const auto add = [&](const BodyDef& b) {
     for (const SphereDef& sp : scene.shapes[b.shape].spheres) {
       radii.push_back(sp.radius);
       rMax = std::max(rMax, sp.radius);
     }
+  };
+  for (const BodyDef& b : scene.bodies) add(b);
+  for (const PourBody& b : scene.pourBodies) add(b.body);  // they enter during the run
   const float sizing = detail::sizingRadius(radii.data(), radii.size());
   return PeriodReach{largestExtent(scene), rMax, effectiveSkin(scene.broadphase.skin, sizing, rMax)};
 }
@@ -890,6 +896,9 @@ std::string periodicWallProblem(const WallDef& wall, const PeriodicParams& p) {
   if (!along || wall.length == 0.0f || wall.radius0 != wall.radius1)
     return std::string("only a cylinder whose axis lies along the periodic ") + "xy"[a] +
            " axis is the same one period on (a pipe); a cone, a disk or another axis is not";
+  if ((a == 0 ? wall.velocity.x : wall.velocity.y) != 0.0f)
+    return std::string("a pipe along the periodic ") + "xy"[a] + " axis may not move along it (it would leave the box " +
+           "uncovered): give its velocity no " + "xy"[a] + " component";
   // Its axis must cover the box and half a period beyond each end: no body reaches further.
   const double p0 = a == 0 ? wall.point.x : wall.point.y, end = p0 + (n[a] > 0.0f ? 1.0 : -1.0) * wall.length;
   const double s0 = std::min(p0, end), s1 = std::max(p0, end);

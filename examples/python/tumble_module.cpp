@@ -105,7 +105,8 @@ class Simulation {
       : m_pouring(scene), m_world(m_pouring.worldWith(m_pouring.initialBodies())), m_guarding(guard),
         m_guardEvery(guardEvery) {
     if (guardEvery < 1) throw Error("guard_every must be at least 1");
-    const std::string dtWarning = timeStepWarning(m_world);
+    const std::string dtWarning =
+        timeStepWarning(m_pouring.any() ? m_pouring.worldWith(m_pouring.finalBodies()) : m_world);
     if (!resume.is_none()) {
       const std::string from = pathOf(resume);
       const Checkpoint ck = Checkpoint::read(from);

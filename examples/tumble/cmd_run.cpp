@@ -132,7 +132,8 @@ void run(RunOptions o) {
   // Bodies that enter during the run (tumble/pour.hpp): the world grows at its batch steps.
   const Pouring pouring(scene);
   World world = pouring.worldWith(pouring.initialBodies());
-  if (const std::string w = timeStepWarning(world); !w.empty())
+  // (Of every body the run will have: the pours' too.)
+  if (const std::string w = timeStepWarning(pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world); !w.empty())
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), w.c_str());
   if (!o.resume.empty()) {
     const Checkpoint ck = Checkpoint::read(o.resume);

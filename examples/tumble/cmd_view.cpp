@@ -67,7 +67,8 @@ void view(const ViewOptions& o) {
   const Scene scene = readSceneFile(o.scene, o.sets);
   const Pouring pouring(scene);  // bodies that enter during the run ([[pour]]): the world grows
   World world = pouring.worldWith(pouring.initialBodies());
-  if (const std::string warn = timeStepWarning(world); !warn.empty())
+  if (const std::string warn = timeStepWarning(pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world);
+      !warn.empty())
     std::fprintf(stderr, "tumble view: warning: %s: %s\n", o.scene.c_str(), warn.c_str());
   PipelineOptions po;
   po.threads = o.threads;

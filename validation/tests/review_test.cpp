@@ -176,7 +176,7 @@ max = [0.24, 0.04, 0.2]
   auto p = makePipeline(Backend::Cpu);
   p->load(w);
   try {
-    pouring.step(*p, w, 7000, nullptr);
+    pouring.step(*p, w, 8100, nullptr);  // the last body is due at 0.79 s, a batch at 0.8 s
   } catch (const Error& e) {
     ADD_FAILURE() << "at step " << p->stepCount() << ": " << e.what();
   }
@@ -249,7 +249,7 @@ max = [0.2, 0.1, 0.3]
   auto p = makePipeline(Backend::Cpu);
   p->load(w);
   try {
-    pouring.step(*p, w, 1000, nullptr);
+    pouring.step(*p, w, 1101, nullptr);  // the last body is due at 0.095 s, a batch at 0.1 s or 0.11 s
   } catch (const Error& e) {
     ADD_FAILURE() << "at step " << p->stepCount() << ": " << e.what();
   }
@@ -407,7 +407,7 @@ max = [0.6, 0.1, 0.3]
   auto p = makePipeline(Backend::Cpu);
   p->load(w);
   try {
-    pouring.step(*p, w, 1000, nullptr);
+    pouring.step(*p, w, 1101, nullptr);  // the last body is due at 0.095 s, a batch at 0.1 s or 0.11 s
   } catch (const Error& e) {
     ADD_FAILURE() << "at step " << p->stepCount() << ": " << e.what();
   }

@@ -73,8 +73,9 @@ class Pouring {
                            const std::vector<float>& radius, float maxRadius, const LocalFrame& frame,
                            const std::vector<Wall>& walls, std::uint64_t step) const;
   /// The world of the initial bodies, the pour bodies before `first` (at their regions' centres)
-  /// and then the placed ones (positions in frame).
-  World withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame) const;
+  /// and then the placed ones (positions in frame); `checkPlacement`: World::fromScene()'s.
+  World withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame,
+                   bool checkPlacement) const;
 
   /// The scene's mesh walls in a frame (built at the first batch of a run that has some, and
   /// again if the frame changes).

@@ -157,8 +157,11 @@ struct World {
 
   /// Builds the tables from a scene: mass properties (SPEC §1), centres of mass, offsets u,
   /// ground damping from each particle's elasticity, L = R I0 Rᵀ ω. Throws tumble::Error on an
-  /// empty scene or invalid values (radius ≤ 0, mass ≤ 0, elasticity outside (0, 1], NaN).
-  static World fromScene(const Scene& scene);
+  /// empty scene or invalid values (radius ≤ 0, mass ≤ 0, elasticity outside (0, 1], NaN), and
+  /// with `checkPlacement` on a body whose sphere starts behind a plane wall or whose centre
+  /// lies outside a periodic box (a pour's worlds are built without: their bodies are where the
+  /// run has them, tumble/pour.hpp).
+  static World fromScene(const Scene& scene, bool checkPlacement = true);
 };
 
 /// The world expressed in frame f: body positions X − o, the ground height h − o_z, the walls'
