@@ -16,7 +16,8 @@ packages=(g++ cmake ninja-build pkg-config libtbb-dev libeigen3-dev libtomlplusp
           libgtest-dev libgmock-dev libbenchmark-dev
           libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev libpng-dev
           ffmpeg xvfb xauth xdotool gnuplot-nox fonts-dejavu-core
-          python3-dev pybind11-dev python3-numpy)
+          python3-dev pybind11-dev python3-numpy
+          openmpi-bin libopenmpi-dev)
 # What only the tests need: pytest for the Python module, VTK's reader for the export test.
 test_packages=(python3-pytest python3-vtk9)
 
