@@ -32,6 +32,7 @@ struct RunOptions {
   std::optional<std::uint64_t> steps;
   int threads = 0;
   std::string pipeline = "cpu";
+  std::string decomposition = "rcb";
   std::string record;
   std::optional<std::uint64_t> recordSteps;
   bool debug = false;
@@ -186,7 +187,7 @@ void run(RunOptions o) {
   const std::uint64_t start = world.step;
   PipelineOptions po;
   po.threads = o.threads;
-  auto pipeline = ranks.makePipeline(backendFromString(o.pipeline), po);
+  auto pipeline = ranks.makePipeline(backendFromString(o.pipeline), po, mpi::decompositionFromString(o.decomposition));
   pipeline->load(world);
   pipeline->setDebugCapture(debug && !o.record.empty());
 
@@ -448,6 +449,10 @@ void addRun(CLI::App& app) {
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores (results do not depend on it)")
       ->check(countIn(0, kMaxThreads));
   c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--decomposition", o->decomposition,
+                "Under mpirun: how the domain is cut among the ranks, rcb (recursive bisection, default) or slabs "
+                "(results do not depend on it; docs/mpi.md)")
+      ->check(CLI::IsMember({"rcb", "slabs"}));
   c->add_option("--record", o->record, "Write a recording to FILE (docs/recording.md); REC=<n_steps>[,<file>] does the same");
   c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)")
       ->check(countIn(1, kMaxSteps));

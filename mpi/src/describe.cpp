@@ -10,8 +10,9 @@ namespace tumble::mpi {
 std::string describe(const std::vector<MpiStats>& stats) {
   std::string out;
   char line[256];
-  std::snprintf(line, sizeof line, "%4s %8s %10s %8s %10s %7s %6s %13s %10s %13s %13s\n", "rank", "bodies", "particles",
-                "ghosts", "ghost part", "halo", "neigh", "halo B/step", "msgs/step", "redistrib.", "B/redistrib.");
+  std::snprintf(line, sizeof line, "%4s %8s %10s %8s %10s %7s %6s %12s %10s %11s %13s %14s %12s\n", "rank", "bodies",
+                "particles", "ghosts", "ghost part", "halo", "neigh", "halo B/step", "msgs/step", "redistrib.",
+                "B/redistrib.", "ms/redistrib.", "reads B/step");
   out += line;
   for (const MpiStats& s : stats) {
     const double steps = s.steps > 0 ? double(s.steps) : 1.0;
@@ -20,12 +21,14 @@ std::string describe(const std::vector<MpiStats>& stats) {
     // The gathers after the load: the state of the other ranks, once per redistribution.
     const double perRedistribution =
         s.redistributions > 1 ? double(s.redistributeBytes) / double(s.redistributions - 1) : 0.0;
-    std::snprintf(line, sizeof line, "%4d %8llu %10llu %8llu %10llu %6.1f%% %6llu %13.0f %10.2f %13llu %13.0f\n", s.rank,
-                  static_cast<unsigned long long>(s.ownedBodies), static_cast<unsigned long long>(s.ownedParticles),
-                  static_cast<unsigned long long>(s.ghostBodies), static_cast<unsigned long long>(s.ghostParticles),
-                  share, static_cast<unsigned long long>(s.neighbours), double(s.haloBytes) / steps,
-                  double(s.haloMessages) / steps, static_cast<unsigned long long>(s.redistributions),
-                  perRedistribution);
+    std::snprintf(line, sizeof line, "%4d %8llu %10llu %8llu %10llu %6.1f%% %6llu %12.0f %10.2f %11llu %13.0f %14.1f %12.0f\n",
+                  s.rank, static_cast<unsigned long long>(s.ownedBodies),
+                  static_cast<unsigned long long>(s.ownedParticles), static_cast<unsigned long long>(s.ghostBodies),
+                  static_cast<unsigned long long>(s.ghostParticles), share, static_cast<unsigned long long>(s.neighbours),
+                  double(s.haloBytes) / steps, double(s.haloMessages) / steps,
+                  static_cast<unsigned long long>(s.redistributions), perRedistribution,
+                  s.redistributions > 1 ? 1e3 * s.redistributeSeconds / double(s.redistributions - 1) : 0.0,
+                  double(s.readBytes) / steps);
     out += line;
   }
   return out;

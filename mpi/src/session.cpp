@@ -83,13 +83,14 @@ int Session::maxOf(int value) const {
   return value;
 }
 
-std::unique_ptr<Pipeline> Session::makePipeline(Backend backend, const PipelineOptions& options) const {
+std::unique_ptr<Pipeline> Session::makePipeline(Backend backend, const PipelineOptions& options,
+                                                Decomposition how) const {
   if (!m_active) return tumble::makePipeline(backend, options);
   if (backend != Backend::Cpu)
     throw Error(std::string("--pipeline ") + toString(backend) +
                 " under mpirun: not yet (each rank runs the CPU pipeline; one rank per GPU is planned, docs/mpi.md); "
                 "use --pipeline cpu");
-  return makeMpiPipeline(options);
+  return makeMpiPipeline(options, how);
 }
 
 #if !TUMBLE_HAS_MPI

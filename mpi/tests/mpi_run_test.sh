@@ -111,6 +111,7 @@ random_orientation = true
 spin = 5.0
 TOML
 ranks_equal "bodies crossing the boundaries at speed" "1 2 3 4" crossing.toml --skin 0.005
+ranks_equal "the same cut in slabs" "3" crossing.toml --skin 0.005 --decomposition slabs
 # The same 4 km from the origin: the run integrates in a local frame, the whole run's on every rank.
 sed -e 's/origin = \[-1.0,/origin = [4095.0,/' -e 's/origin = \[0.25,/origin = [4096.25,/' crossing.toml > far.toml
 ranks_equal "crossing far from the origin" "2 3" far.toml --skin 0.005

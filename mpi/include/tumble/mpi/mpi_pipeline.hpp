@@ -53,8 +53,9 @@ std::unique_ptr<MpiPipeline> makeMpiPipeline(const PipelineOptions& options,
                                              Decomposition how = Decomposition::Rcb);
 
 /// The table of gatherStats() that `tumble run` prints: per rank the bodies, particles, ghosts
-/// (and their share of the rank's particles), neighbours, and bytes per step and per
-/// redistribution.
+/// (and their share of the rank's particles), neighbours, the ghost rows' bytes and messages per
+/// step, the redistributions and the bytes each received, and the bytes of the collective reads
+/// (guards, outputs) per step.
 std::string describe(const std::vector<MpiStats>& stats);
 
 }  // namespace tumble::mpi

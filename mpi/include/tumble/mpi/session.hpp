@@ -9,6 +9,7 @@
 #include <memory>
 #include <utility>
 
+#include "tumble/mpi/decomposition.hpp"
 #include "tumble/pipeline.hpp"
 
 namespace tumble::mpi {
@@ -65,9 +66,10 @@ class Session {
   int maxOf(int value) const;
 
   /// The pipeline of a run: under MPI the MPI pipeline (makeMpiPipeline(): the CPU pipeline on
-  /// each rank's share of the bodies); otherwise makePipeline(backend, options). Throws
-  /// tumble::Error for the CUDA pipeline under MPI (not yet).
-  std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options) const;
+  /// each rank's share of the bodies, cut as `how` says); otherwise makePipeline(backend,
+  /// options). Throws tumble::Error for the CUDA pipeline under MPI (not yet).
+  std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options,
+                                         Decomposition how = Decomposition::Rcb) const;
 
  private:
   bool m_active = false;
