@@ -333,19 +333,22 @@ class CpuPipeline final : public HaloPipeline {
   std::uint64_t stepCount() const override { return m_world.step + m_steps; }
 
   // The hooks of a domain decomposition (HaloPipeline; tumble::mpi).
-  void readBodyRows(const std::vector<std::uint32_t>& bodies, std::vector<BodyRow>& outRows) const override {
+  void readMotion(const std::vector<std::uint32_t>& bodies, std::vector<BodyMotion>& out) const override {
     const std::vector<std::uint32_t>& at = internalBodies();
-    outRows.resize(bodies.size());
-    for (std::size_t k = 0; k < bodies.size(); ++k) outRows[k] = m_bodies[at[bodies[k]]];
+    out.resize(bodies.size());
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      const BodyRow& b = m_bodies[at[bodies[k]]];
+      out[k] = BodyMotion{b.v, b.omega, b.rot, b.x, b.q, b.l, {b.image[0], b.image[1]}};
+    }
   }
 
-  void writeBodyRows(const std::vector<std::uint32_t>& bodies, const std::vector<BodyRow>& rows) override {
+  void writeMotion(const std::vector<std::uint32_t>& bodies, const std::vector<BodyMotion>& motion) override {
     const std::vector<std::uint32_t>& at = internalBodies();
     PosRow* pos = m_pos[m_cur].data();
     m_arena.execute([&] {
       forEach(static_cast<std::uint32_t>(bodies.size()), kBodyGrain, [&](std::uint32_t k) {
         BodyRow& b = m_bodies[at[bodies[k]]];
-        const BodyRow& r = rows[k];
+        const BodyMotion& r = motion[k];
         b.v = r.v;
         b.omega = r.omega;
         b.rot = r.rot;

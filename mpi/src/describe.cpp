@@ -14,17 +14,18 @@ std::string describe(const std::vector<MpiStats>& stats) {
                 "particles", "ghosts", "ghost part", "halo", "neigh", "halo B/step", "msgs/step", "redistrib.",
                 "B/redistrib.", "ms/redistrib.", "reads B/step");
   out += line;
-  for (const MpiStats& s : stats) {
+  for (const MpiStats& r : stats) {
+    const MpiStats::Counts& s = r.counts;
     const double steps = s.steps > 0 ? double(s.steps) : 1.0;
     const double share =
-        s.ownedParticles > 0 ? 100.0 * double(s.ghostParticles) / double(s.ownedParticles) : 0.0;
+        r.ownedParticles > 0 ? 100.0 * double(r.ghostParticles) / double(r.ownedParticles) : 0.0;
     // The gathers after the load: the state of the other ranks, once per redistribution.
     const double perRedistribution =
         s.redistributions > 1 ? double(s.redistributeBytes) / double(s.redistributions - 1) : 0.0;
     std::snprintf(line, sizeof line, "%4d %8llu %10llu %8llu %10llu %6.1f%% %6llu %12.0f %10.2f %11llu %13.0f %14.1f %12.0f\n",
-                  s.rank, static_cast<unsigned long long>(s.ownedBodies),
-                  static_cast<unsigned long long>(s.ownedParticles), static_cast<unsigned long long>(s.ghostBodies),
-                  static_cast<unsigned long long>(s.ghostParticles), share, static_cast<unsigned long long>(s.neighbours),
+                  r.rank, static_cast<unsigned long long>(r.ownedBodies),
+                  static_cast<unsigned long long>(r.ownedParticles), static_cast<unsigned long long>(r.ghostBodies),
+                  static_cast<unsigned long long>(r.ghostParticles), share, static_cast<unsigned long long>(r.neighbours),
                   double(s.haloBytes) / steps, double(s.haloMessages) / steps,
                   static_cast<unsigned long long>(s.redistributions), perRedistribution,
                   s.redistributions > 1 ? 1e3 * s.redistributeSeconds / double(s.redistributions - 1) : 0.0,

@@ -14,7 +14,7 @@
 //   reads only its particles' forces. Every partner of an owned particle is local (the halo,
 //   below), and every row it reads is the one the single process has: after each step each
 //   ghost's whole row (X, V, Q, L and the Ω and R its owner's integration produced) is
-//   overwritten by its owner's (HaloPipeline::writeBodyRows), and its particles' positions
+//   overwritten by its owner's (HaloPipeline::writeMotion), and its particles' positions
 //   recomputed. A ghost's own forces may miss partners beyond the halo: they are computed and
 //   thrown away. Nothing is summed across ranks but a max, a min and integers.
 // - The halo: at a redistribution, every body with a particle inside the bounding box of a rank's
@@ -66,18 +66,6 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 /// The halo's skin s over the run's skin (design notes).
 constexpr float kHaloSkinPerSkin = 2.0f;
 constexpr int kGhostTag = 15;
-
-/// A body's motion as its owner's integration left it: the BodyRow without the pipeline's
-/// internal fields. What a ghost receives after each step.
-struct Motion {
-  Vec3f v, omega;
-  Mat3f rot;
-  Vec3f x;
-  Quatf q;
-  Vec3f l;
-  std::int32_t image[2];
-};
-static_assert(std::is_trivially_copyable_v<Motion> && sizeof(Motion) == 108, "27 words a body");
 
 /// A body's state as BodyState holds it (a redistribution's gather).
 struct BodyRecord {
@@ -203,7 +191,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     toWorld(out, m_frame);
   }
   LocalFrame frame() const override { return m_frame; }
-  void readLocalState(BodyState& out) const override { out = gatherState(m_mpi.readBytes); }
+  void readLocalState(BodyState& out) const override { out = gatherState(m_mpi.counts.readBytes); }
 
   void readLocalPositions(std::vector<float>& out) const override {
     std::vector<float> mine;
@@ -212,7 +200,7 @@ class MpiPipelineImpl final : public MpiPipeline {
       mine.reserve(3 * m_ownedParticles.size());
       for (const std::uint32_t p : m_ownedParticles) mine.insert(mine.end(), &m_buf[3 * std::size_t(p)], &m_buf[3 * std::size_t(p)] + 3);
     }
-    const std::vector<float> all = allGather(m_comm, m_size, mine, &m_mpi.readBytes);
+    const std::vector<float> all = allGather(m_comm, m_size, mine, &m_mpi.counts.readBytes);
     out.resize(3 * std::size_t(m_global.numParticles()));
     std::size_t at = 0;
     forOwnedParticles([&](std::uint32_t i) {
@@ -226,7 +214,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     if (m_local)
       for (const Pair& p : m_local->pairs())
         if (m_particleOwned[p.i]) mine.push_back(Pair{m_particleGlobal[p.i], m_particleGlobal[p.j]});
-    std::vector<Pair> all = allGather(m_comm, m_size, mine, &m_mpi.readBytes);
+    std::vector<Pair> all = allGather(m_comm, m_size, mine, &m_mpi.counts.readBytes);
     std::sort(all.begin(), all.end());  // each rank's are sorted; the keys are unique
     return all;
   }
@@ -253,7 +241,7 @@ class MpiPipelineImpl final : public MpiPipeline {
         mine.push_back(s);
       }
     }
-    const std::vector<ContactSums> all = allGather(m_comm, m_size, mine, &m_mpi.readBytes);
+    const std::vector<ContactSums> all = allGather(m_comm, m_size, mine, &m_mpi.counts.readBytes);
     out.assign(m_global.numBodies(), ContactSums{});
     std::size_t at = 0;
     for (int r = 0; r < m_size; ++r)
@@ -281,7 +269,7 @@ class MpiPipelineImpl final : public MpiPipeline {
         for (const auto& f : d.force) mine.insert(mine.end(), &f[3 * std::size_t(p)], &f[3 * std::size_t(p)] + 3);
       }
     }
-    const std::vector<float> all = allGather(m_comm, m_size, mine, &m_mpi.readBytes);
+    const std::vector<float> all = allGather(m_comm, m_size, mine, &m_mpi.counts.readBytes);
     const std::size_t n = m_global.numParticles();
     out.v.resize(3 * n);
     for (auto& f : out.force) f.resize(3 * n);
@@ -317,21 +305,14 @@ class MpiPipelineImpl final : public MpiPipeline {
     m_before = StepStats{};
     if (m_local) m_local->resetStats();
     m_statsFrom = m_steps;
-    const MpiStats shares = m_mpi;  // the decomposition stays; its counters start again
-    m_mpi = MpiStats{};
-    m_mpi.rank = m_rank;
-    m_mpi.ownedBodies = shares.ownedBodies;
-    m_mpi.ownedParticles = shares.ownedParticles;
-    m_mpi.ghostBodies = shares.ghostBodies;
-    m_mpi.ghostParticles = shares.ghostParticles;
-    m_mpi.neighbours = shares.neighbours;
+    m_mpi.counts = MpiStats::Counts{};  // the decomposition stays
   }
   double time() const override { return m_time; }
   std::uint64_t stepCount() const override { return m_step0 + m_steps; }
 
   std::vector<MpiStats> gatherStats() const override {
     MpiStats mine = m_mpi;
-    mine.steps = m_steps - m_statsFrom;
+    mine.counts.steps = m_steps - m_statsFrom;
     std::vector<MpiStats> all(static_cast<std::size_t>(m_size));
     MPI_Allgather(&mine, sizeof(MpiStats), MPI_BYTE, all.data(), sizeof(MpiStats), MPI_BYTE, m_comm);
     return all;
@@ -341,8 +322,8 @@ class MpiPipelineImpl final : public MpiPipeline {
   void stepOnce() {
     if (m_needRedistribute) {
       const auto t0 = Clock::now();
-      redistribute(gatherState(m_mpi.redistributeBytes));
-      m_mpi.redistributeSeconds += since(t0);
+      redistribute(gatherState(m_mpi.counts.redistributeBytes));
+      m_mpi.counts.redistributeSeconds += since(t0);
     }
     StepReduce mine{0.0f, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, 0,
                     std::numeric_limits<std::int64_t>::max(), 0};
@@ -376,18 +357,18 @@ class MpiPipelineImpl final : public MpiPipeline {
       }
     }
     mine.failed = failure ? 1 : 0;
-    m_mpi.stepSeconds += since(t0);
+    m_mpi.counts.stepSeconds += since(t0);
     t0 = Clock::now();
     StepReduce all{};
     MPI_Allreduce(&mine, &all, 1, m_reduceType, m_reduceOp, m_comm);
-    m_mpi.reduceBytes += sizeof(StepReduce);
+    m_mpi.counts.reduceBytes += sizeof(StepReduce);
     if (all.failed) detail::agree(m_comm, failure);
     if (all.bad != std::numeric_limits<std::int64_t>::max()) {
       const auto particle = static_cast<std::uint32_t>(all.bad);
       throw SimulationError(divergenceMessage(m_global, stepCount(), particle), all.bad);
     }
     exchangeGhosts();
-    m_mpi.exchangeSeconds += since(t0);
+    m_mpi.counts.exchangeSeconds += since(t0);
     ++m_steps;
     m_time += m_global.params.dt;
     if (m_debug) m_hasDebug = true;
@@ -406,20 +387,14 @@ class MpiPipelineImpl final : public MpiPipeline {
   // ghost has one writer).
   void exchangeGhosts() {
     if (!m_local) return;  // no bodies, so no ghosts and nothing to send
-    std::vector<BodyRow> rows;
-    m_local->readBodyRows(m_sendAll, rows);
-    m_sendBuf.resize(rows.size());
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      const BodyRow& b = rows[k];
-      m_sendBuf[k] = Motion{b.v, b.omega, b.rot, b.x, b.q, b.l, {b.image[0], b.image[1]}};
-    }
+    m_local->readMotion(m_sendAll, m_sendBuf);
     m_recvBuf.resize(m_recvAll.size());
     std::vector<MPI_Request> requests;
     for (int r = 0; r < m_size; ++r) {
       const std::size_t a = m_recvOffsets[std::size_t(r)], e = m_recvOffsets[std::size_t(r) + 1];
       if (e > a) {
         requests.emplace_back();
-        MPI_Irecv(&m_recvBuf[a], static_cast<int>((e - a) * sizeof(Motion)), MPI_BYTE, r, kGhostTag, m_comm,
+        MPI_Irecv(&m_recvBuf[a], static_cast<int>((e - a) * sizeof(cpu::BodyMotion)), MPI_BYTE, r, kGhostTag, m_comm,
                   &requests.back());
       }
     }
@@ -427,28 +402,14 @@ class MpiPipelineImpl final : public MpiPipeline {
       const std::size_t a = m_sendOffsets[std::size_t(r)], e = m_sendOffsets[std::size_t(r) + 1];
       if (e > a) {
         requests.emplace_back();
-        MPI_Isend(&m_sendBuf[a], static_cast<int>((e - a) * sizeof(Motion)), MPI_BYTE, r, kGhostTag, m_comm,
+        MPI_Isend(&m_sendBuf[a], static_cast<int>((e - a) * sizeof(cpu::BodyMotion)), MPI_BYTE, r, kGhostTag, m_comm,
                   &requests.back());
-        m_mpi.haloBytes += (e - a) * sizeof(Motion);
-        ++m_mpi.haloMessages;
+        m_mpi.counts.haloBytes += (e - a) * sizeof(cpu::BodyMotion);
+        ++m_mpi.counts.haloMessages;
       }
     }
     MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-    if (m_recvAll.empty()) return;
-    rows.resize(m_recvAll.size());
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      const Motion& m = m_recvBuf[k];
-      BodyRow& b = rows[k];
-      b.v = m.v;
-      b.omega = m.omega;
-      b.rot = m.rot;
-      b.x = m.x;
-      b.q = m.q;
-      b.l = m.l;
-      b.image[0] = m.image[0];
-      b.image[1] = m.image[1];
-    }
-    m_local->writeBodyRows(m_recvAll, rows);
+    if (!m_recvAll.empty()) m_local->writeMotion(m_recvAll, m_recvBuf);
   }
 
   // Calls f(i) for every particle (scene index) in the order the ranks' gathers hold them: rank
@@ -598,7 +559,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     m_mpi.ghostBodies = local.size() - m_owned.size();
     m_mpi.ownedParticles = m_ownedParticles.size();
     m_mpi.ghostParticles = m_particleGlobal.size() - m_ownedParticles.size();
-    ++m_mpi.redistributions;
+    ++m_mpi.counts.redistributions;
 
     // The local pipeline on the new world (a resume from `state`), its counters kept.
     if (m_local) m_before.add(m_local->stats());
@@ -732,7 +693,7 @@ class MpiPipelineImpl final : public MpiPipeline {
   mutable MpiStats m_mpi;
 
   mutable std::vector<float> m_buf;
-  std::vector<Motion> m_sendBuf, m_recvBuf;
+  std::vector<cpu::BodyMotion> m_sendBuf, m_recvBuf;
 };
 
 }  // namespace

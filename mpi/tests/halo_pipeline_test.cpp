@@ -35,12 +35,12 @@ TEST(HaloPipelineTest, RowsWrittenBackChangeNoBit) {
   auto p = cpu::makeCpuHaloPipeline(o);
   p->load(w);
   const std::vector<std::uint32_t> bodies = allBodies(w);
-  std::vector<BodyRow> rows;
+  std::vector<cpu::BodyMotion> rows;
   std::uint64_t touching = 0;
   for (std::uint64_t s = 0; s < steps; ++s) {
     p->step(1);
-    p->readBodyRows(bodies, rows);
-    p->writeBodyRows(bodies, rows);
+    p->readMotion(bodies, rows);
+    p->writeMotion(bodies, rows);
     const std::uint64_t counted = p->contactsOf(bodies);
     ASSERT_EQ(counted, 2 * p->stats().numPairs) << "step " << s + 1 << ": each contact from both sides";
     touching += counted;
@@ -66,14 +66,14 @@ TEST(HaloPipelineTest, RowsThatJumpRebuildTheList) {
   auto a = cpu::makeCpuHaloPipeline(o);
   a->load(w);
   a->step(100);
-  std::vector<BodyRow> later;
-  a->readBodyRows(bodies, later);
+  std::vector<cpu::BodyMotion> later;
+  a->readMotion(bodies, later);
   // b's list is built at the start; its rows then jump 99 steps on (0.25 m at 2.5 m/s), farther
   // than the skin: its next step must rebuild the list, or it misses contacts.
   auto b = cpu::makeCpuHaloPipeline(o);
   b->load(w);
   b->step(1);
-  b->writeBodyRows(bodies, later);
+  b->writeMotion(bodies, later);
   ASSERT_GT(a->stats().numPairs, 0u);
   a->step(50);
   b->step(50);

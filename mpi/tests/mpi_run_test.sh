@@ -63,6 +63,10 @@ offset = [0.0, 0.0, 0.0]
 radius = 0.05
 mass = 0.3
 elasticity = 0.6'
+# [scene] NAME, dt, steps on a ground at z = 0, with the ball.
+scene_head() {
+  printf '[scene]\nname = "%s"\ndt = %s\nsteps = %s\n[ground]\nheight = 0.0\nfriction = 0.5\n%s\n' "$1" "$2" "$3" "$ball"
+}
 # Two clouds of balls and dumbbells flying into each other at 5 m/s each across the middle of
 # the domain, where the first cut falls: they cross the rank boundaries at speed.
 cat > crossing.toml <<TOML
@@ -119,7 +123,7 @@ ranks_equal "crossing far from the origin" "2 3" far.toml --skin 0.005
 # A rod of 41 spheres 2.1 m long spinning on the ground, balls raining on it: its particles lie
 # on every rank's side of the cuts, its owner sums them all.
 {
-  printf '[scene]\nname = "rod"\ndt = 2e-4\nsteps = 600\n[ground]\nheight = 0.0\nfriction = 0.5\n%s\n' "$ball"
+  scene_head rod 2e-4 600
   printf '[[shape]]\nname = "rod"\n'
   for k in $(seq -20 20); do
     printf '[[shape.sphere]]\noffset = [%s, 0.0, 0.0]\nradius = 0.05\nmass = 0.1\nelasticity = 0.5\n' "$(awk -v k="$k" 'BEGIN { printf "%.2f", k * 0.05 }')"
@@ -133,14 +137,9 @@ owners=$(awk '/^ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+/ {print $2}' out.txt | 
 [ -n "$owners" ] && ok "rod: bodies per rank $owners" || bad "rod: no rank table in $(cat out.txt)"
 
 # Three bodies on four ranks: one rank owns nothing, steps, gathers and writes with the others.
-cat > three.toml <<TOML
-[scene]
-name = "three"
-dt = 2e-4
-steps = 500
-[ground]
-height = 0.0
-$ball
+{
+  scene_head three 2e-4 500
+  cat <<TOML
 [[body]]
 shape = "ball"
 position = [-0.3, 0.0, 0.3]
@@ -153,44 +152,30 @@ velocity = [-2.0, 0.0, 0.0]
 shape = "ball"
 position = [0.0, 0.4, 0.05]
 TOML
+} > three.toml
 ranks_equal "an empty rank" "4" three.toml --skin 0.002
 mpi 4 run three.toml --threads 1 >out.txt 2>err.txt
 empty=$(awk '/^ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+/ && $2 == 0' out.txt | wc -l)
 [ "$empty" = 1 ] && ok "three bodies on four ranks: one rank without bodies" || bad "no empty rank in $(cat out.txt)"
 
-# Balls 0.1 m in radius on a touching lattice (spacing 0.2), 5 x 7 x 2 (70 bodies): the cut
-# along y falls inside the middle row, between balls at the same y.
-cat > lattice.toml <<TOML
-[scene]
-name = "lattice"
-dt = 2e-4
-steps = 400
-[ground]
-height = 0.0
-[[shape]]
-name = "big"
-[[shape.sphere]]
-offset = [0.0, 0.0, 0.0]
-radius = 0.1
-mass = 1.0
-elasticity = 0.5
+# Balls on a touching lattice (spacing 2 r), 5 x 7 x 2 (70 bodies): the cut along y falls inside
+# the middle row, between balls at the same y.
+{
+  scene_head lattice 2e-4 400
+  cat <<TOML
 [[group]]
-shape = "big"
+shape = "ball"
 count = [5, 7, 2]
-spacing = 0.2
-origin = [0.0, 0.0, 0.1]
+spacing = 0.1
+origin = [0.0, 0.0, 0.05]
 TOML
-ranks_equal "a rank boundary exactly on a particle" "2 3" lattice.toml --skin 0.002
+} > lattice.toml
+ranks_equal "a rank boundary exactly on a particle" "2 3" lattice.toml --skin 0.001
 
 # Bodies poured in during the run (the world grows; every rank reloads).
-cat > pour.toml <<TOML
-[scene]
-name = "pour"
-dt = 2e-4
-steps = 600
-[ground]
-height = 0.0
-$ball
+{
+  scene_head pour 2e-4 600
+  cat <<TOML
 [[pour]]
 shape = "ball"
 count = 80
@@ -201,6 +186,7 @@ min = [-0.3, -0.3, 0.1]
 max = [0.3, 0.3, 0.5]
 velocity = [0, 0, -1]
 TOML
+} > pour.toml
 ranks_equal "a pour" "2 3" pour.toml --skin 0.005
 
 # --- Outputs: a debug recording, the time series, checkpoints; continuing on the other side.

@@ -17,25 +17,28 @@
 
 namespace tumble::mpi {
 
-/// One rank's share of the work and of the communication, since load() or resetStats().
+/// One rank's share of the work and of the communication.
 struct MpiStats {
   int rank = 0;
-  /// Redistributions of the bodies (the load included): the state gathered on every rank, the
-  /// domain cut afresh and each rank's world loaded (docs/mpi.md#rebuilds-migration-and-rebalancing).
-  std::uint64_t redistributions = 0;
   /// At the last redistribution: the bodies and particles this rank owns, and its ghosts.
   std::uint64_t ownedBodies = 0, ownedParticles = 0, ghostBodies = 0, ghostParticles = 0;
   /// Neighbour ranks it sends ghost rows to at the last redistribution.
   std::uint64_t neighbours = 0;
-  std::uint64_t steps = 0;
-  std::uint64_t haloBytes = 0;          ///< ghost rows sent after the steps (108 bytes a body)
-  std::uint64_t haloMessages = 0;       ///< point-to-point messages of those
-  std::uint64_t reduceBytes = 0;        ///< this rank's part of the per-step reductions
-  std::uint64_t redistributeBytes = 0;  ///< state this rank received in the redistributions' gathers
-  std::uint64_t readBytes = 0;          ///< state received by the collective reads (guards, outputs)
-  double stepSeconds = 0.0;             ///< in its CPU pipeline
-  double exchangeSeconds = 0.0;         ///< in the per-step reduction and ghost exchange (waits included)
-  double redistributeSeconds = 0.0;
+  /// Since load() or resetStats().
+  struct Counts {
+    /// Redistributions of the bodies (the load included): the state gathered on every rank, the
+    /// domain cut afresh and each rank's world loaded (docs/mpi.md#rebuilds-migration-and-rebalancing).
+    std::uint64_t redistributions = 0;
+    std::uint64_t steps = 0;
+    std::uint64_t haloBytes = 0;          ///< ghost rows sent after the steps (108 bytes a body)
+    std::uint64_t haloMessages = 0;       ///< point-to-point messages of those
+    std::uint64_t reduceBytes = 0;        ///< this rank's part of the per-step reductions
+    std::uint64_t redistributeBytes = 0;  ///< state this rank received in the redistributions' gathers
+    std::uint64_t readBytes = 0;          ///< state received by the collective reads (guards, outputs)
+    double stepSeconds = 0.0;             ///< in its CPU pipeline
+    double exchangeSeconds = 0.0;         ///< in the per-step reduction and ghost exchange (waits included)
+    double redistributeSeconds = 0.0;
+  } counts;
 };
 
 /// The MPI pipeline. Backend::Cpu (the pipeline each rank runs).
