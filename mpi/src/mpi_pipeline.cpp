@@ -509,11 +509,12 @@ class MpiPipelineImpl final : public MpiPipeline {
     // The halo's reach: every particle within 2 r_max + s of one of the rank's, and a margin for
     // the rounding of the positions compared (1e-3 of that, and 8 ulp of the largest coordinate).
     double largest = 0.0;
-    for (float v : pos) {
-      if (!std::isfinite(v))
-        throw SimulationError("step " + std::to_string(stepCount()) +
-                              ": a body's state is not finite; the MPI pipeline cannot cut the domain");
-      largest = std::max(largest, std::abs(double(v)));
+    for (std::size_t c = 0; c < pos.size(); ++c) {
+      if (!std::isfinite(pos[c])) {  // as the pipeline's detection says it (the first such particle)
+        const auto i = static_cast<std::uint32_t>(c / 3);
+        throw SimulationError(divergenceMessage(m_global, stepCount(), i), i);
+      }
+      largest = std::max(largest, std::abs(double(pos[c])));
     }
     const double reach = (2.0 * double(g.maxRadius) + double(m_haloSkin)) * (1.0 + 1e-3) + 1e-6 * largest;
     const std::vector<int> owner = decompose(centres, g.numParticlesOf, m_size, m_how);
