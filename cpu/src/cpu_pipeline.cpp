@@ -75,7 +75,7 @@ struct StepTotals {
   std::uint64_t contacts = 0;
 };
 
-class CpuPipeline final : public Pipeline {
+class CpuPipeline final : public HaloPipeline {
  public:
   explicit CpuPipeline(const PipelineOptions& o)
       : m_arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic), m_reorder(o.reorder) {}
@@ -369,7 +369,103 @@ class CpuPipeline final : public Pipeline {
   double time() const override { return m_time; }
   std::uint64_t stepCount() const override { return m_world.step + m_steps; }
 
+  // The hooks of a domain decomposition (HaloPipeline; tumble::mpi).
+  void readMotion(const std::vector<std::uint32_t>& bodies, std::vector<BodyMotion>& out) const override {
+    const std::vector<std::uint32_t>& at = internalBodies();
+    out.resize(bodies.size());
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      const BodyRow& b = m_bodies[at[bodies[k]]];
+      out[k] = BodyMotion{b.v, b.omega, b.rot, b.x, b.q, b.l, {b.image[0], b.image[1]}};
+    }
+  }
+
+  void writeMotion(const std::vector<std::uint32_t>& bodies, const std::vector<BodyMotion>& motion) override {
+    const std::vector<std::uint32_t>& at = internalBodies();
+    PosRow* pos = m_pos[m_cur].data();
+    m_arena.execute([&] {
+      forEach(static_cast<std::uint32_t>(bodies.size()), kBodyGrain, [&](std::uint32_t k) {
+        BodyRow& b = m_bodies[at[bodies[k]]];
+        const BodyMotion& r = motion[k];
+        b.v = r.v;
+        b.omega = r.omega;
+        b.rot = r.rot;
+        b.x = r.x;
+        b.q = r.q;
+        b.l = r.l;
+        b.image[0] = r.image[0];
+        b.image[1] = r.image[1];
+        if (m_clumps)
+          bodyParticles<true>(b, m_own.data(), m_radius.data(), nullptr, pos, nullptr);
+        else
+          bodyParticles<false>(b, m_own.data(), m_radius.data(), nullptr, pos, nullptr);
+      });
+    });
+    if (m_steps == 0) return;  // the first step rebuilds anyway
+    // The skin test of the step just taken, again, on the positions as they are now.
+    const std::uint32_t n = m_world.numParticles();
+    const Drift d = m_arena.execute([&] {
+      return tbb::parallel_reduce(
+          tbb::blocked_range<std::uint32_t>(0, n, kGrain), noDrift(),
+          [&](const auto& rg, Drift acc) {
+            for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
+              const PosRow& a = m_buildPos[i];
+              if (m_periodic.axes != 0) {
+                const Vec3f dx = periodicDifference(m_periodic, Vec3f{pos[i].x, pos[i].y, pos[i].z}, Vec3f{a.x, a.y, a.z});
+                addDisplacement(acc, dx.x, dx.y, dx.z);
+              } else {
+                addDisplacement(acc, pos[i].x - a.x, pos[i].y - a.y, pos[i].z - a.z);
+              }
+            }
+            return acc;
+          },
+          [](Drift x, const Drift& y) {
+            mergeDrift(x, y);  // min and max: exact in any order
+            return x;
+          });
+    });
+    decideList(d);
+  }
+
+  std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const override {
+    if (m_steps == 0) return 0;
+    const std::vector<std::uint32_t>& at = internalBodies();
+    const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
+    const CandidateListView list = contactListView();
+    std::uint64_t total = 0;
+    for (const std::uint32_t body : bodies) {
+      const BodyRow& b = m_bodies[at[body]];
+      for (std::uint32_t p = b.first; p < b.first + b.count; ++p) {
+        if (m_touching[p] < 255) {  // the count, unless capped
+          total += m_touching[p];
+          continue;
+        }
+        const PosRow pi = pos[p];
+        for (std::uint32_t e = list.begin[p]; e < list.end[p]; ++e) {
+          const PosRow pj = pos[list.cand[e]];
+          total += spheresOverlap(m_periodic, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r) ? 1u : 0u;
+        }
+      }
+    }
+    return total;
+  }
+
  private:
+  // Scene index → internal index of every body (the hooks' names for bodies).
+  const std::vector<std::uint32_t>& internalBodies() const {
+    m_internal.resize(m_bodies.size());
+    for (std::uint32_t k = 0; k < m_bodies.size(); ++k) m_internal[m_bodies[k].orig] = k;
+    return m_internal;
+  }
+
+  // After a step's skin test (the drift of every particle since the reference of the list the
+  // step read): whether the next step rebuilds the candidate list or refreshes the near list.
+  void decideList(const Drift& drift) {
+    const float closure = closureFor(drift);
+    m_needRebuild = !(m_closed + double(closure) < double(m_fullLimit));
+    m_needRefresh = m_nearSkin > 0.0f && !(closure < m_nearLimit);
+    m_lastClosure = closure;
+  }
+
   void stepOnce() {
     double* sec = m_stats.seconds;
     if (m_wallsMove) setWallMotion(m_planes, m_world.params, m_time);
@@ -390,10 +486,7 @@ class CpuPipeline final : public Pipeline {
     }
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
-    const float closure = closureFor(tot.drift);
-    m_needRebuild = !(m_closed + double(closure) < double(m_fullLimit));
-    m_needRefresh = m_nearSkin > 0.0f && !(closure < m_nearLimit);
-    m_lastClosure = closure;
+    decideList(tot.drift);
     sec[int(Phase::Forces)] += since(t0);
 
     ++m_steps;
@@ -1065,6 +1158,7 @@ class CpuPipeline final : public Pipeline {
   mutable std::vector<PairChunk> m_pairChunks;  // pairs() scratch
   mutable std::vector<std::uint32_t> m_pairI, m_pairJ, m_pairSortedI, m_pairSortedJ;
   mutable std::vector<std::byte> m_pairTemp;
+  mutable std::vector<std::uint32_t> m_internal;  // internalBodies() scratch
 
   StepStats m_stats;
   std::uint32_t m_pulls = 0;
@@ -1077,6 +1171,10 @@ class CpuPipeline final : public Pipeline {
 }  // namespace
 
 std::unique_ptr<Pipeline> makeCpuPipeline(const PipelineOptions& options) {
+  return std::make_unique<CpuPipeline>(options);
+}
+
+std::unique_ptr<HaloPipeline> makeCpuHaloPipeline(const PipelineOptions& options) {
   return std::make_unique<CpuPipeline>(options);
 }
 

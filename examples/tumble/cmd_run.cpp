@@ -16,6 +16,8 @@
 #include "tumble/checkpoint.hpp"
 #include "tumble/thermo.hpp"
 #include "tumble/guard.hpp"
+#include "tumble/mpi/mpi_pipeline.hpp"
+#include "tumble/mpi/session.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/pour.hpp"
 #include "tumble/recording.hpp"
@@ -30,6 +32,7 @@ struct RunOptions {
   std::optional<std::uint64_t> steps;
   int threads = 0;
   std::string pipeline = "cpu";
+  std::string decomposition = "rcb";
   std::string record;
   std::optional<std::uint64_t> recordSteps;
   bool debug = false;
@@ -102,7 +105,16 @@ void checkContinues(const RecordingWriter& rec, std::uint64_t start, std::uint64
                 ": it does not continue there; record the resumed run to another file");
 }
 
-void run(RunOptions o) {
+// What a run starts from: the scene with the command line's overrides, its pours, and the world
+// to load (the checkpoint's on --resume).
+struct Start {
+  Scene scene;
+  std::shared_ptr<const Pouring> pouring;  // (not copied: it caches the meshes of its scene)
+  World world;
+};
+
+Start prepare(RunOptions& o) {
+  const bool prints = mpi::session().writes();
   applyRecEnv(o);
   Scene scene = readSceneFile(o.scene, o.sets);
   if (o.steps) scene.steps = *o.steps;
@@ -121,19 +133,19 @@ void run(RunOptions o) {
   if (o.checkpointEvery && o.checkpoint.empty()) throw Error("--checkpoint-every N needs --checkpoint FILE");
   if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;
   if (!o.recordSteps && scene.recordSteps > 0) o.recordSteps = scene.recordSteps;
-  const bool debug = o.debug || scene.recordDebug;
   if (o.thermo.empty()) o.thermo = scene.thermoFile;
-  const std::uint64_t thermoEvery = o.thermoEvery.value_or(scene.thermoEvery);
   // --resume may name the --checkpoint file (a run that goes on checkpointing into it).
   refuseSameFile({{"--record", o.record}, {"--thermo", o.thermo}, {"--checkpoint", o.checkpoint},
                   {"--state-out", o.stateOut}, {"scene", o.scene}});
   refuseSameFile({{"--resume", o.resume}, {"--record", o.record}, {"--thermo", o.thermo}, {"--state-out", o.stateOut}});
 
   // Bodies that enter during the run (tumble/pour.hpp): the world grows at its batch steps.
-  const Pouring pouring(scene);
+  const auto pouringOf = std::make_shared<const Pouring>(scene);
+  const Pouring& pouring = *pouringOf;
   World world = pouring.worldWith(pouring.initialBodies());
   // (Of every body the run will have: the pours' too.)
-  if (const std::string w = timeStepWarning(pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world); !w.empty())
+  if (const std::string w = timeStepWarning(pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world);
+      !w.empty() && prints)
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), w.c_str());
   if (!o.resume.empty()) {
     const Checkpoint ck = Checkpoint::read(o.resume);
@@ -148,23 +160,46 @@ void run(RunOptions o) {
     } catch (const Error& e) {
       throw Error(o.resume + ": cannot resume " + o.scene + ": " + e.what());
     }
-    if (!warning.empty()) std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.resume.c_str(), warning.c_str());
+    if (!warning.empty() && prints) std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.resume.c_str(), warning.c_str());
     if (ck.step >= scene.steps)
       throw Error(o.resume + ": the checkpoint is at step " + std::to_string(ck.step) + " and the run ends at step " +
                   std::to_string(scene.steps) + ": nothing to do (--steps N sets the step to run to)");
   }
+  return Start{std::move(scene), pouringOf, std::move(world)};
+}
+
+void run(RunOptions o) {
+  // Under mpirun (docs/mpi.md) every rank runs this with the same input: the collective calls
+  // (the pipeline's, the guards', the reads) fall in the same order on every rank; rank 0 alone
+  // writes the outputs and prints, and each write is agreed (a failure ends every rank with its
+  // message and status).
+  const mpi::Session& ranks = mpi::session();
+  const bool writes = ranks.writes();
+  auto onWriter = [&](auto&& write) {
+    ranks.together([&] {
+      if (writes) write();
+    });
+  };
+  std::optional<Start> input;
+  ranks.together([&] { input.emplace(prepare(o)); });  // the same files on every rank, or one message
+  const Scene& scene = input->scene;
+  const Pouring& pouring = *input->pouring;
+  World& world = input->world;
+  const bool debug = o.debug || scene.recordDebug;
+  const std::uint64_t thermoEvery = o.thermoEvery.value_or(scene.thermoEvery);
   const std::uint64_t start = world.step;
   PipelineOptions po;
   po.threads = o.threads;
-  auto pipeline = makePipeline(backendFromString(o.pipeline), po);
+  auto pipeline = ranks.makePipeline(backendFromString(o.pipeline), po, mpi::decompositionFromString(o.decomposition));
   pipeline->load(world);
   pipeline->setDebugCapture(debug && !o.record.empty());
 
-  const bool tty = isatty(fileno(stderr)) && !o.quiet;
-  if (!o.quiet) {
-    std::fprintf(stderr, "tumble run: %s — %u bodies, %u particles, %llu steps of %g s, pipeline %s\n",
+  const bool tty = isatty(fileno(stderr)) && !o.quiet && writes;
+  if (!o.quiet && writes) {
+    const std::string on = ranks.active() ? " on " + std::to_string(ranks.size()) + " MPI ranks" : "";
+    std::fprintf(stderr, "tumble run: %s — %u bodies, %u particles, %llu steps of %g s, pipeline %s%s\n",
                  scene.name.c_str(), world.numBodies(), world.numParticles(),
-                 static_cast<unsigned long long>(scene.steps), scene.dt, toString(pipeline->backend()));
+                 static_cast<unsigned long long>(scene.steps), scene.dt, toString(pipeline->backend()), on.c_str());
     if (start > 0)
       std::fprintf(stderr, "tumble run: resuming at step %llu (t = %.9g s) from %s\n",
                    static_cast<unsigned long long>(start), world.time, o.resume.c_str());
@@ -175,23 +210,28 @@ void run(RunOptions o) {
   // SIGINT / SIGTERM from here on stop the run like a guard trip (stop_signal.hpp): the loop ends
   // after the steps under way, the recording is finished, a --checkpoint written.
   const StopOnSignal stopOnSignal(/*restart=*/true);
-  std::unique_ptr<RecordingWriter> rec;
+  std::unique_ptr<RecordingWriter> rec;  // rank 0's
   const std::uint64_t recSteps = o.recordSteps ? std::min<std::uint64_t>(*o.recordSteps, scene.steps) : scene.steps;
   const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
+  const bool recording = !o.record.empty() && start < recSteps;
   BodyState state;
   ParticleDebug dbg;
-  if (!o.record.empty() && start < recSteps) {
-    // With pours the recording's table holds every body that may enter, each frame those present.
-    const World& table = pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world;
-    if (start == 0) {
-      rec = std::make_unique<RecordingWriter>(o.record, table, debug, static_cast<int>(perFrame), 60.0f, pouring.any());
-    } else {
-      rec = RecordingWriter::continueAt(o.record, table, debug, static_cast<int>(perFrame), start, 60.0f, pouring.any());
-      if (rec->numFrames() > 0) checkContinues(*rec, start, recSteps, perFrame, debug);
-    }
+  if (recording) {
+    onWriter([&] {
+      // With pours the recording's table holds every body that may enter, each frame those present.
+      const World& table = pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world;
+      if (start == 0) {
+        rec = std::make_unique<RecordingWriter>(o.record, table, debug, static_cast<int>(perFrame), 60.0f, pouring.any());
+      } else {
+        rec = RecordingWriter::continueAt(o.record, table, debug, static_cast<int>(perFrame), start, 60.0f, pouring.any());
+        if (rec->numFrames() > 0) checkContinues(*rec, start, recSteps, perFrame, debug);
+      }
+    });
     pipeline->readState(state);
     // The first frame of a new recording: the initial state (debug frames start after a step).
-    if (rec->numFrames() == 0 && !debug) rec->writeFrame(start, pipeline->time(), pipeline->pulls(), state);
+    onWriter([&] {
+      if (rec->numFrames() == 0 && !debug) rec->writeFrame(start, pipeline->time(), pipeline->pulls(), state);
+    });
   }
 
   // Guards (docs/model.md#guards): checked every guardEvery steps and before every frame and
@@ -199,16 +239,31 @@ void run(RunOptions o) {
   // and --thermo the guard still measures, every thermoEvery steps, and never stops the run.
   std::optional<RunGuard> guard;
   const bool guarding = !o.noGuard;
-  std::unique_ptr<ThermoWriter> thermo;
-  if (guarding || !o.thermo.empty()) {
+  std::unique_ptr<ThermoWriter> thermo;  // rank 0's
+  const bool thermoOn = !o.thermo.empty();
+  if (guarding || thermoOn) {
     guard.emplace(world, *pipeline);
-    if (guarding && start == 0 && !guard->initialWarning().empty())
+    if (guarding && start == 0 && !guard->initialWarning().empty() && writes)
       std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), guard->initialWarning().c_str());
   }
-  if (!o.thermo.empty()) {
-    thermo = std::make_unique<ThermoWriter>(o.thermo);
-    thermo->write(guard->sample());  // the state at the start (of the resumed part: its step)
-  }
+  if (thermoOn) onWriter([&] {
+      thermo = std::make_unique<ThermoWriter>(o.thermo);
+      thermo->write(guard->sample());  // the state at the start (of the resumed part: its step)
+    });
+  // A write of the loop, agreed: true when rank 0 gave it up at a stop (a pipe nobody reads:
+  // StopOnSignal gave it kWriteGraceSeconds), and the run then stops as interrupted, without it.
+  auto writeOrGiveUp = [&](auto&& write) {
+    bool givenUp = false;
+    onWriter([&] {
+      try {
+        write();
+      } catch (const Error&) {
+        if (!writeStopRequested() || g_stopSignal == 0) throw;
+        givenUp = true;
+      }
+    });
+    return ranks.maxOf(givenUp ? 1 : 0) != 0;
+  };
   const std::uint64_t guardEvery = o.guardEvery.value_or(kDefaultGuardEvery);
   const std::uint64_t ckEvery = o.checkpointEvery.value_or(0);
 
@@ -220,30 +275,25 @@ void run(RunOptions o) {
   bool frameCut = false;            // a frame's write was given up at a stop
   bool thermoCut = false;           // a time-series row's write was given up at a stop
   try {
-    while (done < scene.steps && g_stopSignal == 0) {
+    while (done < scene.steps && ranks.maxOf(g_stopSignal) == 0) {  // a signal any rank saw
       std::uint64_t chunk = scene.steps - done;
-      if (rec && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
+      if (recording && done < recSteps) chunk = std::min(chunk, perFrame - done % perFrame);
       if (guarding) chunk = std::min(chunk, guardEvery - done % guardEvery);
-      if (thermo) chunk = std::min(chunk, thermoEvery - done % thermoEvery);
+      if (thermoOn) chunk = std::min(chunk, thermoEvery - done % thermoEvery);
       if (ckEvery) chunk = std::min(chunk, ckEvery - done % ckEvery);
       chunk = std::min<std::uint64_t>(chunk, 100);  // a signal is seen within 100 steps
       // Bodies of a [[pour]] enter at its batch steps, after the frame, checks and checkpoint
       // of the state before them; the guard then starts its energy budget afresh.
       if (pouring.step(*pipeline, world, chunk, &stats) && guard) guard.emplace(world, *pipeline);
       done += chunk;
-      const bool frameDue = rec && done <= recSteps && done % perFrame == 0;
+      const bool frameDue = recording && done <= recSteps && done % perFrame == 0;
       const bool checkpointDue = ckEvery && done % ckEvery == 0 && done < scene.steps;
-      const bool thermoDue = thermo && (done % thermoEvery == 0 || done == scene.steps);
+      const bool thermoDue = thermoOn && (done % thermoEvery == 0 || done == scene.steps);
       if (thermoDue || (guarding && (frameDue || checkpointDue || done % guardEvery == 0 || done == scene.steps))) {
         const auto trip = guard->check(*pipeline);
-        if (thermoDue) {
-          try {
-            thermo->write(guard->sample());
-          } catch (const Error&) {
-            if (!writeStopRequested() || g_stopSignal == 0) throw;  // as for a frame, below
-            thermoCut = true;
-            break;
-          }
+        if (thermoDue && writeOrGiveUp([&] { thermo->write(guard->sample()); })) {
+          thermoCut = true;
+          break;
         }
         if (trip && guarding) throw SimulationError(trip->message);
         checkedAt = done;
@@ -251,18 +301,16 @@ void run(RunOptions o) {
       if (frameDue) {
         pipeline->readState(state);
         if (debug) pipeline->readDebug(dbg);
-        try {
-          rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr);
-        } catch (const Error&) {
-          // Stopping, and the write was interrupted (a pipe nobody reads: StopOnSignal gave it
-          // kWriteGraceSeconds): the run stops as interrupted, without that frame.
-          if (!writeStopRequested() || g_stopSignal == 0) throw;
+        if (writeOrGiveUp([&] { rec->writeFrame(done, pipeline->time(), pipeline->pulls(), state, debug ? &dbg : nullptr); })) {
           frameCut = true;
           break;
         }
-        if (done + perFrame > recSteps) rec->close();  // last frame: the file is complete now
+        if (done + perFrame > recSteps) onWriter([&] { rec->close(); });  // last frame: the file is complete now
       }
-      if (checkpointDue) Checkpoint::of(world, *pipeline).write(o.checkpoint);
+      if (checkpointDue) {
+        const Checkpoint ck = Checkpoint::of(world, *pipeline);
+        onWriter([&] { ck.write(o.checkpoint); });
+      }
       const auto now = std::chrono::steady_clock::now();
       if (tty && (now - lastPrint > std::chrono::milliseconds(200) || done == scene.steps)) {
         lastPrint = now;
@@ -281,51 +329,60 @@ void run(RunOptions o) {
     // Interrupted: the state is checked before anything is written from it.
     if (done < scene.steps && guarding && checkedAt != done)
       if (const auto trip = guard->check(*pipeline)) throw SimulationError(trip->message);
-  } catch (const SimulationError&) {
+  } catch (const SimulationError&) {  // the same on every rank (the pipeline's or the guard's)
     if (tty) std::fprintf(stderr, "\n");
-    if (rec) {
-      rec->close();
-      std::fprintf(stderr, "tumble run: kept %llu frames in %s\n", static_cast<unsigned long long>(rec->numFrames()),
-                   rec->path().c_str());
-    }
-    if (thermo) {
-      thermo->close();
-      std::fprintf(stderr, "tumble run: kept %llu rows of the time series in %s\n",
-                   static_cast<unsigned long long>(thermo->rows()), thermo->path().c_str());
-    }
+    onWriter([&] {
+      if (rec) {
+        rec->close();
+        std::fprintf(stderr, "tumble run: kept %llu frames in %s\n", static_cast<unsigned long long>(rec->numFrames()),
+                     rec->path().c_str());
+      }
+      if (thermo) {
+        thermo->close();
+        std::fprintf(stderr, "tumble run: kept %llu rows of the time series in %s\n",
+                     static_cast<unsigned long long>(thermo->rows()), thermo->path().c_str());
+      }
+    });
     throw;
   }
   if (tty) std::fprintf(stderr, "\n");
-  if (done < scene.steps) {  // stopped by a signal
-    const int sig = g_stopSignal;
+  if (done < scene.steps) {  // stopped by a signal (any rank's)
+    const int sig = ranks.maxOf(g_stopSignal);
     std::string kept;
-    if (rec) {
-      rec->close();
-      kept = "; kept " + std::to_string(rec->numFrames()) + " frames in " + rec->path();
-      if (frameCut) kept += " (the next frame's write was given up: nothing read it for " +
-                            std::to_string(kWriteGraceSeconds) + " s)";
-    }
-    if (thermo) {
-      thermo->close();
-      kept += "; kept " + std::to_string(thermo->rows()) + " rows of the time series in " + thermo->path();
-      if (thermoCut) kept += " (the next row's write was given up)";
-    }
+    onWriter([&] {
+      if (rec) {
+        rec->close();
+        kept = "; kept " + std::to_string(rec->numFrames()) + " frames in " + rec->path();
+        if (frameCut) kept += " (the next frame's write was given up: nothing read it for " +
+                              std::to_string(kWriteGraceSeconds) + " s)";
+      }
+      if (thermo) {
+        thermo->close();
+        kept += "; kept " + std::to_string(thermo->rows()) + " rows of the time series in " + thermo->path();
+        if (thermoCut) kept += " (the next row's write was given up)";
+      }
+    });
     if (!o.checkpoint.empty()) {
       try {
-        if (!(ckEvery && done % ckEvery == 0 && done > start))  // else just written by the loop
-          Checkpoint::of(world, *pipeline).write(o.checkpoint);
+        if (!(ckEvery && done % ckEvery == 0 && done > start)) {  // else just written by the loop
+          const Checkpoint ck = Checkpoint::of(world, *pipeline);
+          onWriter([&] { ck.write(o.checkpoint); });
+        }
         kept += "; checkpoint written to " + o.checkpoint + " (continue with --resume " + o.checkpoint + ")";
       } catch (const Error& e) {  // a diverged state (--no-guard) or a write error: said with the rest
         kept += "; " + std::string(e.what());
       }
     }
-    std::fprintf(stderr, "tumble run: interrupted (%s) at step %llu of %llu%s; no final state written\n",
-                 sig == SIGTERM ? "SIGTERM" : "SIGINT", static_cast<unsigned long long>(done),
-                 static_cast<unsigned long long>(scene.steps), kept.c_str());
+    if (writes)
+      std::fprintf(stderr, "tumble run: interrupted (%s) at step %llu of %llu%s; no final state written\n",
+                   sig == SIGTERM ? "SIGTERM" : "SIGINT", static_cast<unsigned long long>(done),
+                   static_cast<unsigned long long>(scene.steps), kept.c_str());
     dieOfSignal(sig);
   }
+  onWriter([&] {
+    if (rec) rec->close();
+  });
   if (rec) {
-    rec->close();
     if (!o.quiet) {
       std::fprintf(stderr, "recorded %llu frames (up to step %llu, %llu steps per frame) to %s\n",
                    static_cast<unsigned long long>(rec->numFrames()), static_cast<unsigned long long>(rec->lastStep()),
@@ -338,8 +395,10 @@ void run(RunOptions o) {
                      rec->path().c_str(), rec->path().c_str(), rec->path().c_str());
     }
   }
+  onWriter([&] {
+    if (thermo) thermo->close();
+  });
   if (thermo) {
-    thermo->close();
     if (!o.quiet)
       std::fprintf(stderr, "time series: %llu rows (every %llu steps) written to %s (draw it: tumble plot %s)\n",
                    static_cast<unsigned long long>(thermo->rows()), static_cast<unsigned long long>(thermoEvery),
@@ -347,18 +406,22 @@ void run(RunOptions o) {
   }
   if (!o.checkpoint.empty()) {
     try {
-      Checkpoint::of(world, *pipeline).write(o.checkpoint);
+      const Checkpoint ck = Checkpoint::of(world, *pipeline);
+      onWriter([&] { ck.write(o.checkpoint); });
     } catch (const SimulationError& e) {  // a diverged state (--no-guard): nothing more is written from it
       throw SimulationError(std::string(e.what()) + (o.stateOut.empty() ? "" : "; no --state-out written either"),
                             e.particle());
     }
-    if (!o.quiet)
+    if (!o.quiet && writes)
       std::fprintf(stderr, "checkpoint at step %llu written to %s (continue with --resume %s)\n",
                    static_cast<unsigned long long>(done), o.checkpoint.c_str(), o.checkpoint.c_str());
   }
   pipeline->readState(state);
-  if (!o.stateOut.empty()) writeState(o.stateOut, world, state);
-  if (!o.quiet) {
+  if (!o.stateOut.empty()) onWriter([&] { writeState(o.stateOut, world, state); });
+  // Under mpirun: each rank's share of the bodies and of the traffic (collective).
+  const auto* mpiPipeline = dynamic_cast<const mpi::MpiPipeline*>(pipeline.get());
+  const std::vector<mpi::MpiStats> rankStats = mpiPipeline && !o.quiet ? mpiPipeline->gatherStats() : std::vector<mpi::MpiStats>{};
+  if (!o.quiet && writes) {
     stats.add(pipeline->stats());
     const StepStats& st = stats;
     std::printf("%s: %llu steps, %u particles, %llu contacts in the last step\n", scene.name.c_str(),
@@ -371,6 +434,9 @@ void run(RunOptions o) {
                 st.cellSize,
                 static_cast<unsigned long long>(st.numCells));
     printPhases(st, stdout);
+    if (mpiPipeline)
+      std::printf("MPI: %d ranks, decomposition %s (rank 0's phases above; docs/mpi.md)\n%s", ranks.size(),
+                  mpi::toString(mpiPipeline->decomposition()), mpi::describe(rankStats).c_str());
   }
 }
 
@@ -386,6 +452,10 @@ void addRun(CLI::App& app) {
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores (results do not depend on it)")
       ->check(countIn(0, kMaxThreads));
   c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--decomposition", o->decomposition,
+                "Under mpirun: how the domain is cut among the ranks, rcb (recursive bisection, default) or slabs "
+                "(results do not depend on it; docs/mpi.md)")
+      ->check(CLI::IsMember({"rcb", "slabs"}));
   c->add_option("--record", o->record, "Write a recording to FILE (docs/recording.md); REC=<n_steps>[,<file>] does the same");
   c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)")
       ->check(countIn(1, kMaxSteps));

@@ -3,10 +3,13 @@
 // and show, play back or render the animation.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
+#include <string>
 
 #include "commands.hpp"
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
+#include "tumble/mpi/session.hpp"
 #include "tumble/output_file.hpp"
 
 std::optional<std::uint64_t> tumble::cli::parseCount(const std::string& text, std::uint64_t lo, std::uint64_t hi) {
@@ -44,7 +47,34 @@ void tumble::cli::refuseSameFile(const std::vector<NamedFile>& files) {
                     " are the same file: one would overwrite the other; name two different files");
 }
 
+namespace {
+
+// The subcommand named on the command line (the first argument that is not an option), or "".
+std::string subcommandOf(int argc, char** argv) {
+  for (int a = 1; a < argc; ++a)
+    if (argv[a][0] != '-') return argv[a];
+  return "";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  // Under mpirun MPI starts here (docs/mpi.md); only `run` runs on several ranks, every rank exits
+  // with the same status, and only rank 0 prints.
+  std::unique_ptr<tumble::mpi::Session> session;
+  try {
+    session = std::make_unique<tumble::mpi::Session>(&argc, &argv);
+  } catch (const tumble::Error& e) {
+    if (tumble::mpi::launchedRank() == 0) std::fprintf(stderr, "tumble: %s\n", e.what());
+    return tumble::cli::kExitBadInput;
+  }
+  const bool prints = session->writes();
+  if (session->size() > 1 && subcommandOf(argc, argv) != "run") {
+    if (prints)
+      std::fprintf(stderr, "tumble: under mpirun only `tumble run` runs (on %d ranks here); run `tumble %s` without "
+                           "mpirun\n", session->size(), subcommandOf(argc, argv).c_str());
+    return tumble::cli::kExitBadInput;
+  }
   CLI::App app{"tumble " TUMBLE_VERSION_STRING
                ": rigid bodies made of spheres, with sweep-and-prune collision detection along the PCA axis"};
   app.require_subcommand(1);
@@ -61,18 +91,18 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
+    const int rc = prints ? app.exit(e) : e.get_exit_code();
     return rc == 0 ? 0 : tumble::cli::kExitBadInput;
   } catch (const tumble::cli::Exit& e) {
     return e.status;
   } catch (const tumble::SimulationError& e) {
-    std::fprintf(stderr, "tumble: %s\n", e.what());
+    if (prints) std::fprintf(stderr, "tumble: %s\n", e.what());
     return tumble::cli::kExitDiverged;
   } catch (const tumble::Error& e) {
-    std::fprintf(stderr, "tumble: %s\n", e.what());
+    if (prints) std::fprintf(stderr, "tumble: %s\n", e.what());
     return tumble::cli::kExitBadInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "tumble: internal error: %s\n", e.what());
+    if (prints) std::fprintf(stderr, "tumble: internal error: %s\n", e.what());
     return 1;
   }
   return 0;
