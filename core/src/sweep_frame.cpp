@@ -151,7 +151,10 @@ void initialRows(const World& w, std::vector<BodyRow>* outBodies, std::vector<Bo
     b.orig = k;
     b.image[0] = s.imageX.empty() ? 0 : s.imageX[k];
     b.image[1] = s.imageY.empty() ? 0 : s.imageY[k];
-    (*outStatic)[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], 0.0f};
+    float reach = 0.0f;
+    for (std::uint32_t i = w.first[k], e = i + w.numParticlesOf[k]; i < e; ++i)
+      reach = std::max(reach, std::sqrt(w.ux[i] * w.ux[i] + w.uy[i] * w.uy[i] + w.uz[i] * w.uz[i]));
+    (*outStatic)[k] = BodyStatic{w.invInertia[k], w.bodyMass[k], reach * (1.0f + 0x1p-20f)};
   }
   outOwn->resize(n);
   for (std::uint32_t i = 0; i < n; ++i) (*outOwn)[i] = OwnRow{Vec3f{w.ux[i], w.uy[i], w.uz[i]}, w.groundDamping[i]};

@@ -107,7 +107,11 @@ class CpuPipeline final : public HaloPipeline {
     m_gtx = s.groundSpringX;  // localWorld sized them: planes × particles
     m_gty = s.groundSpringY;
     for (auto& c : m_pos) c.assign(n, PosRow{});
-    m_buildPos.assign(n, PosRow{});
+    // The skin test per body where bodies hold two particles or more on average (clumps: one
+    // bound for all of a body's particles is cheaper than measuring each); per particle else.
+    m_perBody = n >= 2 * nb && (w.hasClumps || w.params.contact.rotatesSpheres());  // (the kClumps pass)
+    m_bodyRef.assign(m_perBody ? nb : 0, BodyRef{});
+    m_buildPos.assign(m_perBody ? 0 : n, PosRow{});
     m_rebuildPos.assign(n, PosRow{});
     m_touching.assign(n, 0);
     m_candOffsets.assign(std::size_t(n) + 1, 0u);
@@ -401,13 +405,22 @@ class CpuPipeline final : public HaloPipeline {
       });
     });
     if (m_steps == 0) return;  // the first step rebuilds anyway
-    // The skin test of the step just taken, again, on the positions as they are now.
-    const std::uint32_t n = m_world.numParticles();
+    // The skin test of the step just taken, again, on the positions as they are now: per body
+    // against bodyRef (bodyDrift()), or per particle against buildPos.
+    const std::uint32_t n = m_perBody ? static_cast<std::uint32_t>(m_bodies.size()) : m_world.numParticles();
+    const StepView view = stepView();
     const Drift d = m_arena.execute([&] {
       return tbb::parallel_reduce(
           tbb::blocked_range<std::uint32_t>(0, n, kGrain), noDrift(),
           [&](const auto& rg, Drift acc) {
             for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
+              if (m_perBody) {
+                if (m_periodic.axes != 0)
+                  bodyDrift<true>(view, m_bodies[i], m_bodyStatic[i].reach, m_bodyRef[i], &acc);
+                else
+                  bodyDrift<false>(view, m_bodies[i], m_bodyStatic[i].reach, m_bodyRef[i], &acc);
+                continue;
+              }
               const PosRow& a = m_buildPos[i];
               if (m_periodic.axes != 0) {
                 const Vec3f dx = periodicDifference(m_periodic, Vec3f{pos[i].x, pos[i].y, pos[i].z}, Vec3f{a.x, a.y, a.z});
@@ -579,9 +592,10 @@ class CpuPipeline final : public HaloPipeline {
       by[i] = pos[i].y;
       bz[i] = pos[i].z;
       br[i] = pos[i].r + h;
-      m_buildPos[i] = pos[i];
       m_rebuildPos[i] = pos[i];
+      if (!m_perBody) m_buildPos[i] = pos[i];
     });
+    if (m_perBody) setBodyReference();
     sec[int(Phase::State)] += since(t0);
 
     const BroadphaseInput in{bx, by, bz, br, m_bodyOf.data(), n, m_world.maxRadius + h,
@@ -626,6 +640,7 @@ class CpuPipeline final : public HaloPipeline {
   void refreshNear() {
     const auto t0 = Clock::now();
     const Drift sinceRebuild = m_periodic.axes != 0 ? driftSinceRebuild<true>() : driftSinceRebuild<false>();
+    if (m_perBody) setBodyReference();
     m_closed = std::min(m_closed + double(m_lastClosure), double(closureFor(sinceRebuild)));
     fillNearList();
     m_needRefresh = false;
@@ -633,8 +648,15 @@ class CpuPipeline final : public HaloPipeline {
     m_stats.seconds[int(Phase::List)] += since(t0);
   }
 
-  // The displacements since the rebuild (minimum images with periodic boundaries), the
-  // positions now becoming the reference of the drift.
+  // The bodies where they are now become the reference of the skin test per body (bodyDrift()).
+  void setBodyReference() {
+    forEach(static_cast<std::uint32_t>(m_bodies.size()), kGrain,
+            [&](std::uint32_t k) { m_bodyRef[k] = BodyRef{m_bodies[k].x, m_bodies[k].q}; });
+  }
+
+  // The displacements of the particles since the rebuild (minimum images with periodic
+  // boundaries), measured one by one; with the skin test per particle, the positions now become
+  // its reference.
   template <bool kPeriodic>
   Drift driftSinceRebuild() {
     const std::uint32_t n = m_world.numParticles();
@@ -650,7 +672,7 @@ class CpuPipeline final : public HaloPipeline {
             } else {
               addDisplacement(d, pos[i].x - a.x, pos[i].y - a.y, pos[i].z - a.z);
             }
-            m_buildPos[i] = pos[i];
+            if (!m_perBody) m_buildPos[i] = pos[i];
           }
           return d;
         },
@@ -1070,7 +1092,7 @@ class CpuPipeline final : public HaloPipeline {
                     m_bodyOf.data(),
                     m_orig.data(),
                     GroundSpringView{m_gtx.data(), m_gty.data()},
-                    m_buildPos.data(),
+                    m_perBody ? nullptr : m_buildPos.data(),  // the skin test per particle, or per body (bodyRef)
                     contactListView(),
                     m_touching.data(),
                     m_world.numParticles(),
@@ -1085,7 +1107,8 @@ class CpuPipeline final : public HaloPipeline {
                     m_planeHertz.empty() ? nullptr : m_planeHertz.data(),
                     m_periodic,
                     m_mesh.view(),
-                    MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_meshHist.data()}};
+                    MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_meshHist.data()},
+                    m_perBody ? m_bodyRef.data() : nullptr};
   }
 
   mutable tbb::task_arena m_arena;
@@ -1115,7 +1138,9 @@ class CpuPipeline final : public HaloPipeline {
   std::vector<float> m_gtx, m_gty;     // plane springs, plane-major (empty without planes)
   std::vector<PosRow> m_pos[2];        // particle rows, double-buffered: [m_cur] is this step's
   int m_cur = 0;
-  std::vector<PosRow> m_buildPos;    // the reference of the drift: positions at the last refresh
+  bool m_perBody = false;            // the skin test per body (bodyDrift()), else per particle
+  std::vector<BodyRef> m_bodyRef;    // the reference of the skin test per body: the bodies at the last refresh
+  std::vector<PosRow> m_buildPos;    // that of the test per particle: their positions then
   std::vector<PosRow> m_rebuildPos;  // positions at the last rebuild
   std::vector<std::uint32_t> m_candOffsets, m_cand;
   std::vector<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)

@@ -449,7 +449,8 @@ class CudaPipeline final : public Pipeline {
                     nullptr,
                     PeriodicBox{},  // no periodic boundaries (load())
                     MeshView{},     // no mesh walls (load())
-                    MeshListView{}};
+                    MeshListView{},
+                    nullptr};       // the skin test per particle (buildPos)
   }
 
   // As CpuPipeline::stepOnce.

@@ -42,7 +42,15 @@ static_assert(sizeof(BodyRow) == 128, "two cache lines");
 struct alignas(16) BodyStatic {
   Sym3f invInertia;  ///< body-frame I0⁻¹ about the centre of mass
   float mass;        ///< M (the body's weight is M g)
-  float pad;
+  float reach;       ///< the largest |u| of its particles (the skin test's bound on their motion)
+};
+
+/// Where a body was at the skin test's reference (the last rebuild or near-list refresh): its
+/// centre and orientation, from which finishBody() bounds the motion of all its particles at
+/// once (bodyDrift()).
+struct alignas(16) BodyRef {
+  Vec3f x;
+  Quatf q;
 };
 
 /// The hot row of a particle that its neighbours read: position (integration frame) and radius.
@@ -170,6 +178,10 @@ struct StepView {
   /// triangles of each particle; mesh.numTriangles is 0 without meshes.
   MeshView mesh;
   MeshListView meshList;
+  /// The skin test per body (the CPU pipeline): each body's reference (BodyRef); finishBody()
+  /// then bounds its particles' motion from its own (bodyDrift()) instead of measuring each
+  /// particle against `buildPos`. nullptr: per particle.
+  const BodyRef* bodyRef = nullptr;
 };
 
 }  // namespace tumble

@@ -251,6 +251,29 @@ TUMBLE_HD_INLINE void addDisplacement(Drift& d, float dx, float dy, float dz) {
   }
 }
 
+/// Adds the displacements of a body's particles as a box about its centre's, d ± e per axis
+/// (bodyDrift()): |Δx| ≤ |d| + e, each component within [d_a − e, d_a + e], rounded outwards. A
+/// NaN makes both criteria fail, as in addDisplacement().
+TUMBLE_HD_INLINE void addBodyDisplacement(Drift& d, float dx, float dy, float dz, float e) {
+  const float len = (sqrtf(dx * dx + dy * dy + dz * dz) + e) * (1.0f + 0x1p-20f);
+  const float m2 = len * len;
+  if (!(m2 <= FLT_MAX)) {  // NaN or overflow
+    d.max2 = FLT_MAX;
+    for (int a = 0; a < 3; ++a) {
+      d.lo[a] = -FLT_MAX;
+      d.hi[a] = FLT_MAX;
+    }
+    return;
+  }
+  if (m2 > d.max2) d.max2 = m2;
+  const float c[3] = {dx, dy, dz};
+  const float grow = e + 0x1p-23f * len;  // the rounding of c ± e
+  for (int a = 0; a < 3; ++a) {
+    if (c[a] - grow < d.lo[a]) d.lo[a] = c[a] - grow;
+    if (c[a] + grow > d.hi[a]) d.hi[a] = c[a] + grow;
+  }
+}
+
 TUMBLE_HD_INLINE void mergeDrift(Drift& d, const Drift& o) {
   if (o.max2 > d.max2) d.max2 = o.max2;
   for (int a = 0; a < 3; ++a) {

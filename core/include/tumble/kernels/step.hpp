@@ -371,6 +371,26 @@ TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
   if (kClumps) T += pf.t;
 }
 
+/// A bound on the displacement of every particle of body b since its reference `ref` (the skin
+/// test per body, StepView::bodyRef), added to *drift as a box about the centre's displacement
+/// ΔX: |Δx_i| ≤ |ΔX| + e with e = 2 |q − q_ref| reach + the rounding of the positions, since
+/// |R(q) u − R(q_ref) u| ≤ 2 |q − q_ref| |u| for unit quaternions (q u q* − q' u q'* = (q − q') u q*
+/// + q' u (q − q')*), and the float positions X + R u of the two states carry at most
+/// 2^-24 (|X| + |X_ref|) + 32 · 2^-24 reach of rounding between them (the matrix from a float q,
+/// the product, the sum); e is taken 4 times that and rounded up. Every particle's displacement
+/// vector lies in ΔX ± e per axis, so the box and the largest |Δx| hold them: the list stays
+/// valid (closureOf()), as with the displacements measured particle by particle. kPeriodic: ΔX
+/// through the minimum image, so that a wrap does not count as motion.
+template <bool kPeriodic>
+TUMBLE_HD_INLINE void bodyDrift(const StepView& v, const BodyRow& b, float reach, const BodyRef& ref, Drift* drift) {
+  const Vec3f dX = kPeriodic ? periodicDifference(v.periodic, b.x, ref.x) : b.x - ref.x;
+  const float qx = b.q.x - ref.q.x, qy = b.q.y - ref.q.y, qz = b.q.z - ref.q.z, qw = b.q.w - ref.q.w;
+  const float dq = sqrtf(qw * qw + qx * qx + qy * qy + qz * qz);
+  const float size = fabsf(b.x.x) + fabsf(b.x.y) + fabsf(b.x.z) + fabsf(ref.x.x) + fabsf(ref.x.y) + fabsf(ref.x.z);
+  const float e = (2.0f * dq * reach + 0x1p-22f * size + 0x1p-17f * reach) * (1.0f + 0x1p-20f);
+  addBodyDisplacement(*drift, dX.x, dX.y, dX.z, e);
+}
+
 /// Stage 7 and the next step's stage 1 for body k, given the sums F and T of its particles
 /// (addToBody): adds the weight M g, integrates (rotation by `scheme`, only for bodies of more
 /// than one particle; Ω and R of the new state kept in the row), writes its particles' positions
@@ -389,7 +409,12 @@ TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f grav
     b.omega = scheme == RotationScheme::Splitting ? integrateRotationSplitting(T, bs.invInertia, dt, &b.l, &b.q, &b.rot)
                                                   : integrateRotation(T, bs.invInertia, dt, &b.l, &b.q, &b.rot);
   v.bodiesNext[k] = b;
-  bodyParticles<kClumps, kPeriodic>(b, v.own, v.radius, v.buildPos, v.posNext, drift, v.periodic);
+  if (kClumps && v.bodyRef != nullptr) {  // the skin test per body: its particles' positions only
+    bodyDrift<kPeriodic>(v, b, bs.reach, v.bodyRef[k], drift);
+    bodyParticles<kClumps, kPeriodic>(b, v.own, v.radius, nullptr, v.posNext, drift, v.periodic);
+  } else {
+    bodyParticles<kClumps, kPeriodic>(b, v.own, v.radius, v.buildPos, v.posNext, drift, v.periodic);
+  }
 }
 
 }  // namespace tumble
