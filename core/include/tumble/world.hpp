@@ -178,14 +178,27 @@ World localWorld(const World& world, LocalFrame* outFrame);
 std::vector<Wall> kernelWalls(const Scene& scene, const LocalFrame& f);
 
 /// What is wrong with a wall's motion, or empty: finite velocities, a window 0 ≤ start < stop,
-/// and a plane does not turn. scene_io names the key; kernelWalls() refuses walls built in code.
+/// a plane does not turn, a revolved wall turns about its own axis (a number), a mesh about a
+/// vector and a finite pivot, a pivot only with a rotation. scene_io names the key;
+/// kernelWalls() refuses walls built in code.
 std::string wallMotionOutOfRange(const WallDef& wall);
+
+/// How long a wall has moved by time t: τ = clamp(t − start, 0, stop − start) [s], in double.
+double wallMotionTime(const WallDef& wall, double t);
 
 /// Poses the walls of `scene` (kernelWalls()) for a step that starts at time t: Wall::moving
 /// while start ≤ t < stop, and a wall with a velocity shifted by velocity τ from where it was
-/// given (WallDef::velocity; a plane along its normal only). Returns whether any changed (a
+/// given (WallDef::velocity; a plane along its normal only). A mesh wall's Wall gets the pivot
+/// where it is now (`centre`, for its material's velocity, wallVelocity()); with `meshPoses`
+/// (one entry per wall of `walls`, plane-indexed) each mesh wall's MeshPose is written there:
+/// the rotation by |ω| τ about ω and the pivot moved by velocity τ, computed in double from
+/// the time and rounded once, so that time t gives the same bits whatever came before (a
+/// resumed run). Entries of other walls are left alone. Returns whether any changed (a
 /// pipeline whose walls live on a device uploads them then).
-bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t);
+bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t, MeshPose* meshPoses = nullptr);
+
+/// Some mesh wall of the scene moves at some time (its poses then enter the contacts).
+bool meshWallsMove(const Scene& scene);
 
 /// The periodic box of a scene as the kernels see it in frame f (whose origin on a periodic axis
 /// is the box's centre, LocalFrame::of): h = (hi − lo) / 2 rounded to float, L = 2h; the box is
