@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 
 #include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
 
@@ -202,6 +204,44 @@ GroundParams wallContact(float k, float mu) {
   c.stiffness = k;
   c.friction = mu;
   return c;
+}
+
+WallDef meshWall(std::vector<Vec3f> vertices, std::vector<std::uint32_t> triangles, const GroundParams& c) {
+  auto m = std::make_shared<TriangleMesh>();
+  m->file = "test mesh";
+  m->vertices = std::move(vertices);
+  m->triangles = std::move(triangles);
+  for (std::size_t t = 0; t < m->numTriangles(); ++t) m->source.push_back(t + 1);
+  WallDef w;
+  w.shape = WallDef::Shape::Mesh;
+  w.mesh = m;
+  w.contact = c;
+  return w;
+}
+
+WallDef gridMesh(int nx, int ny, float h, float x0, float y0, const std::function<float(float, float)>& height,
+                 const GroundParams& c) {
+  std::vector<Vec3f> v;
+  std::vector<std::uint32_t> t;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const float x = x0 + float(i) * h, y = y0 + float(j) * h;
+      v.push_back(Vec3f{x, y, height(x, y)});
+    }
+  const auto at = [&](int i, int j) { return std::uint32_t(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const std::uint32_t a = at(i, j), b = at(i + 1, j), cc = at(i + 1, j + 1), d = at(i, j + 1);
+      if ((i + j) % 2 == 0)
+        t.insert(t.end(), {a, b, cc, a, cc, d});
+      else
+        t.insert(t.end(), {a, b, d, b, cc, d});
+    }
+  return meshWall(std::move(v), std::move(t), c);
+}
+
+WallDef flatGrid(int nx, int ny, float h, float x0, float y0, const GroundParams& c) {
+  return gridMesh(nx, ny, h, x0, y0, [](float, float) { return 0.0f; }, c);
 }
 
 BodyState runCpu(const World& w, std::uint64_t steps, const PipelineOptions& o) {

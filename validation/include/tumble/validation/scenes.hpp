@@ -3,6 +3,7 @@
 /// Scene and particle-cloud generators shared by tests, benchmarks and examples.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,18 @@ ShapeDef sphereShape(float r, float m, float e);
 
 /// A wall's contact (WallDef::contact): on, stiffness k, friction μ, the ground's other defaults.
 GroundParams wallContact(float k, float mu);
+
+/// A mesh wall built in code of the given (welded) vertices and triangles (three indices each),
+/// named "test mesh", each triangle's source its number.
+WallDef meshWall(std::vector<Vec3f> vertices, std::vector<std::uint32_t> triangles, const GroundParams& contact);
+
+/// A grid of nx × ny squares of side h from (x0, y0), at the height height(x, y) (z), each
+/// square split in two along alternating diagonals (so that vertices have four and eight
+/// triangles around them).
+WallDef gridMesh(int nx, int ny, float h, float x0, float y0, const std::function<float(float, float)>& height,
+                 const GroundParams& contact);
+/// gridMesh() in the plane z = 0.
+WallDef flatGrid(int nx, int ny, float h, float x0, float y0, const GroundParams& contact);
 
 /// The state of a world after `steps` steps on a fresh CPU pipeline with the given options.
 BodyState runCpu(const World& world, std::uint64_t steps, const PipelineOptions& options = {});
