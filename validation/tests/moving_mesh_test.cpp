@@ -23,6 +23,8 @@
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/mesh.hpp"
+#include "tumble/pour.hpp"
+#include "tumble/scene_io.hpp"
 #include "tumble/validation/brute_force.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"
@@ -449,4 +451,64 @@ TEST(MovingMeshTest, MotionsBuiltInCodeAreChecked) {
   WallDef drum = revolvedWall(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, 1.0f, 1.0f, 1.0f);
   drum.meshAngularVelocity = {0.0f, 1.0f, 0.0f};
   refused(drum, "only a mesh turns about a vector angular_velocity");
+}
+
+// A [[pour]] batch keeps clear of a moving mesh where it is at the batch's time: a shutter (a
+// flat mesh at z = 0.35 across the pour's box, over x from −0.1 to 0.2 where it was given, the
+// box's x from −0.1 to 0.1) slides towards +x at 1 m/s; at the batch of t = 0.05 s its edge is at
+// x = −0.05: no ball comes within its radius of it there, and some lie in its plane beyond the
+// edge, where a shutter left where it was given would have refused them.
+TEST(MovingMeshTest, APourKeepsClearOfTheMeshWhereItIsAtTheBatch) {
+  Scene s = parseScene(R"(
+[scene]
+dt = 1e-4
+steps = 600
+seed = 5
+[contact]
+law = "hooke-history"
+stiffness = 2e4
+gamma_n = 1500
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.01
+mass = 0.0105
+[[pour]]
+shape = "ball"
+count = 400
+rate = 4000
+interval = 0.05
+region = "box"
+min = [-0.1, -0.1, 0.3]
+max = [0.1, 0.1, 0.4]
+)", "pour.toml");
+  const float r = 0.01f;
+  WallDef shutter = flatGrid(6, 4, 0.05f, -0.1f, -0.1f, wallContact(2e4f, 0.5f));
+  shutter.point = {0.0f, 0.0f, 0.35f};
+  shutter.velocity = {1.0f, 0.0f, 0.0f};
+  s.walls = {shutter};
+  const Pouring pouring(s);
+  World world = pouring.worldWith(pouring.initialBodies());
+  auto p = makePipeline(Backend::Cpu);
+  p->load(world);
+  std::size_t inPlane = 0, placed = 0;
+  while (p->stepCount() < 600) {
+    const std::size_t before = world.numBodies();
+    const double t = p->time();
+    pouring.step(*p, world, 1, nullptr);
+    if (world.numBodies() == before || t < 0.04) continue;
+    const double edge = -0.1 + t;  // the shutter's edge then; it covers x >= edge
+    const LocalFrame f = world.frame ? *world.frame : LocalFrame{};  // the pour's positions are in the run's frame
+    for (std::size_t k = before; k < world.numBodies(); ++k) {
+      const double x = world.state.px[k] + f.x, dz = std::abs(world.state.pz[k] + f.z - 0.35);
+      const double gap = x >= edge ? dz : std::hypot(edge - x, dz);
+      EXPECT_GE(gap, r * (1.0 - 1e-6)) << "ball " << k << " at t = " << t << " s touches the shutter";
+      inPlane += dz < r ? 1u : 0u;
+      ++placed;
+    }
+  }
+  std::printf("pour past a sliding shutter: %zu balls placed at t >= 0.05 s, %zu of them in its plane beyond its "
+              "edge (within a radius of z = 0.35)\n", placed, inPlane);
+  EXPECT_GT(placed, 100u);
+  EXPECT_GT(inPlane, 5u);
 }
