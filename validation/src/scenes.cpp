@@ -11,6 +11,7 @@
 #include "tumble/mesh.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
+#include "tumble/validation/compare.hpp"
 
 namespace tumble::validation {
 
@@ -242,6 +243,40 @@ WallDef gridMesh(int nx, int ny, float h, float x0, float y0, const std::functio
 
 WallDef flatGrid(int nx, int ny, float h, float x0, float y0, const GroundParams& c) {
   return gridMesh(nx, ny, h, x0, y0, [](float, float) { return 0.0f; }, c);
+}
+
+Scene spheresOn(const WallDef& wall, float r, const std::vector<Vec3f>& at, bool ground) {
+  Scene s;
+  s.dt = 1e-4f;
+  s.contact.law = ContactLaw::HookeHistory;
+  s.contact.stiffness = 1e5f;
+  s.contact.gammaN = 100.0f;
+  s.ground.enabled = ground;
+  s.ground.stiffness = 1e5f;
+  s.walls = {wall};
+  s.shapes = {sphereShape(r, 0.1f, 0.5f)};
+  for (const Vec3f& p : at) {
+    BodyDef b;
+    b.position = p;
+    s.bodies.push_back(b);
+  }
+  return s;
+}
+
+DrumStop drumDragAndStop(const Scene& s) {
+  DrumStop out;
+  out.earlyVx = runCpu(World::fromScene(s), 200).vx[0];
+  Scene stopping = s;
+  stopping.walls[0].stop = 0.05;
+  const World turning = World::fromScene(s), stops = World::fromScene(stopping);
+  const auto before = firstDifference(runCpu(turning, 450), runCpu(stops, 450));
+  out.sameBeforeTheStop = !before.has_value();
+  if (before) out.before = before->describe();
+  const BodyState a = runCpu(turning, 1500), b = runCpu(stops, 1500);
+  out.differentAfter = firstDifference(a, b).has_value();
+  out.turningVx = a.vx[0];
+  out.stoppedVx = b.vx[0];
+  return out;
 }
 
 BodyState runCpu(const World& w, std::uint64_t steps, const PipelineOptions& o) {

@@ -45,18 +45,8 @@ MeshOracleRun checkAgainstOracle(const World& w, std::uint64_t steps, const Pipe
 
 // A single ball of radius r (0.1 kg) under gravity on the mesh `wall`, hooke-history, k 1e5.
 Scene ballOn(const WallDef& wall, float r, Vec3f position, Vec3f velocity) {
-  Scene s;
-  s.dt = 1e-4f;
-  s.contact.law = ContactLaw::HookeHistory;
-  s.contact.stiffness = 1e5f;
-  s.contact.gammaN = 100.0f;
-  s.ground.enabled = false;
-  s.walls = {wall};
-  s.shapes = {sphereShape(r, 0.1f, 0.5f)};
-  BodyDef b;
-  b.position = position;
-  b.velocity = velocity;
-  s.bodies = {b};
+  Scene s = spheresOn(wall, r, {position});
+  s.bodies[0].velocity = velocity;
   return s;
 }
 

@@ -72,26 +72,6 @@ WallDef drumMesh(Vec3f c, float R, float L, int n, int lifters, float h, const G
   return meshWall(std::move(v), std::move(t), g);
 }
 
-// Spheres of radius r (0.1 kg, elasticity 0.5) at the given places, hooke-history (k 1e5,
-// γ_n 100), no ground unless asked, dt 1e-4, on the mesh `wall`.
-Scene spheresOn(const WallDef& wall, float r, const std::vector<Vec3f>& at, bool ground = false) {
-  Scene s;
-  s.dt = 1e-4f;
-  s.contact.law = ContactLaw::HookeHistory;
-  s.contact.stiffness = 1e5f;
-  s.contact.gammaN = 100.0f;
-  s.ground.enabled = ground;
-  s.ground.stiffness = 1e5f;
-  s.walls = {wall};
-  s.shapes = {sphereShape(r, 0.1f, 0.5f)};
-  for (const Vec3f& p : at) {
-    BodyDef b;
-    b.position = p;
-    s.bodies.push_back(b);
-  }
-  return s;
-}
-
 // A vertical plate in the plane x = 0 (then at its position): the grid of nx × ny squares of
 // side h from (z0, y0), stood up by its orientation, −90 degrees about y: (x, y, 0) → (0, y, x).
 // It spans z0 to z0 + nx h and y0 to y0 + ny h.
@@ -295,18 +275,13 @@ TEST(MovingMeshTest, ATurningMeshDrumDragsABallAndStopsOnTime) {
   WallDef drum = drumMesh(Vec3f{0, 0, 0}, float(R), 1.0f, 720, 0, 0.0f, wallContact(float(k), float(mu)));
   drum.meshAngularVelocity = {0.0f, float(omega), 0.0f};
   drum.pivot = Vec3f{0, 0, 0};
-  Scene s = spheresOn(drum, float(r), {Vec3f{0.0f, 0.0f, float(-(R * std::cos(kPi / 720) - r) + m * g / k)}});
-  const BodyState early = runCpu(World::fromScene(s), 200);  // 0.02 s, slipping (ω R = 2 m/s)
-  std::printf("mesh drum: v_x after 0.02 s %.5f m/s (-mu g t = %.5f)\n", double(early.vx[0]), -mu * g * 0.02);
-  EXPECT_NEAR(early.vx[0], -mu * g * 0.02, 0.05 * mu * g * 0.02);
-  Scene stopping = s;
-  stopping.walls[0].stop = 0.05;
-  const World turning = World::fromScene(s), stops = World::fromScene(stopping);
-  const auto before = firstDifference(runCpu(turning, 450), runCpu(stops, 450));
-  EXPECT_FALSE(before.has_value()) << "before the stop: " << before->describe();
-  const BodyState a = runCpu(turning, 1500), b = runCpu(stops, 1500);
-  EXPECT_TRUE(firstDifference(a, b).has_value()) << "the drum stopped at 0.05 s";
-  std::printf("at 0.15 s: v_x %.4f m/s turning, %.4f m/s stopped at 0.05 s\n", double(a.vx[0]), double(b.vx[0]));
+  const DrumStop d = drumDragAndStop(
+      spheresOn(drum, float(r), {Vec3f{0.0f, 0.0f, float(-(R * std::cos(kPi / 720) - r) + m * g / k)}}));
+  std::printf("mesh drum: v_x after 0.02 s %.5f m/s (-mu g t = %.5f); at 0.15 s %.4f m/s turning, %.4f m/s stopped at "
+              "0.05 s\n", d.earlyVx, -mu * g * 0.02, d.turningVx, d.stoppedVx);
+  EXPECT_NEAR(d.earlyVx, -mu * g * 0.02, 0.05 * mu * g * 0.02) << "slipping (ω R = 2 m/s)";
+  EXPECT_TRUE(d.sameBeforeTheStop) << "before the stop: " << d.before;
+  EXPECT_TRUE(d.differentAfter) << "the drum stopped at 0.05 s";
 }
 
 // A ball at rest on a square mesh plate (128 triangles) turning at 2 rad/s about the vertical
