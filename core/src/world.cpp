@@ -66,9 +66,14 @@ namespace {
 // The frame's shift of everything but the body positions: the ground height and the pull centre.
 void shiftParams(World& w, const LocalFrame& f) {
   w.params.ground.height = static_cast<float>(double(w.params.ground.height) - f.z);
-  for (WallDef& wall : w.params.walls)
-    wall.point = Vec3f{static_cast<float>(double(wall.point.x) - f.x), static_cast<float>(double(wall.point.y) - f.y),
-                       static_cast<float>(double(wall.point.z) - f.z)};
+  const auto shift = [&](Vec3f p) {
+    return Vec3f{static_cast<float>(double(p.x) - f.x), static_cast<float>(double(p.y) - f.y),
+                 static_cast<float>(double(p.z) - f.z)};
+  };
+  for (WallDef& wall : w.params.walls) {
+    wall.point = shift(wall.point);
+    if (wall.pivot) wall.pivot = shift(*wall.pivot);  // a moving mesh's
+  }
   w.params.pulls.centre = Vec3f{static_cast<float>(-f.x), static_cast<float>(-f.y), static_cast<float>(-f.z)};
 }
 

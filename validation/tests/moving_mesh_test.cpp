@@ -170,6 +170,27 @@ TEST(MovingMeshTest, ContactsEqualTheOracleAtEveryStep) {
     EXPECT_LT(o.rebuilds, 200u) << "the list is kept while the disk turns";
     EXPECT_LT(o.worstPoseGap, 2e-7);
   }
+  {  // the same far from the origin (the run integrates in a local frame: the pivot moves with it)
+    const Vec3f o{2.0e4f, -1.0e4f, 0.0f};
+    WallDef disk = flatGrid(8, 8, 0.1f, -0.4f, -0.4f, c);
+    disk.point = o;
+    disk.meshAngularVelocity = {0.0f, 0.0f, 2.0f};
+    disk.pivot = o;
+    disk.contact.rollingFriction = 0.3f;
+    std::vector<Vec3f> at;
+    for (int k = 0; k < 3; ++k)
+      at.push_back(Vec3f{o.x + float(0.12 * std::cos(2.1 * k)), o.y + float(0.12 * std::sin(2.1 * k)), rest});
+    const World w = World::fromScene(spheresOn(disk, r, at));
+    ASSERT_TRUE(LocalFrame::of(w).active());
+    const MeshOracleRun o2 = oracle("the turning disk 2e4 m from the origin", w, 2000);
+    EXPECT_EQ(o2.steps, 2000u);
+    EXPECT_GT(o2.contacts, 3u * 1900u);
+    EXPECT_LT(o2.worstPoseGap, 1e-6);
+    const BodyState st = runCpu(w, 5000);  // 0.5 s: 1 rad
+    const double angle = std::atan2(double(st.py[0]) - o.y, double(st.px[0]) - o.x);
+    std::printf("  the first sphere at %.4f rad after 0.5 s (the disk turned 1 rad)\n", angle);
+    EXPECT_NEAR(angle, 1.0, 0.1) << "carried round the pivot, far from the origin";
+  }
   {  // a plate sweeping along +x at 1 m/s through a row of spheres on the ground
     WallDef plate = verticalPlate(4, 4, 0.1f, -0.2f, -0.05f, c);
     plate.point = {-0.1f, 0.0f, 0.0f};

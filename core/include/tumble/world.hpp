@@ -162,7 +162,7 @@ struct World {
 };
 
 /// The world expressed in frame f: body positions X − o, the ground height h − o_z, the walls'
-/// points p − o and the pull centre −o (params.pulls.centre). Identity when f is not active.
+/// points p − o (a mesh's pivot too) and the pull centre −o (params.pulls.centre). Identity when f is not active.
 World toLocal(const World& world, const LocalFrame& f);
 
 /// What a pipeline's load() integrates: the world in its frame (world.frame when set, the
