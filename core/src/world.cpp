@@ -743,8 +743,9 @@ namespace {
 // hertz-mindlin: the shortest Hertz contact time t_c = 2.87 (m*² / (R* Y*² v))^{1/5} of the scene,
 // for the lightest mass and the largest radius of each material against each other and every plane (the
 // ground, the walls), at
-// the fastest impact its start suggests: v = max(1 m/s, |V|max + √(2 |g| H)), H the largest
-// height of a body above the ground (without one, the bodies' vertical extent).
+// the fastest impact its start suggests: v = max(1 m/s, |V|max + √(2 |g| H) + the fastest
+// moving wall's approach, wallApproachSpeed()), H the largest height of a body above the ground
+// (without one, the bodies' vertical extent).
 double hertzContactTime(const World& w) {
   const std::size_t m = w.params.materials.size();
   // t_c grows with m*^{2/5} and falls with R*^{1/5}: the lightest mass with the largest radius.
@@ -763,7 +764,9 @@ double hertzContactTime(const World& w) {
   if (w.params.ground.enabled) lo = std::min(lo, double(w.params.ground.height));
   const Vec3f g = w.params.gravity;
   const double gz = std::sqrt(double(g.x) * g.x + double(g.y) * g.y + double(g.z) * g.z);
-  const double v = std::max(1.0, vmax + std::sqrt(2.0 * gz * std::max(0.0, hi - lo)));
+  double walls = 0.0;
+  for (const WallDef& d : w.params.walls) walls = std::max(walls, wallApproachSpeed(d));
+  const double v = std::max(1.0, vmax + std::sqrt(2.0 * gz * std::max(0.0, hi - lo)) + walls);
   double tc = std::numeric_limits<double>::infinity();
   const auto contact = [&](double meff, double reff, double ystar) {
     tc = std::min(tc, 2.87 * std::pow(meff * meff / (reff * ystar * ystar * v), 0.2));
@@ -780,6 +783,25 @@ double hertzContactTime(const World& w) {
 }
 
 }  // namespace
+
+double wallApproachSpeed(const WallDef& d) {
+  if (!d.moves()) return 0.0;
+  const Vec3f& v = d.velocity;
+  const double speed = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+  if (d.shape == WallDef::Shape::Plane) {
+    const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
+                                 double(d.normal.z) * d.normal.z);
+    return len > 0.0 ? std::abs(double(v.x) * d.normal.x + double(v.y) * d.normal.y + double(v.z) * d.normal.z) / len : 0.0;
+  }
+  if (d.shape == WallDef::Shape::Revolved || !d.mesh) return speed;
+  const Vec3f& om = d.meshAngularVelocity;
+  const Vec3f p = d.meshPivot();
+  double far = 0.0;
+  for (const Vec3f& y : meshWallVertices(d))
+    far = std::max(far, std::sqrt((double(y.x) - p.x) * (double(y.x) - p.x) + (double(y.y) - p.y) * (double(y.y) - p.y) +
+                                  (double(y.z) - p.z) * (double(y.z) - p.z)));
+  return speed + std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z) * far;
+}
 
 double shortestContactTime(const World& w) {
   const double pi = 3.14159265358979323846;

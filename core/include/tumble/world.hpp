@@ -301,8 +301,15 @@ double restitutionForDamping(double c, double k, double m);
 /// lightest particles with k_s; its lightest particle on the ground or a wall with its k), undamped. Under
 /// hertz-mindlin, the Hertz contact time 2.87 (m*² / (R* Y*² v))^{1/5} of the lightest mass and
 /// the largest radius of each pair of materials (and on every plane) at the fastest impact the
-/// initial state suggests, v = max(1 m/s, |V|max + √(2 |g| H)), H the drop to the ground.
+/// initial state suggests, v = max(1 m/s, |V|max + √(2 |g| H) + the fastest moving wall),
+/// H the drop to the ground (wallApproachSpeed()).
 double shortestContactTime(const World& world);
+
+/// The fastest a wall's surface can run into a body [m/s]: 0 for a wall that does not move; a
+/// plane's speed along its normal; a revolved wall's translation (its turn moves its surface
+/// along itself); a mesh's translation plus its rate times the largest distance of a vertex from
+/// its pivot (a lifter, a blade).
+double wallApproachSpeed(const WallDef& wall);
 
 /// Empty when dt resolves the shortest contact with at least 10 steps; otherwise a one-line
 /// warning naming the contact time and the dt to use (t_c / 20).
