@@ -310,7 +310,8 @@ std::string wallMotionOutOfRange(const WallDef& d) {
     if (d.angularVelocity != 0.0f)
       return "a mesh turns about a vector, angular_velocity = [x, y, z] (WallDef::meshAngularVelocity), not a number";
     if (d.pivot && !finite(*d.pivot)) return "pivot must be finite";
-    if (d.pivot && !turns) return "pivot is the point a mesh turns about, and this mesh does not turn (give it an angular_velocity)";
+    if (d.pivot && !turns)
+      return "pivot is the point a mesh turns about, and this mesh does not turn (give it an angular_velocity)";
   } else if (turns || d.pivot) {
     return "only a mesh turns about a vector angular_velocity and a pivot (a cylinder, cone or disk turns about its "
            "own axis: its angular_velocity is a number)";
@@ -791,15 +792,17 @@ double wallApproachSpeed(const WallDef& d) {
   if (d.shape == WallDef::Shape::Plane) {
     const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
                                  double(d.normal.z) * d.normal.z);
-    return len > 0.0 ? std::abs(double(v.x) * d.normal.x + double(v.y) * d.normal.y + double(v.z) * d.normal.z) / len : 0.0;
+    const double along = double(v.x) * d.normal.x + double(v.y) * d.normal.y + double(v.z) * d.normal.z;
+    return len > 0.0 ? std::abs(along) / len : 0.0;
   }
   if (d.shape == WallDef::Shape::Revolved || !d.mesh) return speed;
   const Vec3f& om = d.meshAngularVelocity;
   const Vec3f p = d.meshPivot();
   double far = 0.0;
-  for (const Vec3f& y : meshWallVertices(d))
-    far = std::max(far, std::sqrt((double(y.x) - p.x) * (double(y.x) - p.x) + (double(y.y) - p.y) * (double(y.y) - p.y) +
-                                  (double(y.z) - p.z) * (double(y.z) - p.z)));
+  for (const Vec3f& y : meshWallVertices(d)) {
+    const double e[3] = {double(y.x) - p.x, double(y.y) - p.y, double(y.z) - p.z};
+    far = std::max(far, std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
+  }
   return speed + std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z) * far;
 }
 

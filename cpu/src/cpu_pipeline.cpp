@@ -378,7 +378,8 @@ class CpuPipeline final : public Pipeline {
  private:
   void stepOnce() {
     double* sec = m_stats.seconds;
-    if (m_wallsMove) setWallMotion(m_planes, m_world.params, m_time, m_meshPoses.empty() ? nullptr : m_meshPoses.data());
+    if (m_wallsMove)
+      setWallMotion(m_planes, m_world.params, m_time, m_meshPoses.empty() ? nullptr : m_meshPoses.data());
     if (m_needRebuild)
       rebuild();
     else if (m_needRefresh)
