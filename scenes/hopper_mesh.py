@@ -36,9 +36,15 @@ def main():
     tris = []
     for lo, hi in zip(rings, rings[1:]):
         tris += band(lo, hi)
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "hopper-mesh.stl")
+    write_binary_stl("hopper-mesh.stl", b"tumble scenes/hopper_mesh.py: the hopper of hopper.toml", tris)
+
+
+def write_binary_stl(name, header, tris):
+    """Writes the triangles (three (x, y, z) corners each) as a binary STL next to this script,
+    with their unit normals and an 80-byte header (scenes/drum_mesh.py uses it too)."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
     with open(path, "wb") as f:
-        f.write(b"tumble scenes/hopper_mesh.py: the hopper of hopper.toml".ljust(80, b" "))
+        f.write(header.ljust(80, b" "))
         f.write(struct.pack("<I", len(tris)))
         for t in tris:
             e1 = [t[1][i] - t[0][i] for i in range(3)]

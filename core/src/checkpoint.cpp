@@ -178,6 +178,10 @@ std::uint64_t physicsFingerprint(const Scene& s) {
         f.add(w.orientation);
         f.addAll(w.mesh->vertices);
         f.addAll(w.mesh->triangles);
+        if (w.moves()) {  // its rotation (meshes that stand still keep their fingerprints)
+          f.add(w.meshAngularVelocity);
+          f.add(w.meshPivot());
+        }
       }
     }
   }

@@ -114,15 +114,33 @@ bool SphereHash::hits(Vec3f x, float r) const {
   return false;
 }
 
-MeshObstacles::MeshObstacles(const Scene& scene, const LocalFrame& f) : m_scene(scene) {
-  if (meshTriangleCount(scene) > 0) m_mesh = kernelMesh(scene, f);
+MeshObstacles::MeshObstacles(const Scene& scene, const LocalFrame& f)
+    : m_scene(scene),
+      m_mesh(std::make_shared<const KernelMesh>(meshTriangleCount(scene) > 0 ? kernelMesh(scene, f) : KernelMesh{})) {}
+
+MeshObstacles MeshObstacles::posed(const std::vector<MeshPose>& poses) const {
+  MeshObstacles out = *this;
+  out.m_poses = poses;
+  return out;
 }
 
 bool MeshObstacles::clear(Vec3f x, float r) const {
-  return m_mesh.numTriangles() == 0 || findMeshContacts(m_mesh, {x.x, x.y, x.z}, {r * (1.0f + 1e-5f)}).empty();
+  return m_mesh->numTriangles() == 0 ||
+         findMeshContacts(*m_mesh, {x.x, x.y, x.z}, {r * (1.0f + 1e-5f)}, m_poses).empty();
 }
 
-bool MeshObstacles::inside(std::size_t wall, Vec3f x) const { return pointInsideMesh(m_mesh, m_scene, wall, x); }
+bool MeshObstacles::inside(std::size_t wall, Vec3f x) const {
+  const MeshView v = m_mesh->view(m_poses);
+  const std::uint32_t plane = (m_scene.ground.enabled ? 1u : 0u) + static_cast<std::uint32_t>(wall);
+  return pointInsideMesh(*m_mesh, m_scene, wall, meshPoint(v, plane, x));
+}
+
+Vec3f MeshObstacles::placed(std::size_t wall, Vec3f y) const {
+  const std::size_t plane = (m_scene.ground.enabled ? 1u : 0u) + wall;
+  if (plane >= m_poses.size() || m_poses[plane].posed == 0u) return y;
+  const MeshPose& p = m_poses[plane];
+  return mul(p.rot, y - p.pivot) + p.centre;
+}
 
 RegionFrame::RegionFrame(const FillRegion& g, const Scene& scene, const LocalFrame& f, const MeshObstacles& m)
     : region(g), meshes(&m) {
@@ -155,10 +173,12 @@ bool RegionFrame::inside(Vec3f x, float r) const {
 
 Vec3f RegionFrame::point(float u1, float u2, float u3) const {
   const FillRegion& g = region;
-  if (g.kind != FillRegion::Kind::Cylinder)
-    return Vec3f{float(g.min.x + double(u1) * (double(g.max.x) - g.min.x)),
-                 float(g.min.y + double(u2) * (double(g.max.y) - g.min.y)),
-                 float(g.min.z + double(u3) * (double(g.max.z) - g.min.z))};
+  if (g.kind != FillRegion::Kind::Cylinder) {
+    const Vec3f y{float(g.min.x + double(u1) * (double(g.max.x) - g.min.x)),
+                  float(g.min.y + double(u2) * (double(g.max.y) - g.min.y)),
+                  float(g.min.z + double(u3) * (double(g.max.z) - g.min.z))};
+    return g.kind == FillRegion::Kind::Mesh ? meshes->placed(g.wall, y) : y;  // a mesh's box where it was given
+  }
   const double s = double(u1) * length, rho = double(g.radius) * std::sqrt(double(u2));
   const double phi = 6.283185307179586 * double(u3), c = rho * std::cos(phi), d = rho * std::sin(phi);
   return Vec3f{float(g.point.x + s * a[0] + c * e1[0] + d * e2[0]), float(g.point.y + s * a[1] + c * e1[1] + d * e2[1]),

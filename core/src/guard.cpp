@@ -153,7 +153,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // and pose them at the time of the state).
   const std::vector<WallDef> planeDefs = sc.planes();
   std::vector<Wall> planes = kernelWalls(sc, frame);
-  setWallMotion(planes, sc, pipeline.time());
+  std::vector<MeshPose> meshPoses(meshWallsMove(sc) ? planes.size() : 0, MeshPose{});  // moving meshes: posed too
+  setWallMotion(planes, sc, pipeline.time(), meshPoses.empty() ? nullptr : meshPoses.data());
   // Periodic boundaries: contacts through the minimum image, and the bodies' heights and
   // momenta from their unwrapped positions X + n L (a body crossing the box keeps its potential).
   const PeriodicBox box = kernelPeriodic(sc, frame);
@@ -385,20 +386,27 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     addDeepest(gs, q == 0 && sc.ground.enabled ? "the ground" : planeDefs[q].where);
   }
   // The mesh contacts of the last step (of the initial state before the first: found here),
-  // with the kernels' distance to the same triangle at the present positions, in (particle,
-  // triangle) order over fixed chunks. The rounding of a distance: the triangle's box growth.
+  // with the kernels' distance to the same triangle at the present positions (and a moving
+  // mesh's present pose), in (particle, triangle) order over fixed chunks. The rounding of a
+  // distance: the triangle's box growth.
   if (m_mesh.numTriangles() > 0) {
-    const MeshView mv = m_mesh.view();
-    const std::vector<MeshContact> mc = findPairsWith ? findMeshContacts(m_mesh, x, w.radius) : pipeline.meshContacts();
+    const MeshView mv = m_mesh.view(meshPoses);
+    const std::vector<MeshContact> mc =
+        findPairsWith ? findMeshContacts(m_mesh, x, w.radius, meshPoses) : pipeline.meshContacts();
     const GroundSums gs = chunkedSum<GroundSums>(mc.size(), [&](std::size_t begin, std::size_t end, GroundSums& a) {
       for (std::size_t c = begin; c < end; ++c) {
         const std::size_t i = mc[c].particle;
         const std::uint32_t t = mc[c].triangle;
-        const Vec3f xf{x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+        const Vec3f xf = meshPoint(mv, mv.tri[t].wall, Vec3f{x[3 * i], x[3 * i + 1], x[3 * i + 2]});
         const double delta = w.radius[i] - double(nearestOnTriangle(mv, t, xf).dist);
         const MeshTriangle& tr = mv.tri[t];
         const double size = std::max({double(tr.hi.x) - tr.lo.x, double(tr.hi.y) - tr.lo.y, double(tr.hi.z) - tr.lo.z});
-        if (delta > 0.0 && addPlane(a, tr.wall, i, delta, 2.0 * err[w.body[i]] + 64.0 * 0x1p-24 * size)) a.triangle = t;
+        // A posed mesh's: also the rounding of the centre's transform into its frame.
+        const double moved = mv.poses != nullptr && mv.poses[tr.wall].posed != 0u
+                                 ? 16.0 * 0x1p-24 * (std::abs(xf.x) + std::abs(xf.y) + std::abs(xf.z))
+                                 : 0.0;
+        if (delta > 0.0 && addPlane(a, tr.wall, i, delta, 2.0 * err[w.body[i]] + 64.0 * 0x1p-24 * size + moved))
+          a.triangle = t;
       }
     }, mergePlanes);
     if (gs.maxOverlap > 0.0)

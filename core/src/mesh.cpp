@@ -404,6 +404,15 @@ MeshView KernelMesh::view() const {
   return v;
 }
 
+MeshView KernelMesh::view(const std::vector<MeshPose>& poses) const {
+  MeshView v = view();
+  if (!poses.empty() && !tri.empty()) {
+    v.poses = poses.data();
+    v.numPoses = static_cast<std::uint32_t>(poses.size());
+  }
+  return v;
+}
+
 namespace {
 
 using Vec3d = std::array<double, 3>;
@@ -630,18 +639,22 @@ KernelMesh kernelMesh(const Scene& scene, const LocalFrame& f) {
 }
 
 std::vector<MeshContact> findMeshContacts(const KernelMesh& mesh, const std::vector<float>& x,
-                                          const std::vector<float>& radius) {
+                                          const std::vector<float>& radius, const std::vector<MeshPose>& poses) {
   const std::size_t n = radius.size();
   std::vector<std::vector<std::uint32_t>> rows(n);
-  const MeshView v = mesh.view();
+  const MeshView v = mesh.view(poses);
   if (v.numTriangles > 0) {
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       const Vec3f xi{x[3 * i], x[3 * i + 1], x[3 * i + 2]};
       const float r = radius[i];
+      const auto hit = [&](std::uint32_t t) {
+        if (meshHit(v, t, meshPoint(v, v.tri[t].wall, xi), r).counts) rows[i].push_back(t);
+      };
       // A contact is within r of the triangle, less its rounding, which its box's growth covers.
-      forTrianglesNear(v, xi, r + r * 0x1p-20f, [&](std::uint32_t t) {
-        if (meshHit(v, t, xi, r).counts) rows[i].push_back(t);
-      });
+      if (v.poses != nullptr)
+        forPosedTrianglesNear(v, xi, r + r * 0x1p-20f, hit);
+      else
+        forTrianglesNear(v, xi, r + r * 0x1p-20f, hit);
       std::sort(rows[i].begin(), rows[i].end());
     });
   }
@@ -649,6 +662,41 @@ std::vector<MeshContact> findMeshContacts(const KernelMesh& mesh, const std::vec
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t t : rows[i]) out.push_back(MeshContact{static_cast<std::uint32_t>(i), t});
   return out;
+}
+
+MeshMotionBound::MeshMotionBound(const Scene& scene, const KernelMesh& mesh, const std::vector<Wall>& planes,
+                                 float maxRadius, float skin) {
+  const std::size_t first = planes.size() - scene.walls.size();  // after the ground
+  for (std::size_t k = 0; k < scene.walls.size(); ++k) {
+    const WallDef& d = scene.walls[k];
+    if (d.shape != WallDef::Shape::Mesh || !d.moves()) continue;
+    const std::uint32_t plane = static_cast<std::uint32_t>(first + k);
+    const Vec3d pivot = toD(planes[plane].restCentre);
+    double far = 0.0;  // D: the largest distance of a vertex from the pivot
+    for (std::uint32_t t = 0; t < mesh.numTriangles(); ++t) {
+      if (mesh.tri[t].wall != plane) continue;
+      for (int c = 0; c < 3; ++c) {
+        const Vec3d e = sub(toD(mesh.vertices[mesh.triangles[3 * std::size_t(t) + c]]), pivot);
+        far = std::max(far, std::sqrt(dotD(e, e)));
+      }
+    }
+    const Vec3d v = toD(d.velocity), w = toD(d.meshAngularVelocity);
+    const double r = maxRadius;
+    m_walls.push_back(Moving{d, std::sqrt(dotD(v, v)), std::sqrt(dotD(w, w)), far + r,
+                             16.0 * kUnit * (far + 2.0 * (r + double(skin)) + std::sqrt(dotD(pivot, pivot)))});
+  }
+}
+
+double MeshMotionBound::closure(double t0, double t1) const {
+  double most = 0.0;
+  for (const Moving& m : m_walls) {
+    const double a = wallMotionTime(m.def, t0), b = wallMotionTime(m.def, t1);
+    if (!(a > 0.0) && !(b > 0.0)) continue;  // where it was given at both: its points are not transformed
+    const double dt = std::abs(b - a);
+    const double rounding = m.rounding + 16.0 * kUnit * m.speed * std::max(a, b);
+    most = std::max(most, m.speed * dt + m.rate * dt * m.reach + 2.0 * rounding);
+  }
+  return 2.0 * most;
 }
 
 bool pointInsideMesh(const KernelMesh& mesh, const Scene& scene, std::size_t wall, Vec3f p) {

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -58,19 +59,27 @@ class SphereHash {
 };
 
 /// The scene's mesh walls as what placed bodies keep clear of, in frame f (their kernels' data,
-/// kernelMesh(); none when the scene has no mesh).
+/// kernelMesh(); none when the scene has no mesh), where they were given or, posed(), where
+/// they are at a time.
 class MeshObstacles {
  public:
   MeshObstacles(const Scene& scene, const LocalFrame& f);
+  /// The same meshes where `poses` put them (one per plane, setWallMotion(): a [[pour]]'s batch
+  /// at its time); empty: where they were given (a [[fill]], at t = 0). Shares the mesh data.
+  MeshObstacles posed(const std::vector<MeshPose>& poses) const;
   /// Whether a sphere at x of radius r meets no mesh triangle (grown by a relative margin of
   /// 1e-5, as SphereHash::hits()).
   bool clear(Vec3f x, float r) const;
-  /// Whether x lies inside the closed mesh wall `wall` (pointInsideMesh()).
+  /// Whether x lies inside the closed mesh wall `wall` (an index of Scene::walls;
+  /// pointInsideMesh() at x in its frame).
   bool inside(std::size_t wall, Vec3f x) const;
+  /// Where a point y of mesh wall `wall` as given is now (its pose; y itself while unposed).
+  Vec3f placed(std::size_t wall, Vec3f y) const;
 
  private:
   const Scene& m_scene;
-  KernelMesh m_mesh;
+  std::shared_ptr<const KernelMesh> m_mesh;
+  std::vector<MeshPose> m_poses;
 };
 
 /// A region with its axis (a cylinder: unit axis a, length, two unit directions across it), or

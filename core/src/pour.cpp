@@ -51,7 +51,7 @@ std::uint64_t Pouring::nextBatch(std::uint64_t step, std::size_t bodies) const {
 World Pouring::worldWith(std::size_t bodies) const {
   if (bodies == 0 && m_scene.bodies.empty()) {  // the run starts with the bodies due at t = 0
     const std::vector<Wall> walls = kernelWalls(m_scene, LocalFrame{});
-    const std::vector<Vec3f> placed = place(0, dueBy(0, 0.0), {}, {}, 0.0f, LocalFrame{}, walls, 0);
+    const std::vector<Vec3f> placed = place(0, dueBy(0, 0.0), {}, {}, 0.0f, LocalFrame{}, walls, {}, 0);
     if (placed.empty())
       throw Error(m_scene.pours.empty() ? "the scene has no bodies"
                                         : m_scene.pours[0].where + ": the scene's bodies all come from [[pour]] and none "
@@ -66,7 +66,8 @@ World Pouring::worldWith(std::size_t bodies) const {
 
 std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std::vector<float>& x,
                                   const std::vector<float>& radius, float maxRadius, const LocalFrame& frame,
-                                  const std::vector<Wall>& walls, std::uint64_t step) const {
+                                  const std::vector<Wall>& walls, const std::vector<MeshPose>& meshPoses,
+                                  std::uint64_t step) const {
   using namespace detail;
   float largest = 0.0f;
   std::vector<std::vector<Ball>> balls;
@@ -76,7 +77,7 @@ std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std:
   }
   // The pours' regions in the frame, and the particles near one (its bounding box, grown by the
   // largest reach).
-  const MeshObstacles& meshes = meshesIn(frame);
+  const MeshObstacles meshes = meshesIn(frame).posed(meshPoses);
   std::vector<RegionFrame> regions;
   for (const PourDef& p : m_scene.pours) regions.emplace_back(shifted(p.region, frame), m_scene, frame, meshes);
   const double reach = 2.0 * (double(largest) + maxRadius);
@@ -144,8 +145,9 @@ std::optional<World> Pouring::pour(const World& world, const Pipeline& pipeline)
   std::vector<float> x;
   pipeline.readLocalPositions(x);
   std::vector<Wall> walls = kernelWalls(world.params, frame);
-  setWallMotion(walls, world.params, t);
-  const std::vector<Vec3f> placed = place(first, due, x, world.radius, world.maxRadius, frame, walls, step);
+  std::vector<MeshPose> meshPoses(meshWallsMove(world.params) ? walls.size() : 0, MeshPose{});
+  setWallMotion(walls, world.params, t, meshPoses.empty() ? nullptr : meshPoses.data());
+  const std::vector<Vec3f> placed = place(first, due, x, world.radius, world.maxRadius, frame, walls, meshPoses, step);
   if (placed.empty()) return std::nullopt;
 
   // The world with them: the pipeline's state (as it integrates it, in its frame) and theirs.

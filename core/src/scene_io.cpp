@@ -524,7 +524,7 @@ class SceneParser {
       const std::string name = "[[wall]] #" + std::to_string(k + 1);
       const TableReader r(m_file, *tables[k], name,
                           {"type", "point", "normal", "min", "max", "open", "axis", "radius", "inner_radius",
-                           "velocity", "angular_velocity", "start", "stop", "file", "scale", "position",
+                           "velocity", "angular_velocity", "pivot", "start", "stop", "file", "scale", "position",
                            "orientation", "stiffness", "friction", "tangential_stiffness", "rolling_friction",
                            "material"});
       const std::string where =
@@ -543,14 +543,14 @@ class SceneParser {
           {"cylinder", "point axis radius velocity angular_velocity start stop"},
           {"cone", "point axis radius velocity angular_velocity start stop"},
           {"disk", "point normal radius inner_radius velocity angular_velocity start stop"},
-          {"mesh", "file scale position orientation"}};
+          {"mesh", "file scale position orientation velocity angular_velocity pivot start stop"}};
       const auto* entry = std::find_if(std::begin(kKeysOf), std::end(kKeysOf),
                                        [&](const auto& e) { return type == e.first; });
       if (entry == std::end(kKeysOf))
         r.fail(sourceOf(typeNode), "unknown wall type \"" + type + "\" (\"plane\", \"box\", \"cylinder\", \"cone\", "
                                    "\"disk\" or \"mesh\")");
       for (const char* key : {"point", "normal", "min", "max", "open", "axis", "radius", "inner_radius", "velocity",
-                              "angular_velocity", "start", "stop", "file", "scale", "position", "orientation"}) {
+                              "angular_velocity", "pivot", "start", "stop", "file", "scale", "position", "orientation"}) {
         const std::string keys = std::string(" ") + entry->second + " ";
         if (const toml::node* e = r.find(key); e != nullptr && keys.find(std::string(" ") + key + " ") == std::string::npos)
           r.fail(sourceOf(*e), std::string(key) + " is not a key of type = \"" + type + "\" (its keys: " +
@@ -714,6 +714,21 @@ class SceneParser {
     } catch (const Error& e) {  // a vertex beyond single precision once placed (its message names the wall)
       throw errorAt(m_file, r.header().begin.line ? r.header() : sourceOf(fn), e.what());
     }
+    // Its motion: a rigid one, turning about the pivot at ω and translating (WallDef).
+    if (const toml::node* an = r.find("angular_velocity")) {
+      if (an->is_number())
+        r.fail(sourceOf(*an), "a mesh turns about a vector: angular_velocity = [x, y, z] in rad/s (the axis, "
+                              "right-handed, and the rate), about pivot; a number is a cylinder's, cone's or disk's");
+      wall->meshAngularVelocity = r.vec3(*an, "angular_velocity", Rule::Any);
+    }
+    if (const toml::node* pn = r.find("pivot")) {
+      const Vec3f& w = wall->meshAngularVelocity;
+      if (w.x == 0.0f && w.y == 0.0f && w.z == 0.0f)
+        r.fail(sourceOf(*pn), "pivot is the point the mesh turns about, and it does not turn; give it an "
+                              "angular_velocity = [x, y, z] (rad/s), or leave pivot out");
+      wall->pivot = r.vec3(*pn, "pivot", Rule::Any);
+    }
+    readWallMotionWindow(r, wall);
   }
 
   // velocity [m/s] and start and stop of a wall's motion [s] (start and stop only with a
@@ -724,7 +739,7 @@ class SceneParser {
     const toml::node* off = r.find("stop");
     if ((on || off) && !wall->moves())
       r.fail(sourceOf(on ? *on : *off), std::string(on ? "start" : "stop") + " times a wall's motion, and this wall "
-                                        "does not move (give it a velocity, or a cylinder, cone or disk an "
+                                        "does not move (give it a velocity, or a cylinder, cone, disk or mesh an "
                                         "angular_velocity)");
     wall->start = r.number("start", 0.0, Rule::NonNegative);
     wall->stop = r.number("stop", wall->stop, Rule::Positive);

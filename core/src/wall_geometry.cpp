@@ -116,11 +116,21 @@ WallKind kindOf(const WallDef& w) {
 // How a wall's drawing moves (WallDef::velocity, angularVelocity): a revolved wall turns about
 // its axis and translates with its velocity; a plane translates with its velocity when it moves
 // along its normal (a piston) or is a face of a box that moves (its faces along the motion
-// then travel with the others), and stands still when only its surface moves (a belt).
+// then travel with the others), and stands still when only its surface moves (a belt); a mesh
+// moves as a whole, turning about its pivot and translating (the pose of WallDef's mesh motion).
 WallMotion motionOf(const WallDef& w) {
   WallMotion m;
   V3 a;
-  if (w.shape == WallDef::Shape::Mesh || !(w.stop > w.start) || !unit(w.normal, &a)) return m;
+  if (!(w.stop > w.start)) return m;
+  if (w.shape == WallDef::Shape::Mesh) {
+    m.velocity = w.velocity;
+    m.angularVelocity = w.meshAngularVelocity;
+    m.pivot = w.meshPivot();
+    m.start = w.start;
+    m.stop = w.stop;
+    return m.moves() && finite(of(m.velocity)) && finite(of(m.angularVelocity)) && finite(of(m.pivot)) ? m : WallMotion{};
+  }
+  if (!unit(w.normal, &a)) return m;
   const V3 v = of(w.velocity);
   if (w.shape == WallDef::Shape::Revolved && w.angularVelocity != 0.0f && std::isfinite(w.angularVelocity)) {
     m.angularVelocity = Vec3f{static_cast<float>(a[0] * w.angularVelocity), static_cast<float>(a[1] * w.angularVelocity),

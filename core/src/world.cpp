@@ -66,9 +66,14 @@ namespace {
 // The frame's shift of everything but the body positions: the ground height and the pull centre.
 void shiftParams(World& w, const LocalFrame& f) {
   w.params.ground.height = static_cast<float>(double(w.params.ground.height) - f.z);
-  for (WallDef& wall : w.params.walls)
-    wall.point = Vec3f{static_cast<float>(double(wall.point.x) - f.x), static_cast<float>(double(wall.point.y) - f.y),
-                       static_cast<float>(double(wall.point.z) - f.z)};
+  const auto shift = [&](Vec3f p) {
+    return Vec3f{static_cast<float>(double(p.x) - f.x), static_cast<float>(double(p.y) - f.y),
+                 static_cast<float>(double(p.z) - f.z)};
+  };
+  for (WallDef& wall : w.params.walls) {
+    wall.point = shift(wall.point);
+    if (wall.pivot) wall.pivot = shift(*wall.pivot);  // a moving mesh's
+  }
   w.params.pulls.centre = Vec3f{static_cast<float>(-f.x), static_cast<float>(-f.y), static_cast<float>(-f.z)};
 }
 
@@ -219,9 +224,20 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
     w.omega = d.angularVelocity;
     if (d.shape == WallDef::Shape::Mesh) {  // its triangles: kernelMesh()
       if (!d.mesh) throw Error(d.where + ": a mesh wall needs a mesh (WallDef::mesh)");
-      if (d.moves()) throw Error(d.where + ": a mesh wall does not move (velocity and angular_velocity are 0)");
+      if (const std::string why = wallMotionOutOfRange(d); !why.empty()) throw Error(d.where + ": " + why);
       w.axis = kMeshWall;
       w.sign = 1.0f;
+      if (d.moves()) {  // its material's velocity, v + |ω| n × (p − centre): n the unit ω, centre the pivot
+        const Vec3f& om = d.meshAngularVelocity;
+        const double rate = std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z);
+        w.omega = static_cast<float>(rate);
+        if (rate > 0.0) w.n = Vec3f{float(om.x / rate), float(om.y / rate), float(om.z / rate)};
+        const Vec3f q = d.meshPivot();
+        w.restCentre = Vec3f{static_cast<float>(checkedHeight(double(q.x) - o[0], d.where)),
+                             static_cast<float>(checkedHeight(double(q.y) - o[1], d.where)),
+                             static_cast<float>(checkedHeight(double(q.z) - o[2], d.where))};
+        w.centre = w.restCentre;
+      }
       out.push_back(w);
       continue;
     }
@@ -286,7 +302,20 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
 }
 
 std::string wallMotionOutOfRange(const WallDef& d) {
-  if (d.shape == WallDef::Shape::Mesh) return d.moves() ? "a mesh wall does not move" : "";
+  const auto finite = [](Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const Vec3f& om = d.meshAngularVelocity;
+  const bool turns = om.x != 0.0f || om.y != 0.0f || om.z != 0.0f;
+  if (!finite(om)) return "angular_velocity must be finite";
+  if (d.shape == WallDef::Shape::Mesh) {
+    if (d.angularVelocity != 0.0f)
+      return "a mesh turns about a vector, angular_velocity = [x, y, z] (WallDef::meshAngularVelocity), not a number";
+    if (d.pivot && !finite(*d.pivot)) return "pivot must be finite";
+    if (d.pivot && !turns)
+      return "pivot is the point a mesh turns about, and this mesh does not turn (give it an angular_velocity)";
+  } else if (turns || d.pivot) {
+    return "only a mesh turns about a vector angular_velocity and a pivot (a cylinder, cone or disk turns about its "
+           "own axis: its angular_velocity is a number)";
+  }
   if (!std::isfinite(d.angularVelocity)) return "angular_velocity must be finite";
   if (d.shape == WallDef::Shape::Plane && d.angularVelocity != 0.0f)
     return "a plane does not turn (angular_velocity is for cylinders, cones and disks)";
@@ -294,6 +323,13 @@ std::string wallMotionOutOfRange(const WallDef& d) {
   if (!(std::isfinite(u.x) && std::isfinite(u.y) && std::isfinite(u.z))) return "velocity must be finite";
   if (!(d.start >= 0.0 && d.stop > d.start)) return "the motion must start at t >= 0 and stop after it starts";
   return {};
+}
+
+double wallMotionTime(const WallDef& d, double t) { return std::min(std::max(t - d.start, 0.0), d.stop - d.start); }
+
+bool meshWallsMove(const Scene& scene) {
+  return std::any_of(scene.walls.begin(), scene.walls.end(),
+                     [](const WallDef& w) { return w.shape == WallDef::Shape::Mesh && w.moves(); });
 }
 
 bool Scene::wallsMove() const {
@@ -305,7 +341,52 @@ bool Scene::wallsMoveDuring(double t0, double t1) const {
                      [&](const WallDef& w) { return w.moves() && w.start < t1 && w.stop > t0; });
 }
 
-bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t) {
+namespace {
+
+// A mesh wall's pose at time t (MeshPose): the rotation by θ = |ω| τ about the unit ω, R = I +
+// sin θ [k]× + 2 sin²(θ/2) [k]×² (Rodrigues), and the pivot moved by v τ, all in double from
+// the time, the given floats and the pivot in the run's frame (Wall::restCentre), rounded once.
+MeshPose meshPoseAt(const WallDef& d, const Wall& w, double t) {
+  MeshPose pose{};
+  pose.rot = Mat3f{1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f};
+  pose.pivot = w.restCentre;
+  pose.centre = w.restCentre;
+  const double tau = wallMotionTime(d, t);
+  if (!d.moves() || !(tau > 0.0)) return pose;
+  pose.posed = 1u;
+  const Vec3f& v = d.velocity;
+  pose.centre = Vec3f{static_cast<float>(double(w.restCentre.x) + double(v.x) * tau),
+                      static_cast<float>(double(w.restCentre.y) + double(v.y) * tau),
+                      static_cast<float>(double(w.restCentre.z) + double(v.z) * tau)};
+  const Vec3f& om = d.meshAngularVelocity;
+  const double rate = std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z);
+  if (!(rate > 0.0)) return pose;
+  const double k[3] = {om.x / rate, om.y / rate, om.z / rate}, theta = rate * tau;
+  const double s = std::sin(theta), h = std::sin(0.5 * theta), c2 = 2.0 * h * h;  // 1 − cos θ
+  // K = [k]×, the cross product with k: R = I + sin θ K + (1 − cos θ) K².
+  const double K[3][3] = {{0.0, -k[2], k[1]}, {k[2], 0.0, -k[0]}, {-k[1], k[0], 0.0}};
+  float r[9];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double k2 = K[i][0] * K[0][j] + K[i][1] * K[1][j] + K[i][2] * K[2][j];
+      r[3 * i + j] = static_cast<float>((i == j ? 1.0 : 0.0) + s * K[i][j] + c2 * k2);
+    }
+  pose.rot = Mat3f{r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]};
+  return pose;
+}
+
+bool samePose(const MeshPose& a, const MeshPose& b) {
+  const float* x = &a.rot.xx;
+  const float* y = &b.rot.xx;
+  for (int i = 0; i < 9; ++i)
+    if (x[i] != y[i]) return false;
+  return a.posed == b.posed && a.centre.x == b.centre.x && a.centre.y == b.centre.y && a.centre.z == b.centre.z &&
+         a.pivot.x == b.pivot.x && a.pivot.y == b.pivot.y && a.pivot.z == b.pivot.z;
+}
+
+}  // namespace
+
+bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t, MeshPose* meshPoses) {
   bool changed = false;
   const std::size_t first = walls.size() - scene.walls.size();  // after the ground
   for (std::size_t k = 0; k < scene.walls.size(); ++k) {
@@ -314,11 +395,21 @@ bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t) {
     const std::uint32_t on = d.moves() && t >= d.start && t < d.stop ? 1u : 0u;
     changed = changed || w.moving != on;
     w.moving = on;
+    if (d.shape == WallDef::Shape::Mesh) {  // posed as a whole: its pivot now, and its pose
+      if (!d.moves()) continue;
+      const MeshPose pose = meshPoseAt(d, w, t);
+      w.centre = pose.centre;
+      if (meshPoses != nullptr) {
+        changed = changed || !samePose(meshPoses[first + k], pose);
+        meshPoses[first + k] = pose;
+      }
+      continue;
+    }
     const Vec3f& v = d.velocity;
     if (v.x == 0.0f && v.y == 0.0f && v.z == 0.0f) continue;
     // The shift v τ, in double from the given velocity and the unit normal (or axis) in double,
     // added to the rest geometry and rounded once: the same bits at time t for any history.
-    const double tau = std::min(std::max(t - d.start, 0.0), d.stop - d.start);
+    const double tau = wallMotionTime(d, t);
     const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
                                  double(d.normal.z) * d.normal.z);
     const double n[3] = {d.normal.x / len, d.normal.y / len, d.normal.z / len};
@@ -656,8 +747,9 @@ namespace {
 // hertz-mindlin: the shortest Hertz contact time t_c = 2.87 (m*² / (R* Y*² v))^{1/5} of the scene,
 // for the lightest mass and the largest radius of each material against each other and every plane (the
 // ground, the walls), at
-// the fastest impact its start suggests: v = max(1 m/s, |V|max + √(2 |g| H)), H the largest
-// height of a body above the ground (without one, the bodies' vertical extent).
+// the fastest impact its start suggests: v = max(1 m/s, |V|max + √(2 |g| H) + the fastest
+// moving wall's approach, wallApproachSpeed()), H the largest height of a body above the ground
+// (without one, the bodies' vertical extent).
 double hertzContactTime(const World& w) {
   const std::size_t m = w.params.materials.size();
   // t_c grows with m*^{2/5} and falls with R*^{1/5}: the lightest mass with the largest radius.
@@ -676,7 +768,9 @@ double hertzContactTime(const World& w) {
   if (w.params.ground.enabled) lo = std::min(lo, double(w.params.ground.height));
   const Vec3f g = w.params.gravity;
   const double gz = std::sqrt(double(g.x) * g.x + double(g.y) * g.y + double(g.z) * g.z);
-  const double v = std::max(1.0, vmax + std::sqrt(2.0 * gz * std::max(0.0, hi - lo)));
+  double walls = 0.0;
+  for (const WallDef& d : w.params.walls) walls = std::max(walls, wallApproachSpeed(d));
+  const double v = std::max(1.0, vmax + std::sqrt(2.0 * gz * std::max(0.0, hi - lo)) + walls);
   double tc = std::numeric_limits<double>::infinity();
   const auto contact = [&](double meff, double reff, double ystar) {
     tc = std::min(tc, 2.87 * std::pow(meff * meff / (reff * ystar * ystar * v), 0.2));
@@ -693,6 +787,27 @@ double hertzContactTime(const World& w) {
 }
 
 }  // namespace
+
+double wallApproachSpeed(const WallDef& d) {
+  if (!d.moves()) return 0.0;
+  const Vec3f& v = d.velocity;
+  const double speed = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+  if (d.shape == WallDef::Shape::Plane) {
+    const double len = std::sqrt(double(d.normal.x) * d.normal.x + double(d.normal.y) * d.normal.y +
+                                 double(d.normal.z) * d.normal.z);
+    const double along = double(v.x) * d.normal.x + double(v.y) * d.normal.y + double(v.z) * d.normal.z;
+    return len > 0.0 ? std::abs(along) / len : 0.0;
+  }
+  if (d.shape == WallDef::Shape::Revolved || !d.mesh) return speed;
+  const Vec3f& om = d.meshAngularVelocity;
+  const Vec3f p = d.meshPivot();
+  double far = 0.0;
+  for (const Vec3f& y : meshWallVertices(d)) {
+    const double e[3] = {double(y.x) - p.x, double(y.y) - p.y, double(y.z) - p.z};
+    far = std::max(far, std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
+  }
+  return speed + std::sqrt(double(om.x) * om.x + double(om.y) * om.y + double(om.z) * om.z) * far;
+}
 
 double shortestContactTime(const World& w) {
   const double pi = 3.14159265358979323846;

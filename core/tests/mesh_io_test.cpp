@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -262,6 +263,29 @@ TEST(MeshWallKeys, EveryKey) {
     EXPECT_EQ(s.walls[0].contact.frictionOverride, 0.2f);
     EXPECT_NO_THROW(World::fromScene(s));
   }
+  {  // moving: a velocity, an angular velocity about a pivot, a window
+    const Scene s = readSceneFile(writeFile("scene.toml", meshScene(
+        "file = \"square.obj\"\nvelocity = [0.1, 0, 0]\nangular_velocity = [0, 0, 2]\npivot = [0.5, 0.5, 0]\n"
+        "start = 0.5\nstop = 2\n")));
+    const WallDef& w = s.walls[0];
+    EXPECT_EQ(w.velocity.x, 0.1f);
+    EXPECT_EQ(w.meshAngularVelocity.z, 2.0f);
+    ASSERT_TRUE(w.pivot.has_value());
+    EXPECT_EQ(w.meshPivot().x, 0.5f);
+    EXPECT_EQ(w.start, 0.5);
+    EXPECT_EQ(w.stop, 2.0);
+    EXPECT_TRUE(w.moves());
+    EXPECT_TRUE(s.wallsMove());
+    EXPECT_TRUE(meshWallsMove(s));
+    EXPECT_NO_THROW(World::fromScene(s));
+  }
+  {  // the pivot by default: the position
+    const Scene s = readSceneFile(writeFile("scene.toml", meshScene(
+        "file = \"square.obj\"\nposition = [1, 2, 3]\nangular_velocity = [0, 0, -1]\n")));
+    EXPECT_FALSE(s.walls[0].pivot.has_value());
+    EXPECT_EQ(s.walls[0].meshPivot().y, 2.0f);
+    EXPECT_EQ(s.walls[0].stop, std::numeric_limits<double>::infinity()) << "turning for ever";
+  }
 }
 
 // Each refusal of a mesh wall's table, at its line; a problem in the mesh file at the file's
@@ -281,7 +305,24 @@ TEST(MeshWallKeys, EveryError) {
   expectSceneError(meshScene("file = \"square.obj\"\norientation = [0, 0, 0, 0]\n"), 15, {"must not be the zero quaternion"});
   expectSceneError(meshScene("file = \"square.obj\"\nnormal = [0, 0, 1]\n"), 15,
                    {"normal is not a key of type = \"mesh\"", "file scale position orientation"});
-  expectSceneError(meshScene("file = \"square.obj\"\nvelocity = [1, 0, 0]\n"), 15, {"velocity is not a key of type = \"mesh\""});
+  expectSceneError(meshScene("file = \"square.obj\"\ninner_radius = 1\n"), 15, {"inner_radius is not a key of type = \"mesh\""});
+  // Its motion.
+  expectSceneError(meshScene("file = \"square.obj\"\nangular_velocity = 2\n"), 15,
+                   {"a mesh turns about a vector: angular_velocity = [x, y, z]", "a number is a cylinder's"});
+  expectSceneError(meshScene("file = \"square.obj\"\nangular_velocity = [0, 0, nan]\n"), 15,
+                   {"component z of angular_velocity must be a finite number"});
+  expectSceneError(meshScene("file = \"square.obj\"\nangular_velocity = [0, 1]\n"), 15,
+                   {"angular_velocity must be an array of 3 numbers"});
+  expectSceneError(meshScene("file = \"square.obj\"\nvelocity = [1, inf, 0]\n"), 15,
+                   {"component y of velocity must be a finite number"});
+  expectSceneError(meshScene("file = \"square.obj\"\nvelocity = [1, 0, 0]\npivot = [0, 0, 0]\n"), 16,
+                   {"pivot is the point the mesh turns about, and it does not turn", "angular_velocity = [x, y, z]"});
+  expectSceneError(meshScene("file = \"square.obj\"\nangular_velocity = [0, 0, 1]\npivot = [0, 1e39, 0]\n"), 16,
+                   {"pivot"});
+  expectSceneError(meshScene("file = \"square.obj\"\nstart = 1\n"), 15,
+                   {"start times a wall's motion, and this wall does not move", "disk or mesh an angular_velocity"});
+  expectSceneError(meshScene("file = \"square.obj\"\nangular_velocity = [0, 0, 1]\nstart = 2\nstop = 1\n"), 17,
+                   {"stop must be after start (got start = 2, stop = 1)"});
   expectSceneError(meshScene("file = \"square.obj\"\nscale = 3e38\nposition = [3e38, 0, 0]\n"), 12,
                    {"beyond single precision once scaled, turned and placed"});
   expectSceneError(meshScene("file = \"square.obj\"\nmaterial = \"x\"\n"), 15, {"material is read under law = \"hertz-mindlin\" only"});

@@ -8,8 +8,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
+#include "tumble/mesh.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/world.hpp"
 
@@ -279,4 +281,45 @@ TEST(WallGeometry, MovingWallsAndMeshesAreDrawnAsTheyAre) {
   ASSERT_NE(mesh, hw.end());
   EXPECT_EQ(mesh->numTriangles(), 480u);
   EXPECT_FALSE(mesh->motion.moves());
+}
+
+// A mesh that moves is drawn moving: its motion is its velocity, its angular velocity and its
+// pivot (its position unless given), from start to stop; the drawing's pose at a time puts a
+// vertex where the kernels' pose (setWallMotion(), MeshPose) has it.
+TEST(WallGeometry, AMovingMeshIsDrawnWhereTheKernelsHaveIt) {
+  auto tri = std::make_shared<TriangleMesh>();
+  tri->file = "plate";
+  tri->vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
+  tri->triangles = {0, 1, 2};
+  tri->source = {1};
+  WallDef w;
+  w.shape = WallDef::Shape::Mesh;
+  w.mesh = tri;
+  w.contact.enabled = true;
+  w.point = {0.5f, -0.25f, 1.0f};
+  w.velocity = {0.0f, 0.4f, -0.1f};
+  w.meshAngularVelocity = {1.0f, 0.0f, 2.0f};
+  w.start = 0.25;
+  w.stop = 1.5;
+  Scene s;
+  s.walls = {w};
+  const std::vector<WallSurface> drawn = sceneWallSurfaces(s, Extent{});
+  ASSERT_EQ(drawn.size(), 1u);
+  const WallMotion& m = drawn[0].motion;
+  EXPECT_EQ(m.velocity.y, 0.4f);
+  EXPECT_EQ(m.angularVelocity.z, 2.0f);
+  EXPECT_EQ(m.pivot.x, 0.5f) << "the pivot by default: its position";
+  EXPECT_EQ(m.start, 0.25);
+  EXPECT_EQ(m.stop, 1.5);
+  std::vector<Wall> walls = kernelWalls(s, LocalFrame{});
+  std::vector<MeshPose> pose(1, MeshPose{});
+  for (const double t : {0.0, 0.8, 3.0}) {
+    setWallMotion(walls, s, t, pose.data());
+    const Vec3f y = meshWallTriangles(w)[2];  // (1, 1, 0) placed: (1.5, 0.75, 1)
+    const Vec3f drawnAt = wallPose(m, t).apply(y);
+    const Vec3f kernels = pose[0].posed ? mul(pose[0].rot, y - pose[0].pivot) + pose[0].centre : y;
+    EXPECT_NEAR(drawnAt.x, kernels.x, 1e-6) << "t = " << t;
+    EXPECT_NEAR(drawnAt.y, kernels.y, 1e-6) << "t = " << t;
+    EXPECT_NEAR(drawnAt.z, kernels.z, 1e-6) << "t = " << t;
+  }
 }

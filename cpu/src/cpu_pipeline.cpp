@@ -133,6 +133,10 @@ class CpuPipeline final : public HaloPipeline {
     if (m_history) keepLoadedHistory(s.contacts);
     m_mesh = kernelMesh(world.params, m_frame);  // from the world's scene and the run's frame, as the guard's
     m_hasMesh = m_mesh.numTriangles() > 0;
+    // Moving meshes: their poses at each step's start (setWallMotion()), and their motion in the
+    // skin test (MeshMotionBound).
+    m_meshMotion = MeshMotionBound(w.params, m_mesh, m_planes, w.maxRadius, m_skin);
+    m_meshPoses.assign(m_meshMotion.any() ? m_planes.size() : 0, MeshPose{});
     m_meshOffsets.assign(std::size_t(n) + 1, 0u);
     m_meshTri.clear();
     m_meshHist.clear();
@@ -262,11 +266,13 @@ class CpuPipeline final : public HaloPipeline {
     if (m_steps == 0 || !m_hasMesh) return {};
     const std::uint32_t n = m_world.numParticles();
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used, with its mesh rows
-    const MeshView mv = m_mesh.view();
+    const MeshView mv = m_mesh.view(m_meshPoses);  // and its poses
     const auto forHits = [&](std::uint32_t i, auto&& f) {
       const Vec3f x{pos[i].x, pos[i].y, pos[i].z};
-      for (std::uint32_t e = m_meshOffsets[i]; e < m_meshOffsets[i + 1]; ++e)
-        if (meshHit(mv, m_meshTri[e], x, pos[i].r).counts) f(m_meshTri[e]);
+      for (std::uint32_t e = m_meshOffsets[i]; e < m_meshOffsets[i + 1]; ++e) {
+        const std::uint32_t t = m_meshTri[e];
+        if (meshHit(mv, t, meshPoint(mv, mv.tri[t].wall, x), pos[i].r).counts) f(t);
+      }
     };
     std::vector<std::uint32_t> start(std::size_t(n) + 1, 0u);
     m_arena.execute([&] {
@@ -436,7 +442,7 @@ class CpuPipeline final : public HaloPipeline {
             return x;
           });
     });
-    decideList(d);
+    decideList(d, m_time);  // the step just taken has advanced m_time
   }
 
   std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const override {
@@ -472,16 +478,20 @@ class CpuPipeline final : public HaloPipeline {
 
   // After a step's skin test (the drift of every particle since the reference of the list the
   // step read): whether the next step rebuilds the candidate list or refreshes the near list.
-  void decideList(const Drift& drift) {
+  // `next` is the time the next step starts at: moving meshes add their motion since the
+  // rebuild up to it.
+  void decideList(const Drift& drift, double next) {
     const float closure = closureFor(drift);
-    m_needRebuild = !(m_closed + double(closure) < double(m_fullLimit));
+    const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, next) : 0.0;
+    m_needRebuild = !(m_closed + double(closure) + meshes < double(m_fullLimit));
     m_needRefresh = m_nearSkin > 0.0f && !(closure < m_nearLimit);
     m_lastClosure = closure;
   }
 
   void stepOnce() {
     double* sec = m_stats.seconds;
-    if (m_wallsMove) setWallMotion(m_planes, m_world.params, m_time);
+    if (m_wallsMove)
+      setWallMotion(m_planes, m_world.params, m_time, m_meshPoses.empty() ? nullptr : m_meshPoses.data());
     if (m_needRebuild)
       rebuild();
     else if (m_needRefresh)
@@ -499,7 +509,7 @@ class CpuPipeline final : public HaloPipeline {
     }
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
-    decideList(tot.drift);
+    decideList(tot.drift, m_time + m_world.params.dt);
     sec[int(Phase::Forces)] += since(t0);
 
     ++m_steps;
@@ -512,24 +522,26 @@ class CpuPipeline final : public HaloPipeline {
   // with mesh walls on a static wall too (wallClosureOf(), which is at least that).
   float closureFor(const Drift& d) const { return m_hasMesh ? wallClosureOf(d) : closureOf(d); }
 
-  // advance() instantiated for the scene's law, bodies and periodic boundaries.
+  // advance() instantiated for the scene's law, bodies, periodic boundaries and moving meshes
+  // (a periodic scene has no mesh).
   template <bool kDebug>
   StepTotals advanceAs() {
-    return m_periodic.axes != 0 ? advanceLaw<kDebug, true>() : advanceLaw<kDebug, false>();
+    if (m_periodic.axes != 0) return advanceLaw<kDebug, true, false>();
+    return m_meshPoses.empty() ? advanceLaw<kDebug, false, false>() : advanceLaw<kDebug, false, true>();
   }
-  template <bool kDebug, bool kPeriodic>
+  template <bool kDebug, bool kPeriodic, bool kPosedMesh>
   StepTotals advanceLaw() {
     switch (m_law) {
-      case ContactLaw::HookeHistory: return advance<kDebug, true, ContactLaw::HookeHistory, kPeriodic>();
-      case ContactLaw::HertzMindlin: return advance<kDebug, true, ContactLaw::HertzMindlin, kPeriodic>();
+      case ContactLaw::HookeHistory: return advance<kDebug, true, ContactLaw::HookeHistory, kPeriodic, kPosedMesh>();
+      case ContactLaw::HertzMindlin: return advance<kDebug, true, ContactLaw::HertzMindlin, kPeriodic, kPosedMesh>();
       default:
-        return m_clumps ? advance<kDebug, true, ContactLaw::Report, kPeriodic>()
-                        : advance<kDebug, false, ContactLaw::Report, kPeriodic>();
+        return m_clumps ? advance<kDebug, true, ContactLaw::Report, kPeriodic, kPosedMesh>()
+                        : advance<kDebug, false, ContactLaw::Report, kPeriodic, kPosedMesh>();
     }
   }
 
   // Stages 3–7 and the next step's stage 1, one pass over the bodies (see the design notes).
-  template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic>
+  template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
   StepTotals advance() {
     const StepView v = stepView();
     const ForceParams fp = makeForceParams(m_world.params, m_pulls);
@@ -548,7 +560,7 @@ class CpuPipeline final : public HaloPipeline {
             const BodyRow& self = v.bodies[k];
             Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
             for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
-              const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic>(v, fp, dbg, self, i);
+              const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
               addToBody<kClumps>(F, T, pf);
               acc.contacts += pf.contacts;
             }
@@ -622,6 +634,7 @@ class CpuPipeline final : public HaloPipeline {
     }
     m_listBuilt = true;
     m_closed = 0.0;
+    m_rebuildTime = m_time;
     if (m_nearSkin > 0.0f) fillNearList();
     sec[int(Phase::List)] += since(t0);
     m_needRebuild = false;
@@ -975,19 +988,30 @@ class CpuPipeline final : public HaloPipeline {
   }
 
   // The mesh candidate list at the current positions (those of the rebuild): per particle the
-  // triangles whose grown box comes within r + skin/2 + margin (forTrianglesNear()), sorted by
+  // triangles whose grown box comes within r + skin/2 + margin (forTrianglesNear(); with moving
+  // meshes forPosedTrianglesNear(), each mesh where this step's pose puts it), sorted by
   // triangle (so that the rows do not depend on the hierarchy), count → scan → fill. A particle
-  // that has moved less than skin/2 − margin since (the skin test with wallClosureOf()) cannot
-  // touch a triangle outside its row.
-  void buildMeshList() {
+  // that has moved less than skin/2 − margin since, relative to the mesh (the skin test with
+  // wallClosureOf() and the meshes' motion, MeshMotionBound), cannot touch a triangle outside
+  // its row.
+  void buildMeshList() { m_meshPoses.empty() ? buildMeshRows<false>() : buildMeshRows<true>(); }
+  template <bool kPosed>
+  void buildMeshRows() {
     const std::uint32_t n = m_world.numParticles();
-    const MeshView mv = m_mesh.view();
+    const MeshView mv = m_mesh.view(m_meshPoses);
     const PosRow* pos = m_pos[m_cur].data();
     const float grow = static_cast<float>(0.5 * double(m_skin) + roundingMargin(m_skin, m_world.maxRadius));
+    const auto near = [&](std::uint32_t i, auto&& f) {
+      const Vec3f x{pos[i].x, pos[i].y, pos[i].z};
+      if constexpr (kPosed)
+        forPosedTrianglesNear(mv, x, pos[i].r + grow, f);
+      else
+        forTrianglesNear(mv, x, pos[i].r + grow, f);
+    };
     std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
     forEach(n, kGrain, [&](std::uint32_t i) {
       std::uint32_t c = 0;
-      forTrianglesNear(mv, Vec3f{pos[i].x, pos[i].y, pos[i].z}, pos[i].r + grow, [&](std::uint32_t) { ++c; });
+      near(i, [&](std::uint32_t) { ++c; });
       count[i] = c;
     });
     count[n] = 0;
@@ -998,7 +1022,7 @@ class CpuPipeline final : public HaloPipeline {
     m_meshTri.resize(m_meshOffsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
       std::uint32_t at = m_meshOffsets[i];
-      forTrianglesNear(mv, Vec3f{pos[i].x, pos[i].y, pos[i].z}, pos[i].r + grow, [&](std::uint32_t t) { m_meshTri[at++] = t; });
+      near(i, [&](std::uint32_t t) { m_meshTri[at++] = t; });
       tumble::detail::sortRow(m_meshTri.data() + m_meshOffsets[i], nullptr, at - m_meshOffsets[i]);
     });
   }
@@ -1106,7 +1130,7 @@ class CpuPipeline final : public HaloPipeline {
                     m_planeDamping.empty() ? nullptr : m_planeDamping.data(),
                     m_planeHertz.empty() ? nullptr : m_planeHertz.data(),
                     m_periodic,
-                    m_mesh.view(),
+                    m_mesh.view(m_meshPoses),
                     MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_meshHist.data()},
                     m_perBody ? m_bodyRef.data() : nullptr};
   }
@@ -1151,6 +1175,11 @@ class CpuPipeline final : public HaloPipeline {
   // rows by internal particle at m_meshOffsets, with the springs ξ per entry (buildMeshList()).
   KernelMesh m_mesh;
   bool m_hasMesh = false;
+  // Moving meshes: their poses at the step's start (plane-indexed; empty when no mesh moves), the
+  // bound on their motion for the skin test, and the time of the last rebuild.
+  std::vector<MeshPose> m_meshPoses;
+  MeshMotionBound m_meshMotion;
+  double m_rebuildTime = 0.0;
   std::vector<std::uint32_t> m_meshOffsets, m_meshTri;
   std::vector<Vec3f> m_meshHist;
   float m_skin = 0.0f;

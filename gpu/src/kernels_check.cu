@@ -6,6 +6,7 @@
 #include "tumble/kernels/contact.hpp"
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/kernels/mesh.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/kernels/records.hpp"
 #include "tumble/kernels/step.hpp"
@@ -37,6 +38,21 @@ __global__ void kernelsCheckKernel(SweepFrame f, const float* x, float* out, std
                    integrateRotationSplitting(gf.arm, inv, 1e-3f, &L, &q, &R);
   const Vec3f xo = particlePosition(X, R, pointVelocity(V, om, p));
   out[i] = xo.x + fromOrderedBits(orderedBits(q.w)) + rotate(q, p).y + tx;
+}
+
+// The walls with moving meshes (the CUDA pipeline refuses walls so far; the CPU pipeline runs
+// these): the posed mesh contacts and the posed candidate query.
+__global__ void movingMeshCheckKernel(StepView v, ForceParams fp, std::uint32_t* count) {
+  const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= v.numParticles) return;
+  const PosRow pi = v.pos[i];
+  const Vec3f x{pi.x, pi.y, pi.z};
+  ParticleForce f{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
+  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
+  wallContacts<true, ContactLaw::HookeHistory, true>(v, fp, v.bodies[v.bodyOf[i]], i, x, pi.r, &f, &gf, false);
+  std::uint32_t c = 0;
+  forPosedTrianglesNear(v.mesh, x, pi.r, [&](std::uint32_t) { ++c; });
+  count[i] = c + f.contacts;
 }
 
 }  // namespace tumble

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 
 #include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
+#include "tumble/validation/compare.hpp"
 
 namespace tumble::validation {
 
@@ -202,6 +205,78 @@ GroundParams wallContact(float k, float mu) {
   c.stiffness = k;
   c.friction = mu;
   return c;
+}
+
+WallDef meshWall(std::vector<Vec3f> vertices, std::vector<std::uint32_t> triangles, const GroundParams& c) {
+  auto m = std::make_shared<TriangleMesh>();
+  m->file = "test mesh";
+  m->vertices = std::move(vertices);
+  m->triangles = std::move(triangles);
+  for (std::size_t t = 0; t < m->numTriangles(); ++t) m->source.push_back(t + 1);
+  WallDef w;
+  w.shape = WallDef::Shape::Mesh;
+  w.mesh = m;
+  w.contact = c;
+  return w;
+}
+
+WallDef gridMesh(int nx, int ny, float h, float x0, float y0, const std::function<float(float, float)>& height,
+                 const GroundParams& c) {
+  std::vector<Vec3f> v;
+  std::vector<std::uint32_t> t;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const float x = x0 + float(i) * h, y = y0 + float(j) * h;
+      v.push_back(Vec3f{x, y, height(x, y)});
+    }
+  const auto at = [&](int i, int j) { return std::uint32_t(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const std::uint32_t a = at(i, j), b = at(i + 1, j), cc = at(i + 1, j + 1), d = at(i, j + 1);
+      if ((i + j) % 2 == 0)
+        t.insert(t.end(), {a, b, cc, a, cc, d});
+      else
+        t.insert(t.end(), {a, b, d, b, cc, d});
+    }
+  return meshWall(std::move(v), std::move(t), c);
+}
+
+WallDef flatGrid(int nx, int ny, float h, float x0, float y0, const GroundParams& c) {
+  return gridMesh(nx, ny, h, x0, y0, [](float, float) { return 0.0f; }, c);
+}
+
+Scene spheresOn(const WallDef& wall, float r, const std::vector<Vec3f>& at, bool ground) {
+  Scene s;
+  s.dt = 1e-4f;
+  s.contact.law = ContactLaw::HookeHistory;
+  s.contact.stiffness = 1e5f;
+  s.contact.gammaN = 100.0f;
+  s.ground.enabled = ground;
+  s.ground.stiffness = 1e5f;
+  s.walls = {wall};
+  s.shapes = {sphereShape(r, 0.1f, 0.5f)};
+  for (const Vec3f& p : at) {
+    BodyDef b;
+    b.position = p;
+    s.bodies.push_back(b);
+  }
+  return s;
+}
+
+DrumStop drumDragAndStop(const Scene& s) {
+  DrumStop out;
+  out.earlyVx = runCpu(World::fromScene(s), 200).vx[0];
+  Scene stopping = s;
+  stopping.walls[0].stop = 0.05;
+  const World turning = World::fromScene(s), stops = World::fromScene(stopping);
+  const auto before = firstDifference(runCpu(turning, 450), runCpu(stops, 450));
+  out.sameBeforeTheStop = !before.has_value();
+  if (before) out.before = before->describe();
+  const BodyState a = runCpu(turning, 1500), b = runCpu(stops, 1500);
+  out.differentAfter = firstDifference(a, b).has_value();
+  out.turningVx = a.vx[0];
+  out.stoppedVx = b.vx[0];
+  return out;
 }
 
 BodyState runCpu(const World& w, std::uint64_t steps, const PipelineOptions& o) {

@@ -35,133 +35,19 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A mesh wall of the given (welded) vertices and triangles, built in code.
-WallDef meshWall(std::vector<Vec3f> vertices, std::vector<std::uint32_t> triangles, const GroundParams& c) {
-  auto m = std::make_shared<TriangleMesh>();
-  m->file = "test mesh";
-  m->vertices = std::move(vertices);
-  m->triangles = std::move(triangles);
-  for (std::size_t t = 0; t < m->numTriangles(); ++t) m->source.push_back(t + 1);
-  WallDef w;
-  w.shape = WallDef::Shape::Mesh;
-  w.mesh = m;
-  w.contact = c;
-  return w;
-}
-
-// A grid of nx × ny squares of side h in the plane z = height from (x0, y0), each split in two
-// along alternating diagonals (so that vertices have four and eight triangles around them);
-// height(x, y) may bend it.
-template <class Height>
-WallDef gridMesh(int nx, int ny, float h, float x0, float y0, Height&& height, const GroundParams& c) {
-  std::vector<Vec3f> v;
-  std::vector<std::uint32_t> t;
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) {
-      const float x = x0 + float(i) * h, y = y0 + float(j) * h;
-      v.push_back(Vec3f{x, y, height(x, y)});
-    }
-  const auto at = [&](int i, int j) { return std::uint32_t(j * (nx + 1) + i); };
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const std::uint32_t a = at(i, j), b = at(i + 1, j), cc = at(i + 1, j + 1), d = at(i, j + 1);
-      if ((i + j) % 2 == 0)
-        t.insert(t.end(), {a, b, cc, a, cc, d});
-      else
-        t.insert(t.end(), {a, b, d, b, cc, d});
-    }
-  return meshWall(std::move(v), std::move(t), c);
-}
-WallDef flatGrid(int nx, int ny, float h, float x0, float y0, const GroundParams& c) {
-  return gridMesh(nx, ny, h, x0, y0, [](float, float) { return 0.0f; }, c);
-}
-
-// The pipeline's mesh contacts against the oracle's at every step; returns the contacts seen
-// per step (and fails the test at the first difference).
-struct OracleRun {
-  std::uint64_t steps = 0, contacts = 0, rebuilds = 0;
-  std::vector<std::size_t> perStep;
-};
-OracleRun checkAgainstOracle(const World& w, std::uint64_t steps, const PipelineOptions& o = {}) {
-  auto p = makePipeline(Backend::Cpu, o);
-  p->load(w);
-  const KernelMesh mesh = kernelMesh(w.params, p->frame());
-  OracleRun out;
-  std::vector<float> x;
-  for (std::uint64_t s = 0; s < steps; ++s) {
-    p->readLocalPositions(x);  // the positions the step decides its contacts on
-    p->step(1);
-    const std::vector<MeshContact> got = p->meshContacts();
-    const std::vector<MeshContact> want = bruteForceMeshContacts(mesh, x, w.radius);
-    if (got != want) {
-      ADD_FAILURE() << "step " << s + 1 << ": the pipeline has " << got.size() << " mesh contacts, the oracle "
-                    << want.size() << (got.empty() ? "" : "; first (" + std::to_string(got[0].particle) + ", " +
-                                                              std::to_string(got[0].triangle) + ")")
-                    << (want.empty() ? "" : " vs (" + std::to_string(want[0].particle) + ", " +
-                                                std::to_string(want[0].triangle) + ")");
-      return out;
-    }
-    ++out.steps;
-    out.contacts += got.size();
-    out.perStep.push_back(got.size());
-  }
-  out.rebuilds = p->stats().numRebuilds;
-  return out;
+// The pipeline's mesh contacts against the oracle's at every step (meshOracleRun()); fails the
+// test at the first difference.
+MeshOracleRun checkAgainstOracle(const World& w, std::uint64_t steps, const PipelineOptions& o = {}) {
+  MeshOracleRun run = meshOracleRun(w, steps, o);
+  if (!run.difference.empty()) ADD_FAILURE() << run.difference;
+  return run;
 }
 
 // A single ball of radius r (0.1 kg) under gravity on the mesh `wall`, hooke-history, k 1e5.
 Scene ballOn(const WallDef& wall, float r, Vec3f position, Vec3f velocity) {
-  Scene s;
-  s.dt = 1e-4f;
-  s.contact.law = ContactLaw::HookeHistory;
-  s.contact.stiffness = 1e5f;
-  s.contact.gammaN = 100.0f;
-  s.ground.enabled = false;
-  s.walls = {wall};
-  s.shapes = {sphereShape(r, 0.1f, 0.5f)};
-  BodyDef b;
-  b.position = position;
-  b.velocity = velocity;
-  s.bodies = {b};
+  Scene s = spheresOn(wall, r, {position});
+  s.bodies[0].velocity = velocity;
   return s;
-}
-
-// Ericson's nearest point of triangle abc to p (Real-Time Collision Detection, 5.1.5), in double.
-std::array<double, 3> nearestDouble(const double a[3], const double b[3], const double c[3], const double p[3]) {
-  const auto sub = [](const double* x, const double* y) { return std::array<double, 3>{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
-  const auto dotd = [](const std::array<double, 3>& x, const std::array<double, 3>& y) {
-    return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-  };
-  const auto at = [&](double u, double v, double w) {
-    return std::array<double, 3>{u * a[0] + v * b[0] + w * c[0], u * a[1] + v * b[1] + w * c[1], u * a[2] + v * b[2] + w * c[2]};
-  };
-  const auto ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-  const double d1 = dotd(ab, ap), d2 = dotd(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return at(1, 0, 0);
-  const auto bp = sub(p, b);
-  const double d3 = dotd(ab, bp), d4 = dotd(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return at(0, 1, 0);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double v = d1 / (d1 - d3);
-    return at(1 - v, v, 0);
-  }
-  const auto cp = sub(p, c);
-  const double d5 = dotd(ab, cp), d6 = dotd(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return at(0, 0, 1);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double w = d2 / (d2 - d6);
-    return at(1 - w, 0, w);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return at(0, 1 - w, w);
-  }
-  const double denom = 1.0 / (va + vb + vc);
-  const double v = vb * denom, w = vc * denom;
-  return at(1 - v - w, v, w);
 }
 
 }  // namespace
@@ -189,7 +75,7 @@ TEST(MeshWallTest, NearestPointMatchesDoublePrecision) {
       const Vec3f x{float(u(rng)) * 1.5f * scale, float(u(rng)) * 1.5f * scale, float(u(rng)) * 1.5f * scale};
       const double a[3] = {v[0].x, v[0].y, v[0].z}, b[3] = {v[1].x, v[1].y, v[1].z}, c[3] = {v[2].x, v[2].y, v[2].z};
       const double p[3] = {x.x, x.y, x.z};
-      const auto q = nearestDouble(a, b, c, p);
+      const auto q = nearestPointDouble(a, b, c, p);
       const double want = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
       const TrianglePoint got = nearestOnTriangle(km.view(), 0, x);
       worst = std::max(worst, std::abs(double(got.dist) - want) / scale);
@@ -298,7 +184,7 @@ TEST(MeshWallTest, ContactsEqualTheOracleAtEveryStep) {
   }
   for (const Case& k : cases) {
     SCOPED_TRACE(k.name);
-    const OracleRun o = checkAgainstOracle(World::fromScene(k.scene), k.steps);
+    const MeshOracleRun o = checkAgainstOracle(World::fromScene(k.scene), k.steps);
     std::printf("%-45s %4llu steps, %5llu contacts, %3llu rebuilds\n", k.name, (unsigned long long)o.steps,
                 (unsigned long long)o.contacts, (unsigned long long)o.rebuilds);
     ASSERT_EQ(o.steps, k.steps);
@@ -340,7 +226,7 @@ TEST(MeshWallTest, ContactsEqualTheOracleOnAHundredThousandTriangles) {
     b.velocity = {0.3f * float(k % 3) - 0.3f, 0.5f - 0.2f * float(k), 0.0f};
     s.bodies.push_back(b);
   }
-  const OracleRun o = checkAgainstOracle(World::fromScene(s), 300);
+  const MeshOracleRun o = checkAgainstOracle(World::fromScene(s), 300);
   std::printf("100352 triangles: %llu steps, %llu contacts, %llu rebuilds\n", (unsigned long long)o.steps,
               (unsigned long long)o.contacts, (unsigned long long)o.rebuilds);
   EXPECT_EQ(o.steps, 300u);

@@ -82,6 +82,9 @@ struct KernelMesh {
   std::vector<std::uint32_t> prims;
   std::uint32_t numTriangles() const { return static_cast<std::uint32_t>(tri.size()); }
   MeshView view() const;
+  /// The view with the meshes posed (MeshView::poses; one pose per plane, setWallMotion());
+  /// empty `poses`: every mesh where it was given, view().
+  MeshView view(const std::vector<MeshPose>& poses) const;
 };
 
 /// The thinnest triangle a mesh may have: its smallest height over its longest edge. Thinner,
@@ -101,11 +104,45 @@ std::string degenerateTriangle(Vec3f p, Vec3f q, Vec3f r);
 /// there (a scale that shrinks it to nothing, coordinates too large for its size).
 KernelMesh kernelMesh(const Scene& scene, const LocalFrame& f);
 
-/// The mesh contacts of spheres at positions x (3 floats per particle, in the mesh's frame)
+/// The mesh contacts of spheres at positions x (3 floats per particle, in the frame of `mesh`)
 /// with radii r: every (particle, triangle) that meshHit() counts, sorted; found through the
-/// hierarchy (the guard's, before a pipeline has stepped).
+/// hierarchy (the guard's, before a pipeline has stepped). With `poses` (one per plane,
+/// setWallMotion()) each mesh wall is where its pose puts it (meshPoint()); empty: where given.
 std::vector<MeshContact> findMeshContacts(const KernelMesh& mesh, const std::vector<float>& x,
-                                          const std::vector<float>& radius);
+                                          const std::vector<float>& radius, const std::vector<MeshPose>& poses = {});
+
+/// The skin test's bound on the motion of the moving mesh walls (docs/model.md#mesh-walls).
+/// A particle's candidate triangles are found at a rebuild within r + skin/2 + margin of its
+/// centre in the mesh's frame; since then the centre, seen from the mesh, has moved by its own
+/// displacement plus the mesh's: at most |v| Δτ + |ω| Δτ (D + r_max) for a sphere touching
+/// the mesh (D the largest distance of a vertex from the pivot; a chord of the turn is shorter
+/// than its arc), plus the rounding of the two transforms into the mesh's frame, 16 u (D +
+/// 2 (r_max + skin) + |pivot| + |v| τ) each (u = 2⁻²⁴). closure() is twice the largest of these
+/// over the moving mesh walls, added to the particles' closure (2 max |Δx|, wallClosureOf()):
+/// the list is kept while max |Δx| + the mesh's motion stays below skin/2 − margin. A function of
+/// the two times only (a max over the walls): the same decision for any thread count.
+class MeshMotionBound {
+ public:
+  MeshMotionBound() = default;
+  /// The moving mesh walls of `scene` (their triangles in `mesh`, their pivots in `planes`,
+  /// kernelWalls() in the same frame), for spheres of radius up to maxRadius and the skin.
+  MeshMotionBound(const Scene& scene, const KernelMesh& mesh, const std::vector<Wall>& planes, float maxRadius,
+                  float skin);
+  /// Some mesh wall moves.
+  bool any() const { return !m_walls.empty(); }
+  /// Twice the largest motion of a moving mesh relative to a sphere near it between a rebuild
+  /// at t0 and a step at t1 [m]; 0 while every mesh stays where it was given at both.
+  double closure(double t0, double t1) const;
+
+ private:
+  struct Moving {
+    WallDef def;         // its motion (wallMotionTime())
+    double speed, rate;  // |v|, |ω|
+    double reach;        // D + r_max
+    double rounding;     // 16 u (D + 2 (r_max + skin) + |pivot|), to which 16 u |v| τ is added
+  };
+  std::vector<Moving> m_walls;
+};
 
 /// Whether p lies inside the closed surface of mesh wall `wall` (index into the scene's walls;
 /// its triangles in `mesh`): the parity of the crossings of a ray from p with its triangles,

@@ -69,9 +69,11 @@ class Pouring {
   std::size_t dueBy(std::size_t first, double t) const;
   /// Positions (in frame) for the pour bodies first..due, in order, until one finds no place,
   /// clear of the particles at x (3 per particle, in frame) of the given radii and the walls.
+  /// `walls` and `meshPoses` (empty: the meshes where they were given) pose them at the time.
   std::vector<Vec3f> place(std::size_t first, std::size_t due, const std::vector<float>& x,
                            const std::vector<float>& radius, float maxRadius, const LocalFrame& frame,
-                           const std::vector<Wall>& walls, std::uint64_t step) const;
+                           const std::vector<Wall>& walls, const std::vector<MeshPose>& meshPoses,
+                           std::uint64_t step) const;
   /// The world of the initial bodies, the pour bodies before `first` (at their regions' centres)
   /// and then the placed ones (positions in frame); `checkPlacement`: World::fromScene()'s.
   World withBodies(std::size_t first, const std::vector<Vec3f>& placed, const LocalFrame& frame,

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -111,8 +112,19 @@ struct WallDef {
   /// (right-handed about `normal`; a drum). For a plane only the part of the velocity along its
   /// normal moves the plane (a piston); the part in the plane moves its surface alone (a belt).
   /// A turning revolved wall keeps its shape and place: its surface moves.
+  ///
+  /// A mesh moves as a rigid body: at time t a point y of it as given (at τ = 0) lies at
+  /// pivot + velocity τ + R(τ) (y − pivot), R(τ) the rotation by |ω| τ about ω =
+  /// `meshAngularVelocity` (right-handed): it turns about the pivot first, and the pivot moves
+  /// with the translation (docs/scenes.md#mesh-walls).
   Vec3f velocity{0.0f, 0.0f, 0.0f};
   float angularVelocity = 0.0f;
+  /// mesh: its angular velocity ω as a vector [rad/s]: the rotation's axis and rate
+  /// (`angular_velocity = [x, y, z]`), about `pivot`.
+  Vec3f meshAngularVelocity{0.0f, 0.0f, 0.0f};
+  /// mesh: a point of its rotation's axis where it was given [m] (`pivot`); none: its position,
+  /// `point` (meshPivot()).
+  std::optional<Vec3f> pivot;
   /// A face of a `[[wall]] type = "box"` (drawing: the faces of a moving box travel together).
   bool boxFace = false;
   double start = 0.0, stop = std::numeric_limits<double>::infinity();
@@ -122,7 +134,13 @@ struct WallDef {
   std::shared_ptr<const TriangleMesh> mesh;
   Vec3f scale{1.0f, 1.0f, 1.0f};
   Quatf orientation{1.0f, 0.0f, 0.0f, 0.0f};
-  bool moves() const { return velocity.x != 0.0f || velocity.y != 0.0f || velocity.z != 0.0f || angularVelocity != 0.0f; }
+  bool moves() const {
+    const Vec3f& w = meshAngularVelocity;
+    return velocity.x != 0.0f || velocity.y != 0.0f || velocity.z != 0.0f || angularVelocity != 0.0f || w.x != 0.0f ||
+           w.y != 0.0f || w.z != 0.0f;
+  }
+  /// mesh: the point its rotation turns about where it was given: `pivot`, or its position.
+  Vec3f meshPivot() const { return pivot ? *pivot : point; }
 };
 
 /// A plane wall built in code: through `point`, `normal` towards the spheres, the ground's

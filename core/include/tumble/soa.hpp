@@ -107,10 +107,25 @@ struct MeshBvhNode {
   std::uint32_t first, count;
 };
 
+/// Where a mesh wall is at the start of a step (setWallMotion(), docs/model.md#mesh-walls): a
+/// point y of the mesh as it was given (the frame of its KernelMesh: where it lies at τ = 0, in
+/// the frame the pipeline integrates in) is at centre + rot (y − pivot); a point x is at
+/// pivot + rotᵀ (x − centre) in the mesh's frame (toMeshFrame(), kernels/mesh.hpp). rot, pivot
+/// and centre are computed in double from the time and rounded once. `posed` is 0 while the
+/// mesh is where it was given (τ = 0, the identity): points are then used as they are.
+struct MeshPose {
+  Mat3f rot;
+  Vec3f pivot, centre;
+  std::uint32_t posed;
+};
+
 /// Everything the kernels read of the meshes (all the scene's mesh walls, one numbering):
 /// vertices in the frame the pipeline integrates in, 3 vertex indices per triangle, the
 /// triangles' static data, their edges (3 global edge ids per triangle) and, for each edge and
-/// each vertex, the triangles incident to it in ascending order (CSR), and the hierarchy.
+/// each vertex, the triangles incident to it in ascending order (CSR), and the hierarchy; and
+/// when a mesh wall moves, the poses of the walls at the step's start (`poses[k]` for plane k
+/// of Scene::planes(), k < numPoses; null when no mesh wall moves: every mesh is where it was
+/// given).
 struct MeshView {
   const Vec3f* vertices = nullptr;
   const std::uint32_t* triangles = nullptr;
@@ -123,6 +138,8 @@ struct MeshView {
   const MeshBvhNode* nodes = nullptr;
   const std::uint32_t* prims = nullptr;
   std::uint32_t numTriangles = 0;
+  const MeshPose* poses = nullptr;
+  std::uint32_t numPoses = 0;
 };
 
 /// The mesh candidate list: particle i's candidate triangles are tri[offsets[i] ..

@@ -25,10 +25,10 @@ const char* toString(WallKind kind);
 
 /// How a wall's drawing moves. Its pose at time t is the rotation about `pivot` by the angle
 /// |ω| τ about ω, then the translation v τ, with τ = clamp(t − start, 0, stop − start): at rest
-/// (the identity) up to `start`, held from `stop` on. Today a drum turning about its axis has ω
-/// (its axis times its angular velocity, pivot a point of the axis); a belt moves its surface,
-/// not the plane, so its drawing stands still. A wall whose geometry moves (a piston, a turning
-/// mesh) needs no other field.
+/// (the identity) up to `start`, held from `stop` on. A drum turning about its axis has ω (its
+/// axis times its angular velocity, pivot a point of the axis); a belt moves its surface, not
+/// the plane, so its drawing stands still; a moving mesh has its velocity, angular velocity and
+/// pivot (WallDef), the pose the kernels give it (setWallMotion()).
 struct WallMotion {
   Vec3f velocity{0.0f, 0.0f, 0.0f};         ///< v [m/s]
   Vec3f angularVelocity{0.0f, 0.0f, 0.0f};  ///< ω [rad/s], right-handed
@@ -93,8 +93,9 @@ struct WallTessellation {
 ///   of its largest side. So a box's six planes give its six faces, an open box its container
 ///   without a lid, and the ground inside a box only the floor within it.
 /// Revolved walls are not clipped. A revolved wall that turns gets the motion ω =
-/// angular_velocity × its unit axis about its point, from start to stop; every other wall stands
-/// still (a belt moves its surface only). `focus` is what the walls are drawn around (the bodies'
+/// angular_velocity × its unit axis about its point, from start to stop; a moving mesh its own
+/// (v, ω about its pivot); a plane moving along its normal and a moving box's faces their
+/// velocity; a belt stands still (it moves its surface only). `focus` is what the walls are drawn around (the bodies'
 /// extent, sceneBodiesExtent()); empty: the walls alone, or the planes' points when nothing is
 /// bounded. Degenerate walls (a zero or non-finite normal or point, zero radii) give no
 /// triangles; neither does a plane that the others cut away. Deterministic (double arithmetic,

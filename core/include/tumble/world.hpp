@@ -165,7 +165,7 @@ struct World {
 };
 
 /// The world expressed in frame f: body positions X − o, the ground height h − o_z, the walls'
-/// points p − o and the pull centre −o (params.pulls.centre). Identity when f is not active.
+/// points p − o (a mesh's pivot too) and the pull centre −o (params.pulls.centre). Identity when f is not active.
 World toLocal(const World& world, const LocalFrame& f);
 
 /// What a pipeline's load() integrates: the world in its frame (world.frame when set, the
@@ -181,14 +181,27 @@ World localWorld(const World& world, LocalFrame* outFrame);
 std::vector<Wall> kernelWalls(const Scene& scene, const LocalFrame& f);
 
 /// What is wrong with a wall's motion, or empty: finite velocities, a window 0 ≤ start < stop,
-/// and a plane does not turn. scene_io names the key; kernelWalls() refuses walls built in code.
+/// a plane does not turn, a revolved wall turns about its own axis (a number), a mesh about a
+/// vector and a finite pivot, a pivot only with a rotation. scene_io names the key;
+/// kernelWalls() refuses walls built in code.
 std::string wallMotionOutOfRange(const WallDef& wall);
+
+/// How long a wall has moved by time t: τ = clamp(t − start, 0, stop − start) [s], in double.
+double wallMotionTime(const WallDef& wall, double t);
 
 /// Poses the walls of `scene` (kernelWalls()) for a step that starts at time t: Wall::moving
 /// while start ≤ t < stop, and a wall with a velocity shifted by velocity τ from where it was
-/// given (WallDef::velocity; a plane along its normal only). Returns whether any changed (a
+/// given (WallDef::velocity; a plane along its normal only). A mesh wall's Wall gets the pivot
+/// where it is now (`centre`, for its material's velocity, wallVelocity()); with `meshPoses`
+/// (one entry per wall of `walls`, plane-indexed) each mesh wall's MeshPose is written there:
+/// the rotation by |ω| τ about ω and the pivot moved by velocity τ, computed in double from
+/// the time and rounded once, so that time t gives the same bits whatever came before (a
+/// resumed run). Entries of other walls are left alone. Returns whether any changed (a
 /// pipeline whose walls live on a device uploads them then).
-bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t);
+bool setWallMotion(std::vector<Wall>& walls, const Scene& scene, double t, MeshPose* meshPoses = nullptr);
+
+/// Some mesh wall of the scene moves at some time (its poses then enter the contacts).
+bool meshWallsMove(const Scene& scene);
 
 /// The periodic box of a scene as the kernels see it in frame f (whose origin on a periodic axis
 /// is the box's centre, LocalFrame::of): h = (hi − lo) / 2 rounded to float, L = 2h; the box is
@@ -291,8 +304,15 @@ double restitutionForDamping(double c, double k, double m);
 /// lightest particles with k_s; its lightest particle on the ground or a wall with its k), undamped. Under
 /// hertz-mindlin, the Hertz contact time 2.87 (m*² / (R* Y*² v))^{1/5} of the lightest mass and
 /// the largest radius of each pair of materials (and on every plane) at the fastest impact the
-/// initial state suggests, v = max(1 m/s, |V|max + √(2 |g| H)), H the drop to the ground.
+/// initial state suggests, v = max(1 m/s, |V|max + √(2 |g| H) + the fastest moving wall),
+/// H the drop to the ground (wallApproachSpeed()).
 double shortestContactTime(const World& world);
+
+/// The fastest a wall's surface can run into a body [m/s]: 0 for a wall that does not move; a
+/// plane's speed along its normal; a revolved wall's translation (its turn moves its surface
+/// along itself); a mesh's translation plus its rate times the largest distance of a vertex from
+/// its pivot (a lifter, a blade).
+double wallApproachSpeed(const WallDef& wall);
 
 /// Empty when dt resolves the shortest contact with at least 10 steps; otherwise a one-line
 /// warning naming the contact time and the dt to use (t_c / 20).

@@ -19,6 +19,11 @@
 /// belongs to the edge, never to both faces. Elsewhere each triangle's plane is its own (the
 /// plane through the edge perpendicular to its face).
 ///
+/// Moving meshes. A mesh's data stays in its own frame (where it was given); a mesh wall that
+/// has moved (MeshPose::posed) meets a sphere through its centre taken into that frame,
+/// toMeshFrame(), with the pose of the step's start; the nearest point, the feature and the
+/// counting rule are evaluated there, and the contact's normal is turned back (the caller).
+///
 /// Counting. A sphere counts once per local minimum of the distance from its centre to the
 /// mesh: a face contact counts when the centre lies in the face's prism; a contact on an edge
 /// or a vertex counts only when every triangle incident to that feature also has its nearest
@@ -159,6 +164,17 @@ TUMBLE_HD_INLINE bool boxWithin(Vec3f lo, Vec3f hi, Vec3f x, float reach) {
          lo.z - x.z <= reach && x.z - hi.z <= reach;
 }
 
+/// A point x (the frame the pipeline integrates in) in the frame of a posed mesh:
+/// pivot + rotᵀ (x − centre), one fixed sequence of float operations.
+TUMBLE_HD_INLINE Vec3f toMeshFrame(const MeshPose& p, Vec3f x) { return mulTransposed(p.rot, x - p.centre) + p.pivot; }
+
+/// A point x as the mesh of wall k (a plane index) sees it: toMeshFrame() when that mesh is
+/// posed, x itself while it is where it was given or when no mesh moves (m.poses null).
+TUMBLE_HD_INLINE Vec3f meshPoint(const MeshView& m, std::uint32_t k, Vec3f x) {
+  if (m.poses == nullptr || m.poses[k].posed == 0u) return x;
+  return toMeshFrame(m.poses[k], x);
+}
+
 /// The deepest hierarchy KernelMesh builds (its stack in forTrianglesNear()).
 inline constexpr int kMeshBvhMaxDepth = 60;
 
@@ -183,6 +199,23 @@ TUMBLE_HD_INLINE void forTrianglesNear(const MeshView& m, Vec3f x, float reach, 
       const std::uint32_t t = m.prims[k];
       if (boxWithin(m.tri[t].lo, m.tri[t].hi, x, reach)) f(t);
     }
+  }
+}
+
+/// forTrianglesNear() of a sphere centre x with the meshes posed (m.poses): each triangle is
+/// tested against x as its wall sees it (meshPoint()). The walls where they were given share
+/// one query at x; each posed wall has its own at x in its frame, for its triangles only. Each
+/// triangle is reported at most once; the order is not that of the triangles (callers sort).
+template <class F>
+TUMBLE_HD_INLINE void forPosedTrianglesNear(const MeshView& m, Vec3f x, float reach, F&& f) {
+  forTrianglesNear(m, x, reach, [&](std::uint32_t t) {
+    if (m.poses[m.tri[t].wall].posed == 0u) f(t);
+  });
+  for (std::uint32_t k = 0; k < m.numPoses; ++k) {
+    if (m.poses[k].posed == 0u) continue;
+    forTrianglesNear(m, toMeshFrame(m.poses[k], x), reach, [&](std::uint32_t t) {
+      if (m.tri[t].wall == k) f(t);
+    });
   }
 }
 

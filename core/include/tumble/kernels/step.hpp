@@ -162,14 +162,30 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
 /// contact's tangent plane each step, so that a contact that moves from a face to an edge of
 /// the same triangle keeps it; an entry that does not count releases it (a contact that passes
 /// to a neighbouring triangle starts afresh there).
-template <bool kClumps, ContactLaw kLaw>
+///
+/// kPosed (some mesh wall moves, v.mesh.poses): each triangle meets the centre as its wall sees
+/// it (meshPoint(): in the frame of a posed mesh), the normal is turned back into the run's
+/// frame, and a moving wall's material velocity at the contact point enters as for the other
+/// walls (planeContact(): v + ω × (p − pivot now), Wall of the mesh's plane). Without kPosed
+/// the meshes do not move and this is the code of a static mesh, instruction for instruction.
+template <bool kClumps, ContactLaw kLaw, bool kPosed = false>
 TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                        Vec3f xi, float r, ContactSide& side, bool& haveSide, ParticleForce* out,
                                        GroundForces* gf, bool& anyPlane) {
   const MeshListView& l = v.meshList;
+  // The centre in the frame of the last entry's wall (a row's triangles come wall by wall).
+  [[maybe_unused]] std::uint32_t seen = ~0u;
+  [[maybe_unused]] Vec3f xm = xi;
   for (std::uint32_t e = l.offsets[i]; e < l.offsets[i + 1]; ++e) {
     const std::uint32_t t = l.tri[e];
-    const MeshHit h = meshHit(v.mesh, t, xi, r);
+    if constexpr (kPosed) {
+      const std::uint32_t wall = v.mesh.tri[t].wall;
+      if (wall != seen) {
+        seen = wall;
+        xm = meshPoint(v.mesh, wall, xi);
+      }
+    }
+    const MeshHit h = meshHit(v.mesh, t, kPosed ? xm : xi, r);
     if (!h.counts) {  // not a contact of this triangle: its spring is released
       const Vec3f z = l.hist[e];
       if (z.x != 0.0f || z.y != 0.0f || z.z != 0.0f) l.hist[e] = Vec3f{0.0f, 0.0f, 0.0f};
@@ -182,6 +198,10 @@ TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp,
     const std::uint32_t k = v.mesh.tri[t].wall;
     Wall f = v.planes[k];
     f.n = h.p.n;
+    if constexpr (kPosed) {  // the normal back from a posed mesh's frame
+      const MeshPose& pose = v.mesh.poses[k];
+      if (pose.posed != 0u) f.n = mul(pose.rot, h.p.n);
+    }
     const float n3[3] = {f.n.x, f.n.y, f.n.z};
     float a[3], b[3];
     perpendicularPair(n3, a, b);
@@ -190,7 +210,7 @@ TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp,
     f.axis = kGeneralPlane;
     f.sign = 1.0f;
     f.coeffs.height = 0.0f;
-    f.moving = 0u;
+    if constexpr (!kPosed) f.moving = 0u;  // (posed: the mesh's plane says whether it moves)
     const Vec3f xs = l.hist[e];
     float tx = dot(xs, f.t1), ty = dot(xs, f.t2);
     const GroundForces g = planeContact<-1, kClumps, kLaw>(v, fp, f, k, i, xi, Vec3f{0.0f, 0.0f, h.p.dist}, r, self,
@@ -203,9 +223,9 @@ TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp,
 }
 
 /// The walls (after the ground) on particle i, in their order, then the mesh walls'
-/// triangles (meshWallContacts()); *gf (debug) gains their forces. Not inlined: the loop stays
-/// out of the force pass of a scene without walls.
-template <bool kClumps, ContactLaw kLaw>
+/// triangles (meshWallContacts(), kPosed when a mesh wall moves); *gf (debug) gains their
+/// forces. Not inlined: the loop stays out of the force pass of a scene without walls.
+template <bool kClumps, ContactLaw kLaw, bool kPosedMesh = false>
 TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                      Vec3f xi, float r, ParticleForce* out, GroundForces* gf, bool anyPlane) {
   ContactSide side{{0.0f, 0.0f, 0.0f}, self.v, {0.0f, 0.0f, 0.0f}};
@@ -246,7 +266,8 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
       v.ground.ty[s] = 0.0f;
     }
   }
-  if (v.mesh.numTriangles != 0) meshWallContacts<kClumps, kLaw>(v, fp, self, i, xi, r, side, haveSide, out, gf, anyPlane);
+  if (v.mesh.numTriangles != 0)
+    meshWallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, r, side, haveSide, out, gf, anyPlane);
 }
 
 /// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
@@ -262,7 +283,10 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
 /// does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
 /// kPeriodic: the pairs meet through their minimum image in the view's periodic box (the
 /// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
-template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report, bool kPeriodic = false>
+/// kPosedMesh: some mesh wall moves (meshWallContacts()); a scene whose meshes stand still (or
+/// that has none) runs the code without poses.
+template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report, bool kPeriodic = false,
+          bool kPosedMesh = false>
 TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                              const BodyRow& self, std::uint32_t i) {
   const PosRow pi = v.pos[i];
@@ -342,7 +366,7 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
   }
   if (fp.hasWalls) {
     const bool groundTouched = fp.hasGround && groundDepth(xi, pi.r, fp.ground) > 0.0f;
-    wallContacts<kClumps, kLaw>(v, fp, self, i, xi, pi.r, &out, &gf, groundTouched);
+    wallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, pi.r, &out, &gf, groundTouched);
   }
   if (fp.pulls != 0u) {
     const Vec3f fpull = pullForce(xi, v.mass[i], fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls, fp.pullCentre);

@@ -3,6 +3,7 @@
 /// Scene and particle-cloud generators shared by tests, benchmarks and examples.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,34 @@ ShapeDef sphereShape(float r, float m, float e);
 
 /// A wall's contact (WallDef::contact): on, stiffness k, friction μ, the ground's other defaults.
 GroundParams wallContact(float k, float mu);
+
+/// A mesh wall built in code of the given (welded) vertices and triangles (three indices each),
+/// named "test mesh", each triangle's source its number.
+WallDef meshWall(std::vector<Vec3f> vertices, std::vector<std::uint32_t> triangles, const GroundParams& contact);
+
+/// A grid of nx × ny squares of side h from (x0, y0), at the height height(x, y) (z), each
+/// square split in two along alternating diagonals (so that vertices have four and eight
+/// triangles around them).
+WallDef gridMesh(int nx, int ny, float h, float x0, float y0, const std::function<float(float, float)>& height,
+                 const GroundParams& contact);
+/// gridMesh() in the plane z = 0.
+WallDef flatGrid(int nx, int ny, float h, float x0, float y0, const GroundParams& contact);
+
+/// Spheres of radius r (0.1 kg, elasticity 0.5) at the given places on the wall `wall`,
+/// hooke-history (k 1e5, γ_n 100), dt 1e-4, the ground (k 1e5) only when asked.
+Scene spheresOn(const WallDef& wall, float r, const std::vector<Vec3f>& at, bool ground = false);
+
+/// A ball slipping in a turning drum (scene s: its wall 0 turns from t = 0), as the drum tests
+/// run it: its x velocity after 0.02 s (200 steps of 1e-4 s: dragged at μ g while it slips), and
+/// the scene with wall 0 stopping at 0.05 s against the one turning on: the same bits after 450
+/// steps, others after 1500, and both x velocities then.
+struct DrumStop {
+  double earlyVx = 0.0;
+  bool sameBeforeTheStop = false, differentAfter = false;
+  std::string before;  ///< the first difference before the stop (empty: none)
+  double turningVx = 0.0, stoppedVx = 0.0;
+};
+DrumStop drumDragAndStop(const Scene& s);
 
 /// The state of a world after `steps` steps on a fresh CPU pipeline with the given options.
 BodyState runCpu(const World& world, std::uint64_t steps, const PipelineOptions& options = {});
