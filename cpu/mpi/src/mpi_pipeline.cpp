@@ -26,15 +26,16 @@
 //   twice the run's skin (the automatic skin when the run's is 0), so that redistributions are
 //   rarer than the local pipelines' own rebuilds, which change no bit and stay theirs.
 // - A redistribution is the migration and the rebalance: the owners' state (bodies, plane
-//   springs, contact histories with the lower particle owned) is gathered on every rank in scene
-//   order (MPI_Allgatherv), the domain is cut afresh by particle count (decompose()), and each rank
-//   loads its new local world: a resume from that state, which the checkpoints prove exact.
+//   springs, contact histories with the lower particle owned, mesh springs) is gathered on every
+//   rank in scene order (MPI_Allgatherv), the domain is cut afresh by particle count
+//   (decompose()), and each rank loads its new local world: a resume from that state, which the
+//   checkpoints prove exact.
 //   It costs O(N) memory and traffic per rank (docs/mpi.md says what a distributed migration would
 //   change).
-// - Collective reads (readState, readLocalPositions, pairs, contactSumsPerBody, readDebug) gather
-//   the owners' rows into scene order on every rank, so the guards, the time series, the
-//   checkpoints and the recordings run unchanged on top, the same on every rank; only rank 0
-//   writes (tumble run).
+// - Collective reads (readState, readLocalPositions, pairs, meshContacts, contactSumsPerBody,
+//   readDebug) gather the owners' rows into scene order on every rank, so the guards, the time
+//   series, the checkpoints and the recordings run unchanged on top, the same on every rank; only
+//   rank 0 writes (tumble run).
 // - Failures: a rank whose step throws still joins the step's reduction, which carries a flag and
 //   the lowest diverged particle; then every rank throws the same error (agree()).
 #include <mpi.h>
@@ -215,6 +216,16 @@ class MpiPipelineImpl final : public MpiPipeline {
       for (const Pair& p : m_local->pairs())
         if (m_particleOwned[p.i]) mine.push_back(Pair{m_particleGlobal[p.i], m_particleGlobal[p.j]});
     std::vector<Pair> all = allGather(m_comm, m_size, mine, &m_mpi.counts.readBytes);
+    std::sort(all.begin(), all.end());  // each rank's are sorted; the keys are unique
+    return all;
+  }
+
+  std::vector<MeshContact> meshContacts() const override {
+    std::vector<MeshContact> mine;
+    if (m_local)
+      for (const MeshContact& c : m_local->meshContacts())
+        if (m_particleOwned[c.particle]) mine.push_back(MeshContact{m_particleGlobal[c.particle], c.triangle});
+    std::vector<MeshContact> all = allGather(m_comm, m_size, mine, &m_mpi.counts.readBytes);
     std::sort(all.begin(), all.end());  // each rank's are sorted; the keys are unique
     return all;
   }
@@ -422,12 +433,14 @@ class MpiPipelineImpl final : public MpiPipeline {
   }
 
   // The whole state in the run's frame, scene order, on every rank (collective): each owner's
-  // bodies, the plane springs of its particles, and the contact histories (i, j) with i its own.
+  // bodies, the plane springs of its particles, the contact histories (i, j) with i its own, and
+  // its particles' mesh springs.
   BodyState gatherState(std::uint64_t& received) const {
     const std::size_t planes = m_global.params.planes().size();
     std::vector<BodyRecord> bodies;
     std::vector<float> springs;
     std::vector<ContactHistory> history;
+    std::vector<MeshContactHistory> meshHistory;
     if (m_local) {
       BodyState s;
       m_local->readLocalState(s);
@@ -446,10 +459,14 @@ class MpiPipelineImpl final : public MpiPipeline {
         }
       for (const ContactHistory& c : s.contacts)
         if (m_particleOwned[c.i]) history.push_back(ContactHistory{m_particleGlobal[c.i], m_particleGlobal[c.j], c.x, c.y, c.z});
+      for (const MeshContactHistory& c : s.meshContacts)
+        if (m_particleOwned[c.particle])
+          meshHistory.push_back(MeshContactHistory{m_particleGlobal[c.particle], c.triangle, c.x, c.y, c.z});
     }
     const std::vector<BodyRecord> allBodies = allGather(m_comm, m_size, bodies, &received);
     const std::vector<float> allSprings = allGather(m_comm, m_size, springs, &received);
     std::vector<ContactHistory> allHistory = allGather(m_comm, m_size, history, &received);
+    std::vector<MeshContactHistory> allMeshHistory = allGather(m_comm, m_size, meshHistory, &received);
 
     BodyState out;
     const std::uint32_t nb = m_global.numBodies(), np = m_global.numParticles();
@@ -484,6 +501,10 @@ class MpiPipelineImpl final : public MpiPipeline {
       return a.i != b.i ? a.i < b.i : a.j < b.j;  // unique keys
     });
     out.contacts = std::move(allHistory);
+    std::sort(allMeshHistory.begin(), allMeshHistory.end(), [](const MeshContactHistory& a, const MeshContactHistory& b) {
+      return a.particle != b.particle ? a.particle < b.particle : a.triangle < b.triangle;  // unique keys
+    });
+    out.meshContacts = std::move(allMeshHistory);
     return out;
   }
 
@@ -648,6 +669,9 @@ class MpiPipelineImpl final : public MpiPipeline {
     for (const ContactHistory& c : state.contacts)  // sorted by (i, j); toLocal keeps the order
       if (toLocal[c.i] != UINT32_MAX && toLocal[c.j] != UINT32_MAX)
         s.contacts.push_back(ContactHistory{toLocal[c.i], toLocal[c.j], c.x, c.y, c.z});
+    for (const MeshContactHistory& c : state.meshContacts)  // sorted likewise
+      if (toLocal[c.particle] != UINT32_MAX)
+        s.meshContacts.push_back(MeshContactHistory{toLocal[c.particle], c.triangle, c.x, c.y, c.z});
     w.step = stepCount();
     w.time = m_time;
     w.frame = m_frame;
