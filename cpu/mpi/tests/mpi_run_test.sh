@@ -178,6 +178,27 @@ TOML
 } > lattice.toml
 ranks_equal "a rank boundary exactly on a particle" "2 3" lattice.toml --skin 0.001
 
+# A mesh plate sweeping at 3 m/s through balls at rest: only the mesh's motion makes the local
+# lists rebuild, in the step and in the ghosts' rewrite (HaloPipeline::writeMotion; without the
+# meshes' motion there, 2 and 3 ranks leave the one process at the first contact).
+printf 'v 0 -0.5 0\nv 0 0.5 0\nv 0 0.5 0.3\nv 0 -0.5 0.3\nf 1 2 3 4\n' > plate.obj
+{
+  scene_head plate 2e-4 400
+  cat <<TOML
+[[wall]]
+type = "mesh"
+file = "plate.obj"
+position = [-0.2, 0.0, 0.0]
+velocity = [3.0, 0.0, 0.0]
+[[group]]
+shape = "ball"
+count = [4, 7, 1]
+spacing = 0.1
+origin = [0.0, -0.3, 0.05]
+TOML
+} > plate.toml
+ranks_equal "a moving mesh plate through balls at rest" "2 3" plate.toml --skin 0.002
+
 # Bodies poured in during the run (the world grows; every rank reloads).
 {
   scene_head pour 2e-4 600

@@ -38,9 +38,9 @@ class HaloPipeline : public Pipeline {
   /// The motion of `bodies` as the last step's integration left it, out[k] for bodies[k].
   virtual void readMotion(const std::vector<std::uint32_t>& bodies, std::vector<BodyMotion>& out) const = 0;
   /// Overwrites the motion of `bodies` (motion[k] for bodies[k]), recomputes their particles'
-  /// positions, then redoes the skin test on every particle, so that the candidate list and the
-  /// near list are rebuilt when the overwritten positions need it. Nothing else of the state
-  /// changes.
+  /// positions, then redoes the skin test (per particle, or per body as the step does) with the
+  /// moving meshes' motion, so that the candidate list and the near list are rebuilt when the
+  /// overwritten positions need it. Nothing else of the state changes.
   virtual void writeMotion(const std::vector<std::uint32_t>& bodies, const std::vector<BodyMotion>& motion) = 0;
   /// How many touching contacts the particles of `bodies` had in the last step, each counted
   /// from its particle's side (a contact between two of them counts twice); 0 before the first step.
