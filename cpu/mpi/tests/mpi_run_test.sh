@@ -180,7 +180,7 @@ ranks_equal "a rank boundary exactly on a particle" "2 3" lattice.toml --skin 0.
 
 # A mesh plate sweeping at 3 m/s through balls at rest: only the mesh's motion makes the local
 # lists rebuild, in the step and in the ghosts' rewrite (HaloPipeline::writeMotion; without the
-# meshes' motion there, 2 and 3 ranks leave the one process at the first contact).
+# meshes' motion there, 2 and 3 ranks end in another state than the one process).
 printf 'v 0 -0.5 0\nv 0 0.5 0\nv 0 0.5 0.3\nv 0 -0.5 0.3\nf 1 2 3 4\n' > plate.obj
 {
   scene_head plate 2e-4 400
