@@ -231,16 +231,21 @@ struct Drift {
 
 TUMBLE_HD_INLINE Drift noDrift() { return Drift{0.0f, {FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}}; }
 
+/// A drift no list survives: a NaN or an overflow makes both criteria fail.
+TUMBLE_HD_INLINE void saturateDrift(Drift& d) {
+  d.max2 = FLT_MAX;
+  for (int a = 0; a < 3; ++a) {
+    d.lo[a] = -FLT_MAX;
+    d.hi[a] = FLT_MAX;
+  }
+}
+
 /// Adds one particle's displacement. A NaN makes both criteria fail (max2 and the box become
 /// infinite), so that it forces a rebuild, whose bounds check reports the non-finite particle.
 TUMBLE_HD_INLINE void addDisplacement(Drift& d, float dx, float dy, float dz) {
   const float d2 = dx * dx + dy * dy + dz * dz;
   if (!(d2 <= FLT_MAX)) {  // NaN or overflow
-    d.max2 = FLT_MAX;
-    for (int a = 0; a < 3; ++a) {
-      d.lo[a] = -FLT_MAX;
-      d.hi[a] = FLT_MAX;
-    }
+    saturateDrift(d);
     return;
   }
   if (d2 > d.max2) d.max2 = d2;
@@ -258,11 +263,7 @@ TUMBLE_HD_INLINE void addBodyDisplacement(Drift& d, float dx, float dy, float dz
   const float len = (sqrtf(dx * dx + dy * dy + dz * dz) + e) * (1.0f + 0x1p-20f);
   const float m2 = len * len;
   if (!(m2 <= FLT_MAX)) {  // NaN or overflow
-    d.max2 = FLT_MAX;
-    for (int a = 0; a < 3; ++a) {
-      d.lo[a] = -FLT_MAX;
-      d.hi[a] = FLT_MAX;
-    }
+    saturateDrift(d);
     return;
   }
   if (m2 > d.max2) d.max2 = m2;
