@@ -4,17 +4,32 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <cmath>
 
 #include "placement.hpp"
 #include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
 #include "tumble/random.hpp"
 
 namespace tumble {
 namespace {
 
-/// The centre of a region: where a pour body is held in a world before its state is known.
-Vec3f centreOf(const FillRegion& g) {
+/// The centre of a region: where a pour body is held in a world before its state is known (a
+/// mesh region: the centre of its vertices' box where the mesh was given).
+Vec3f centreOf(const FillRegion& g, const Scene& scene) {
+  if (g.kind == FillRegion::Kind::Mesh) {
+    Vec3f lo{FLT_MAX, FLT_MAX, FLT_MAX}, hi{-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (const Vec3f& v : meshWallVertices(scene.walls[g.wall])) {
+      lo = Vec3f{std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+      hi = Vec3f{std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    }
+    FillRegion box = g;
+    box.kind = FillRegion::Kind::Box;
+    box.min = lo;
+    box.max = hi;
+    return centreOf(box, scene);
+  }
   if (g.kind == FillRegion::Kind::Box)
     return Vec3f{float(0.5 * (double(g.min.x) + g.max.x)), float(0.5 * (double(g.min.y) + g.max.y)),
                  float(0.5 * (double(g.min.z) + g.max.z))};
@@ -84,9 +99,21 @@ std::vector<Vec3f> Pouring::place(std::size_t first, std::size_t due, const std:
   std::vector<std::array<double, 6>> boxes;
   for (const RegionFrame& rf : regions) {
     const FillRegion& g = rf.region;
-    if (g.kind != FillRegion::Kind::Cylinder) {  // a box, or a mesh's box
+    if (g.kind == FillRegion::Kind::Box) {
       boxes.push_back({g.min.x - reach, g.min.y - reach, g.min.z - reach, g.max.x + reach, g.max.y + reach,
                        g.max.z + reach});
+    } else if (g.kind == FillRegion::Kind::Mesh) {  // the box of its vertices' box where the mesh is now
+      std::array<double, 6> b{DBL_MAX, DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX, -DBL_MAX};
+      for (int c = 0; c < 8; ++c) {
+        const Vec3f y = meshes.placed(g.wall, Vec3f{c & 1 ? g.max.x : g.min.x, c & 2 ? g.max.y : g.min.y,
+                                                    c & 4 ? g.max.z : g.min.z});
+        const double v[3] = {y.x, y.y, y.z};
+        for (int a = 0; a < 3; ++a) {
+          b[a] = std::min(b[a], v[a] - reach);
+          b[a + 3] = std::max(b[a + 3], v[a] + reach);
+        }
+      }
+      boxes.push_back(b);
     } else {
       const double a[3] = {g.axis.x, g.axis.y, g.axis.z}, p0[3] = {g.point.x, g.point.y, g.point.z};
       const double r = std::sqrt(0.25 * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) + double(g.radius) * g.radius) + reach;
@@ -188,7 +215,7 @@ World Pouring::withBodies(std::size_t first, const std::vector<Vec3f>& placed, c
   s.pourBodies.clear();
   for (std::size_t b = 0; b < first + placed.size(); ++b) {
     BodyDef d = m_scene.pourBodies[b].body;
-    d.position = b < first ? centreOf(m_scene.pours[m_scene.pourBodies[b].pour].region)
+    d.position = b < first ? centreOf(m_scene.pours[m_scene.pourBodies[b].pour].region, m_scene)
                            : Vec3f{float(double(placed[b - first].x) + frame.x), float(double(placed[b - first].y) + frame.y),
                                    float(double(placed[b - first].z) + frame.z)};
     s.bodies.push_back(d);

@@ -533,7 +533,10 @@ TEST(MovingMeshTest, TheTimeStepWarningCountsAMovingMeshsSpeed) {
 // A [[pour]] into the inside of a closed mesh (region = "mesh") that moves: a cube of side 0.4 m
 // sliding along +x at 1 m/s; the batch of t = 0.1 s fills the cube where it is then (x from
 // -0.1 to 0.3): every ball inside it and clear of its faces, some beyond where it was given.
-TEST(MovingMeshTest, APourFillsAMovingClosedMeshWhereItIs) {
+// The scene of the pours into a closed cube of side 0.4 m (cube.obj) that moves as `motion` says:
+// one ball above it from the start, balls of radius 0.02 poured into it (region = "mesh") as
+// `pour` says, no gravity.
+static Scene cubePourScene(const std::string& motion, const std::string& pour) {
   const std::string dir = "/tmp/tumble_moving_mesh_" + std::to_string(::getpid());
   std::filesystem::create_directories(dir);
   {
@@ -547,11 +550,16 @@ TEST(MovingMeshTest, APourFillsAMovingClosedMeshWhereItIs) {
     toml << "[scene]\ndt = 1e-4\nsteps = 1100\nseed = 2\ngravity = [0, 0, 0]\n"
             "[[shape]]\nname = \"ball\"\n[[shape.sphere]]\nradius = 0.02\nmass = 0.03\n"
             "[[body]]\nshape = \"ball\"\nposition = [0, 0, 1]\n"  // one body from the start, above the cube
-            "[[wall]]\ntype = \"mesh\"\nfile = \"cube.obj\"\nvelocity = [1, 0, 0]\n"
-            "[[pour]]\nshape = \"ball\"\ncount = 60\nrate = 600\ninterval = 0.1\nregion = \"mesh\"\nwall = 1\n";
+            "[[wall]]\ntype = \"mesh\"\nfile = \"cube.obj\"\n" << motion << "\n"
+         << "[[pour]]\nshape = \"ball\"\nregion = \"mesh\"\nwall = 1\n" << pour << "\n";
   }
   const Scene s = readSceneFile(dir + "/scene.toml");
   std::filesystem::remove_all(dir);
+  return s;
+}
+
+TEST(MovingMeshTest, APourFillsAMovingClosedMeshWhereItIs) {
+  const Scene s = cubePourScene("velocity = [1, 0, 0]", "count = 60\nrate = 600\ninterval = 0.1");
   const Pouring pouring(s);
   World world = pouring.worldWith(pouring.initialBodies());
   auto p = makePipeline(Backend::Cpu);
@@ -574,4 +582,37 @@ TEST(MovingMeshTest, APourFillsAMovingClosedMeshWhereItIs) {
   std::printf("pour into a sliding cube: %zu balls inside it where it is, %zu beyond where it was given\n", placed, beyond);
   EXPECT_GE(placed, 20u);
   EXPECT_GT(beyond, 0u);
+}
+
+// Later batches into a moved mesh keep clear of the balls the earlier ones put there: the cube
+// slides 0.5 m in 0.1 s and stops (wholly beyond where it was given); batches at t = 0.1, 0.2 and
+// 0.3 s put 1, 40 and 40 balls into it. Every ball of a batch is apart from every ball before it
+// (the placement had hashed only the particles near the cube as given).
+TEST(MovingMeshTest, LaterPourBatchesIntoAMovedMeshKeepClearOfTheEarlier) {
+  const Scene s =
+      cubePourScene("velocity = [5, 0, 0]\nstop = 0.1", "count = 81\nrate = 400\nstart = 0.1\ninterval = 0.1");
+  const Pouring pouring(s);
+  World world = pouring.worldWith(pouring.initialBodies());
+  auto p = makePipeline(Backend::Cpu);
+  p->load(world);
+  std::size_t closest = 0, batches = 0;
+  double gap = 1.0;
+  while (p->stepCount() < 3100) {
+    const std::size_t before = world.numBodies();
+    pouring.step(*p, world, 1, nullptr);
+    if (world.numBodies() == before) continue;
+    ++batches;
+    for (std::size_t k = before; k < world.numBodies(); ++k)
+      for (std::size_t j = 0; j < k; ++j) {
+        const double d = std::hypot(double(world.state.px[k]) - world.state.px[j],
+                                    double(world.state.py[k]) - world.state.py[j],
+                                    double(world.state.pz[k]) - world.state.pz[j]);
+        if (d - 0.04 < gap) gap = d - 0.04, closest = k;
+      }
+  }
+  std::printf("batches into a moved cube: %zu bodies, %zu batches, closest pair %.3g m apart (ball %zu)\n",
+              std::size_t(world.numBodies()), batches, gap, closest);
+  EXPECT_EQ(world.numBodies(), 82u);
+  EXPECT_EQ(batches, 3u);
+  EXPECT_GE(gap, 0.0) << "ball " << closest << " overlaps one placed before it";
 }
