@@ -109,7 +109,7 @@ class CpuPipeline final : public HaloPipeline {
     for (auto& c : m_pos) c.assign(n, PosRow{});
     // The skin test per body where bodies hold two particles or more on average (clumps: one
     // bound for all of a body's particles is cheaper than measuring each); per particle else.
-    m_perBody = n >= 2 * nb && (w.hasClumps || w.params.contact.rotatesSpheres());  // (the kClumps pass)
+    m_perBody = m_clumps && n >= 2 * nb;  // only the rotating pass (kClumps) measures bodies
     m_bodyRef.assign(m_perBody ? nb : 0, BodyRef{});
     m_buildPos.assign(m_perBody ? 0 : n, PosRow{});
     m_rebuildPos.assign(n, PosRow{});

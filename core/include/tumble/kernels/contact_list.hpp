@@ -67,48 +67,61 @@ namespace detail {
 /// Sorts (key, value) pairs of one row by key (keys distinct): insertion sort for short rows,
 /// heap sort (O(n log n), no extra memory, no recursion) for long ones. The result is unique
 /// because the keys are distinct, so the algorithm does not matter for the bits. val may be
-/// nullptr: the keys alone (a mesh candidate row, kernels/mesh.hpp).
+/// nullptr: the keys alone (a mesh candidate row, kernels/mesh.hpp); kVal decides that once per
+/// row, outside the loops.
+template <bool kVal>
 TUMBLE_HD_INLINE void swapEntries(std::uint32_t* key, std::uint32_t* val, std::uint32_t a, std::uint32_t b) {
   const std::uint32_t k = key[a];
   key[a] = key[b];
   key[b] = k;
-  if (val) {
+  if constexpr (kVal) {
     const std::uint32_t v = val[a];
     val[a] = val[b];
     val[b] = v;
   }
 }
 
+template <bool kVal>
 TUMBLE_HD_INLINE void siftDown(std::uint32_t* key, std::uint32_t* val, std::uint32_t root, std::uint32_t n) {
   for (;;) {
     std::uint32_t c = 2 * root + 1;
     if (c >= n) return;
     if (c + 1 < n && key[c + 1] > key[c]) ++c;
     if (!(key[c] > key[root])) return;
-    swapEntries(key, val, c, root);
+    swapEntries<kVal>(key, val, c, root);
     root = c;
   }
 }
 
-TUMBLE_HD_INLINE void sortRow(std::uint32_t* key, std::uint32_t* val, std::uint32_t n) {
+template <bool kVal>
+TUMBLE_HD_INLINE void sortRowOf(std::uint32_t* key, std::uint32_t* val, std::uint32_t n) {
   if (n <= 24) {
     for (std::uint32_t a = 1; a < n; ++a) {
-      const std::uint32_t k = key[a], v = val ? val[a] : 0u;
+      const std::uint32_t k = key[a];
+      std::uint32_t v = 0u;
+      if constexpr (kVal) v = val[a];
       std::uint32_t b = a;
       for (; b > 0 && key[b - 1] > k; --b) {
         key[b] = key[b - 1];
-        if (val) val[b] = val[b - 1];
+        if constexpr (kVal) val[b] = val[b - 1];
       }
       key[b] = k;
-      if (val) val[b] = v;
+      if constexpr (kVal) val[b] = v;
     }
     return;
   }
-  for (std::uint32_t r = n / 2; r-- > 0;) siftDown(key, val, r, n);
+  for (std::uint32_t r = n / 2; r-- > 0;) siftDown<kVal>(key, val, r, n);
   for (std::uint32_t end = n - 1; end > 0; --end) {
-    swapEntries(key, val, 0, end);
-    siftDown(key, val, 0, end);
+    swapEntries<kVal>(key, val, 0, end);
+    siftDown<kVal>(key, val, 0, end);
   }
+}
+
+TUMBLE_HD_INLINE void sortRow(std::uint32_t* key, std::uint32_t* val, std::uint32_t n) {
+  if (val != nullptr)
+    sortRowOf<true>(key, val, n);
+  else
+    sortRowOf<false>(key, nullptr, n);
 }
 
 }  // namespace detail
