@@ -1241,7 +1241,7 @@ TEST(SceneIo, FillPacksWithoutOverlap) {
       dimers += sh.spheres.size() == 2;
       EXPECT_GE(scale, 0.5f - 1e-6f);
       EXPECT_LE(scale, 1.0f + 1e-6f);
-      EXPECT_NEAR(sh.spheres[0].mass, scale * scale * scale * (sh.spheres.size() == 2 ? 1.0 : 1.0), 1e-5);
+      EXPECT_NEAR(sh.spheres[0].mass, scale * scale * scale, 1e-5);
     } else {
       EXPECT_EQ(sh.spheres[0].radius, 0.5f) << "no scale: the shape itself";
       EXPECT_EQ(s.bodies[b].shape, 0u);

@@ -316,7 +316,9 @@ expect_msg "a wall pressed into a sphere" "warning: pressed.toml: body [0-9]+ st
 # scene's line.
 printf 'v -1 -1 0\nv 2 -1 0\nv 2 2 0\nv -1 2 0\nf 1 2 3 4\n' > floor.obj
 { sed '/^\[ground\]/,/^height/d' small.toml; printf '[[wall]]\ntype = "mesh"\nfile = "floor.obj"\n'; } > meshed.toml
-expect_status "a mesh floor" 0 "$bin" run meshed.toml --steps 200 -q
+expect_status "a mesh floor" 0 "$bin" run meshed.toml --steps 3000 --state-out meshed.csv -q
+awk -F, 'NR > 1 { n++; if (NR == 2 || $4 < lo) lo = $4 } END { printf "mesh floor: %d balls, lowest centre %.4f m\n", n, lo
+  exit !(n == 32 && lo > 0.09) }' meshed.csv > meshed.txt && ok "$(cat meshed.txt) (radius 0.1: on the floor)" || bad "$(cat meshed.txt)"
 printf 'v -1 -1 0\nv 2 -1 0\nv 2 2 0\nf 1 2 2\n' > bad.obj
 sed 's/floor.obj/bad.obj/' meshed.toml > badmesh.toml
 expect_status "a degenerate mesh triangle" 2 "$bin" run badmesh.toml -q
@@ -427,13 +429,20 @@ printf 'max = [0.1, 0.1, 0.3]\nopen = ["+z"]\nvelocity = [0.5, 0.0, 0.0]\nstop =
 printf '[[shape]]\nname = "ball"\nsphere = [{radius = 0.01, mass = 0.01}]\n[[body]]\nshape = "ball"\n' >> carried.toml
 printf 'position = [0.0, 0.0, 0.0101]\n[[pour]]\nshape = "ball"\ncount = 20\nrate = 100\nstart = 0.6\n' >> carried.toml
 printf 'interval = 0.01\nregion = "box"\nmin = [0.16, -0.04, 0.1]\nmax = [0.24, 0.04, 0.2]\n' >> carried.toml
-expect_status "pour into a moving box" 0 "$bin" run carried.toml --state-out carried.csv -q
+expect_status "pour into a moving box" 0 "$bin" run carried.toml --steps 8100 --state-out carried.csv -q
+[ "$(tail -n +2 carried.csv | wc -l)" = 21 ] && ok "pour into a moving box: all 20 entered by 0.81 s" ||
+  bad "pour into a moving box: $(tail -n +2 carried.csv | wc -l) bodies, want 21"
 expect_status "pour into a moving box, recorded" 0 "$bin" run carried.toml --steps 10 --record carried.bin -q
 printf '[scene]\nname = "slope"\ndt = 1e-4\nsteps = 1000\n[[wall]]\ntype = "plane"\npoint = [0.1, 0.0, 0.25]\n' > slope.toml
 printf 'normal = [1.0, 0.0, 1.0]\n[[shape]]\nname = "ball"\nsphere = [{radius = 0.01, mass = 0.01}]\n' >> slope.toml
 printf '[[body]]\nshape = "ball"\nposition = [0.5, 0.0, 0.5]\n[[pour]]\nshape = "ball"\ncount = 20\n' >> slope.toml
 printf 'rate = 200\ninterval = 0.01\nregion = "box"\nmin = [0.0, -0.1, 0.1]\nmax = [0.2, 0.1, 0.3]\n' >> slope.toml
 expect_status "pour into a region cut by a plane" 0 "$bin" run slope.toml --state-out slope.csv -q
+# Every poured ball on the bodies' side of the plane (x - 0.1) + (z - 0.25) = 0 (its centre more
+# than half a radius from it).
+awk -F, 'NR > 2 { n++; d = ($2 - 0.1 + $4 - 0.25) / sqrt(2); if (n == 1 || d < lo) lo = d }
+  END { printf "pour cut by a plane: %d balls entered, nearest the plane %.4f m\n", n, lo; exit !(n >= 15 && lo > 0.005) }' \
+  slope.csv > slope.txt && ok "$(cat slope.txt)" || bad "$(cat slope.txt)"
 
 # The periodic chute (docs/model.md#periodic-boundaries) after 0.3 s: every centre inside the box
 # [0, 0.8) x [0, 0.4), the flow moving down the slope (+x; 0.51 m/s) and through the boundary

@@ -12,6 +12,7 @@
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
+#include "tumble/validation/compare.hpp"
 
 namespace tumble::validation {
 
@@ -280,12 +281,7 @@ DrumStop drumDragAndStop(const Scene& s) {
 }
 
 BodyState runCpu(const World& w, std::uint64_t steps, const PipelineOptions& o) {
-  auto p = makePipeline(Backend::Cpu, o);
-  p->load(w);
-  p->step(steps);
-  BodyState s;
-  p->readState(s);
-  return s;
+  return stateAfter(Backend::Cpu, w, steps, o);
 }
 
 }  // namespace tumble::validation

@@ -260,10 +260,7 @@ TEST(MovingMeshTest, AMeshPistonThrowsABallAtOnePlusETimesItsSpeed) {
   const double e = 0.8, u = 1.5;
   for (const double turn : {0.0, 0.6}) {
     const Vec3f n{float(std::cos(turn)), float(std::sin(turn)), 0.0f};
-    GroundParams c;
-    c.stiffness = 1.0e5f;
-    c.friction = 0.0f;
-    c.enabled = true;
+    const GroundParams c = wallContact(1.0e5f, 0.0f);
     WallDef w = meshWall({{0, -0.5f, -0.5f}, {0, 0.5f, -0.5f}, {0, 0.5f, 0.5f}, {0, -0.5f, 0.5f}}, {0, 1, 2, 0, 2, 3}, c);
     w.orientation = Quatf{float(std::cos(0.5 * turn)), 0.0f, 0.0f, float(std::sin(0.5 * turn))};
     w.point = {-0.2f * n.x, -0.2f * n.y, 0.0f};

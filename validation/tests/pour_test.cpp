@@ -283,6 +283,8 @@ velocity = [0, 0, -1]
     for (std::size_t b = before; b < w.numBodies(); ++b) {
       EXPECT_GE(st.px[b], -0.5f);
       EXPECT_LT(st.px[b], 0.5f);
+      EXPECT_GE(st.py[b], -0.5f);
+      EXPECT_LT(st.py[b], 0.5f);
     }
     for (std::uint32_t i = 0; i < w.numParticles(); ++i) {
       if (w.body[i] < before) continue;

@@ -157,9 +157,7 @@ TEST(WallTest, BallRollsDownAnInclinedWallAtFiveSevenths) {
     s.dt = 1e-4f;
     s.contact.law = law;
     s.ground.enabled = false;
-    GroundParams c;
-    c.stiffness = float(k);
-    c.friction = 0.5f;
+    const GroundParams c = wallContact(float(k), 0.5f);
     const Vec3f n{float(std::sin(th)), 0.0f, float(std::cos(th))};  // the slope goes down along +x
     s.walls = {plane(Vec3f{0, 0, 0}, n, c)};
     s.shapes = {sphereShape(float(r), float(m), 0.5f)};
@@ -201,9 +199,7 @@ TEST(WallTest, SphereBouncesOffAWallAtAnAngle) {
     s.dt = 1e-5f;
     s.gravity = {0, 0, 0};
     s.ground.enabled = false;
-    GroundParams c;
-    c.stiffness = 1.0e5f;
-    c.friction = 0.0f;
+    const GroundParams c = wallContact(1.0e5f, 0.0f);
     s.walls = {plane(Vec3f{0, 0, 0}, n, c)};
     s.shapes = {sphereShape(0.1f, 1.0f, float(e))};
     BodyDef b;
@@ -243,9 +239,7 @@ TEST(WallTest, ATurnedBoxGivesTheTurnedTrajectory) {
     s.shapes = {ShapeDef{"odd",
                          {SphereDef{{0, 0, 0}, 0.3f, 2.0f, 0.5f}, SphereDef{{0.5f, 0, 0}, 0.2f, 1.0f, 0.5f},
                           SphereDef{{0, 0.35f, 0.1f}, 0.15f, 0.5f, 0.5f}}}};
-    GroundParams c;
-    c.stiffness = 1.0e5f;
-    c.friction = 0.4f;
+    const GroundParams c = wallContact(1.0e5f, 0.4f);
     for (int a = 0; a < 3; ++a)
       for (const float sgn : {1.0f, -1.0f}) {
         float p[3] = {0, 0, 0}, nv[3] = {0, 0, 0};
@@ -401,9 +395,7 @@ TEST(WallTest, APistonThrowsABallAtOnePlusETimesItsSpeed) {
     s.dt = 1e-5f;
     s.gravity = {0, 0, 0};
     s.ground.enabled = false;
-    GroundParams c;
-    c.stiffness = 1.0e5f;
-    c.friction = 0.0f;
+    const GroundParams c = wallContact(1.0e5f, 0.0f);
     WallDef w = plane(Vec3f{-0.2f * n.x, -0.2f * n.y, 0.0f}, n, c);
     w.velocity = {float(u * n.x), float(u * n.y), 0.0f};
     w.stop = 0.2;  // it stops after it has thrown the ball (0.1 m at 1.5 m/s: 0.067 s)
@@ -430,9 +422,7 @@ TEST(WallTest, ALiftCarriesABallAndResumes) {
   Scene s;
   s.dt = 1e-4f;
   s.ground.enabled = false;
-  GroundParams c;
-  c.stiffness = 1.0e4f;
-  c.friction = 0.5f;
+  const GroundParams c = wallContact(1.0e4f, 0.5f);
   WallDef floor = plane(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, c);
   floor.velocity = {0.0f, 0.0f, -0.5f};
   floor.start = 0.1;
@@ -487,9 +477,7 @@ TEST(WallTest, AMovingBoxThrowsABallAsAPlaneDoes) {
   s.dt = 1e-5f;
   s.gravity = {0, 0, 0};
   s.ground.enabled = false;
-  GroundParams c;
-  c.stiffness = 1.0e5f;
-  c.friction = 0.0f;
+  const GroundParams c = wallContact(1.0e5f, 0.0f);
   const float lo[3] = {-0.5f, -0.5f, -0.5f}, hi[3] = {0.5f, 0.5f, 0.5f};
   for (int a = 0; a < 3; ++a)
     for (const bool atMax : {false, true}) {
@@ -526,9 +514,7 @@ TEST(WallTest, ASphereSlidingOffAWallLosesMuOnePlusETimesItsNormalSpeed) {
     s.gravity = {0, 0, 0};
     s.ground.enabled = false;
     s.contact.law = ContactLaw::HookeHistory;
-    GroundParams c;
-    c.stiffness = 1.0e5f;
-    c.friction = float(mu);
+    const GroundParams c = wallContact(1.0e5f, float(mu));
     s.walls = {plane(Vec3f{0, 0, 0}, n, c)};
     s.shapes = {sphereShape(float(r), 1.0f, float(e))};
     BodyDef b;
