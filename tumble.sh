@@ -60,7 +60,7 @@ configure_and_build() {
 }
 
 # The tests `tsan` runs (a ctest regex; TSAN_TESTS overrides it).
-tsan_tests='SameResultForAnyThreadCount|StepPairsMatchBruteForceOnTheBenchScene|PipelineContactSumsEqualThoseOfItsPairs|DeterminismTest|CheckpointTest'
+tsan_tests='SameResultForAnyThreadCount|StepPairsMatchBruteForceOnTheBenchScene|PipelineContactSumsEqualThoseOfItsPairs|DeterminismTest|CheckpointTest|HaloPipelineTest'
 
 cmd=${1:-run}
 [ $# -gt 0 ] && shift

@@ -41,7 +41,6 @@
 #include <mpi.h>
 
 #include <algorithm>
-#include <cfloat>
 #include <chrono>
 #include <climits>
 #include <cmath>
@@ -75,14 +74,12 @@ struct BodyRecord {
 static_assert(std::is_trivially_copyable_v<BodyRecord>, "sent as bytes");
 
 /// What every step reduces over the ranks: the owned particles' drift since the redistribution
-/// (max |Δx|², and the box of the Δx as maxima of hi and −lo), whether a rank failed otherwise,
+/// (a Drift: max |Δx|² and the box of the Δx, merged by mergeDrift()), whether a rank failed otherwise,
 /// the lowest diverged particle (scene index; INT64_MAX for none), and the touching contacts of
 /// the owned particles (each contact twice over the ranks). Max, min and integer sum: exact in any
 /// order.
 struct StepReduce {
-  float max2;
-  float hi[3];
-  float negLo[3];
+  Drift drift;
   std::int32_t failed;
   std::int64_t bad;
   std::uint64_t contacts;
@@ -92,11 +89,7 @@ void reduceSteps(void* in, void* inout, int* len, MPI_Datatype*) {
   const StepReduce* a = static_cast<const StepReduce*>(in);
   StepReduce* b = static_cast<StepReduce*>(inout);
   for (int k = 0; k < *len; ++k) {
-    b[k].max2 = std::max(b[k].max2, a[k].max2);
-    for (int c = 0; c < 3; ++c) {
-      b[k].hi[c] = std::max(b[k].hi[c], a[k].hi[c]);
-      b[k].negLo[c] = std::max(b[k].negLo[c], a[k].negLo[c]);
-    }
+    mergeDrift(b[k].drift, a[k].drift);
     b[k].failed = std::max(b[k].failed, a[k].failed);
     b[k].bad = std::min(b[k].bad, a[k].bad);
     b[k].contacts += a[k].contacts;
@@ -336,8 +329,7 @@ class MpiPipelineImpl final : public MpiPipeline {
       redistribute(gatherState(m_mpi.counts.redistributeBytes));
       m_mpi.counts.redistributeSeconds += since(t0);
     }
-    StepReduce mine{0.0f, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, 0,
-                    std::numeric_limits<std::int64_t>::max(), 0};
+    StepReduce mine{noDrift(), 0, std::numeric_limits<std::int64_t>::max(), 0};
     std::exception_ptr failure;
     auto t0 = Clock::now();
     if (m_local) {
@@ -352,17 +344,11 @@ class MpiPipelineImpl final : public MpiPipeline {
         failure = std::current_exception();
       }
       if (mine.bad == std::numeric_limits<std::int64_t>::max() && !failure) {
-        Drift d = noDrift();
         m_local->readLocalPositions(m_buf);
         for (std::size_t k = 0; k < m_ownedParticles.size(); ++k) {
           const float* x = &m_buf[3 * std::size_t(m_ownedParticles[k])];
           const float* r = &m_ref[3 * k];
-          addDisplacement(d, x[0] - r[0], x[1] - r[1], x[2] - r[2]);
-        }
-        mine.max2 = d.max2;
-        for (int c = 0; c < 3; ++c) {
-          mine.hi[c] = d.hi[c];
-          mine.negLo[c] = -d.lo[c];
+          addDisplacement(mine.drift, x[0] - r[0], x[1] - r[1], x[2] - r[2]);
         }
         mine.contacts = m_local->contactsOf(m_owned);
       }
@@ -384,13 +370,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     m_time += m_global.params.dt;
     if (m_debug) m_hasDebug = true;
     m_numPairs = all.contacts / 2;
-    Drift d = noDrift();
-    d.max2 = all.max2;
-    for (int c = 0; c < 3; ++c) {
-      d.hi[c] = all.hi[c];
-      d.lo[c] = -all.negLo[c];
-    }
-    m_needRedistribute = !listStillValid(d, m_haloLimit);
+    m_needRedistribute = !listStillValid(all.drift, m_haloLimit);
   }
 
   // After a step: each owner sends its bodies' rows to the ranks that hold them as ghosts, and
@@ -400,7 +380,8 @@ class MpiPipelineImpl final : public MpiPipeline {
     if (!m_local) return;  // no bodies, so no ghosts and nothing to send
     m_local->readMotion(m_sendAll, m_sendBuf);
     m_recvBuf.resize(m_recvAll.size());
-    std::vector<MPI_Request> requests;
+    std::vector<MPI_Request>& requests = m_requests;  // kept: no allocation once sized
+    requests.clear();
     for (int r = 0; r < m_size; ++r) {
       const std::size_t a = m_recvOffsets[std::size_t(r)], e = m_recvOffsets[std::size_t(r) + 1];
       if (e > a) {
@@ -719,6 +700,7 @@ class MpiPipelineImpl final : public MpiPipeline {
 
   mutable std::vector<float> m_buf;
   std::vector<cpu::BodyMotion> m_sendBuf, m_recvBuf;
+  std::vector<MPI_Request> m_requests;
 };
 
 }  // namespace

@@ -20,8 +20,6 @@ namespace {
 const Session* g_session = nullptr;
 }
 
-bool compiled() { return TUMBLE_HAS_MPI != 0; }
-
 bool launched() {
   for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
     if (const char* s = std::getenv(v); s != nullptr && *s != '\0') return true;

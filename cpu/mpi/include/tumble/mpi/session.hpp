@@ -14,9 +14,6 @@
 
 namespace tumble::mpi {
 
-/// Whether this build has MPI (TUMBLE_ENABLE_MPI, tumble/config.hpp TUMBLE_HAS_MPI).
-bool compiled();
-
 /// Whether an MPI launcher (mpirun, mpiexec, srun) started this process: its environment
 /// variables are set (OMPI_COMM_WORLD_SIZE, PMI_SIZE or PMIX_RANK).
 bool launched();
@@ -28,7 +25,7 @@ int launchedRank();
 class Session {
  public:
   /// Starts MPI (MPI_Init_thread, MPI_THREAD_FUNNELED: only the calling thread talks to MPI)
-  /// when compiled() and launched(). Throws tumble::Error when launched() in a build without MPI:
+  /// when this build has MPI (TUMBLE_ENABLE_MPI: tumble/config.hpp's TUMBLE_HAS_MPI) and launched(). Throws tumble::Error when launched() in a build without MPI:
   /// every process would then run the whole job and write the same files.
   Session(int* argc, char*** argv);
   /// Ends MPI (MPI_Finalize) when it was started.
