@@ -252,7 +252,7 @@ void Checkpoint::write(const std::string& path) const {
   std::vector<std::uint8_t> buf;
   Encoder e(buf);
   // Version 1 unless there are mesh springs: the checkpoints of scenes without them keep their bytes.
-  const std::uint32_t version = state.meshContacts.empty() ? 1u : 2u;
+  const std::uint32_t version = state.meshContacts.empty() ? 1u : kCheckpointVersion;
   e.bytes(kMagic, 8);
   e.u32(version);
   e.u32((np > 0 ? kFlagGroundSprings : 0u) | (state.imageX.empty() ? 0u : kFlagImageX) |
@@ -294,9 +294,9 @@ Checkpoint Checkpoint::read(const std::string& path) {
     in.fail(0, "not a tumble checkpoint (bad magic; expected \"TUMBLECK\")");
   if (buf.size() < kOffFlags) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
   const std::uint32_t version = getU32(buf.data() + kOffVersion);
-  if (version != 1 && version != 2)
+  if (version < 1 || version > kCheckpointVersion)
     in.fail(kOffVersion, "unsupported checkpoint version " + std::to_string(version) +
-                             " (this build of tumble reads versions 1 and 2)");
+                             " (this build of tumble reads versions 1 to " + std::to_string(kCheckpointVersion) + ")");
   const std::uint64_t headerBytes = version == 1 ? kHeaderBytes : kHeaderBytes + 4;  // version 2: + M
   if (buf.size() < kHeaderBytes) in.fail(buf.size(), "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
   if (headerBytes > kHeaderBytes) {  // appends its last field

@@ -1078,13 +1078,15 @@ class SceneParser {
 
   /// Refuses `bodies` more bodies of at least `minSpheres` spheres each when the scene would
   /// pass 2^31 particles, or the run could not be held in memory (instead of bad_alloc later).
+  /// `pouredBefore`: the bodies of earlier pours, whose particles m_numParticles already counts
+  /// but scene.bodies does not hold.
   void checkBodyBudget(const TableReader& r, const toml::node& at, const Scene& scene, std::uint64_t bodies,
-                       std::size_t minSpheres) const {
+                       std::size_t minSpheres, std::uint64_t pouredBefore = 0) const {
     if (m_numParticles + bodies * minSpheres > kMaxParticles) {
       r.fail(sourceOf(at), "the scene would have more than 2^31 particles (" +
                                std::to_string(m_numParticles + bodies * minSpheres) + " at least); use a smaller count");
     }
-    const std::uint64_t allBodies = scene.bodies.size() + bodies, allParticles = m_numParticles + bodies * minSpheres;
+    const std::uint64_t allBodies = scene.bodies.size() + pouredBefore + bodies, allParticles = m_numParticles + bodies * minSpheres;
     if (const std::string shortfall = memoryShortfall(allBodies * (kRunBytesPerBody + sizeof(BodyDef)) +
                                                       allParticles * kRunBytesPerParticle);
         !shortfall.empty()) {
@@ -1113,7 +1115,7 @@ class SceneParser {
     std::size_t minSpheres = std::numeric_limits<std::size_t>::max();
     for (std::uint32_t s : f.shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
     if (f.count > kMaxParticles) r.fail(sourceOf(countNode), "count asks for more than 2^31 bodies");
-    checkBodyBudget(r, countNode, scene, f.count + scene.pourBodies.size(), minSpheres);
+    checkBodyBudget(r, countNode, scene, f.count, minSpheres, scene.pourBodies.size());
     const toml::node& regionNode =
         r.require("region", "where to put them: region = \"box\", \"cylinder\" or \"mesh\"");
     const std::string region = r.string(regionNode, "region");

@@ -15,8 +15,8 @@
 
 namespace tumble {
 
-/// What a drawn wall is: the kind id of the recording (a player's colour). Mesh is reserved for
-/// the triangle-mesh walls to come (their triangles are stored as they are).
+/// What a drawn wall is: the kind id of the recording (a player's colour). Mesh: a triangle-mesh
+/// wall (its triangles stored as they are).
 enum class WallKind : std::uint32_t { Plane = 0, Cylinder = 1, Cone = 2, Disk = 3, Mesh = 4 };
 /// Kinds a reader accepts: ids below this.
 inline constexpr std::uint32_t kNumWallKinds = 5;
@@ -101,8 +101,8 @@ struct WallTessellation {
 /// triangles; neither does a plane that the others cut away. Deterministic (double arithmetic,
 /// no library order).
 ///
-/// A new wall type (a triangle mesh in world coordinates) is one more case here: kind Mesh, its
-/// triangles copied as given, and its extent added to the drawing region like a revolved wall's.
+/// A mesh wall is kind Mesh: its triangles as given (meshWallTriangles()), its extent added to
+/// the drawing region like a revolved wall's.
 std::vector<WallSurface> wallSurfaces(const std::vector<WallDef>& walls, const Extent& focus,
                                       const WallTessellation& options = {});
 
