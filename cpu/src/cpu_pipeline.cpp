@@ -484,7 +484,10 @@ class CpuPipeline final : public HaloPipeline {
     const float closure = closureFor(drift);
     const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, next) : 0.0;
     m_needRebuild = !(m_closed + double(closure) + meshes < double(m_fullLimit));
-    m_needRefresh = m_nearSkin > 0.0f && !(closure < m_nearLimit);
+    // The near list holds sphere pairs only: their closure is enough for it (closureOf(), which
+    // a common motion does not use up, where the walls' bound is 2 max |dx|).
+    const float pairClosure = m_hasMesh ? closureOf(drift) : closure;
+    m_needRefresh = m_nearSkin > 0.0f && !(pairClosure < m_nearLimit);
     m_lastClosure = closure;
   }
 
