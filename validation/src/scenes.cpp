@@ -7,8 +7,10 @@
 #include <filesystem>
 #include <memory>
 
+#include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
 #include "tumble/mesh.hpp"
+#include "tumble/pour.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
@@ -282,6 +284,24 @@ DrumStop drumDragAndStop(const Scene& s) {
 
 BodyState runCpu(const World& w, std::uint64_t steps, const PipelineOptions& o) {
   return stateAfter(Backend::Cpu, w, steps, o);
+}
+
+PourRun pourRun(const Scene& s, std::uint64_t steps, const PipelineOptions& o, const PourBatchCheck& atBatch,
+                const Checkpoint* from) {
+  const Pouring pouring(s);
+  World world = pouring.worldWith(pouring.initialBodies());
+  if (from) world = from->resume(pouring.worldWith(from->state.size()), nullptr);
+  auto p = makePipeline(Backend::Cpu, o);
+  p->load(world);
+  while (p->stepCount() < steps) {
+    const std::size_t before = world.numBodies();
+    const double t = p->time();
+    pouring.step(*p, world, 1, nullptr);
+    if (atBatch && world.numBodies() != before) atBatch(world, *p, before, t);
+  }
+  PourRun r{world, {}};
+  p->readState(r.state);
+  return r;
 }
 
 }  // namespace tumble::validation

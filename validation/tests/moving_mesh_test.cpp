@@ -482,16 +482,9 @@ max = [0.1, 0.1, 0.4]
   shutter.point = {0.0f, 0.0f, 0.35f};
   shutter.velocity = {1.0f, 0.0f, 0.0f};
   s.walls = {shutter};
-  const Pouring pouring(s);
-  World world = pouring.worldWith(pouring.initialBodies());
-  auto p = makePipeline(Backend::Cpu);
-  p->load(world);
   std::size_t inPlane = 0, placed = 0;
-  while (p->stepCount() < 600) {
-    const std::size_t before = world.numBodies();
-    const double t = p->time();
-    pouring.step(*p, world, 1, nullptr);
-    if (world.numBodies() == before || t < 0.04) continue;
+  pourRun(s, 600, {}, [&](const World& world, const Pipeline&, std::size_t before, double t) {
+    if (t < 0.04) return;
     const double edge = -0.1 + t;  // the shutter's edge then; it covers x >= edge
     const LocalFrame f = world.frame ? *world.frame : LocalFrame{};  // the pour's positions are in the run's frame
     for (std::size_t k = before; k < world.numBodies(); ++k) {
@@ -501,7 +494,7 @@ max = [0.1, 0.1, 0.4]
       inPlane += dz < r ? 1u : 0u;
       ++placed;
     }
-  }
+  });
   std::printf("pour past a sliding shutter: %zu balls placed at t >= 0.05 s, %zu of them in its plane beyond its "
               "edge (within a radius of z = 0.35)\n", placed, inPlane);
   EXPECT_GT(placed, 100u);
@@ -557,16 +550,9 @@ static Scene cubePourScene(const std::string& motion, const std::string& pour) {
 
 TEST(MovingMeshTest, APourFillsAMovingClosedMeshWhereItIs) {
   const Scene s = cubePourScene("velocity = [1, 0, 0]", "count = 60\nrate = 600\ninterval = 0.1");
-  const Pouring pouring(s);
-  World world = pouring.worldWith(pouring.initialBodies());
-  auto p = makePipeline(Backend::Cpu);
-  p->load(world);
   std::size_t placed = 0, beyond = 0;
-  while (p->stepCount() < 1100) {
-    const std::size_t before = world.numBodies();
-    const double t = p->time();
-    pouring.step(*p, world, 1, nullptr);
-    if (world.numBodies() == before || t < 0.05) continue;
+  pourRun(s, 1100, {}, [&](const World& world, const Pipeline&, std::size_t before, double t) {
+    if (t < 0.05) return;
     const LocalFrame f = world.frame ? *world.frame : LocalFrame{};
     for (std::size_t k = before; k < world.numBodies(); ++k) {
       const double x = world.state.px[k] + f.x - t, y = world.state.py[k] + f.y, z = world.state.pz[k] + f.z;
@@ -575,7 +561,7 @@ TEST(MovingMeshTest, APourFillsAMovingClosedMeshWhereItIs) {
       beyond += x + t > 0.2 ? 1u : 0u;
       ++placed;
     }
-  }
+  });
   std::printf("pour into a sliding cube: %zu balls inside it where it is, %zu beyond where it was given\n", placed, beyond);
   EXPECT_GE(placed, 20u);
   EXPECT_GT(beyond, 0u);
@@ -588,16 +574,9 @@ TEST(MovingMeshTest, APourFillsAMovingClosedMeshWhereItIs) {
 TEST(MovingMeshTest, LaterPourBatchesIntoAMovedMeshKeepClearOfTheEarlier) {
   const Scene s =
       cubePourScene("velocity = [5, 0, 0]\nstop = 0.1", "count = 81\nrate = 400\nstart = 0.1\ninterval = 0.1");
-  const Pouring pouring(s);
-  World world = pouring.worldWith(pouring.initialBodies());
-  auto p = makePipeline(Backend::Cpu);
-  p->load(world);
   std::size_t closest = 0, batches = 0;
   double gap = 1.0;
-  while (p->stepCount() < 3100) {
-    const std::size_t before = world.numBodies();
-    pouring.step(*p, world, 1, nullptr);
-    if (world.numBodies() == before) continue;
+  const World world = pourRun(s, 3100, {}, [&](const World& world, const Pipeline&, std::size_t before, double) {
     ++batches;
     for (std::size_t k = before; k < world.numBodies(); ++k)
       for (std::size_t j = 0; j < k; ++j) {
@@ -606,7 +585,7 @@ TEST(MovingMeshTest, LaterPourBatchesIntoAMovedMeshKeepClearOfTheEarlier) {
                                     double(world.state.pz[k]) - world.state.pz[j]);
         if (d - 0.04 < gap) gap = d - 0.04, closest = k;
       }
-  }
+  }).world;
   std::printf("batches into a moved cube: %zu bodies, %zu batches, closest pair %.3g m apart (ball %zu)\n",
               std::size_t(world.numBodies()), batches, gap, closest);
   EXPECT_EQ(world.numBodies(), 82u);

@@ -18,6 +18,7 @@
 #include "tumble/pour.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
+#include "tumble/validation/scenes.hpp"
 
 using namespace tumble;
 using namespace tumble::validation;
@@ -76,35 +77,6 @@ velocity = [0, 0, -1]
 scale = [0.8, 1.2]
 )";
 
-struct PourRun {
-  World world;
-  BodyState state;
-};
-
-// Runs a scene's pours for `steps` steps as the drivers do (Pouring::step), optionally from a
-// checkpoint; each batch that adds bodies is checked by `atBatch` (the world, the pipeline one
-// step after it, the bodies before it and the time it fell at).
-template <class F>
-PourRun run(const Scene& s, std::uint64_t steps, const PipelineOptions& o, F&& atBatch, const Checkpoint* from = nullptr) {
-  const Pouring pouring(s);
-  World world = pouring.worldWith(pouring.initialBodies());
-  if (from) world = from->resume(pouring.worldWith(from->state.size()), nullptr);
-  auto p = makePipeline(Backend::Cpu, o);
-  p->load(world);
-  while (p->stepCount() < steps) {
-    const std::size_t before = world.numBodies();
-    const double t = p->time();
-    pouring.step(*p, world, 1, nullptr);
-    if (world.numBodies() != before) atBatch(world, *p, before, t);
-  }
-  PourRun r{world, {}};
-  p->readState(r.state);
-  return r;
-}
-PourRun run(const Scene& s, std::uint64_t steps, const PipelineOptions& o = {}) {
-  return run(s, steps, o, [](const World&, const Pipeline&, std::size_t, double) {});
-}
-
 }  // namespace
 
 // Bodies enter at the pour's rate (those due by each batch step), none overlapping a particle
@@ -115,7 +87,7 @@ TEST(PourTest, BodiesEnterAtTheRateWithoutOverlap) {
   const Pouring pouring(s);
   ASSERT_EQ(pouring.initialBodies(), 30u);
   std::size_t batches = 0, worst = 0;
-  run(s, 9000, {}, [&](const World& w, const Pipeline& p, std::size_t before, double t) {
+  pourRun(s, 9000, {}, [&](const World& w, const Pipeline& p, std::size_t before, double t) {
     ++batches;
     // Due by t: the bodies of index i with i / rate <= t (all of them have room here).
     std::size_t due = 0;
@@ -143,11 +115,11 @@ TEST(PourTest, BodiesEnterAtTheRateWithoutOverlap) {
 // batch step (the resumed run pours there first, as the straight one did) or between two.
 TEST(PourTest, TheSameForAnyThreadsSkinAndResume) {
   const Scene s = parseScene(kSilo, "silo.toml");
-  const PourRun a = run(s, 6000);
+  const PourRun a = pourRun(s, 6000);
   ASSERT_EQ(a.world.numBodies(), 178u) << "30, and 148 due by the last batch (t = 0.295 s)";
   Scene noSkin = s;
   noSkin.broadphase.skin = 0.0f;
-  for (const PourRun& o : {run(s, 6000, PipelineOptions{1, false}), run(noSkin, 6000)}) {
+  for (const PourRun& o : {pourRun(s, 6000, PipelineOptions{1, false}), pourRun(noSkin, 6000)}) {
     const auto d = firstDifference(a.state, o.state);
     EXPECT_FALSE(d.has_value()) << d->describe();
   }
@@ -161,7 +133,7 @@ TEST(PourTest, TheSameForAnyThreadsSkinAndResume) {
     Checkpoint::of(w, *p).write(path);
     const Checkpoint ck = Checkpoint::read(path);
     std::remove(path.c_str());
-    const PourRun resumed = run(s, 6000, {}, [](const World&, const Pipeline&, std::size_t, double) {}, &ck);
+    const PourRun resumed = pourRun(s, 6000, {}, {}, &ck);
     const auto d = firstDifference(a.state, resumed.state);
     EXPECT_FALSE(d.has_value()) << "resumed at step " << at << ": " << d->describe();
   }
@@ -192,7 +164,7 @@ velocity = [0, 0, 2]
 attempts = 10000
 )", "queue.toml");
   std::vector<double> entered;
-  const PourRun r = run(s, 12000, {}, [&](const World& w, const Pipeline&, std::size_t before, double t) {
+  const PourRun r = pourRun(s, 12000, {}, [&](const World& w, const Pipeline&, std::size_t before, double t) {
     EXPECT_EQ(w.numBodies(), before + 1) << "one at a time: the region holds one";
     entered.push_back(t);
   });
@@ -275,7 +247,7 @@ max = [0.6, 0.6, 0.5]
 velocity = [0, 0, -1]
 )", "periodic-pour.toml");
   std::size_t overlaps = 0, near = 0;
-  const PourRun r = run(s, 3000, {}, [&](const World& w, const Pipeline& p, std::size_t before, double) {
+  const PourRun r = pourRun(s, 3000, {}, [&](const World& w, const Pipeline& p, std::size_t before, double) {
     BodyState st;
     p.readLocalState(st);  // one step after the batch: the centres stay well inside at 1 m/s
     std::vector<float> x;

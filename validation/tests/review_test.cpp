@@ -12,6 +12,7 @@
 #include "tumble/pour.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
+#include "tumble/validation/scenes.hpp"
 
 using namespace tumble;
 using namespace tumble::validation;
@@ -172,15 +173,7 @@ max = [0.24, 0.04, 0.2]
 )", "moving-box-pour.toml");
   const Pouring pouring(s);
   EXPECT_NO_THROW((void)pouring.worldWith(pouring.finalBodies())) << "the recording's table";
-  World w = pouring.worldWith(pouring.initialBodies());
-  auto p = makePipeline(Backend::Cpu);
-  p->load(w);
-  try {
-    pouring.step(*p, w, 8100, nullptr);  // the last body is due at 0.79 s, a batch at 0.8 s
-  } catch (const Error& e) {
-    ADD_FAILURE() << "at step " << p->stepCount() << ": " << e.what();
-  }
-  EXPECT_EQ(w.numBodies(), 21u);
+  EXPECT_EQ(pourRun(s, 8100).world.numBodies(), 21u);  // the last body is due at 0.79 s, a batch at 0.8 s
 }
 
 // A pipe along the periodic x axis that moves along x: after 0.3 s it no longer covers the box
@@ -245,15 +238,7 @@ max = [0.2, 0.1, 0.3]
 )", "slope-pour.toml");
   const Pouring pouring(s);
   EXPECT_NO_THROW((void)pouring.worldWith(pouring.finalBodies())) << "the recording's table";
-  World w = pouring.worldWith(pouring.initialBodies());
-  auto p = makePipeline(Backend::Cpu);
-  p->load(w);
-  try {
-    pouring.step(*p, w, 1101, nullptr);  // the last body is due at 0.095 s, a batch at 0.1 s or 0.11 s
-  } catch (const Error& e) {
-    ADD_FAILURE() << "at step " << p->stepCount() << ": " << e.what();
-  }
-  EXPECT_EQ(w.numBodies(), 21u);
+  EXPECT_EQ(pourRun(s, 1101).world.numBodies(), 21u);  // the last body is due at 0.095 s, a batch at 0.1 s or 0.11 s
 }
 
 // The shortest period counts the bodies at the start only (periodReach(scene) reads
@@ -402,14 +387,5 @@ region = "box"
 min = [0.3, -0.1, 0.1]
 max = [0.6, 0.1, 0.3]
 )", "periodic-pour-off-centre.toml");
-  const Pouring pouring(s);
-  World w = pouring.worldWith(pouring.initialBodies());
-  auto p = makePipeline(Backend::Cpu);
-  p->load(w);
-  try {
-    pouring.step(*p, w, 1101, nullptr);  // the last body is due at 0.095 s, a batch at 0.1 s or 0.11 s
-  } catch (const Error& e) {
-    ADD_FAILURE() << "at step " << p->stepCount() << ": " << e.what();
-  }
-  EXPECT_EQ(w.numBodies(), 21u);
+  EXPECT_EQ(pourRun(s, 1101).world.numBodies(), 21u);  // the last body is due at 0.095 s, a batch at 0.1 s or 0.11 s
 }

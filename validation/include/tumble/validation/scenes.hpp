@@ -10,6 +10,10 @@
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
 
+namespace tumble {
+struct Checkpoint;
+}
+
 namespace tumble::validation {
 
 /// The `bench` scene (SPEC §5; the peers' "clumps"): bodies of 8 spheres (radius 0.5, mass 1,
@@ -79,6 +83,19 @@ DrumStop drumDragAndStop(const Scene& s);
 
 /// The state of a world after `steps` steps on a fresh CPU pipeline with the given options.
 BodyState runCpu(const World& world, std::uint64_t steps, const PipelineOptions& options = {});
+
+/// A run of a scene's [[pour]]s: the world it ends with (the bodies that entered) and its state.
+struct PourRun {
+  World world;
+  BodyState state;
+};
+/// Checks a batch that added bodies: the world, the pipeline one step after it, the bodies before
+/// it and the time it fell at.
+using PourBatchCheck = std::function<void(const World&, const Pipeline&, std::size_t before, double t)>;
+/// Runs a scene's pours to step `steps` on a CPU pipeline step by step as the drivers do
+/// (Pouring::step), from the start or from a checkpoint; `atBatch` sees each batch.
+PourRun pourRun(const Scene& s, std::uint64_t steps, const PipelineOptions& options = {},
+                const PourBatchCheck& atBatch = {}, const Checkpoint* from = nullptr);
 
 /// Path of a file in the source tree (scenes/…, validation/golden/…); when the source tree is
 /// gone (an installed tumble), of the installed data (share/tumble: the scenes).
