@@ -4,14 +4,17 @@
 // bisection and slabs, the time to cut the domain and find every rank's halo (what each rank
 // computes at a redistribution), and as counters the particles per rank, the ghosts (mean and
 // largest), the largest halo as a share of a rank's particles, the most neighbours and the most
-// bytes a rank sends per step (108 a ghost body). The halo's reach is the one a run uses with the
-// automatic skin: 2 r_max + 2 × skin. TUMBLE_BENCH_SMOKE=1: 16 000 particles, 4 ranks.
+// bytes a rank sends per step (a BodyMotion row, 108 bytes, a ghost body). The halo's reach is the
+// one a run with the automatic skin uses (haloReach() of twice that skin). TUMBLE_BENCH_SMOKE=1:
+// 16 000 particles, 4 ranks.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <set>
 
+#include "tumble/cpu/cpu_pipeline.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/mpi/decomposition.hpp"
 #include "tumble/pipeline.hpp"
@@ -44,8 +47,9 @@ const Layout& layoutOf(std::uint32_t particles) {
       l.positions.insert(l.positions.end(), {x.x, x.y, x.z});
     }
   }
-  const float skin = tumble::effectiveSkin(w);
-  l.reach = 2.0 * w.maxRadius + 2.0 * skin;
+  double largest = 0.0;
+  for (const float c : l.positions) largest = std::max(largest, std::abs(double(c)));
+  l.reach = tumble::mpi::haloReach(w.maxRadius, tumble::mpi::kHaloSkinPerSkin * tumble::effectiveSkin(w), largest);
   cached = particles;
   return l;
 }
@@ -70,7 +74,7 @@ void BM_Decomposition(benchmark::State& state) {
     for (const std::uint32_t k : ghosts[static_cast<std::size_t>(r)]) {
       g += l.count[k];
       from.insert(owner[k]);
-      sent[static_cast<std::size_t>(owner[k])] += 108.0;
+      sent[static_cast<std::size_t>(owner[k])] += double(sizeof(tumble::cpu::BodyMotion));  // a ghost row
     }
     ghostMean += g / ranks;
     ghostMax = std::max(ghostMax, g);

@@ -90,6 +90,10 @@ std::vector<int> decompose(const std::vector<Vec3f>& centres, const std::vector<
   return owner;
 }
 
+double haloReach(float maxRadius, float haloSkin, double largestCoordinate) {
+  return (2.0 * double(maxRadius) + double(haloSkin)) * (1.0 + 1e-3) + 1e-6 * largestCoordinate;
+}
+
 std::vector<std::vector<std::uint32_t>> ghostsOf(const std::vector<int>& owner, const std::vector<float>& positions,
                                                  const std::vector<std::uint32_t>& first,
                                                  const std::vector<std::uint32_t>& count, int ranks, double reach) {

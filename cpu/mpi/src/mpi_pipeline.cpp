@@ -63,8 +63,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// The halo's skin s over the run's skin (design notes).
-constexpr float kHaloSkinPerSkin = 2.0f;
 constexpr int kGhostTag = 15;
 
 /// A body's state as BodyState holds it (a redistribution's gather).
@@ -508,8 +506,8 @@ class MpiPipelineImpl final : public MpiPipeline {
         pos[3 * std::size_t(i) + 2] = x.z;
       }
     }
-    // The halo's reach: every particle within 2 r_max + s of one of the rank's, and a margin for
-    // the rounding of the positions compared (1e-3 of that, and 8 ulp of the largest coordinate).
+    // The halo's reach (haloReach()): every particle within 2 r_max + s of one of the rank's,
+    // and a margin for the rounding of the positions compared.
     double largest = 0.0;
     for (std::size_t c = 0; c < pos.size(); ++c) {
       if (!std::isfinite(pos[c])) {  // as the pipeline's detection says it (the first such particle)
@@ -518,7 +516,7 @@ class MpiPipelineImpl final : public MpiPipeline {
       }
       largest = std::max(largest, std::abs(double(pos[c])));
     }
-    const double reach = (2.0 * double(g.maxRadius) + double(m_haloSkin)) * (1.0 + 1e-3) + 1e-6 * largest;
+    const double reach = haloReach(g.maxRadius, m_haloSkin, largest);
     const std::vector<int> owner = decompose(centres, g.numParticlesOf, m_size, m_how);
     const std::vector<std::vector<std::uint32_t>> ghosts = ghostsOf(owner, pos, g.first, g.numParticlesOf, m_size, reach);
     const auto me = static_cast<std::size_t>(m_rank);

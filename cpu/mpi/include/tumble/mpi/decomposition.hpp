@@ -33,6 +33,14 @@ Decomposition decompositionFromString(const std::string& s);
 std::vector<int> decompose(const std::vector<Vec3f>& centres, const std::vector<std::uint32_t>& particles, int ranks,
                            Decomposition how);
 
+/// The halo skin s over the run's skin (the MPI pipeline's design notes): redistributions rarer
+/// than the local pipelines' own rebuilds.
+inline constexpr float kHaloSkinPerSkin = 2.0f;
+
+/// The reach of ghostsOf() for a halo skin s: 2 r_max + s, and a margin for the rounding of the
+/// positions compared (1e-3 of that, and 1e-6 of the largest |coordinate|).
+double haloReach(float maxRadius, float haloSkin, double largestCoordinate);
+
 /// The ghosts of each rank: per rank, in ascending body index, every body it does not own with a
 /// particle inside the bounding box of its own particles grown by `reach` on each side. With
 /// reach ≥ 2 r_max + s (plus rounding), every particle that comes within touching distance of a
