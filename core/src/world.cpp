@@ -215,6 +215,7 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
     if ((!(len > 0.0) || !std::isfinite(len)) && d.shape != WallDef::Shape::Mesh)
       throw Error(d.where + (d.shape == WallDef::Shape::Plane ? ": the normal" : ": the axis") +
                   " must be a non-zero, finite vector");
+    if (const std::string why = wallMotionOutOfRange(d); !why.empty()) throw Error(d.where + ": " + why);
     const double n[3] = {d.normal.x / len, d.normal.y / len, d.normal.z / len};
     const double o[3] = {f.x, f.y, f.z}, p[3] = {d.point.x, d.point.y, d.point.z};
     w.n = Vec3f{float(n[0]), float(n[1]), float(n[2])};
@@ -224,7 +225,6 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
     w.omega = d.angularVelocity;
     if (d.shape == WallDef::Shape::Mesh) {  // its triangles: kernelMesh()
       if (!d.mesh) throw Error(d.where + ": a mesh wall needs a mesh (WallDef::mesh)");
-      if (const std::string why = wallMotionOutOfRange(d); !why.empty()) throw Error(d.where + ": " + why);
       w.axis = kMeshWall;
       w.sign = 1.0f;
       if (d.moves()) {  // its material's velocity, v + |ω| n × (p − centre): n the unit ω, centre the pivot
@@ -264,11 +264,9 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       w.radius1 = d.radius1;
       w.restCentre = w.centre;
       w.restStart = w.start;
-      if (const std::string why = wallMotionOutOfRange(d); !why.empty()) throw Error(d.where + ": " + why);
       out.push_back(w);
       continue;
     }
-    if (const std::string why = wallMotionOutOfRange(d); !why.empty()) throw Error(d.where + ": " + why);
     const float nv[3] = {w.n.x, w.n.y, w.n.z};
     w.axis = kGeneralPlane;
     w.sign = 1.0f;
