@@ -562,10 +562,15 @@ class CpuPipeline final : public HaloPipeline {
           for (std::uint32_t k = rg.begin(); k != rg.end(); ++k) {
             const BodyRow& self = v.bodies[k];
             Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
-            for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
-              const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
-              addToBody<kClumps>(F, T, pf);
-              acc.contacts += pf.contacts;
+            if constexpr (!kDebug && kLaw == ContactLaw::Report) {
+              acc.contacts += bodyForces<kClumps, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
+            } else {
+              for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
+                const ParticleForce pf =
+                    particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
+                addToBody<kClumps>(F, T, pf);
+                acc.contacts += pf.contacts;
+              }
             }
             finishBody<kClumps, kPeriodic>(v, F, T, g, dt, scheme, k, &acc.drift);
           }
@@ -638,7 +643,10 @@ class CpuPipeline final : public HaloPipeline {
     m_listBuilt = true;
     m_closed = 0.0;
     m_rebuildTime = m_time;
-    if (m_nearSkin > 0.0f) fillNearList();
+    if (m_nearSkin > 0.0f)
+      fillNearList();
+    else if (m_law == ContactLaw::Report)  // (the laws with history go particle by particle)
+      fillOwners(m_candOffsets, m_owner);
     sec[int(Phase::List)] += since(t0);
     m_needRebuild = false;
     m_needRefresh = false;
@@ -698,23 +706,43 @@ class CpuPipeline final : public HaloPipeline {
         });
   }
 
+  // The near list, compact (its rows one after the other), with each entry's particle
+  // (StepView::listOwner): first at the candidate rows' offsets, then compacted.
   void fillNearList() {
     const std::uint32_t n = m_world.numParticles();
-    m_near.resize(m_cand.size());
-    m_nearEnd.resize(n);
+    std::uint32_t* room = tumble::detail::grow(m_nearRoom, m_cand.size());
+    std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
     const CandidateListView full = compactList(m_candOffsets.data(), m_cand.data());
     const PosRow* pos = m_pos[m_cur].data();
     if (m_periodic.axes != 0)
       forEach(n, kGrain, [&](std::uint32_t i) {
-        m_nearEnd[i] = fillNear<true>(pos, full, m_nearSkin, m_near.data(), i, m_periodic);
+        count[i] = fillNear<true>(pos, full, m_nearSkin, room, i, m_periodic) - m_candOffsets[i];
       });
     else
-      forEach(n, kGrain, [&](std::uint32_t i) { m_nearEnd[i] = fillNear(pos, full, m_nearSkin, m_near.data(), i); });
+      forEach(n, kGrain, [&](std::uint32_t i) { count[i] = fillNear(pos, full, m_nearSkin, room, i) - m_candOffsets[i]; });
+    count[n] = 0;
+    m_nearOffsets.resize(std::size_t(n) + 1);
+    std::size_t bytes = 0;
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_nearOffsets.data(), std::size_t(n) + 1);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_nearOffsets.data(),
+                                std::size_t(n) + 1);
+    m_near.resize(m_nearOffsets[n]);
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      std::copy(room + m_candOffsets[i], room + m_candOffsets[i] + count[i], m_near.data() + m_nearOffsets[i]);
+    });
+    fillOwners(m_nearOffsets, m_owner);
+  }
+
+  // The particle of each entry of the compact list at `offsets` (StepView::listOwner).
+  void fillOwners(const std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& owner) {
+    const std::uint32_t n = m_world.numParticles();
+    owner.resize(offsets[n]);
+    forEach(n, kGrain, [&](std::uint32_t i) { std::fill(owner.data() + offsets[i], owner.data() + offsets[i + 1], i); });
   }
 
   // The list the forces (and pairs()) iterate: the near list when there is one.
   CandidateListView contactListView() const {
-    if (m_nearSkin > 0.0f) return CandidateListView{m_candOffsets.data(), m_nearEnd.data(), m_near.data()};
+    if (m_nearSkin > 0.0f) return compactList(m_nearOffsets.data(), m_near.data());
     return compactList(m_candOffsets.data(), m_cand.data());
   }
 
@@ -1135,7 +1163,8 @@ class CpuPipeline final : public HaloPipeline {
                     m_periodic,
                     m_mesh.view(m_meshPoses),
                     MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_meshHist.data()},
-                    m_perBody ? m_bodyRef.data() : nullptr};
+                    m_perBody ? m_bodyRef.data() : nullptr,
+                    m_owner.empty() ? nullptr : m_owner.data()};
   }
 
   mutable tbb::task_arena m_arena;
@@ -1187,8 +1216,9 @@ class CpuPipeline final : public HaloPipeline {
   std::vector<Vec3f> m_meshHist;
   float m_skin = 0.0f;
   bool m_needRebuild = true;
-  // The near list (kernels/contact_list.hpp fillNear): rows at the candidate list's offsets.
-  std::vector<std::uint32_t> m_near, m_nearEnd;
+  // The near list (kernels/contact_list.hpp fillNear), compact.
+  std::vector<std::uint32_t> m_nearOffsets, m_near, m_nearRoom;
+  std::vector<std::uint32_t> m_owner;  // the particle of each entry of contactListView()
   float m_nearSkin = 0.0f;     // 0: no near list
   float m_fullLimit = 0.0f;    // the candidate list holds while m_closed + closure < this
   float m_nearLimit = 0.0f;    // the near list holds while its interval's closure < this

@@ -35,6 +35,7 @@ struct Knobs {
   float skinFactor = 1.0f;  ///< × the automatic skin (0 = detect every step)
   int threads = 2;
   bool reorder = true;
+  bool debug = false;  ///< the debug capture: the CPU's forces particle by particle (bodyForces())
 };
 
 /// The states of a run every `every` steps (and at the end), plus its last-step statistics.
@@ -51,6 +52,7 @@ Run run(Backend b, World w, const Knobs& k, std::uint64_t steps, std::uint64_t e
   o.threads = k.threads;
   o.reorder = k.reorder;
   auto p = makePipeline(b, o);
+  p->setDebugCapture(k.debug);
   p->load(w);
   Run r;
   for (std::uint64_t done = 0; done < steps;) {
@@ -88,6 +90,7 @@ void expectInvariant(Backend b, const std::string& scene, std::uint64_t steps, C
       {"1 thread", 0.0f, 10, 1.0f, 1},  {"4 threads", 0.0f, 10, 1.0f, 4},
       {"skin 0 (detect every step)", 0.0f, 10, 0.0f}, {"skin x0.5", 0.0f, 10, 0.5f}, {"skin x3", 0.0f, 10, 3.0f},
       {"no reordering", 0.0f, 10, 1.0f, 2, false},
+      {"debug capture (particle by particle)", 0.0f, 10, 1.0f, 2, true, true},
   };
   for (const Knobs& k : variants) {
     const Run got = run(b, w, k, steps, every, autoCell);
@@ -295,6 +298,55 @@ TEST_P(ContactListTest, PairsAreExactForAParticleWithThousandsOfContacts) {
   p->readDebug(dbg);
   EXPECT_EQ(dbg.contacts, p->pairs());
   EXPECT_EQ(dbg.contacts.size(), std::size_t(m));
+}
+
+// The CPU sums a body's contacts in one batch (kernels/step.hpp bodyForces()) and goes particle
+// by particle (particleForce()) for a body of more than kBodyBatchParticles particles or more
+// than kBodyBatch entries in its rows, and with the debug capture on: the same bits every way.
+// Rods of 20 spheres (past the particle limit), clumps of 8 (batched), a big sphere touching
+// dozens (past the entry limit) and loose balls, packed to overlap, falling on the ground.
+TEST_P(ContactListTest, TheBodyBatchEqualsParticleByParticle) {
+  Scene s;
+  s.dt = 2e-4f;
+  s.contact = {2e3f, 2.0f, 1.0f};  // soft: the packs stay in contact over the run
+  s.ground.enabled = true;
+  ShapeDef rod{"rod", {}}, clump{"clump", {}};
+  for (int k = 0; k < 20; ++k) rod.spheres.push_back(SphereDef{{0.8f * float(k) - 7.6f, 0, 0}, 0.5f, 1.0f, 0.5f});
+  for (int k = 0; k < 8; ++k)
+    clump.spheres.push_back(SphereDef{{k & 1 ? 0.3f : -0.3f, k & 2 ? 0.3f : -0.3f, k & 4 ? 0.3f : -0.3f}, 0.5f, 1.0f, 0.5f});
+  s.shapes = {rod, clump, ShapeDef{"big", {SphereDef{{0, 0, 0}, 4.0f, 50.0f, 0.5f}}},
+              ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}}}};
+  auto add = [&](std::uint32_t shape, Vec3f x, Quatf q = Quatf{1, 0, 0, 0}) {
+    BodyDef b;
+    b.shape = shape;
+    b.position = x;
+    b.orientation = q;
+    s.bodies.push_back(b);
+  };
+  for (int y = 0; y < 4; ++y)
+    for (int z = 0; z < 3; ++z) add(0, {0.0f, 0.9f * float(y) - 12.0f, 0.9f * float(z) + 0.6f}, Quatf{0.9950f, 0, 0, 0.0998f});
+  for (int x = 0; x < 6; ++x)
+    for (int y = 0; y < 6; ++y) add(1, {1.4f * float(x) - 3.5f, 1.4f * float(y) + 6.0f, 1.0f});
+  add(2, {0.0f, 0.0f, 5.0f});
+  for (int k = 0; k < 120; ++k) {  // a shell of balls on the big sphere, each pressed 0.05 into it
+    const float zc = 1.0f - 2.0f * (float(k) + 0.5f) / 120.0f, rho = std::sqrt(1.0f - zc * zc), phi = 2.39996323f * float(k);
+    add(3, {4.45f * rho * std::cos(phi), 4.45f * rho * std::sin(phi), 5.0f + 4.45f * zc});
+  }
+  const World w = World::fromScene(s);
+  const ::Run ref = run(GetParam(), w, Knobs{"reference"}, 400, 40, 0.0f);
+  std::printf("batch test: %u bodies, %u particles, %llu contacts after 400 steps, hash %016llx\n", w.numBodies(),
+              w.numParticles(), static_cast<unsigned long long>(ref.stats.numPairs),
+              static_cast<unsigned long long>(stateHash(ref.states.back())));
+  EXPECT_GT(ref.stats.numPairs, 150u) << "the shell and the packs must touch for the test to mean something";
+  for (const Knobs& k : {Knobs{"debug capture", 0.0f, 10, 1.0f, 2, true, true},
+                         Knobs{"debug capture, skin 0", 0.0f, 10, 0.0f, 2, true, true}, Knobs{"skin 0", 0.0f, 10, 0.0f}}) {
+    const ::Run got = run(GetParam(), w, k, 400, 40, 0.0f);
+    for (std::size_t c = 0; c < ref.states.size(); ++c)
+      if (const auto d = firstDifference(ref.states[c], got.states[c])) {
+        ADD_FAILURE() << k.name << ": first difference by step " << (c + 1) * 40 << ": " << d->describe();
+        break;
+      }
+  }
 }
 
 TEST_P(ContactListTest, SkinIsReusedAndCounted) {

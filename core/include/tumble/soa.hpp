@@ -199,6 +199,9 @@ struct StepView {
   /// then bounds its particles' motion from its own (bodyDrift()) instead of measuring each
   /// particle against `buildPos`. nullptr: per particle.
   const BodyRef* bodyRef = nullptr;
+  /// When `list` is compact (row i ends where row i + 1 begins), the particle of each of its
+  /// entries, so that a body's rows are walked as one run (bodyForces()); nullptr otherwise.
+  const std::uint32_t* listOwner = nullptr;
 };
 
 }  // namespace tumble

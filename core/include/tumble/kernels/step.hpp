@@ -285,80 +285,88 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
 /// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
 /// kPosedMesh: some mesh wall moves (meshWallContacts()); a scene whose meshes stand still (or
 /// that has none) runs the code without poses.
-template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report, bool kPeriodic = false,
-          bool kPosedMesh = false>
-TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
-                                             const BodyRow& self, std::uint32_t i) {
-  const PosRow pi = v.pos[i];
-  const Vec3f xi{pi.x, pi.y, pi.z};
-  // i's side of its contacts, computed on first use: most particles touch nothing.
-  ContactSide si{{0.0f, 0.0f, 0.0f}, self.v, {0.0f, 0.0f, 0.0f}};
-  bool haveSide = !kClumps;
-  auto side = [&]() -> const ContactSide& {
-    if (!haveSide) {
-      si = sideOf(self, v.own[i].u);
-      haveSide = true;
+/// Particle i's side of its contacts (sideOf()), computed on first use: most particles touch
+/// nothing. Single-sphere bodies (kClumps false) need only V, known from the start.
+template <bool kClumps>
+struct LazySide {
+  ContactSide s;
+  bool have;
+  TUMBLE_HD_INLINE explicit LazySide(const BodyRow& self) : s{{0.0f, 0.0f, 0.0f}, self.v, {0.0f, 0.0f, 0.0f}}, have(!kClumps) {}
+  TUMBLE_HD_INLINE const ContactSide& get(const StepView& v, const BodyRow& self, std::uint32_t i) {
+    if (!have) {
+      s = sideOf(self, v.own[i].u);
+      have = true;
     }
-    return si;
-  };
+    return s;
+  }
+};
+
+/// What particleForce() sums for particle i: its force and torque and, for the debug capture,
+/// the three contact forces apart.
+struct ParticleSums {
   ParticleForce out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
   Vec3f rep{0.0f, 0.0f, 0.0f}, dmp{0.0f, 0.0f, 0.0f}, shr{0.0f, 0.0f, 0.0f};
-  const std::uint32_t end = v.list.end[i];
-  for (std::uint32_t e = v.list.begin[i]; e < end; ++e) {
-    const std::uint32_t j = v.list.cand[e];
-    const PosRow pj = v.pos[j];
-    Vec3f d;
-    float d2;
-    bool touch;
-    if constexpr (kPeriodic)
-      touch = spheresOverlap(v.periodic, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2);
-    else
-      touch = spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d.x, &d.y, &d.z, &d2);
-    if (!touch) {
-      if constexpr (kLaw != ContactLaw::Report) {  // an open contact forgets its history
-        const Vec3f h = v.history[e];
-        if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) v.history[e] = Vec3f{0.0f, 0.0f, 0.0f};
-      }
-      continue;
-    }
-    const BodyRow& other = v.bodies[kClumps ? v.bodyOf[j] : j];
-    const ContactSide sj = kClumps ? sideOf(other, v.own[j].u) : ContactSide{Vec3f{0, 0, 0}, other.v, Vec3f{0, 0, 0}};
-    const bool iBeforeJ = d2 > 0.0f || v.orig[i] < v.orig[j];  // read only for coincident centres
-    ContactForces cf;
-    if constexpr (kLaw == ContactLaw::HookeHistory) {
-      const float meff = 1.0f / (self.invMass + other.invMass);
-      cf = hookeHistoryForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, meff, fp.history, fp.dt, &v.history[e]);
-      if (fp.rollingFriction > 0.0f)
-        out.t += rollingTorque(side().omega, sj.omega, cf.n, cf.normal, (pi.r * pj.r) / (pi.r + pj.r), meff,
-                               fp.rollingFriction, fp.dt);
-    } else if constexpr (kLaw == ContactLaw::HertzMindlin) {
-      const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * pj.r) / (pi.r + pj.r);
-      const HertzPair& hp =
-          v.hertz[materialPairIndex(materialOf(v.material, i), materialOf(v.material, j), v.numMaterials)];
-      cf = hertzMindlinForces(contactKinematics<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ), reff, meff, hp,
-                              fp.dt, &v.history[e]);
-      if (hp.muR > 0.0f) out.t += rollingTorque(side().omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
-    } else {
-      cf = contactForces<kClumps>(d, d2, pi.r, pj.r, side(), sj, iBeforeJ, fp.contact);
-    }
-    const Vec3f fc = total(cf);
-    out.f += fc;
-    if (kClumps) out.t += cross(cf.arm, fc);
-    if (kDebug) {
-      rep += cf.repulsion;
-      dmp += cf.damping;
-      shr += cf.shear;
-    }
-    ++out.contacts;
+};
+
+/// The contact of particle i (at pi, of body `self`) with particle j of another body, entry e of
+/// i's row, that touches: d = x_i − x_j and |d|² as the predicate computed them. Its force and
+/// torque (and rolling torque) are added to *sum; a law with history updates v.history[e].
+template <bool kDebug, bool kClumps, ContactLaw kLaw>
+TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
+                                 const PosRow& pi, std::uint32_t e, std::uint32_t j, Vec3f d, float d2,
+                                 LazySide<kClumps>& side, ParticleSums* sum) {
+  const float rj = v.pos[j].r;
+  const BodyRow& other = v.bodies[kClumps ? v.bodyOf[j] : j];
+  const ContactSide sj = kClumps ? sideOf(other, v.own[j].u) : ContactSide{Vec3f{0, 0, 0}, other.v, Vec3f{0, 0, 0}};
+  const bool iBeforeJ = d2 > 0.0f || v.orig[i] < v.orig[j];  // read only for coincident centres
+  ParticleForce& out = sum->out;
+  ContactForces cf;
+  if constexpr (kLaw == ContactLaw::HookeHistory) {
+    const float meff = 1.0f / (self.invMass + other.invMass);
+    const ContactSide& si = side.get(v, self, i);
+    cf = hookeHistoryForces<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ, meff, fp.history, fp.dt, &v.history[e]);
+    if (fp.rollingFriction > 0.0f)
+      out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, (pi.r * rj) / (pi.r + rj), meff, fp.rollingFriction,
+                             fp.dt);
+  } else if constexpr (kLaw == ContactLaw::HertzMindlin) {
+    const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * rj) / (pi.r + rj);
+    const HertzPair& hp =
+        v.hertz[materialPairIndex(materialOf(v.material, i), materialOf(v.material, j), v.numMaterials)];
+    const ContactSide& si = side.get(v, self, i);
+    cf = hertzMindlinForces(contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ), reff, meff, hp, fp.dt,
+                            &v.history[e]);
+    if (hp.muR > 0.0f) out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
+  } else {
+    cf = contactForces<kClumps>(d, d2, pi.r, rj, side.get(v, self, i), sj, iBeforeJ, fp.contact);
   }
+  const Vec3f fc = total(cf);
+  out.f += fc;
+  if (kClumps) out.t += cross(cf.arm, fc);
+  if (kDebug) {
+    sum->rep += cf.repulsion;
+    sum->dmp += cf.damping;
+    sum->shr += cf.shear;
+  }
+  ++out.contacts;
+}
+
+/// After its contacts, the rest of particle i's step: its count of contacts (v.touching), the
+/// planes (the ground first, then the walls; each plane's stick spring updated in place), the
+/// pulls, and the debug capture. Returns its force and torque.
+template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPosedMesh>
+TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
+                                              const BodyRow& self, std::uint32_t i, const PosRow& pi,
+                                              LazySide<kClumps>& side, ParticleSums& sum) {
+  ParticleForce& out = sum.out;
+  const Vec3f xi{pi.x, pi.y, pi.z};
   v.touching[i] = static_cast<std::uint8_t>(out.contacts < 255u ? out.contacts : 255u);
   // The planes (wall.hpp), the ground first: its test reads the force constants (most particles
   // of a scene are above its ground), the walls' loop is wallContacts().
   GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};  // debug: their sum
   if (fp.hasGround) {
     if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {  // fp.ground = planes[0].coeffs; wallHeight() is z there
-      gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, xi, xi, pi.r, self, side(), &v.ground.tx[i],
-                                                     &v.ground.ty[i], &out);
+      gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, xi, xi, pi.r, self, side.get(v, self, i),
+                                                     &v.ground.tx[i], &v.ground.ty[i], &out);
     } else {  // out of contact the stick spring is released
       v.ground.tx[i] = 0.0f;
       v.ground.ty[i] = 0.0f;
@@ -371,12 +379,12 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
   if (fp.pulls != 0u) {
     const Vec3f fpull = pullForce(xi, v.mass[i], fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls, fp.pullCentre);
     out.f += fpull;
-    if (kClumps) out.t += cross(side().offset, fpull);
+    if (kClumps) out.t += cross(side.get(v, self, i).offset, fpull);
   }
   if (kDebug) {
-    const ContactSide& s = side();
+    const ContactSide& s = side.get(v, self, i);
     const Vec3f vel = kClumps ? pointVelocity(s.v, s.omega, s.offset) : s.v;
-    const Vec3f parts[6] = {rep, dmp, shr, gf.normal, gf.friction, vel};
+    const Vec3f parts[6] = {sum.rep, sum.dmp, sum.shr, gf.normal, gf.friction, vel};
     for (int k = 0; k < 6; ++k) {
       float* col = k < 5 ? dbg.f[k] : dbg.v;
       col[3 * std::size_t(i)] = parts[k].x;
@@ -387,12 +395,122 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
   return out;
 }
 
+/// Whether the pair (i at pi, j at pj) touches: the shared predicate, through the minimum image
+/// under kPeriodic; d and |d|² handed out.
+template <bool kPeriodic>
+TUMBLE_HD_INLINE bool touches(const StepView& v, const PosRow& pi, const PosRow& pj, Vec3f* d, float* d2) {
+  if constexpr (kPeriodic)
+    return spheresOverlap(v.periodic, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d->x, &d->y, &d->z, d2);
+  else
+    return spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d->x, &d->y, &d->z, d2);
+}
+
+/// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
+/// view (the candidate list, or on the CPU its near list) filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
+/// the list's order (ascending scene index of the partner; addContact()); then the planes in their order (the
+/// ground, then the walls), then the pulls (finishParticle()). Each force adds arm × f to the torque about the body's
+/// centre. Gravity is the body's (finishBody). Each pair is computed from both sides;
+/// the contact laws are exactly antisymmetric, so the two sides agree to the bit.
+///
+/// kClumps: bodies rotate (some have several particles, or the law turns spheres). kLaw: the
+/// contact law; with a history (hooke-history, hertz-mindlin) the view's `history` holds ξ per
+/// list entry (the list is then the candidate list), updated in place and zeroed when the pair
+/// does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
+/// kPeriodic: the pairs meet through their minimum image in the view's periodic box (the
+/// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
+/// kPosedMesh: some mesh wall moves (meshWallContacts()); a scene whose meshes stand still (or
+/// that has none) runs the code without poses.
+template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report, bool kPeriodic = false,
+          bool kPosedMesh = false>
+TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
+                                             const BodyRow& self, std::uint32_t i) {
+  const PosRow pi = v.pos[i];
+  LazySide<kClumps> side(self);
+  ParticleSums sum;
+  const std::uint32_t end = v.list.end[i];
+  for (std::uint32_t e = v.list.begin[i]; e < end; ++e) {
+    const std::uint32_t j = v.list.cand[e];
+    Vec3f d;
+    float d2;
+    if (!touches<kPeriodic>(v, pi, v.pos[j], &d, &d2)) {
+      if constexpr (kLaw != ContactLaw::Report) {  // an open contact forgets its history
+        const Vec3f h = v.history[e];
+        if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) v.history[e] = Vec3f{0.0f, 0.0f, 0.0f};
+      }
+      continue;
+    }
+    addContact<kDebug, kClumps, kLaw>(v, fp, self, i, pi, e, j, d, d2, side, &sum);
+  }
+  return finishParticle<kDebug, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, pi, side, sum);
+}
+
 /// Stage 6, one particle's share of its body's totals: F += f_i, T += t_i. A body adds its
 /// particles in their order within the body.
 template <bool kClumps>
 TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
   F += pf.f;
   if (kClumps) T += pf.t;
+}
+
+/// particleForce() for the particles of body `self` at once (the CPU's pass, the report's law,
+/// a compact list with its owners, StepView::listOwner): the body's rows, one run of entries,
+/// are first filtered into a buffer of the touching entries with no branch per entry, then the
+/// contacts are summed particle by particle in row order (addContact()) and each particle
+/// finished in order (finishParticle()): particleForce()'s operations in its order, so the same
+/// bits, with about one mispredicted branch per body instead of one or two per particle (the
+/// candidate loop's exit and its touch test, which goes either way about as often). A body with
+/// more than kBodyBatchParticles particles or kBodyBatch entries, or a list without owners, goes
+/// particle by particle. Adds each particle's force to F and T (addToBody()) and returns the
+/// number of contacts.
+inline constexpr std::uint32_t kBodyBatch = 96, kBodyBatchParticles = 16;
+template <bool kClumps, bool kPeriodic, bool kPosedMesh>
+TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
+                                          const BodyRow& self, Vec3f* F, Vec3f* T) {
+  constexpr ContactLaw kLaw = ContactLaw::Report;
+  const std::uint32_t first = self.first, count = self.count;
+  // A compact list: the body's rows are one run of entries.
+  const std::uint32_t b = v.list.begin[first], end = v.list.end[first + count - 1];
+  std::uint32_t contacts = 0;
+  if (v.listOwner == nullptr || count > kBodyBatchParticles || end - b > kBodyBatch) {
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      const ParticleForce pf = particleForce<false, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
+      addToBody<kClumps>(*F, *T, pf);
+      contacts += pf.contacts;
+    }
+    return contacts;
+  }
+  // The touching entries of the body's rows, in row order: (particle within the body, entry).
+  struct Hit {
+    Vec3f d;
+    float d2;
+    std::uint32_t e;
+    std::uint32_t k;
+  };
+  Hit hits[kBodyBatch];
+  std::uint32_t numHits = 0;
+  for (std::uint32_t e = b; e < end; ++e) {
+    const std::uint32_t i = v.listOwner[e];
+    Hit& h = hits[numHits];
+    h.e = e;
+    h.k = i - first;
+    numHits += touches<kPeriodic>(v, v.pos[i], v.pos[v.list.cand[e]], &h.d, &h.d2) ? 1u : 0u;
+  }
+  ParticleSums sums[kBodyBatchParticles];
+  for (std::uint32_t h = 0; h < numHits; ++h) {
+    const Hit& x = hits[h];
+    const std::uint32_t i = first + x.k;
+    LazySide<kClumps> side(self);  // (per contact: cheaper than keeping one per particle)
+    addContact<false, kClumps, kLaw>(v, fp, self, i, v.pos[i], x.e, v.list.cand[x.e], x.d, x.d2, side, &sums[x.k]);
+  }
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint32_t i = first + k;
+    LazySide<kClumps> side(self);
+    const ParticleForce pf =
+        finishParticle<false, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, v.pos[i], side, sums[k]);
+    addToBody<kClumps>(*F, *T, pf);
+    contacts += pf.contacts;
+  }
+  return contacts;
 }
 
 /// A bound on the displacement of every particle of body b since its reference `ref` (the skin
