@@ -17,6 +17,9 @@
 //   pulls), the body totals in particle order, the integration, the particles' rows of the
 //   next state (double-buffered: the neighbours still read this step's rows) and the skin
 //   test's displacement. The CUDA pipeline runs the same functions as separate kernels.
+//   Under the report's law a body's contacts are found in one batch (kernels/step.hpp
+//   bodyForces(): the body's rows of the compact near list filtered without a branch per entry,
+//   then summed in row order), the same operations as particleForce() in the same order.
 // - Determinism: every output element has one writer and every floating-point sum runs in a
 //   fixed order. The only reductions across bodies are a max and an integer count, exact in
 //   any order. No float atomics, no parallel_reduce on floats that feed the state.

@@ -301,12 +301,24 @@ struct LazySide {
   }
 };
 
-/// What particleForce() sums for particle i: its force and torque and, for the debug capture,
-/// the three contact forces apart.
+/// What particleForce() sums for particle i: its force and torque and, for the debug capture
+/// (kDebug), the three contact forces apart. Trivial: start from zeroSums().
+template <bool kDebug>
 struct ParticleSums {
-  ParticleForce out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
-  Vec3f rep{0.0f, 0.0f, 0.0f}, dmp{0.0f, 0.0f, 0.0f}, shr{0.0f, 0.0f, 0.0f};
+  ParticleForce out;
+  Vec3f rep, dmp, shr;
 };
+template <>
+struct ParticleSums<false> {
+  ParticleForce out;
+};
+template <bool kDebug>
+TUMBLE_HD_INLINE ParticleSums<kDebug> zeroSums() {
+  ParticleSums<kDebug> s;
+  s.out = ParticleForce{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
+  if constexpr (kDebug) s.rep = s.dmp = s.shr = Vec3f{0.0f, 0.0f, 0.0f};
+  return s;
+}
 
 /// The contact of particle i (at pi, of body `self`) with particle j of another body, entry e of
 /// i's row, that touches: d = x_i − x_j and |d|² as the predicate computed them. Its force and
@@ -314,7 +326,7 @@ struct ParticleSums {
 template <bool kDebug, bool kClumps, ContactLaw kLaw>
 TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                  const PosRow& pi, std::uint32_t e, std::uint32_t j, Vec3f d, float d2,
-                                 LazySide<kClumps>& side, ParticleSums* sum) {
+                                 LazySide<kClumps>& side, ParticleSums<kDebug>* sum) {
   const float rj = v.pos[j].r;
   const BodyRow& other = v.bodies[kClumps ? v.bodyOf[j] : j];
   const ContactSide sj = kClumps ? sideOf(other, v.own[j].u) : ContactSide{Vec3f{0, 0, 0}, other.v, Vec3f{0, 0, 0}};
@@ -342,7 +354,7 @@ TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const
   const Vec3f fc = total(cf);
   out.f += fc;
   if (kClumps) out.t += cross(cf.arm, fc);
-  if (kDebug) {
+  if constexpr (kDebug) {
     sum->rep += cf.repulsion;
     sum->dmp += cf.damping;
     sum->shr += cf.shear;
@@ -356,7 +368,7 @@ TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const
 template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPosedMesh>
 TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                               const BodyRow& self, std::uint32_t i, const PosRow& pi,
-                                              LazySide<kClumps>& side, ParticleSums& sum) {
+                                              LazySide<kClumps>& side, ParticleSums<kDebug>& sum) {
   ParticleForce& out = sum.out;
   const Vec3f xi{pi.x, pi.y, pi.z};
   v.touching[i] = static_cast<std::uint8_t>(out.contacts < 255u ? out.contacts : 255u);
@@ -381,7 +393,7 @@ TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForcePara
     out.f += fpull;
     if (kClumps) out.t += cross(side.get(v, self, i).offset, fpull);
   }
-  if (kDebug) {
+  if constexpr (kDebug) {
     const ContactSide& s = side.get(v, self, i);
     const Vec3f vel = kClumps ? pointVelocity(s.v, s.omega, s.offset) : s.v;
     const Vec3f parts[6] = {sum.rep, sum.dmp, sum.shr, gf.normal, gf.friction, vel};
@@ -426,7 +438,7 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
                                              const BodyRow& self, std::uint32_t i) {
   const PosRow pi = v.pos[i];
   LazySide<kClumps> side(self);
-  ParticleSums sum;
+  ParticleSums<kDebug> sum = zeroSums<kDebug>();
   const std::uint32_t end = v.list.end[i];
   for (std::uint32_t e = v.list.begin[i]; e < end; ++e) {
     const std::uint32_t j = v.list.cand[e];
@@ -496,7 +508,8 @@ TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& 
     h.k = i - first;
     numHits += touches<kPeriodic>(v, v.pos[i], v.pos[v.list.cand[e]], &h.d, &h.d2) ? 1u : 0u;
   }
-  ParticleSums sums[kBodyBatchParticles];
+  ParticleSums<false> sums[kBodyBatchParticles];
+  for (std::uint32_t k = 0; k < count; ++k) sums[k] = zeroSums<false>();
   for (std::uint32_t h = 0; h < numHits; ++h) {
     const Hit& x = hits[h];
     const std::uint32_t i = first + x.k;
