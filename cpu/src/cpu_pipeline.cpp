@@ -648,8 +648,10 @@ class CpuPipeline final : public HaloPipeline {
     m_rebuildTime = m_time;
     if (m_nearSkin > 0.0f)
       fillNearList();
-    else if (m_law == ContactLaw::Report)  // (the laws with history go particle by particle)
-      fillOwners(m_candOffsets, m_owner);
+    else if (m_law == ContactLaw::Report) {  // (the laws with history go particle by particle)
+      m_owner.resize(m_cand.size());
+      forEach(n, kGrain, [&](std::uint32_t i) { ownRow(m_candOffsets, i); });
+    }
     sec[int(Phase::List)] += since(t0);
     m_needRebuild = false;
     m_needRefresh = false;
@@ -730,17 +732,16 @@ class CpuPipeline final : public HaloPipeline {
     exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_nearOffsets.data(),
                                 std::size_t(n) + 1);
     m_near.resize(m_nearOffsets[n]);
+    m_owner.resize(m_nearOffsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
       std::copy(room + m_candOffsets[i], room + m_candOffsets[i] + count[i], m_near.data() + m_nearOffsets[i]);
+      ownRow(m_nearOffsets, i);
     });
-    fillOwners(m_nearOffsets, m_owner);
   }
 
-  // The particle of each entry of the compact list at `offsets` (StepView::listOwner).
-  void fillOwners(const std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& owner) {
-    const std::uint32_t n = m_world.numParticles();
-    owner.resize(offsets[n]);
-    forEach(n, kGrain, [&](std::uint32_t i) { std::fill(owner.data() + offsets[i], owner.data() + offsets[i + 1], i); });
+  // The particle of each entry of the compact list at `offsets` (StepView::listOwner): row i's.
+  void ownRow(const std::vector<std::uint32_t>& offsets, std::uint32_t i) {
+    std::fill(m_owner.data() + offsets[i], m_owner.data() + offsets[i + 1], i);
   }
 
   // The list the forces (and pairs()) iterate: the near list when there is one.
