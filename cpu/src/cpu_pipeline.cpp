@@ -17,9 +17,10 @@
 //   pulls), the body totals in particle order, the integration, the particles' rows of the
 //   next state (double-buffered: the neighbours still read this step's rows) and the skin
 //   test's displacement. The CUDA pipeline runs the same functions as separate kernels.
-//   Under the report's law a body's contacts are found in one batch (kernels/step.hpp
-//   bodyForces(): the body's rows of the compact near list filtered without a branch per entry,
-//   then summed in row order), the same operations as particleForce() in the same order.
+//   Under the report's law, without the debug capture, a body's contacts are found in one batch
+//   (kernels/step.hpp bodyForces(): the body's rows of the compact list the forces read, the
+//   near list or without one the candidate list, filtered with no branch per entry, then summed
+//   in row order), the same operations as particleForce() in the same order.
 // - Determinism: every output element has one writer and every floating-point sum runs in a
 //   fixed order. The only reductions across bodies are a max and an integer count, exact in
 //   any order. No float atomics, no parallel_reduce on floats that feed the state.
@@ -648,9 +649,11 @@ class CpuPipeline final : public HaloPipeline {
     m_rebuildTime = m_time;
     if (m_nearSkin > 0.0f)
       fillNearList();
-    else if (m_law == ContactLaw::Report) {  // (the laws with history go particle by particle)
+    else if (m_law == ContactLaw::Report) {
       m_owner.resize(m_cand.size());
       forEach(n, kGrain, [&](std::uint32_t i) { ownRow(m_candOffsets, i); });
+    } else {  // the laws with history go particle by particle: no owners
+      m_owner.clear();
     }
     sec[int(Phase::List)] += since(t0);
     m_needRebuild = false;
@@ -1222,7 +1225,8 @@ class CpuPipeline final : public HaloPipeline {
   bool m_needRebuild = true;
   // The near list (kernels/contact_list.hpp fillNear), compact.
   std::vector<std::uint32_t> m_nearOffsets, m_near, m_nearRoom;
-  std::vector<std::uint32_t> m_owner;  // the particle of each entry of contactListView()
+  std::vector<std::uint32_t> m_owner;  // the particle of each entry of contactListView(); empty
+                                       // under the laws with history (StepView::listOwner)
   float m_nearSkin = 0.0f;     // 0: no near list
   float m_fullLimit = 0.0f;    // the candidate list holds while m_closed + closure < this
   float m_nearLimit = 0.0f;    // the near list holds while its interval's closure < this

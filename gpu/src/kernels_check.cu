@@ -55,4 +55,16 @@ __global__ void movingMeshCheckKernel(StepView v, ForceParams fp, std::uint32_t*
   count[i] = c + f.contacts;
 }
 
+// The CPU's body batch (bodyForces(), one body per thread here) and the particle pass's debug
+// and history paths, which the CUDA pipeline does not instantiate.
+__global__ void bodyBatchCheckKernel(StepView v, ForceParams fp, DebugForcesView dbg, Vec3f* out) {
+  const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= v.numBodies) return;
+  Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
+  const std::uint32_t n = bodyForces<true, false, false>(v, fp, dbg, v.bodies[k], &F, &T);
+  const BodyRow& b = v.bodies[k];
+  const ParticleForce h = particleForce<true, true, ContactLaw::HertzMindlin>(v, fp, dbg, b, b.first);
+  out[k] = F + T + h.f + Vec3f{float(n), 0.0f, 0.0f};
+}
+
 }  // namespace tumble

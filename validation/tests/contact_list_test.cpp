@@ -303,19 +303,22 @@ TEST_P(ContactListTest, PairsAreExactForAParticleWithThousandsOfContacts) {
 // The CPU sums a body's contacts in one batch (kernels/step.hpp bodyForces()) and goes particle
 // by particle (particleForce()) for a body of more than kBodyBatchParticles particles or more
 // than kBodyBatch entries in its rows, and with the debug capture on: the same bits every way.
-// Rods of 20 spheres (past the particle limit), clumps of 8 (batched), a big sphere touching
-// dozens (past the entry limit) and loose balls, packed to overlap, falling on the ground.
+// Rods of 20 spheres (past the particle limit), plates of 16 (at it), clumps of 8 (batched), a
+// big sphere touching dozens (past the entry limit) and loose balls, packed to overlap, falling
+// on the ground.
 TEST_P(ContactListTest, TheBodyBatchEqualsParticleByParticle) {
   Scene s;
   s.dt = 2e-4f;
   s.contact = {2e3f, 2.0f, 1.0f};  // soft: the packs stay in contact over the run
   s.ground.enabled = true;
-  ShapeDef rod{"rod", {}}, clump{"clump", {}};
+  ShapeDef rod{"rod", {}}, clump{"clump", {}}, plate{"plate", {}};
   for (int k = 0; k < 20; ++k) rod.spheres.push_back(SphereDef{{0.8f * float(k) - 7.6f, 0, 0}, 0.5f, 1.0f, 0.5f});
+  for (int k = 0; k < 16; ++k)
+    plate.spheres.push_back(SphereDef{{0.9f * float(k % 4) - 1.35f, 0.9f * float(k / 4) - 1.35f, 0}, 0.5f, 1.0f, 0.5f});
   for (int k = 0; k < 8; ++k)
     clump.spheres.push_back(SphereDef{{k & 1 ? 0.3f : -0.3f, k & 2 ? 0.3f : -0.3f, k & 4 ? 0.3f : -0.3f}, 0.5f, 1.0f, 0.5f});
   s.shapes = {rod, clump, ShapeDef{"big", {SphereDef{{0, 0, 0}, 4.0f, 50.0f, 0.5f}}},
-              ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}}}};
+              ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}}}, plate};
   auto add = [&](std::uint32_t shape, Vec3f x, Quatf q = Quatf{1, 0, 0, 0}) {
     BodyDef b;
     b.shape = shape;
@@ -327,6 +330,8 @@ TEST_P(ContactListTest, TheBodyBatchEqualsParticleByParticle) {
     for (int z = 0; z < 3; ++z) add(0, {0.0f, 0.9f * float(y) - 12.0f, 0.9f * float(z) + 0.6f}, Quatf{0.9950f, 0, 0, 0.0998f});
   for (int x = 0; x < 6; ++x)
     for (int y = 0; y < 6; ++y) add(1, {1.4f * float(x) - 3.5f, 1.4f * float(y) + 6.0f, 1.0f});
+  add(4, {-1.5f, 8.0f, 2.2f});  // plates pressed 0.1 onto the clumps' top spheres
+  add(4, {2.0f, 11.0f, 2.2f});
   add(2, {0.0f, 0.0f, 5.0f});
   for (int k = 0; k < 120; ++k) {  // a shell of balls on the big sphere, each pressed 0.05 into it
     const float zc = 1.0f - 2.0f * (float(k) + 0.5f) / 120.0f, rho = std::sqrt(1.0f - zc * zc), phi = 2.39996323f * float(k);

@@ -75,7 +75,7 @@ struct GroundSpringView {
 /// The candidate list (a Verlet list): particle i's candidates are cand[begin[i] .. end[i]),
 /// internal indices, in ascending *scene* index of the candidate. Every particle of another body
 /// within r_i + r_j + skin at the last rebuild is listed, in both directions. The near list (a
-/// subsequence of each row, kept in the same storage layout) has the same form.
+/// subsequence of each row; on the CPU stored compact, at its own offsets) has the same form.
 struct CandidateListView {
   const std::uint32_t* begin;
   const std::uint32_t* end;
@@ -200,7 +200,8 @@ struct StepView {
   /// particle against `buildPos`. nullptr: per particle.
   const BodyRef* bodyRef = nullptr;
   /// When `list` is compact (row i ends where row i + 1 begins), the particle of each of its
-  /// entries, so that a body's rows are walked as one run (bodyForces()); nullptr otherwise.
+  /// entries, so that a body's rows are walked as one run (bodyForces()); nullptr otherwise (the
+  /// CPU under a law with history, the CUDA pipeline).
   const std::uint32_t* listOwner = nullptr;
 };
 

@@ -270,21 +270,6 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
     meshWallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, r, side, haveSide, out, gf, anyPlane);
 }
 
-/// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
-/// view (the candidate list, or on the CPU its near list) filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
-/// the list's order (ascending scene index of the partner); then the planes in their order (the
-/// ground, then the walls; each plane's stick spring updated in place), then the pulls. Each force adds arm × f to the torque about the body's
-/// centre. Gravity is the body's (finishBody). Each pair is computed from both sides;
-/// the contact laws are exactly antisymmetric, so the two sides agree to the bit.
-///
-/// kClumps: bodies rotate (some have several particles, or the law turns spheres). kLaw: the
-/// contact law; with a history (hooke-history, hertz-mindlin) the view's `history` holds ξ per
-/// list entry (the list is then the candidate list), updated in place and zeroed when the pair
-/// does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
-/// kPeriodic: the pairs meet through their minimum image in the view's periodic box (the
-/// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
-/// kPosedMesh: some mesh wall moves (meshWallContacts()); a scene whose meshes stand still (or
-/// that has none) runs the code without poses.
 /// Particle i's side of its contacts (sideOf()), computed on first use: most particles touch
 /// nothing. Single-sphere bodies (kClumps false) need only V, known from the start.
 template <bool kClumps>
