@@ -9,14 +9,15 @@ include(CMakePackageConfigHelpers)
 
 # tumble::tumble: the library as one target (core + CPU pipeline, and the CUDA module when built).
 add_library(tumble_all INTERFACE)
-target_link_libraries(tumble_all INTERFACE tumble_core tumble_cpu)
+target_link_libraries(tumble_all INTERFACE tumble_core tumble_cpu tumble_pipelines)
 set_target_properties(tumble_all PROPERTIES EXPORT_NAME tumble)
 # tumble::flags is the build's own (BUILD_INTERFACE); but a sanitized build's libraries need the
 # sanitizer runtimes, so a program linking them from the install links those too.
 if(TUMBLE_SANITIZE_LINK)
   target_link_options(tumble_all INTERFACE $<INSTALL_INTERFACE:${TUMBLE_SANITIZE_LINK}>)
 endif()
-set(_tumble_targets tumble_all tumble_core tumble_cpu)
+set(_tumble_targets tumble_all tumble_core tumble_cpu tumble_pipelines)
+set_target_properties(tumble_pipelines PROPERTIES EXPORT_NAME pipelines)
 if(TARGET tumble_gpu)
   set_target_properties(tumble_gpu PROPERTIES EXPORT_NAME cuda)
   list(APPEND _tumble_targets tumble_gpu)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include "tumble/error.hpp"
@@ -14,6 +16,15 @@ Backend backendFromString(const std::string& s) {
   if (s == "cpu") return Backend::Cpu;
   if (s == "cuda") return Backend::Cuda;
   throw Error("unknown pipeline '" + s + "' (expected cpu or cuda)");
+}
+
+bool cudaRequired() {
+  const char* env = std::getenv("TUMBLE_REQUIRE_CUDA");
+  return env != nullptr && std::strcmp(env, "1") == 0;
+}
+
+void requireReady(const CudaStatus& s) {
+  if (s.state != CudaState::Ready) throw Error("the CUDA pipeline cannot run: " + s.message + "; use --pipeline cpu");
 }
 
 const char* toString(Phase p) {

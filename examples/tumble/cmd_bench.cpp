@@ -43,8 +43,7 @@ Row benchOne(const World& world, const std::string& name, const std::string& pl,
              const BenchOptions& o) {
   PipelineOptions po;
   po.threads = threads;
-  if (backendFromString(pl) == Backend::Cuda && !cudaAvailable())
-    throw Error("--pipeline cuda: this build of tumble has no CUDA pipeline or no CUDA device");
+  requireBackend(backendFromString(pl));
   auto p = makePipeline(backendFromString(pl), po);
   p->load(world);
   std::fprintf(stderr, "bench: %s (%u particles), %s, threads %s: %d warm-up steps...", name.c_str(),

@@ -80,8 +80,7 @@ void validate(const ValidateOptions& o) {
   std::vector<Backend> backends;
   for (const auto& p : o.pipelines) {
     const Backend b = backendFromString(p);
-    if (b == Backend::Cuda && !cudaAvailable())
-      throw Error("--pipelines cuda: this build of tumble has no CUDA pipeline or no CUDA device");
+    requireBackend(b);
     backends.push_back(b);
   }
   // The scene of the side-by-side run, read (with its --set overrides) before any work.

@@ -11,6 +11,7 @@
 #include "tumble/error.hpp"
 #include "tumble/mpi/session.hpp"
 #include "tumble/output_file.hpp"
+#include "tumble/pipeline.hpp"
 
 std::optional<std::uint64_t> tumble::cli::parseCount(const std::string& text, std::uint64_t lo, std::uint64_t hi) {
   if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos) return {};
@@ -78,7 +79,17 @@ int main(int argc, char** argv) {
   CLI::App app{"tumble " TUMBLE_VERSION_STRING
                ": rigid bodies made of spheres, with sweep-and-prune collision detection along the PCA axis"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", TUMBLE_VERSION_STRING);
+  // The version, then the pipelines this build has and whether CUDA can run here (the CLI test
+  // reads the last line to know what `--pipelines cpu,cuda` must do).
+  app.set_version_flag("--version", [] {
+    std::string v = "tumble " TUMBLE_VERSION_STRING "\npipelines:";
+    for (tumble::Backend b : tumble::compiledBackends()) v += std::string(" ") + tumble::toString(b);
+    const tumble::CudaStatus s = tumble::cudaStatus();
+    const char* state = s.state == tumble::CudaState::Ready ? "ready" : s.state == tumble::CudaState::NoDevice
+                                                                          ? "no device"
+                                                                          : "broken";
+    return v + "\ncuda: " + state + ": " + s.message;
+  });
   tumble::cli::addRun(app);
   tumble::cli::addPairs(app);
   tumble::cli::addBench(app);

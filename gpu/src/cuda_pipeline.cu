@@ -674,24 +674,39 @@ class CudaPipeline final : public Pipeline {
 }  // namespace
 }  // namespace detail
 
-bool deviceAvailable() noexcept {
-  int count = 0;
-  const cudaError_t e = cudaGetDeviceCount(&count);
-  if (e != cudaSuccess) {
-    (void)cudaGetLastError();  // no driver / no device: not an error for the caller
-    return false;
+namespace {
+
+std::string cudaVersionText(int v) {
+  return v == 0 ? std::string("none") : std::to_string(v / 1000) + "." + std::to_string(v % 1000 / 10);
+}
+
+}  // namespace
+
+CudaStatus deviceStatus() noexcept {
+  try {
+    int driver = 0, runtime = 0, count = 0;
+    if (cudaDriverGetVersion(&driver) != cudaSuccess) driver = 0;
+    if (cudaRuntimeGetVersion(&runtime) != cudaSuccess) runtime = 0;
+    const cudaError_t e = cudaGetDeviceCount(&count);
+    (void)cudaGetLastError();
+    const std::string versions =
+        " (CUDA driver " + cudaVersionText(driver) + ", runtime " + cudaVersionText(runtime) + ")";
+    if (e == cudaSuccess && count > 0) {
+      cudaDeviceProp prop{};
+      const std::string name = cudaGetDeviceProperties(&prop, 0) == cudaSuccess ? std::string(prop.name) : "?";
+      return {CudaState::Ready, "CUDA device 0 of " + std::to_string(count) + ": " + name + versions};
+    }
+    if (e == cudaSuccess || e == cudaErrorNoDevice) return {CudaState::NoDevice, "no CUDA device" + versions};
+    if (driver == 0) return {CudaState::NoDevice, "no CUDA driver is installed" + versions};
+    return {CudaState::Broken, std::string("CUDA cannot use the GPU: ") + cudaGetErrorName(e) + " (" +
+                                   cudaGetErrorString(e) + ")" + versions};
+  } catch (...) {  // std::bad_alloc from the strings
+    return {CudaState::Broken, "CUDA status: out of memory"};
   }
-  return count > 0;
 }
 
 std::unique_ptr<Pipeline> makeCudaPipeline(const PipelineOptions& options) {
-  int count = 0;
-  const cudaError_t e = cudaGetDeviceCount(&count);
-  if (e != cudaSuccess) {
-    (void)cudaGetLastError();
-    throw Error(std::string("the CUDA pipeline cannot use a GPU: ") + cudaGetErrorString(e) + " (use --pipeline cpu)");
-  }
-  if (count == 0) throw Error("the CUDA pipeline needs a CUDA device and none is available (use --pipeline cpu)");
+  requireReady(deviceStatus());
   return std::make_unique<detail::CudaPipeline>(options);
 }
 

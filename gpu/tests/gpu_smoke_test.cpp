@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tumble/gpu/cuda_pipeline.hpp"
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/random.hpp"
 #include "tumble/world.hpp"
@@ -23,7 +24,7 @@ namespace {
 class GpuSmokeTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!gpu::deviceAvailable()) GTEST_SKIP() << "no CUDA device";
+    TUMBLE_NEED_CUDA(gpu::deviceStatus());
   }
 };
 

@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/error.hpp"
 #include "tumble/kernels/cell_key.hpp"
 #include "tumble/random.hpp"
@@ -24,7 +25,7 @@ namespace {
 class PairsTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
   }
 };
 

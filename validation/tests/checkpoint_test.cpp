@@ -10,6 +10,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
 #include "tumble/mesh.hpp"
@@ -25,7 +26,7 @@ namespace {
 class CheckpointTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
   }
 };
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/error.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
@@ -23,7 +24,7 @@ namespace {
 class ContactListTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
   }
 };
 

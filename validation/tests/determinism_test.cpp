@@ -5,6 +5,7 @@
 
 #include <cstdio>
 
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/error.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/scenes.hpp"
@@ -17,7 +18,7 @@ namespace {
 class DeterminismTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
   }
 };
 

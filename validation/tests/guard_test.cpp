@@ -4,6 +4,7 @@
 // beyond the stability limit, on a particle driven through the ground, and on a non-finite state.
 #include <gtest/gtest.h>
 
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/kernels/integrate.hpp"
 
 #include <cmath>
@@ -22,7 +23,7 @@ namespace {
 class GuardTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
   }
 };
 

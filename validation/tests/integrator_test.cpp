@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/world.hpp"
@@ -20,7 +21,7 @@ namespace {
 class IntegratorTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
   }
 };
 

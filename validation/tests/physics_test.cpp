@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 
+#include "tumble_test/cuda_gate.hpp"
 #include "tumble/validation/scenes.hpp"
 #include "tumble/world.hpp"
 
@@ -19,7 +20,7 @@ namespace {
 class PhysicsTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda && !cudaAvailable()) GTEST_SKIP() << "no CUDA device";
+    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
   }
 };
 

@@ -25,8 +25,26 @@ const char* toString(Backend b);
 Backend backendFromString(const std::string& s);
 /// Backends compiled into this build.
 std::vector<Backend> compiledBackends();
-/// True when the CUDA module is compiled in and a device is present.
+
+/// Whether the CUDA pipeline can run here. NoDevice: the build has no CUDA module, or the
+/// machine has no CUDA device or no driver at all. Broken: a device may be there but CUDA
+/// cannot use it (a driver older than the runtime, a failed initialisation): an error, never
+/// a reason to skip.
+enum class CudaState { Ready, NoDevice, Broken };
+struct CudaStatus {
+  CudaState state;
+  std::string message;  ///< one line; names the driver and runtime versions when the module is built
+};
+CudaStatus cudaStatus();
+/// cudaStatus().state == CudaState::Ready.
 bool cudaAvailable();
+/// Throws tumble::Error saying why when backend `b` cannot run here (for CUDA: cudaStatus()).
+void requireBackend(Backend b);
+/// Throws tumble::Error with s.message unless s.state is Ready.
+void requireReady(const CudaStatus& s);
+/// TUMBLE_REQUIRE_CUDA=1 in the environment: tests of the CUDA pipeline fail instead of skipping
+/// when there is no device.
+bool cudaRequired();
 
 /// The most worker threads a pipeline accepts (oneTBB fails beyond 65536).
 inline constexpr int kMaxThreads = 4096;

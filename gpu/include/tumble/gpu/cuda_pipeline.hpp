@@ -30,10 +30,12 @@ namespace gpu {
 /// cannot be set up.
 std::unique_ptr<Pipeline> makeCudaPipeline(const PipelineOptions& options = {});
 
-/// True when the CUDA runtime reports at least one device. Never throws; any CUDA error
-/// (no driver, no device) gives false. Safe to call repeatedly; do not call it from a static
-/// initialiser (test discovery runs binaries at build time).
-bool deviceAvailable() noexcept;
+/// Whether the CUDA runtime can use a device (tumble::cudaStatus() of a build with CUDA): Ready
+/// with at least one device; NoDevice when the runtime reports none (cudaErrorNoDevice, or a
+/// count of 0) or no driver is installed (driver version 0); Broken for any other error, such as
+/// a driver older than the runtime. The message names the driver and runtime versions. Never
+/// throws; do not call it from a static initialiser (test discovery runs binaries at build time).
+CudaStatus deviceStatus() noexcept;
 
 }  // namespace gpu
 }  // namespace tumble

@@ -20,12 +20,19 @@ std::vector<Backend> compiledBackends() {
 #endif
 }
 
-bool cudaAvailable() {
+CudaStatus cudaStatus() {
 #if TUMBLE_HAS_CUDA
-  return gpu::deviceAvailable();
+  return gpu::deviceStatus();
 #else
-  return false;
+  return {CudaState::NoDevice, "this build of tumble has no CUDA pipeline (rebuild with a CUDA compiler, "
+                               "TUMBLE_ENABLE_CUDA=ON)"};
 #endif
+}
+
+bool cudaAvailable() { return cudaStatus().state == CudaState::Ready; }
+
+void requireBackend(Backend b) {
+  if (b == Backend::Cuda) requireReady(cudaStatus());
 }
 
 std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options) {
@@ -34,10 +41,10 @@ std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& o
                 std::to_string(kMaxThreads));
   if (backend == Backend::Cpu) return cpu::makeCpuPipeline(options);
 #if TUMBLE_HAS_CUDA
-  return gpu::makeCudaPipeline(options);  // throws tumble::Error naming the reason when no GPU can be used
+  return gpu::makeCudaPipeline(options);  // requireReady(deviceStatus()) first
 #else
-  throw Error("this build of tumble has no CUDA pipeline: rebuild with a CUDA compiler "
-              "(TUMBLE_ENABLE_CUDA=ON) or use --pipeline cpu");
+  requireBackend(backend);  // throws: no CUDA module
+  return nullptr;
 #endif
 }
 
