@@ -7,6 +7,7 @@
 // change to the CPU's frame or axis must be copied here (REVIEW.md lists the pairs).
 #include "tumble/sweep_frame.hpp"
 #include "tumble/error.hpp"
+#include "tumble/memory.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -190,7 +191,48 @@ std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, co
 
 namespace tumble::detail {
 
-// Twin: cpu/src/broadphase.cpp Broadphase::run(), "reachR" and "maxWindow".
+std::uint64_t recordLimit(std::uint32_t n) {
+  return std::min<std::uint64_t>(kMaxEntries, std::max<std::uint64_t>(4096ull * n, 1ull << 24));
+}
+
+void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint64_t bytesEach, std::uint64_t held, std::uint32_t n,
+                const char* what, const char* cause, bool atLeast) {
+  const std::string shortfall =
+      total <= limit && !atLeast ? memoryShortfall((total > held ? total - held : 0) * bytesEach) : std::string();
+  if (total <= limit && shortfall.empty() && !atLeast) return;
+  std::string msg = "detection would need ";
+  msg += atLeast ? "more than " : "";
+  msg += std::to_string(total);
+  msg += " ";
+  msg += what;
+  msg += " for ";
+  msg += std::to_string(n);
+  if (total >= limit || (shortfall.empty() && !atLeast)) {
+    msg += " particles (at most ";
+    msg += std::to_string(limit);
+    msg += "): ";
+  } else if (atLeast) {
+    msg += " particles, whose buffers (" + std::to_string(bytesEach) + " bytes each) would take all of " +
+           availableMemoryText() + ": ";
+  } else {
+    msg += " particles, " + shortfall + ": ";
+  }
+  msg += cause;
+  throw Error(msg);
+}
+
+void checkRecordTotal(std::uint64_t total, std::uint32_t n, float cellSize, float maxRadius, std::uint64_t bytesEach,
+                      std::uint64_t held) {
+  if (total <= recordLimit(n) && total * kRecordBytes < (1u << 30)) return;  // small: no message to build
+  char cause[320];
+  std::snprintf(cause, sizeof cause,
+                "the cell size %g is too small for particles of radius up to %g, or the particles are spread too "
+                "far apart; use a larger [broadphase] cell_size or --cell-size (0 = automatic)",
+                double(cellSize), double(maxRadius));
+  checkTotal(total, recordLimit(n), bytesEach, held, n, "cell records", cause);
+}
+
+// The sweep's window (both broadphases).
 SweepWindow sweepWindow(float maxRadius, const SweepFrame& f) {
   const float reachR = maxRadius + 2.0f * f.slack;
   const float maxWindow = 2.0f * reachR;  // ≥ every record's window r_s + reachR

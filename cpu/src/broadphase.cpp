@@ -28,7 +28,6 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <optional>
 #include <string>
@@ -47,7 +46,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-using tumble::detail::kChunk;  // fixed reduction chunk (determinism)
+using namespace tumble::detail;  // kChunk (the fixed reduction chunk), the totals' limits (sweep_frame.hpp)
 
 // The exact sum of n 32-bit counts (an integer sum: the same in any order).
 std::uint64_t sum64(const std::uint32_t* c, std::uint32_t n) {
@@ -58,54 +57,6 @@ std::uint64_t sum64(const std::uint32_t* c, std::uint32_t n) {
         return s;
       },
       [](std::uint64_t a, std::uint64_t b) { return a + b; });
-}
-
-// The detection's 32-bit scans and buffers hold at most 2^31 − 1 entries. Records are cells
-// overlapped per particle, a few in a typical scene whatever its density: more than 4096 per
-// particle on average (beyond 2^24) means a cell size far too small for the radii, or
-// coordinates so spread that the rounding slack spans many cells. Candidate pairs grow with the
-// density instead, and are bounded by the scans only. Refused with a clear error instead of
-// wrapping or exhausting memory.
-constexpr std::uint64_t kMaxEntries = 0x7fffffffull;
-
-// The least memory per record (64-bit key and 32-bit value, sorted into a second pair of
-// buffers) and per candidate pair (the forward and backward lists, then both directions of the
-// candidate list with their sort keys, or the sorted pair list of findPairs).
-constexpr std::uint64_t kRecordBytes = 24;
-constexpr std::uint64_t kCandidateBytes = 32;
-
-std::uint64_t recordLimit(std::uint32_t n) {
-  return std::min<std::uint64_t>(kMaxEntries, std::max<std::uint64_t>(4096ull * n, 1ull << 24));
-}
-
-// Also refused: a total within the limit whose buffers (bytesEach per entry, at least) exceed the
-// memory the system has available, which would end in std::bad_alloc after a long wait. Only the
-// growth counts: `held` entries are in buffers the detection already has (a run's earlier
-// detections), which the available memory no longer includes. `atLeast`: the count stopped there.
-void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint64_t bytesEach, std::uint64_t held, std::uint32_t n,
-                const char* what, const char* cause, bool atLeast = false) {
-  const std::string shortfall =
-      total <= limit && !atLeast ? memoryShortfall((total > held ? total - held : 0) * bytesEach) : std::string();
-  if (total <= limit && shortfall.empty() && !atLeast) return;
-  std::string msg = "detection would need ";
-  msg += atLeast ? "more than " : "";
-  msg += std::to_string(total);
-  msg += " ";
-  msg += what;
-  msg += " for ";
-  msg += std::to_string(n);
-  if (total >= limit || (shortfall.empty() && !atLeast)) {
-    msg += " particles (at most ";
-    msg += std::to_string(limit);
-    msg += "): ";
-  } else if (atLeast) {
-    msg += " particles, whose buffers (" + std::to_string(bytesEach) + " bytes each) would take all of " +
-           availableMemoryText() + ": ";
-  } else {
-    msg += " particles, " + shortfall + ": ";
-  }
-  msg += cause;
-  throw Error(msg);
 }
 
 // The most candidate pairs the sweep may collect before it stops counting: the scans' limit, or
@@ -239,14 +190,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) countRecords(in, f, prow, counts, i);
   });
   counts[n] = 0;
-  if (const std::uint64_t total = sum64(counts, n); total > recordLimit(n) || total * kRecordBytes >= (1u << 30)) {
-    char cause[320];
-    std::snprintf(cause, sizeof cause,
-                  "the cell size %g is too small for particles of radius up to %g, or the particles are spread too "
-                  "far apart; use a larger [broadphase] cell_size or --cell-size (0 = automatic)",
-                  double(f.cellSize), double(in.maxRadius));
-    checkTotal(total, recordLimit(n), kRecordBytes, m_keys.size(), n, "cell records", cause);
-  }
+  checkRecordTotal(sum64(counts, n), n, f.cellSize, in.maxRadius, kRecordBytes, m_keys.size());
   std::uint32_t* first = recFirst.data();
   std::size_t tempBytes = 0;
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, counts, first, n + 1);
@@ -353,13 +297,11 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
     found.fetch_add(unpublished, std::memory_order_relaxed);
   });
   nbrCount[numRec] = 0;
-  const char* const denseCause =
-      "the particles overlap too densely for one detection (in a run, a smaller skin lowers the count)";
   if (over.load() || found.load() > budget) {
     for (auto& v : m_chunkNbr) std::vector<std::uint32_t>().swap(v);  // give the hits back first
-    checkTotal(budget, kMaxEntries, kCandidateBytes, nbr.size(), n, "candidate pairs", denseCause, /*atLeast=*/true);
+    checkTotal(budget, kMaxEntries, kCandidateBytes, nbr.size(), n, "candidate pairs", kDenseCause, /*atLeast=*/true);
   }
-  checkTotal(sum64(nbrCount, numRec), kMaxEntries, kCandidateBytes, nbr.size(), n, "candidate pairs", denseCause);
+  checkTotal(sum64(nbrCount, numRec), kMaxEntries, kCandidateBytes, nbr.size(), n, "candidate pairs", kDenseCause);
   std::uint32_t* offs = tumble::detail::grow(nbrOffsets, numRec + 1);
   exclusiveSum<std::uint32_t>(nullptr, tempBytes, nbrCount, offs, numRec + 1);
   exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, tempBytes), tempBytes, nbrCount, offs, numRec + 1);

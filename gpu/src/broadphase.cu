@@ -105,6 +105,26 @@ __global__ void __launch_bounds__(kBlock) covarianceKernel(BroadphaseInput in, d
     for (int k = 0; k < 9; ++k) outPart[9 * std::size_t(blockIdx.x) + k] = a[k];
 }
 
+// --- Totals --------------------------------------------------------------------------------
+
+// The 64-bit sum of each kChunk counts (integers: exact in any order), one block per chunk, so
+// that a total beyond the 32-bit scans is refused (checkTotal) before it wraps.
+__global__ void __launch_bounds__(kBlock) chunkSumKernel(const std::uint32_t* counts, std::uint32_t n,
+                                                        unsigned long long* outPart) {
+  __shared__ unsigned long long sh[kBlock];
+  const std::uint32_t t = threadIdx.x, begin = blockIdx.x * kChunk;
+  const std::uint32_t end = n < begin + kChunk ? n : begin + kChunk;
+  unsigned long long s = 0;
+  for (std::uint32_t i = begin + t; i < end; i += kBlock) s += counts[i];
+  sh[t] = s;
+  __syncthreads();
+  for (std::uint32_t d = kBlock / 2; d > 0; d >>= 1) {
+    if (t < d) sh[t] += sh[t + d];
+    __syncthreads();
+  }
+  if (t == 0) outPart[blockIdx.x] = sh[0];
+}
+
 // --- Keys ----------------------------------------------------------------------------------
 
 // Twin of the CPU's first key loop; thread n writes the trailing zero of counts.
@@ -212,6 +232,19 @@ __global__ void backOffsetsKernel(const std::uint32_t* bkeys, std::uint32_t numE
 
 }  // namespace
 
+std::uint64_t Broadphase::total(const std::uint32_t* counts, std::uint32_t n, const StreamContext& ctx) {
+  const std::uint32_t numChunks = (n + kChunk - 1) / kChunk;
+  if (numChunks == 0) return 0;
+  chunkSumKernel<<<numChunks, kBlock, 0, ctx.stream()>>>(counts, n, m_sumPart.grow(numChunks));
+  TUMBLE_CUDA_AFTER_LAUNCH(ctx, "chunkSumKernel");
+  m_hostSum.resize(numChunks);
+  m_sumPart.download(m_hostSum.data(), numChunks, ctx.stream());
+  ctx.synchronize();
+  std::uint64_t s = 0;
+  for (unsigned long long v : m_hostSum) s += v;
+  return s;
+}
+
 std::uint32_t Broadphase::readCount(const std::uint32_t* devicePtr, cudaStream_t stream) const {
   std::uint32_t v = 0;
   TUMBLE_CUDA_CHECK(cudaMemcpyAsync(&v, devicePtr, sizeof v, cudaMemcpyDeviceToHost, stream));
@@ -279,6 +312,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   std::uint32_t* first = recFirst.grow(std::size_t(n) + 1);
   keysCountKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, stream>>>(in, f, prow, counts);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "keysCountKernel");
+  checkRecordTotal(total(counts, n, ctx), n, f.cellSize, in.maxRadius, 0, 0);  // device memory: the allocation checks
   std::size_t tempBytes = 0;
   TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, tempBytes, counts, first, n + 1, stream));
   TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(tempBytes), tempBytes, counts, first, n + 1, stream));
@@ -313,6 +347,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   std::uint32_t* nbrCount = m_nbrCount.grow(std::size_t(numRec) + 1);
   sweepCountKernel<<<blocksFor(std::uint64_t(numRec) + 1), kBlock, 0, stream>>>(args, nbrCount);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "sweepCountKernel");
+  checkTotal(total(nbrCount, numRec, ctx), kMaxEntries, 0, 0, n, "candidate pairs", kDenseCause);
   std::uint32_t* offs = nbrOffsets.grow(std::size_t(numRec) + 1);
   TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, tempBytes, nbrCount, offs, numRec + 1, stream));
   TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(tempBytes), tempBytes, nbrCount, offs, numRec + 1, stream));

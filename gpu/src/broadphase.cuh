@@ -57,6 +57,8 @@ class Broadphase {
  private:
   void computeFrame(const BroadphaseInput& in, const BroadphaseParams& params, const StreamContext& ctx);
   std::uint32_t readCount(const std::uint32_t* devicePtr, cudaStream_t stream) const;
+  /// The 64-bit sum of n device counts (kChunk partials summed on the host).
+  std::uint64_t total(const std::uint32_t* counts, std::uint32_t n, const StreamContext& ctx);
   /// TUMBLE_VALIDATE builds: copies the run's arrays back and checks their invariants (sorted
   /// keys, monotone offsets, indices in range); throws tumble::Error naming the first violation.
   void validate(std::uint32_t n, cudaStream_t stream) const;
@@ -72,6 +74,8 @@ class Broadphase {
   // Scratch (grow-only).
   DeviceBuffer<BoundsPartial> m_boundsPart;
   DeviceBuffer<double> m_covPart;
+  DeviceBuffer<unsigned long long> m_sumPart;
+  std::vector<unsigned long long> m_hostSum;
   std::vector<BoundsPartial> m_hostBounds;
   std::vector<double> m_hostCov;
   DeviceBuffer<ParticleRow> m_prow;

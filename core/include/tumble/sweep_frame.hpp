@@ -109,6 +109,42 @@ std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, co
 
 namespace tumble::detail {
 
+/// The detection's 32-bit scans and buffers hold at most 2^31 − 1 entries, on both backends.
+/// Records are cells overlapped per particle, a few in a typical scene whatever its density:
+/// more than 4096 per particle on average (beyond 2^24) means a cell size far too small for the
+/// radii, or coordinates so spread that the rounding slack spans many cells. Candidate pairs grow
+/// with the density instead, and are bounded by the scans only. Both totals are summed in 64 bits
+/// before the 32-bit scans and refused with a clear error (checkTotal) instead of wrapping or
+/// exhausting memory.
+inline constexpr std::uint64_t kMaxEntries = 0x7fffffffull;
+
+/// The least memory per record (64-bit key and 32-bit value, sorted into a second pair of
+/// buffers) and per candidate pair (the forward and backward lists, then both directions of the
+/// candidate list with their sort keys, or the sorted pair list of findPairs).
+inline constexpr std::uint64_t kRecordBytes = 24;
+inline constexpr std::uint64_t kCandidateBytes = 32;
+
+/// The most records a detection of n particles may have (see kMaxEntries).
+std::uint64_t recordLimit(std::uint32_t n);
+
+/// Throws tumble::Error when `total` entries (`what`: "cell records", "candidate pairs") exceed
+/// `limit`, naming the count, the limit and `cause`. Also refused: a total within the limit whose
+/// buffers (bytesEach per entry, at least; 0: not checked, as for device memory) exceed the memory
+/// the system has available, which would end in std::bad_alloc after a long wait. Only the growth
+/// counts: `held` entries are in buffers the detection already has (a run's earlier detections),
+/// which the available memory no longer includes. `atLeast`: the count stopped there.
+void checkTotal(std::uint64_t total, std::uint64_t limit, std::uint64_t bytesEach, std::uint64_t held, std::uint32_t n,
+                const char* what, const char* cause, bool atLeast = false);
+
+/// checkTotal() of a detection's record total, with the cause: a cell size too small for the
+/// radii, or particles spread too far apart.
+void checkRecordTotal(std::uint64_t total, std::uint32_t n, float cellSize, float maxRadius, std::uint64_t bytesEach,
+                      std::uint64_t held);
+
+/// The cause named when the candidate pairs exceed the limit.
+inline constexpr const char* kDenseCause =
+    "the particles overlap too densely for one detection (in a run, a smaller skin lowers the count)";
+
 /// The sweep's two window constants, computed exactly as the CPU's Broadphase::run does:
 /// reach = maxRadius + 2·slack; every record's window is r_s + reach, and maxWindow = 2·reach
 /// bounds them all.
