@@ -133,12 +133,8 @@ void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams&
   using namespace tumble::detail;
   const std::uint32_t numChunks = (in.n + kChunk - 1) / kChunk;
   BoundsPartial* part = tumble::detail::grow(m_boundsPart, numChunks);
-  tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
-    BoundsPartial b = emptyBounds();
-    const std::uint32_t end = std::min(in.n, (c + 1) * kChunk);
-    for (std::uint32_t i = c * kChunk; i < end; ++i) addParticle(b, i, in.x[i], in.y[i], in.z[i], in.r[i]);
-    part[c] = b;
-  });
+  tbb::parallel_for(std::uint32_t{0}, numChunks,
+                    [&](std::uint32_t c) { part[c] = boundsOfRange(in, c * kChunk, std::min(in.n, (c + 1) * kChunk)); });
   const BoundsPartial b = combineBounds(part, numChunks);
   if (b.firstBad != 0xFFFFFFFFu)
     throw SimulationError("particle " + std::to_string(b.firstBad) + " has a non-finite position or radius",
@@ -152,12 +148,7 @@ void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams&
     tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
       double a[9] = {};
       const std::uint32_t end = std::min(in.n, (c + 1) * kChunk);
-      for (std::uint32_t i = c * kChunk; i < end; ++i) {
-        const double x = in.x[i] - sx, y = in.y[i] - sy, z = in.z[i] - sz;
-        a[0] += x; a[1] += y; a[2] += z;
-        a[3] += x * x; a[4] += y * y; a[5] += z * z;
-        a[6] += x * y; a[7] += x * z; a[8] += y * z;
-      }
+      for (std::uint32_t i = c * kChunk; i < end; ++i) addCovariance(a, in.x[i], in.y[i], in.z[i], sx, sy, sz);
       std::copy(a, a + 9, cov + 9 * std::size_t(c));
     });
     m_axis = principalAxisFromPartials(cov, numChunks, in.n);

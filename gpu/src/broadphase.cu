@@ -2,31 +2,29 @@
 // CUDA broadphase (SPEC §3), the stage-by-stage twin of cpu/src/broadphase.cpp.
 //
 // Design notes
-// - Same bits as the CPU. Every per-element decision calls the shared TUMBLE_HD function the
-//   CPU calls (project, cellRange, sweepKey, ownsPair, spheresOverlap), on the same inputs, so
-//   with --fmad=false (TUMBLE_STRICT_FP) every key, every sorted position and every pair is the
-//   same. The radix sorts are CUB's stable LSD sorts over the same bit ranges as the CPU's
-//   stable sorts, with the unsorted record number as value: the permutation is unique.
+// - Same bits as the CPU. Every per-element step is a shared TUMBLE_HD function of core/, run
+//   on the CPU too: the CPU pipeline calls the key, bounds and covariance steps itself
+//   (countRecords, emitRecords, boundsOfRange, addCovariance), and the steps only this file
+//   launches (boundsTreeStep, gatherRecord, sweepRecord, lowerBound: sweep_frame.hpp and
+//   kernels/sweep.hpp) are run in this file's order on the CPU by
+//   validation/tests/shared_gpu_logic_test.cpp, which compares every array with the CPU
+//   broadphase's. With --fmad=false (TUMBLE_STRICT_FP) every key, every sorted position and
+//   every pair is the same. What is left here is launch configuration and CUB: the radix sorts
+//   are CUB's stable LSD sorts over the same bit ranges as the CPU's stable sorts, with the
+//   unsorted record number as value, so the permutation is unique.
 // - Bounds. Each 4096-particle chunk (the CPU's kChunk) is reduced by one block whose threads
 //   take 16 contiguous particles each and are combined as a tree over contiguous ranges, in
-//   order; chunk partials are merged on the host in chunk order. mergeBounds keeps the
-//   lowest-index value among equal extrema, which is what the CPU's ordered parallel_reduce with
-//   std::min/std::max gives, so even −0 versus +0 comes out the same.
-// - Covariance. Summed in double per chunk *sequentially* (one thread walks the chunk in index
-//   order, reading it through shared memory) with __dadd_rn/__dmul_rn, which are never
-//   contracted, exactly as the CPU's per-chunk loop; the partials go to the host, which adds them
-//   in chunk order and runs the same Eigen solve (frame.cpp). The axis is therefore bit-identical.
-//   It runs only when the axis is due (every pcaEvery steps) and costs ~4096 dependent double
-//   adds per chunk.
+//   order; chunk partials are merged on the host in chunk order, as on the CPU.
+// - Covariance. Summed in double per chunk sequentially (one thread walks the chunk in index
+//   order, reading it through shared memory), as the CPU's per-chunk loop; the partials go to
+//   the host, which adds them in chunk order and runs the same Eigen solve
+//   (core/src/sweep_frame.cpp). It runs only when the axis is due (every pcaEvery steps) and costs
+//   ~4096 dependent double adds per chunk.
 // - Output capacity. The CPU's sweep appends into fixed-size chunk buffers; here the sweep runs
 //   twice instead, count → exclusive scan → emit (STYLE §5), which yields the same nbrOffsets and
-//   nbr arrays with no atomics and no overflow path. The owner of every entry is written by the
-//   emit pass; the transpose is CUB's stable sort of (other, owner) by other, like the CPU's.
-// - Window. The CPU bounds each record's candidate run by the widest window (maxWindow, two
-//   pointers) and tests the record's own window r_s + reach per candidate. Along a cell the
-//   records are sorted by z, and fl(z_t − z_s) is monotone in z_t, so once a candidate fails the
-//   record's own window every later one fails it too: breaking there drops only candidates the
-//   CPU rejects. The pair set and its order are unchanged.
+//   nbr arrays with no atomics and no overflow path. The totals are summed in 64 bits first and
+//   refused beyond the 32-bit scans (checkTotal). The transpose is CUB's stable sort of (other,
+//   owner) by other, like the CPU's.
 #include "broadphase.cuh"
 
 #include <algorithm>
@@ -35,37 +33,33 @@
 #include "cub_primitives.cuh"
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
-#include "tumble/kernels/overlap.hpp"
+#include "tumble/kernels/sweep.hpp"
 
 namespace tumble::gpu::detail {
 namespace {
 
 constexpr std::uint32_t kNone = 0xFFFFFFFFu;
-constexpr std::uint32_t kPerThread = kChunk / kBlock;  // contiguous particles per thread in the bounds pass
-static_assert(kChunk % kBlock == 0, "a bounds chunk must split evenly over one block");
+static_assert(kBlock == kBoundsThreads, "the bounds pass runs one kBoundsThreads block per chunk");
 
 // --- Axis ----------------------------------------------------------------------------------
 
-// One block per chunk; twin of the CPU's computeBounds (see the design notes for the order).
+// One block per chunk: each thread's contiguous share (boundsOfRange), then the tree of
+// boundsTreeStep (sweep_frame.hpp: the chunk's bounds bit for bit, as the CPU's).
 __global__ void __launch_bounds__(kBlock) boundsKernel(BroadphaseInput in, BoundsPartial* outPart) {
   __shared__ BoundsPartial sh[kBlock];
   const std::uint32_t t = threadIdx.x;
-  const std::uint32_t begin = blockIdx.x * kChunk + t * kPerThread;
-  const std::uint32_t end = in.n < begin + kPerThread ? in.n : begin + kPerThread;
-  BoundsPartial b = emptyBounds();
-  for (std::uint32_t i = begin; i < end; ++i) addParticle(b, i, in.x[i], in.y[i], in.z[i], in.r[i]);
-  sh[t] = b;
+  const std::uint32_t begin = blockIdx.x * kChunk + t * kBoundsPerThread;
+  sh[t] = boundsOfRange(in, begin, in.n < begin + kBoundsPerThread ? in.n : begin + kBoundsPerThread);
   __syncthreads();
-  // Interleaved tree: after the pass with stride d, sh[t] (t a multiple of 2d) covers threads
-  // [t, t + 2d), so every merge joins two contiguous ranges, the lower one on the left.
   for (std::uint32_t d = 1; d < kBlock; d <<= 1) {
-    if ((t & (2 * d - 1)) == 0) mergeBounds(sh[t], sh[t + d]);
+    boundsTreeStep(sh, t, d);
     __syncthreads();
   }
   if (t == 0) outPart[blockIdx.x] = sh[0];
 }
 
-// One block per chunk; twin of the CPU's per-chunk covariance loop in principalAxis.
+// One block per chunk: the chunk staged through shared memory, then summed by one thread in index
+// order (addCovariance: the CPU's per-chunk loop, the same bits).
 __global__ void __launch_bounds__(kBlock) covarianceKernel(BroadphaseInput in, double* outPart) {
   __shared__ float tx[kBlock], ty[kBlock], tz[kBlock];
   const std::uint32_t begin = blockIdx.x * kChunk;
@@ -83,21 +77,7 @@ __global__ void __launch_bounds__(kBlock) covarianceKernel(BroadphaseInput in, d
     __syncthreads();
     if (threadIdx.x == 0) {
       const std::uint32_t m = end - base < kBlock ? end - base : kBlock;
-      for (std::uint32_t k = 0; k < m; ++k) {
-        // The CPU's "x = in.x[i] − sx; a[0] += x; … a[3] += x * x; …", one rounding per operation.
-        const double x = __dsub_rn(static_cast<double>(tx[k]), sx);
-        const double y = __dsub_rn(static_cast<double>(ty[k]), sy);
-        const double z = __dsub_rn(static_cast<double>(tz[k]), sz);
-        a[0] = __dadd_rn(a[0], x);
-        a[1] = __dadd_rn(a[1], y);
-        a[2] = __dadd_rn(a[2], z);
-        a[3] = __dadd_rn(a[3], __dmul_rn(x, x));
-        a[4] = __dadd_rn(a[4], __dmul_rn(y, y));
-        a[5] = __dadd_rn(a[5], __dmul_rn(z, z));
-        a[6] = __dadd_rn(a[6], __dmul_rn(x, y));
-        a[7] = __dadd_rn(a[7], __dmul_rn(x, z));
-        a[8] = __dadd_rn(a[8], __dmul_rn(y, z));
-      }
+      for (std::uint32_t k = 0; k < m; ++k) addCovariance(a, tx[k], ty[k], tz[k], sx, sy, sz);
     }
     __syncthreads();
   }
@@ -144,67 +124,22 @@ __global__ void keysEmitKernel(BroadphaseInput in, SweepFrame f, const ParticleR
 
 // --- Sweep ---------------------------------------------------------------------------------
 
-// Twin of the CPU's gather loop.
 __global__ void gatherKernel(const std::uint32_t* svals, const std::uint32_t* recParticle, const ParticleRow* prow,
                              std::uint32_t numRec, std::uint32_t* inv, std::uint32_t* sp, ParticleRow* srow) {
   const std::uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
-  if (s >= numRec) return;
-  const std::uint32_t r = svals[s];
-  const std::uint32_t i = recParticle[r];
-  inv[r] = s;
-  sp[s] = i;
-  srow[s] = prow[i];
+  if (s < numRec) gatherRecord(svals, recParticle, prow, s, inv, sp, srow);
 }
 
-struct SweepArgs {
-  const std::uint64_t* skeys;
-  const ParticleRow* srow;
-  const std::uint32_t* sp;
-  std::uint32_t numRec;
-  SweepFrame frame;
-  float reach;      // maxRadius + 2 slack
-  float maxWindow;  // 2 reach
-};
-
-// The CPU's per-record sweep (two-pointer bound, then testCandidates): walks forward through
-// the record's cell and counts (kEmit = false) or writes (kEmit = true) the hits in candidate
-// order. The hit test is testCandidates' expression term by term.
-template <bool kEmit>
-__device__ __forceinline__ std::uint32_t sweepRecord(const SweepArgs& a, std::uint32_t s, std::uint32_t* nbr,
-                                                     std::uint32_t* owner, std::uint32_t base) {
-  const std::uint32_t cell = static_cast<std::uint32_t>(a.skeys[s] >> 32);
-  const ParticleRow me = a.srow[s];
-  std::int32_t ca, cb;
-  cellOfNumber(a.frame, cell, &ca, &cb);
-  const float window = me.r + a.reach;
-  const std::uint32_t self = kEmit ? a.sp[s] : 0u;
-  std::uint32_t k = 0;
-  for (std::uint32_t t = s + 1; t < a.numRec; ++t) {
-    if (static_cast<std::uint32_t>(a.skeys[t] >> 32) != cell) break;  // the CPU's two-pointer bound …
-    const ParticleRow c = a.srow[t];
-    if (!(c.pz - me.pz < a.maxWindow)) break;                          // … (same cell, z within maxWindow)
-    if (!(c.pz - me.pz < window)) break;  // exact early exit: see "Window" in the design notes
-    if (c.body != me.body && ownsPair(ca, cb, me.a0, me.b0, c.a0, c.b0) &&
-        spheresOverlap(me.x, me.y, me.z, me.r, c.x, c.y, c.z, c.r)) {
-      if constexpr (kEmit) {
-        nbr[base + k] = a.sp[t];
-        owner[base + k] = self;
-      }
-      ++k;
-    }
-  }
-  return k;
-}
-
+// The sweep (sweepRecord, kernels/sweep.hpp) in two passes.
 // Count pass; thread numRec writes the trailing zero of the counts.
-__global__ void sweepCountKernel(SweepArgs a, std::uint32_t* nbrCount) {
+__global__ void sweepCountKernel(SweepRecords a, std::uint32_t* nbrCount) {
   const std::uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
   if (s > a.numRec) return;
   nbrCount[s] = s == a.numRec ? 0u : sweepRecord<false>(a, s, nullptr, nullptr, 0u);
 }
 
 // Emit pass: the same walk, writing at the scanned offsets (one writer per entry).
-__global__ void sweepEmitKernel(SweepArgs a, const std::uint32_t* nbrOffsets, std::uint32_t* nbr,
+__global__ void sweepEmitKernel(SweepRecords a, const std::uint32_t* nbrOffsets, std::uint32_t* nbr,
                                 std::uint32_t* owner) {
   const std::uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
   if (s >= a.numRec) return;
@@ -213,21 +148,11 @@ __global__ void sweepEmitKernel(SweepArgs a, const std::uint32_t* nbrOffsets, st
   sweepRecord<true>(a, s, nbr, owner, base);
 }
 
-// backOffsets[i] = first k with bkeys[k] ≥ i (numEntries if none): the CPU's per-entry fill
-// written per offset instead, by binary search over the sorted keys. One writer per offset.
+// backOffsets[i] = lowerBound(bkeys, numEntries, i): one writer per offset.
 __global__ void backOffsetsKernel(const std::uint32_t* bkeys, std::uint32_t numEntries, std::uint32_t n,
                                   std::uint32_t* backOffsets) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i > n) return;
-  std::uint32_t lo = 0, hi = numEntries;
-  while (lo < hi) {
-    const std::uint32_t mid = lo + (hi - lo) / 2;
-    if (bkeys[mid] < i)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  backOffsets[i] = lo;
+  if (i <= n) backOffsets[i] = lowerBound(bkeys, numEntries, i);
 }
 
 }  // namespace
@@ -343,7 +268,7 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   gatherKernel<<<blocksFor(numRec), kBlock, 0, stream>>>(svals, recParticle, prow, numRec, invp, sp, srow);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "gatherKernel");
   const SweepWindow w = sweepWindow(in.maxRadius, f);
-  const SweepArgs args{skeys, srow, sp, numRec, f, w.reach, w.maxWindow};
+  const SweepRecords args{skeys, srow, sp, numRec, f, w.reach, w.maxWindow};
   std::uint32_t* nbrCount = m_nbrCount.grow(std::size_t(numRec) + 1);
   sweepCountKernel<<<blocksFor(std::uint64_t(numRec) + 1), kBlock, 0, stream>>>(args, nbrCount);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "sweepCountKernel");

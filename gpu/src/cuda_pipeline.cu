@@ -96,7 +96,7 @@ __global__ void bodyBoundsKernel(const BodyRow* bodies, std::uint32_t numBodies,
   sh[t] = b;
   __syncthreads();
   for (std::uint32_t d = 1; d < kBlock; d <<= 1) {  // min and max: exact in any order
-    if ((t & (2 * d - 1)) == 0) tumble::detail::mergeBounds(sh[t], sh[t + d]);
+    tumble::detail::boundsTreeStep(sh, t, d);
     __syncthreads();
   }
   if (t == 0) out[blockIdx.x] = sh[0];

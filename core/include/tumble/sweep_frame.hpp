@@ -14,6 +14,7 @@
 #include "tumble/hd.hpp"
 #include "tumble/kernels/cell_key.hpp"
 #include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/records.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
 #include "tumble/soa.hpp"
@@ -61,6 +62,61 @@ TUMBLE_HD_INLINE void mergeBounds(BoundsPartial& left, const BoundsPartial& righ
     left.hi[k] = left.hi[k] < right.hi[k] ? right.hi[k] : left.hi[k];
   }
   left.firstBad = right.firstBad < left.firstBad ? right.firstBad : left.firstBad;
+}
+
+/// The bounds of particles [begin, end) added in index order (empty when begin ≥ end): a CPU
+/// chunk, or one thread's share of it in the CUDA block below.
+TUMBLE_HD_INLINE BoundsPartial boundsOfRange(const BroadphaseInput& in, std::uint32_t begin, std::uint32_t end) {
+  BoundsPartial b = emptyBounds();
+  for (std::uint32_t i = begin; i < end; ++i) addParticle(b, i, in.x[i], in.y[i], in.z[i], in.r[i]);
+  return b;
+}
+
+/// The CUDA bounds pass reduces each chunk with one block of kBoundsThreads threads, each taking
+/// kBoundsPerThread contiguous particles (boundsOfRange), then combines them as a tree.
+inline constexpr std::uint32_t kBoundsThreads = 256;
+inline constexpr std::uint32_t kBoundsPerThread = kChunk / kBoundsThreads;
+static_assert(kChunk % kBoundsThreads == 0, "a bounds chunk must split evenly over one block");
+
+/// One level of that tree, for thread t, with stride d = 1, 2, 4, …: after the level, part[t] (t a
+/// multiple of 2d) covers threads [t, t + 2d), so every merge joins two contiguous ranges, the
+/// lower on the left, and the result is the chunk's bounds bit for bit (mergeBounds).
+TUMBLE_HD_INLINE void boundsTreeStep(BoundsPartial* part, std::uint32_t t, std::uint32_t d) {
+  if ((t & (2 * d - 1)) == 0) mergeBounds(part[t], part[t + d]);
+}
+
+/// Adds one particle to a covariance chunk partial a[9] (the layout of principalAxisFromPartials)
+/// with the coordinates shifted by (sx, sy, sz): one rounding per operation, never contracted
+/// (__dadd_rn and __dmul_rn on the device, -ffp-contract=off on the host), so that both
+/// pipelines' partials, summed in index order within each chunk, are the same bits.
+TUMBLE_HD_INLINE void addCovariance(double* a, float px, float py, float pz, double sx, double sy, double sz) {
+#if defined(__CUDA_ARCH__)
+  const double x = __dsub_rn(static_cast<double>(px), sx);
+  const double y = __dsub_rn(static_cast<double>(py), sy);
+  const double z = __dsub_rn(static_cast<double>(pz), sz);
+  a[0] = __dadd_rn(a[0], x);
+  a[1] = __dadd_rn(a[1], y);
+  a[2] = __dadd_rn(a[2], z);
+  a[3] = __dadd_rn(a[3], __dmul_rn(x, x));
+  a[4] = __dadd_rn(a[4], __dmul_rn(y, y));
+  a[5] = __dadd_rn(a[5], __dmul_rn(z, z));
+  a[6] = __dadd_rn(a[6], __dmul_rn(x, y));
+  a[7] = __dadd_rn(a[7], __dmul_rn(x, z));
+  a[8] = __dadd_rn(a[8], __dmul_rn(y, z));
+#else
+  const double x = static_cast<double>(px) - sx;
+  const double y = static_cast<double>(py) - sy;
+  const double z = static_cast<double>(pz) - sz;
+  a[0] += x;
+  a[1] += y;
+  a[2] += z;
+  a[3] += x * x;
+  a[4] += y * y;
+  a[5] += z * z;
+  a[6] += x * y;
+  a[7] += x * z;
+  a[8] += y * z;
+#endif
 }
 
 /// Combines per-chunk partials in chunk order (host).
