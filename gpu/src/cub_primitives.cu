@@ -7,6 +7,25 @@
 #include "cub_primitives.cuh"
 
 namespace tumble::gpu::detail {
+namespace {
+
+// An empty bit range sorts nothing: the stable result is the input, as the CPU's sort gives it
+// (CUB is not asked what it makes of a range with no bits).
+template <class K>
+cudaError_t copyUnsorted(void* temp, std::size_t& tempBytes, const K* keysIn, K* keysOut,
+                         const std::uint32_t* valuesIn, std::uint32_t* valuesOut, std::uint32_t n,
+                         cudaStream_t stream) {
+  if (temp == nullptr) {
+    tempBytes = 1;
+    return cudaSuccess;
+  }
+  if (n == 0) return cudaSuccess;
+  const cudaError_t e = cudaMemcpyAsync(keysOut, keysIn, n * sizeof(K), cudaMemcpyDeviceToDevice, stream);
+  if (e != cudaSuccess) return e;
+  return cudaMemcpyAsync(valuesOut, valuesIn, n * sizeof(std::uint32_t), cudaMemcpyDeviceToDevice, stream);
+}
+
+}  // namespace
 
 cudaError_t exclusiveSum(void* temp, std::size_t& tempBytes, const std::uint32_t* in, std::uint32_t* out,
                          std::uint32_t n, cudaStream_t stream) {
@@ -16,6 +35,7 @@ cudaError_t exclusiveSum(void* temp, std::size_t& tempBytes, const std::uint32_t
 cudaError_t radixSortPairs(void* temp, std::size_t& tempBytes, const std::uint64_t* keysIn, std::uint64_t* keysOut,
                            const std::uint32_t* valuesIn, std::uint32_t* valuesOut, std::uint32_t n, int beginBit,
                            int endBit, cudaStream_t stream) {
+  if (beginBit >= endBit) return copyUnsorted(temp, tempBytes, keysIn, keysOut, valuesIn, valuesOut, n, stream);
   return cub::DeviceRadixSort::SortPairs(temp, tempBytes, keysIn, keysOut, valuesIn, valuesOut, n, beginBit, endBit,
                                          stream);
 }
@@ -23,6 +43,7 @@ cudaError_t radixSortPairs(void* temp, std::size_t& tempBytes, const std::uint64
 cudaError_t radixSortPairs(void* temp, std::size_t& tempBytes, const std::uint32_t* keysIn, std::uint32_t* keysOut,
                            const std::uint32_t* valuesIn, std::uint32_t* valuesOut, std::uint32_t n, int beginBit,
                            int endBit, cudaStream_t stream) {
+  if (beginBit >= endBit) return copyUnsorted(temp, tempBytes, keysIn, keysOut, valuesIn, valuesOut, n, stream);
   return cub::DeviceRadixSort::SortPairs(temp, tempBytes, keysIn, keysOut, valuesIn, valuesOut, n, beginBit, endBit,
                                          stream);
 }

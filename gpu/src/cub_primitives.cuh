@@ -20,7 +20,7 @@ namespace tumble::gpu::detail {
 cudaError_t exclusiveSum(void* temp, std::size_t& tempBytes, const std::uint32_t* in, std::uint32_t* out,
                          std::uint32_t n, cudaStream_t stream);
 
-/// Stable sort of (key, value) pairs by key bits [beginBit, endBit).
+/// Stable sort of (key, value) pairs by key bits [beginBit, endBit) (an empty range copies).
 cudaError_t radixSortPairs(void* temp, std::size_t& tempBytes, const std::uint64_t* keysIn, std::uint64_t* keysOut,
                            const std::uint32_t* valuesIn, std::uint32_t* valuesOut, std::uint32_t n, int beginBit,
                            int endBit, cudaStream_t stream);

@@ -131,6 +131,43 @@ BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, c
   return s;
 }
 
+std::optional<StepDifference> firstStepDifference(Pipeline& a, const World& worldA, Pipeline& b, const World& worldB,
+                                                  std::uint64_t steps, bool debug) {
+  a.load(worldA);
+  b.load(worldB);
+  a.setDebugCapture(debug);
+  b.setDebugCapture(debug);
+  BodyState sa, sb;
+  ParticleDebug da, db;
+  for (std::uint64_t s = 1; s <= steps; ++s) {
+    a.step(1);
+    b.step(1);
+    const std::string at = "step " + std::to_string(s) + ": ";
+    if (const std::string d = firstDifference(a.pairs(), b.pairs()); !d.empty())
+      return StepDifference{s, at + "pairs: " + d + " (of the second against the first)"};
+    a.readState(sa);
+    b.readState(sb);
+    if (const auto d = firstDifference(sa, sb)) return StepDifference{s, at + d->describe()};
+    if (!debug) continue;
+    a.readDebug(da);
+    b.readDebug(db);
+    for (int k = -1; k < 5; ++k) {
+      const std::vector<float>& va = k < 0 ? da.v : da.force[k];
+      const std::vector<float>& vb = k < 0 ? db.v : db.force[k];
+      const std::string name = std::string("debug ") + (k < 0 ? "v" : kDebugForceNames[k]);
+      if (va.size() != vb.size()) return StepDifference{s, at + name + ": lengths differ"};
+      for (std::size_t e = 0; e < va.size(); ++e)
+        if (!sameBits(va[e], vb[e])) {
+          char buf[200];
+          std::snprintf(buf, sizeof buf, "%s %c of particle %zu: %.9g vs %.9g", name.c_str(), "xyz"[e % 3], e / 3,
+                        va[e], vb[e]);
+          return StepDifference{s, at + buf};
+        }
+    }
+  }
+  return std::nullopt;
+}
+
 TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& world, std::uint64_t steps,
                                      const TrajectoryTolerance& tol) {
   TrajectoryResult r;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Golden state hashes (validation/golden/state_hashes.txt): the CPU pipeline's result for each
-// scene is fixed bit for bit, on any machine and thread count. A change must be deliberate.
+// scene is fixed bit for bit, on any machine and thread count, and the CUDA pipeline's is the same.
+// A change must be deliberate.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -8,11 +9,15 @@
 
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/scenes.hpp"
+#include "tumble_test/cuda_gate.hpp"
 
 using namespace tumble;
 using namespace tumble::validation;
 
-TEST(Golden, CpuStateHashesMatch) {
+namespace {
+
+// Every line of validation/golden/state_hashes.txt run on `backend` with each thread count.
+void checkGoldenHashes(Backend backend, std::initializer_list<int> threadCounts) {
   std::ifstream in(sourcePath("validation/golden/state_hashes.txt"));
   ASSERT_TRUE(in) << "cannot open validation/golden/state_hashes.txt";
   std::string line;
@@ -25,19 +30,30 @@ TEST(Golden, CpuStateHashesMatch) {
     ASSERT_TRUE(ls >> scene >> steps >> hashText) << "bad line: " << line;
     const std::uint64_t want = std::stoull(hashText, nullptr, 16);
     const World w = World::fromScene(readSceneFile(sourcePath(scene)));
-    for (int threads : {1, 2}) {
+    for (int threads : threadCounts) {
       PipelineOptions o;
       o.threads = threads;
-      auto p = makePipeline(Backend::Cpu, o);
+      auto p = makePipeline(backend, o);
       p->load(w);
       p->step(steps);
       BodyState s;
       p->readState(s);
       char got[17];
       std::snprintf(got, sizeof got, "%016llx", static_cast<unsigned long long>(stateHash(s)));
-      EXPECT_EQ(stateHash(s), want) << scene << " after " << steps << " steps, " << threads << " threads: got " << got;
+      EXPECT_EQ(stateHash(s), want) << toString(backend) << ": " << scene << " after " << steps << " steps, "
+                                    << threads << " threads: got " << got;
     }
     ++checked;
   }
   EXPECT_GE(checked, 3);
+}
+
+}  // namespace
+
+TEST(Golden, CpuStateHashesMatch) { checkGoldenHashes(Backend::Cpu, {1, 2}); }
+
+// The CUDA pipeline's state is the CPU's bit for bit (TUMBLE_STRICT_FP): the same hashes.
+TEST(CudaGolden, StateHashesMatch) {
+  TUMBLE_NEED_CUDA(cudaStatus());
+  checkGoldenHashes(Backend::Cuda, {0});
 }

@@ -63,6 +63,22 @@ std::optional<StateDifference> firstDifference(const BodyState& a, const BodySta
 /// The state (readState()) of a fresh pipeline of `backend` loaded with `world` after `steps` steps.
 BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, const PipelineOptions& options = {});
 
+/// Where two pipelines stepped side by side first differ: the step (1 = after the first step),
+/// the quantity ("pairs", a BodyState column or contact history as firstDifference() names it,
+/// "debug v", "debug repulsion", …), the body, particle or entry, and both values.
+struct StepDifference {
+  std::uint64_t step = 0;
+  std::string what;  ///< "step 12: vz of body 3: 0.125 vs 0.12500001"
+};
+
+/// Loads a with worldA and b with worldB (the same world, but for the tests of this function) and
+/// steps them side by side for `steps` steps, comparing after every step the pair lists, every
+/// bit of the state (bodies, plane springs, contact histories: firstDifference()) and, with
+/// `debug`, every bit of the per-particle debug velocities and forces (readDebug()); stops at the
+/// first difference. nullopt: identical throughout.
+std::optional<StepDifference> firstStepDifference(Pipeline& a, const World& worldA, Pipeline& b, const World& worldB,
+                                                  std::uint64_t steps, bool debug);
+
 /// Steps pipelines a and b from the same world for `steps` steps and compares the body state
 /// (and the pair lists) after every step.
 TrajectoryResult compareTrajectories(Pipeline& a, Pipeline& b, const World& world, std::uint64_t steps,
