@@ -52,6 +52,9 @@ bool runStudy(const ValidateOptions& o, const std::vector<Backend>& backends) {
               rep.runs.size() / std::max<std::size_t>(1, backends.size()), rep.seconds);
   st::printSummary(rep, stdout);
   std::printf("\n- %zu of %zu checks within tolerance\n", rep.totalChecks() - rep.failedChecks(), rep.totalChecks());
+  if (rep.notSupported() > 0)
+    std::printf("- %zu case runs not run: their pipeline does not support the case's model yet (table above)\n",
+                rep.notSupported());
   if (!o.out.empty()) {
     std::printf("- report: %s/report.md (CSV: summary.csv, <pipeline>/<case>_<table>.csv)\n", o.out.c_str());
     std::printf("- plots: %s\n", rep.plotsDrawn ? ("drawn by " + rep.plotNote).c_str() : rep.plotNote.c_str());

@@ -212,13 +212,13 @@ class CudaPipeline final : public Pipeline {
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
     if (world.params.contact.law != ContactLaw::Report)
-      throw Error(std::string("the CUDA pipeline runs the report's contact law only so far; [contact] law = \"") +
+      throw NotSupported(std::string("the CUDA pipeline runs the report's contact law only so far; [contact] law = \"") +
                   toString(world.params.contact.law) + "\" runs on the CPU pipeline (--pipeline cpu)");
     if (!world.params.walls.empty())
-      throw Error(std::string("the CUDA pipeline has no walls yet") +
+      throw NotSupported(std::string("the CUDA pipeline has no walls yet") +
                   (meshTriangleCount(world.params) > 0 ? " (triangle meshes included)" : "") +
                   ": a scene with [[wall]] runs on the CPU pipeline (--pipeline cpu)");
-    if (world.params.periodic.any()) throw Error(kNoPeriodic);
+    if (world.params.periodic.any()) throw NotSupported(kNoPeriodic);
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;
@@ -364,7 +364,7 @@ class CudaPipeline final : public Pipeline {
   // As CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
     const float maxR = checkCloud(cloud);
-    if (cloud.periodic.axes != 0) throw Error(kNoPeriodic);
+    if (cloud.periodic.axes != 0) throw NotSupported(kNoPeriodic);
     const std::size_t n = cloud.size();
     if (n == 0) return {};
     const cudaStream_t s = m_ctx.stream();

@@ -43,6 +43,11 @@ std::size_t StudyReport::totalChecks() const {
   return n;
 }
 
+std::size_t StudyReport::notSupported() const {
+  return static_cast<std::size_t>(
+      std::count_if(runs.begin(), runs.end(), [](const CaseRun& r) { return !r.notSupported.empty(); }));
+}
+
 std::vector<Case> allCases() {
   std::vector<Case> all = physicsCases();
   for (auto& c : stabilityCases()) all.push_back(std::move(c));
@@ -234,12 +239,16 @@ std::string backendDir(Backend b) { return toString(b); }
 void printSummary(const StudyReport& report, std::FILE* out) {
   std::fprintf(out, "| backend | case | check | measured | expected | error | tolerance | unit | result |\n");
   std::fprintf(out, "|---|---|---|---|---|---|---|---|---|\n");
-  for (const auto& run : report.runs)
+  for (const auto& run : report.runs) {
+    if (!run.notSupported.empty())
+      std::fprintf(out, "| %s | %s | (not run) | | | | | | not supported: %s |\n", toString(run.backend),
+                   run.result.id.c_str(), mdCell(run.notSupported).c_str());
     for (const auto& c : run.result.checks)
       std::fprintf(out, "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", toString(run.backend),
                    run.result.id.c_str(), mdCell(c.name).c_str(), num(c.measured).c_str(),
                    std::isnan(c.expected) ? "(bound)" : num(c.expected).c_str(), num(c.error).c_str(),
                    num(c.tolerance).c_str(), c.unit.c_str(), c.pass ? "pass" : "FAIL");
+  }
 }
 
 StudyReport runStudy(const std::vector<Case>& cases, const std::vector<Backend>& backends, const StudyOptions& o) {
@@ -273,6 +282,9 @@ StudyReport runStudy(const std::vector<Case>& cases, const std::vector<Backend>&
       run.backend = b;
       try {
         run.result = c->run(ctx);
+      } catch (const NotSupported& e) {
+        run.result = CaseResult{};
+        run.notSupported = e.what();
       } catch (const std::exception& e) {
         run.result = CaseResult{};
         Check k;
@@ -291,8 +303,11 @@ StudyReport runStudy(const std::vector<Case>& cases, const std::vector<Backend>&
       if (o.progress) {
         std::size_t failed = 0;
         for (const auto& k : run.result.checks) failed += k.pass ? 0 : 1;
-        std::fprintf(stderr, " %s, %zu checks, %zu failed\n", elapsed(run.seconds).c_str(), run.result.checks.size(),
-                     failed);
+        if (!run.notSupported.empty())
+          std::fprintf(stderr, " not supported on %s: %s\n", toString(b), run.notSupported.c_str());
+        else
+          std::fprintf(stderr, " %s, %zu checks, %zu failed\n", elapsed(run.seconds).c_str(), run.result.checks.size(),
+                       failed);
       }
       report.runs.push_back(std::move(run));
     }
@@ -384,7 +399,10 @@ void writeReport(StudyReport& report, const StudyOptions& o) {
   m << "\n- wall time: " << elapsed(report.seconds) << "\n";
   m << "- plots: " << (version.empty() ? report.plotNote : "drawn by " + report.plotNote) << "\n";
   m << "- result: **" << (report.pass() ? "PASSED" : "FAILED") << "**, " << report.totalChecks() - report.failedChecks()
-    << " of " << report.totalChecks() << " checks within tolerance\n\n";
+    << " of " << report.totalChecks() << " checks within tolerance";
+  if (report.notSupported() > 0)
+    m << "; " << report.notSupported() << " case runs not supported by their pipeline yet (not run)";
+  m << "\n\n";
   m << "Every number is in `summary.csv` (checks) and in `<pipeline>/<case>_<table>.csv` (tables). "
        "The tolerance of each check is stated with it; `error` is the quantity compared with it.\n\n";
   for (Backend b : backends) {
@@ -395,7 +413,9 @@ void writeReport(StudyReport& report, const StudyOptions& o) {
       std::size_t failed = 0;
       for (const auto& c : r.result.checks) failed += c.pass ? 0 : 1;
       m << "| [" << mdCell(r.result.title) << "](#" << toString(b) << "-" << r.result.id << ") | "
-        << r.result.checks.size() << " | " << failed << " | " << elapsed(r.seconds) << " |\n";
+        << r.result.checks.size() << " | "
+        << (r.notSupported.empty() ? std::to_string(failed) : "not supported: " + mdCell(r.notSupported)) << " | "
+        << elapsed(r.seconds) << " |\n";
     }
     m << "\n";
   }
@@ -405,6 +425,7 @@ void writeReport(StudyReport& report, const StudyOptions& o) {
       m << "<a id=\"" << toString(b) << "-" << r.result.id << "\"></a>\n";
       m << "## " << r.result.title << " (" << toString(b) << ", `" << r.result.id << "`)\n\n";
       if (!r.result.summary.empty()) m << r.result.summary << "\n\n";
+      if (!r.notSupported.empty()) m << "Not run: " << mdCell(r.notSupported) << "\n\n";
       m << checksMarkdown(r.result.checks, false, r.result.id) << "\n";
       for (const auto& t : r.result.tables) {
         const std::string rel = backendDir(b) + "/" + r.result.id + "_" + t.name + ".csv";

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -78,6 +79,27 @@ TEST(StudyTest, FailingCheckFailsTheStudy) {
   EXPECT_FALSE(rep.runs[0].result.pass());
   o.caseIds = {"nope"};
   EXPECT_THROW(runStudy(cases, {Backend::Cpu}, o), Error);
+}
+
+// A case whose model the backend does not have yet (tumble::NotSupported, as the CUDA pipeline
+// throws for the granular laws, walls and periodic boundaries) is marked not run, with the reason,
+// and fails nothing; any other exception still fails the case.
+TEST(StudyTest, NotSupportedMarksTheRunInsteadOfFailingIt) {
+  std::vector<Case> cases{{"needs_walls", [](const CaseContext&) -> CaseResult {
+                             throw NotSupported("the CUDA pipeline has no walls yet");
+                           }}};
+  StudyOptions o;
+  o.progress = false;
+  o.outDir = testing::TempDir() + "tumble_study_not_supported";
+  const StudyReport rep = runStudy(cases, {Backend::Cpu}, o);
+  ASSERT_EQ(rep.runs.size(), 1u);
+  EXPECT_EQ(rep.runs[0].notSupported, "the CUDA pipeline has no walls yet");
+  EXPECT_TRUE(rep.pass());
+  EXPECT_EQ(rep.failedChecks(), 0u);
+  EXPECT_EQ(rep.notSupported(), 1u);
+  std::ifstream md(o.outDir + "/report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("not supported: the CUDA pipeline has no walls yet"), std::string::npos) << text;
 }
 
 // The runner writes report.md, summary.csv, one CSV per table and (with gnuplot) one PNG per plot.

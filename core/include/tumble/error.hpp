@@ -41,6 +41,13 @@ class InputError : public Error {
   std::string m_problem;
 };
 
+/// The chosen pipeline does not run this scene's model yet (the CUDA pipeline and a contact law,
+/// walls or periodic boundaries it does not have): what() names what and the pipeline that does.
+class NotSupported : public Error {
+ public:
+  using Error::Error;
+};
+
 /// The simulation left its valid range (non-finite state and the like).
 class SimulationError : public Error {
  public:

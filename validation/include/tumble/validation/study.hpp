@@ -101,6 +101,7 @@ struct CaseRun {
   Backend backend = Backend::Cpu;
   double seconds = 0.0;  ///< wall time of the case
   CaseResult result;
+  std::string notSupported;  ///< the backend does not run the case's model yet (tumble::NotSupported): why
 };
 
 /// Everything runStudy() measured.
@@ -112,11 +113,14 @@ struct StudyReport {
   bool pass() const;             ///< every check of every run passes
   std::size_t failedChecks() const;
   std::size_t totalChecks() const;
+  std::size_t notSupported() const;  ///< runs whose backend does not run the case's model yet
 };
 
 /// Runs `cases` (filtered by options.caseIds) on every backend and, when options.outDir is set,
 /// writes report.md, summary.csv, one CSV per table and one PNG per plot (gnuplot; skipped with
-/// a note in report.md when gnuplot is missing). A case that throws becomes a failed check.
+/// a note in report.md when gnuplot is missing). A case that throws becomes a failed check,
+/// except tumble::NotSupported (the backend lacks the case's model): the run is marked not
+/// supported, with the reason, and counts neither as passed nor as failed.
 StudyReport runStudy(const std::vector<Case>& cases, const std::vector<Backend>& backends,
                      const StudyOptions& options);
 
