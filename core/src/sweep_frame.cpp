@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: MIT
-// Host-side halves of the CUDA broadphase stages whose results must be bit-identical to the CPU
-// pipeline's. Each function below is a copy of its CPU twin in cpu/src/broadphase.cpp or
-// cpu/src/cpu_pipeline.cpp with only the data source changed (chunk partials copied back from
-// the device instead of computed here); the arithmetic and its order are unchanged. Compiled by
-// the host compiler with the project's flags, as the CPU twins are. Keep the two in step: a
-// change to the CPU's frame or axis must be copied here (REVIEW.md lists the pairs).
+// The host-side pieces of the broadphase and of load() that both pipelines call, written once so
+// that both give the same bits (sweep_frame.hpp): the bounds and covariance combined in chunk
+// order, the PCA axis (Eigen), the frame and cell grid, the sweep window, the detection's totals,
+// the Morton grid, the initial rows and the sorted pair list. Compiled by the host compiler with
+// the project's flags; the CUDA pipeline copies its chunk partials back and calls the same code.
 #include "tumble/sweep_frame.hpp"
 #include "tumble/error.hpp"
 #include "tumble/memory.hpp"
