@@ -612,10 +612,7 @@ class CpuPipeline final : public HaloPipeline {
     float* bz = tumble::detail::grow(m_bz, n);
     float* br = tumble::detail::grow(m_br, n);
     forEach(n, kGrain, [&](std::uint32_t i) {
-      bx[i] = pos[i].x;
-      by[i] = pos[i].y;
-      bz[i] = pos[i].z;
-      br[i] = pos[i].r + h;
+      detectionInput(pos, i, h, bx, by, bz, br);
       m_rebuildPos[i] = pos[i];
       if (!m_perBody) m_buildPos[i] = pos[i];
     });
@@ -1107,25 +1104,17 @@ class CpuPipeline final : public HaloPipeline {
     m_gtxTmp.resize(m_gtx.size());
     m_gtyTmp.resize(m_gty.size());
     m_planeDampingTmp.resize(m_planeDamping.size());
+    auto orNull = [](auto& v) { return v.empty() ? nullptr : v.data(); };
+    const ReorderColumns from{m_own.data(),    m_radius.data(), m_mass.data(), orNull(m_material),
+                              m_orig.data(),   m_bodyOf.data(), orNull(m_gtx), orNull(m_gty),
+                              orNull(m_planeDamping)};
+    const ReorderColumns to{m_ownTmp.data(),  m_radiusTmp.data(), m_massTmp.data(), orNull(m_materialTmp),
+                            m_origTmp.data(), m_bodyOfTmp.data(), orNull(m_gtxTmp), orNull(m_gtyTmp),
+                            orNull(m_planeDampingTmp)};
+    const auto numPlanes = static_cast<std::uint32_t>(m_planes.size());
     forEach(nb, kBodyGrain, [&](std::uint32_t k) {
-      const BodyRow& b = m_bodies[perm[k]];
-      m_bodiesNext[k] = b;
-      m_bodiesNext[k].first = first[k];
-      m_bodyStaticTmp[k] = m_bodyStatic[perm[k]];
-      for (std::uint32_t t = 0; t < b.count; ++t) {
-        const std::uint32_t from = b.first + t, to = first[k] + t;
-        m_ownTmp[to] = m_own[from];
-        m_radiusTmp[to] = m_radius[from];
-        m_massTmp[to] = m_mass[from];
-        if (!m_material.empty()) m_materialTmp[to] = m_material[from];
-        m_origTmp[to] = m_orig[from];
-        m_bodyOfTmp[to] = k;
-        for (std::size_t p = 0; p < m_planes.size(); ++p) {
-          m_gtxTmp[p * n + to] = m_gtx[p * n + from];
-          m_gtyTmp[p * n + to] = m_gty[p * n + from];
-        }
-        for (std::size_t p = 1; p < m_planes.size(); ++p) m_planeDampingTmp[(p - 1) * n + to] = m_planeDamping[(p - 1) * n + from];
-      }
+      moveBody(m_bodies.data(), m_bodyStatic.data(), perm, first, k, n, numPlanes, from, m_bodiesNext.data(),
+               m_bodyStaticTmp.data(), to);
     });
     m_bodies.swap(m_bodiesNext);
     m_bodyStatic.swap(m_bodyStaticTmp);

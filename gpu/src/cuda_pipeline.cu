@@ -59,12 +59,8 @@ __global__ void detectionInputKernel(const PosRow* pos, std::uint32_t n, float h
                                      float* r, PosRow* buildPos) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
-  const PosRow p = pos[i];
-  x[i] = p.x;
-  y[i] = p.y;
-  z[i] = p.z;
-  r[i] = p.r + halfSkin;
-  buildPos[i] = p;
+  detectionInput(pos, i, halfSkin, x, y, z, r);
+  buildPos[i] = pos[i];
 }
 
 __global__ void candidateCountKernel(SweepListView s, std::uint32_t n, std::uint32_t* counts) {
@@ -109,38 +105,13 @@ __global__ void permutedCountKernel(const BodyRow* bodies, const std::uint32_t* 
   if (k == numBodies) counts[k] = 0;
 }
 
-/// One array of the permutation: the rows to move, per particle, and where they go.
-struct ParticleColumns {
-  OwnRow* own;
-  float* radius;
-  float* mass;
-  std::uint32_t* orig;
-  std::uint32_t* bodyOf;
-  float* tx;
-  float* ty;
-};
-
-__global__ void permuteKernel(const BodyRow* bodies, const BodyStatic* bodyStatic, const std::uint32_t* perm,
-                              const std::uint32_t* first, std::uint32_t numBodies, ParticleColumns from,
-                              BodyRow* outBodies, BodyStatic* outStatic, ParticleColumns to, bool ground) {
+// The reordering's gathers (moveBody, kernels/contact_list.hpp), one body per thread.
+__global__ void moveBodiesKernel(const BodyRow* bodies, const BodyStatic* bodyStatic, const std::uint32_t* perm,
+                                 const std::uint32_t* first, std::uint32_t numBodies, std::uint32_t n,
+                                 std::uint32_t numPlanes, ReorderColumns from, BodyRow* outBodies,
+                                 BodyStatic* outStatic, ReorderColumns to) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= numBodies) return;
-  BodyRow b = bodies[perm[k]];
-  outStatic[k] = bodyStatic[perm[k]];
-  for (std::uint32_t t = 0; t < b.count; ++t) {
-    const std::uint32_t a = b.first + t, c = first[k] + t;
-    to.own[c] = from.own[a];
-    to.radius[c] = from.radius[a];
-    to.mass[c] = from.mass[a];
-    to.orig[c] = from.orig[a];
-    to.bodyOf[c] = k;
-    if (ground) {
-      to.tx[c] = from.tx[a];
-      to.ty[c] = from.ty[a];
-    }
-  }
-  b.first = first[k];
-  outBodies[k] = b;
+  if (k < numBodies) moveBody(bodies, bodyStatic, perm, first, k, n, numPlanes, from, outBodies, outStatic, to);
 }
 
 // Stages 3–5 per particle; its force and torque go to f, t (one writer each).
@@ -606,13 +577,18 @@ class CudaPipeline final : public Pipeline {
     TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "permutedCountKernel");
     TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, bytes, count, first, nb + 1, s));
     TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(bytes), bytes, count, first, nb + 1, s));
-    const ParticleColumns from{m_own.data(), m_radius.data(), m_mass.data(), m_orig.data(),
-                               m_bodyOf.data(), m_tx.data(), m_ty.data()};
-    const ParticleColumns to{m_ownTmp.grow(n), m_radiusTmp.grow(n), m_massTmp.grow(n), m_origTmp.grow(n),
-                             m_bodyOfTmp.grow(n), m_txTmp.grow(m_ground ? n : 0), m_tyTmp.grow(m_ground ? n : 0)};
-    permuteKernel<<<blocks, kBlock, 0, s>>>(m_bodies.data(), m_bodyStatic.data(), perm, first, nb, from,
-                                            m_bodiesNext.data(), m_bodyStaticTmp.grow(nb), to, m_ground);
-    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "permuteKernel");
+    const ReorderColumns from{m_own.data(),  m_radius.data(), m_mass.data(),
+                              nullptr,  // the report's law only (load()): no materials
+                              m_orig.data(), m_bodyOf.data(), m_ground ? m_tx.data() : nullptr,
+                              m_ground ? m_ty.data() : nullptr,
+                              nullptr};  // one plane at most: no damping of further planes
+    const ReorderColumns to{m_ownTmp.grow(n),  m_radiusTmp.grow(n), m_massTmp.grow(n), nullptr, m_origTmp.grow(n),
+                            m_bodyOfTmp.grow(n), m_ground ? m_txTmp.grow(n) : nullptr,
+                            m_ground ? m_tyTmp.grow(n) : nullptr, nullptr};
+    moveBodiesKernel<<<blocks, kBlock, 0, s>>>(m_bodies.data(), m_bodyStatic.data(), perm, first, nb, n,
+                                               m_ground ? 1u : 0u, from, m_bodiesNext.data(),
+                                               m_bodyStaticTmp.grow(nb), to);
+    TUMBLE_CUDA_AFTER_LAUNCH(m_ctx, "moveBodiesKernel");
     std::swap(m_bodies, m_bodiesNext);
     std::swap(m_bodyStatic, m_bodyStaticTmp);
     std::swap(m_own, m_ownTmp);

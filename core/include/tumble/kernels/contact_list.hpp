@@ -383,3 +383,64 @@ TUMBLE_HD_INLINE std::uint32_t mortonKey(const MortonGrid& g, Vec3f x) {
 }
 
 }  // namespace tumble
+
+namespace tumble {
+
+/// Particle i's detection input at a rebuild: its position, and its radius grown by h (skin/2,
+/// plus the periodic rounding margin where there are periodic boundaries).
+TUMBLE_HD_INLINE void detectionInput(const PosRow* pos, std::uint32_t i, float h, float* x, float* y, float* z,
+                                     float* r) {
+  const PosRow p = pos[i];
+  x[i] = p.x;
+  y[i] = p.y;
+  z[i] = p.z;
+  r[i] = p.r + h;
+}
+
+/// The per-particle columns the reordering moves with their bodies. material, springX/springY
+/// (numPlanes × n, plane-major) and planeDamping ((numPlanes − 1) × n, the planes after the
+/// first) may be null: the columns a scene does not have.
+struct ReorderColumns {
+  OwnRow* own;
+  float* radius;
+  float* mass;
+  std::uint16_t* material;
+  std::uint32_t* orig;
+  std::uint32_t* bodyOf;
+  float* springX;
+  float* springY;
+  float* planeDamping;
+};
+
+/// Body k of the new order (the reordering, 5. above): body perm[k] of the old order, whose
+/// particles move to first[k] on (the scan of the counts in the new order), each particle's
+/// columns with it and its body index k. One writer per output element.
+TUMBLE_HD_INLINE void moveBody(const BodyRow* bodies, const BodyStatic* bodyStatic, const std::uint32_t* perm,
+                               const std::uint32_t* first, std::uint32_t k, std::uint32_t n, std::uint32_t numPlanes,
+                               const ReorderColumns& from, BodyRow* outBodies, BodyStatic* outStatic,
+                               const ReorderColumns& to) {
+  const BodyRow b = bodies[perm[k]];
+  outStatic[k] = bodyStatic[perm[k]];
+  for (std::uint32_t t = 0; t < b.count; ++t) {
+    const std::uint32_t a = b.first + t, c = first[k] + t;
+    to.own[c] = from.own[a];
+    to.radius[c] = from.radius[a];
+    to.mass[c] = from.mass[a];
+    if (from.material != nullptr) to.material[c] = from.material[a];
+    to.orig[c] = from.orig[a];
+    to.bodyOf[c] = k;
+    if (from.springX != nullptr)
+      for (std::uint32_t p = 0; p < numPlanes; ++p) {
+        to.springX[std::size_t(p) * n + c] = from.springX[std::size_t(p) * n + a];
+        to.springY[std::size_t(p) * n + c] = from.springY[std::size_t(p) * n + a];
+      }
+    if (from.planeDamping != nullptr)
+      for (std::uint32_t p = 1; p < numPlanes; ++p)
+        to.planeDamping[std::size_t(p - 1) * n + c] = from.planeDamping[std::size_t(p - 1) * n + a];
+  }
+  BodyRow moved = b;
+  moved.first = first[k];
+  outBodies[k] = moved;
+}
+
+}  // namespace tumble
