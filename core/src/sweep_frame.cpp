@@ -26,7 +26,7 @@ BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks) 
   return b;
 }
 
-// Twin: cpu/src/broadphase.cpp principalAxis(), from "std::array<double, 9> s{}" on.
+// Both broadphases' axis from their chunk partials (addCovariance).
 Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std::uint32_t n) {
   if (n < 2) return {0.0f, 0.0f, 1.0f};
   std::array<double, 9> s{};
@@ -53,7 +53,7 @@ Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std
   return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
 }
 
-// Twin: cpu/src/broadphase.cpp Broadphase::computeFrame(), after the bounds check and the axis.
+// Both broadphases' frame, after the bounds check and the axis.
 int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cellRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame) {
   SweepFrame& f = *outFrame;
@@ -171,7 +171,7 @@ std::vector<Vec3f> initialOmega(const World& world) {
   return omega;
 }
 
-// Twin: cpu/src/broadphase.cpp Broadphase::sortedPairs().
+// Both broadphases' sorted pairs (Broadphase::sortedPairs).
 std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, const std::uint32_t* inv,
                               const std::uint32_t* nbrOffsets, const std::uint32_t* nbr, std::uint64_t numEntries) {
   std::vector<Pair> out;

@@ -170,13 +170,6 @@ std::uint64_t Broadphase::total(const std::uint32_t* counts, std::uint32_t n, co
   return s;
 }
 
-std::uint32_t Broadphase::readCount(const std::uint32_t* devicePtr, cudaStream_t stream) const {
-  std::uint32_t v = 0;
-  TUMBLE_CUDA_CHECK(cudaMemcpyAsync(&v, devicePtr, sizeof v, cudaMemcpyDeviceToHost, stream));
-  TUMBLE_CUDA_CHECK(cudaStreamSynchronize(stream));
-  return v;
-}
-
 void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams& params, const StreamContext& ctx) {
   const cudaStream_t stream = ctx.stream();
   const std::uint32_t numChunks = (in.n + kChunk - 1) / kChunk;
@@ -237,12 +230,15 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   std::uint32_t* first = recFirst.grow(std::size_t(n) + 1);
   keysCountKernel<<<blocksFor(std::uint64_t(n) + 1), kBlock, 0, stream>>>(in, f, prow, counts);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "keysCountKernel");
-  checkRecordTotal(total(counts, n, ctx), n, f.cellSize, in.maxRadius, 0, 0);  // device memory: the allocation checks
+  // The total in 64 bits before the 32-bit scan (it is also the scan's last offset, so it is the
+  // only read-back here); device memory is checked by the allocations.
+  const std::uint64_t numRec64 = total(counts, n, ctx);
+  checkRecordTotal(numRec64, n, f.cellSize, in.maxRadius, 0, 0);
   std::size_t tempBytes = 0;
   TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, tempBytes, counts, first, n + 1, stream));
   TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(tempBytes), tempBytes, counts, first, n + 1, stream));
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "exclusiveSum(record counts)");
-  const std::uint32_t numRec = readCount(first + n, stream);
+  const auto numRec = static_cast<std::uint32_t>(numRec64);
   m_numRecords = numRec;
   std::uint64_t* keys = m_keys.grow(numRec);
   std::uint32_t* vals = m_vals.grow(numRec);
@@ -272,12 +268,13 @@ void Broadphase::run(const BroadphaseInput& in, const BroadphaseParams& params, 
   std::uint32_t* nbrCount = m_nbrCount.grow(std::size_t(numRec) + 1);
   sweepCountKernel<<<blocksFor(std::uint64_t(numRec) + 1), kBlock, 0, stream>>>(args, nbrCount);
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "sweepCountKernel");
-  checkTotal(total(nbrCount, numRec, ctx), kMaxEntries, 0, 0, n, "candidate pairs", kDenseCause);
+  const std::uint64_t numEntries64 = total(nbrCount, numRec, ctx);  // as the records' total
+  checkTotal(numEntries64, kMaxEntries, 0, 0, n, "candidate pairs", kDenseCause);
   std::uint32_t* offs = nbrOffsets.grow(std::size_t(numRec) + 1);
   TUMBLE_CUDA_CHECK(exclusiveSum(nullptr, tempBytes, nbrCount, offs, numRec + 1, stream));
   TUMBLE_CUDA_CHECK(exclusiveSum(m_temp.grow(tempBytes), tempBytes, nbrCount, offs, numRec + 1, stream));
   TUMBLE_CUDA_AFTER_LAUNCH(ctx, "exclusiveSum(neighbour counts)");
-  const std::uint32_t numEntries = readCount(offs + numRec, stream);
+  const auto numEntries = static_cast<std::uint32_t>(numEntries64);
   m_numEntries = numEntries;
   std::uint32_t* nb = nbr.grow(numEntries);
   std::uint32_t* owner = m_owner.grow(numEntries);

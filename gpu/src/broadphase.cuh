@@ -56,8 +56,7 @@ class Broadphase {
 
  private:
   void computeFrame(const BroadphaseInput& in, const BroadphaseParams& params, const StreamContext& ctx);
-  std::uint32_t readCount(const std::uint32_t* devicePtr, cudaStream_t stream) const;
-  /// The 64-bit sum of n device counts (kChunk partials summed on the host).
+  /// The 64-bit sum of n device counts (kChunk partials summed on the host; waits for them).
   std::uint64_t total(const std::uint32_t* counts, std::uint32_t n, const StreamContext& ctx);
   /// TUMBLE_VALIDATE builds: copies the run's arrays back and checks their invariants (sorted
   /// keys, monotone offsets, indices in range); throws tumble::Error naming the first violation.

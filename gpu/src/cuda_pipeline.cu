@@ -669,7 +669,19 @@ CudaStatus deviceStatus() noexcept {
         " (CUDA driver " + cudaVersionText(driver) + ", runtime " + cudaVersionText(runtime) + ")";
     if (e == cudaSuccess && count > 0) {
       cudaDeviceProp prop{};
-      const std::string name = cudaGetDeviceProperties(&prop, 0) == cudaSuccess ? std::string(prop.name) : "?";
+      const std::string name = cudaGetDeviceProperties(&prop, 0) == cudaSuccess
+                                   ? std::string(prop.name) + " (compute capability " + std::to_string(prop.major) +
+                                         "." + std::to_string(prop.minor) + ")"
+                                   : "?";
+      // A device this build has no code for (below its architectures) fails every launch:
+      // Broken, said here rather than at the first kernel.
+      cudaFuncAttributes attr{};
+      const cudaError_t k = cudaFuncGetAttributes(&attr, detail::stateKernel<true>);
+      (void)cudaGetLastError();
+      if (k != cudaSuccess)
+        return {CudaState::Broken, "CUDA device 0: " + name + " cannot run this build's kernels (" +
+                                       cudaGetErrorName(k) + "; built for CUDA architectures " +
+                                       TUMBLE_CUDA_ARCHITECTURES + ")" + versions};
       return {CudaState::Ready, "CUDA device 0 of " + std::to_string(count) + ": " + name + versions};
     }
     if (e == cudaSuccess || e == cudaErrorNoDevice) return {CudaState::NoDevice, "no CUDA device" + versions};

@@ -152,6 +152,7 @@ TEST_P(GuardTest, TripsOnAnUnstableTimeStep) {
 // energy as the pile alone does (moving walls do work the guard does not measure, so it skips
 // the energy test only while one moves).
 TEST_P(GuardTest, AWallThatStoppedMovingLeavesTheEnergyGuardOn) {
+  if (GetParam() == Backend::Cuda) GTEST_SKIP() << "the CUDA pipeline has no walls yet";
   Scene s = pile(2e-2f);
   WallDef belt;
   belt.point = {50.0f, 0.0f, 0.0f};

@@ -597,10 +597,11 @@ TEST(PeriodicTest, ScenesBuiltInCodeAreCheckedToo) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("the skin 3 m"), std::string::npos) << e.what();
   }
-  // The CUDA pipeline has no periodic boundaries yet.
-  if (cudaAvailable()) {
+  // The CUDA pipeline has no periodic boundaries yet (where CUDA is there at all: a broken
+  // driver fails here, in makePipeline).
+  if (cudaStatus().state != CudaState::NoDevice) {
     auto cuda = makePipeline(Backend::Cuda);
-    EXPECT_THROW(cuda->load(World::fromScene(ok)), Error);
+    EXPECT_THROW(cuda->load(World::fromScene(ok)), NotSupported);
   }
 }
 
