@@ -727,10 +727,7 @@ class CpuPipeline final : public HaloPipeline {
       forEach(n, kGrain, [&](std::uint32_t i) { count[i] = fillNear(pos, full, m_nearSkin, room, i) - m_candOffsets[i]; });
     count[n] = 0;
     m_nearOffsets.resize(std::size_t(n) + 1);
-    std::size_t bytes = 0;
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_nearOffsets.data(), std::size_t(n) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_nearOffsets.data(),
-                                std::size_t(n) + 1);
+    scanCounts(count, std::size_t(n) + 1, m_nearOffsets.data());
     m_near.resize(m_nearOffsets[n]);
     m_owner.resize(m_nearOffsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
@@ -773,10 +770,7 @@ class CpuPipeline final : public HaloPipeline {
     std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
     forEach(n, kGrain, [&](std::uint32_t i) { count[i] = candidateCount(s, i); });
     count[n] = 0;
-    std::size_t bytes = 0;
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_candOffsets.data(), std::size_t(n) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_candOffsets.data(),
-                                std::size_t(n) + 1);
+    scanCounts(count, std::size_t(n) + 1, m_candOffsets.data());
     const std::uint32_t total = m_candOffsets[n];
     m_cand.resize(total);  // keeps its capacity: no allocation once the size has settled
     std::uint32_t* key = tumble::detail::grow(m_candKey, total);
@@ -808,19 +802,14 @@ class CpuPipeline final : public HaloPipeline {
     forEach(n, kGrain, [&](std::uint32_t i) { count[i] = m_images.rowBound(s, i); });
     count[n] = 0;
     m_roomOffsets.resize(std::size_t(n) + 1);
-    std::size_t bytes = 0;
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_roomOffsets.data(), std::size_t(n) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_roomOffsets.data(),
-                                std::size_t(n) + 1);
+    scanCounts(count, std::size_t(n) + 1, m_roomOffsets.data());
     const std::uint32_t room = m_roomOffsets[n];
     std::uint32_t* rows = tumble::detail::grow(m_roomCand, room);
     std::uint32_t* key = tumble::detail::grow(m_candKey, room);
     forEach(n, kGrain, [&](std::uint32_t i) {
       count[i] = m_images.fillRow(s, m_orig.data(), i, rows + m_roomOffsets[i], key + m_roomOffsets[i]);
     });
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_candOffsets.data(), std::size_t(n) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_candOffsets.data(),
-                                std::size_t(n) + 1);
+    scanCounts(count, std::size_t(n) + 1, m_candOffsets.data());
     m_cand.resize(m_candOffsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
       std::copy(rows + m_roomOffsets[i], rows + m_roomOffsets[i] + count[i], m_cand.data() + m_candOffsets[i]);
@@ -889,9 +878,7 @@ class CpuPipeline final : public HaloPipeline {
     });
     count[n] = 0;
     out.offsets.resize(std::size_t(n) + 1);
-    std::size_t bytes = 0;
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, out.offsets.data(), std::size_t(n) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, out.offsets.data(), std::size_t(n) + 1);
+    scanCounts(count, std::size_t(n) + 1, out.offsets.data());
     out.key.resize(out.offsets[n]);
     out.hist.resize(out.offsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
@@ -1051,9 +1038,7 @@ class CpuPipeline final : public HaloPipeline {
     });
     count[n] = 0;
     m_meshOffsets.resize(std::size_t(n) + 1);
-    std::size_t bytes = 0;
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, m_meshOffsets.data(), std::size_t(n) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, m_meshOffsets.data(), std::size_t(n) + 1);
+    scanCounts(count, std::size_t(n) + 1, m_meshOffsets.data());
     m_meshTri.resize(m_meshOffsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
       std::uint32_t at = m_meshOffsets[i];
@@ -1063,6 +1048,14 @@ class CpuPipeline final : public HaloPipeline {
   }
 
   static bool isZero(Vec3f h) { return h.x == 0.0f && h.y == 0.0f && h.z == 0.0f; }
+
+  // out[k] = count[0] + … + count[k − 1] for k < len (the project's scan, scratch in m_temp):
+  // the offsets of every CSR list the pipeline builds.
+  void scanCounts(const std::uint32_t* count, std::size_t len, std::uint32_t* out) {
+    std::size_t bytes = 0;
+    exclusiveSum<std::uint32_t>(nullptr, bytes, count, out, len);
+    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, out, len);
+  }
 
   // Renumbers the bodies in Morton order of their centres; particles follow their bodies.
   void reorder() {
@@ -1090,8 +1083,7 @@ class CpuPipeline final : public HaloPipeline {
     std::uint32_t* first = tumble::detail::grow(m_first, std::size_t(nb) + 1);
     forEach(nb, kGrain, [&](std::uint32_t k) { count[k] = m_bodies[perm[k]].count; });
     count[nb] = 0;
-    exclusiveSum<std::uint32_t>(nullptr, bytes, count, first, std::size_t(nb) + 1);
-    exclusiveSum<std::uint32_t>(tumble::detail::grow(m_temp, bytes), bytes, count, first, std::size_t(nb) + 1);
+    scanCounts(count, std::size_t(nb) + 1, first);
     const std::uint32_t n = m_world.numParticles();
     m_bodiesNext.resize(nb);  // scratch between steps
     m_bodyStaticTmp.resize(nb);
