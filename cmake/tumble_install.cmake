@@ -16,9 +16,11 @@ set_target_properties(tumble_all PROPERTIES EXPORT_NAME tumble)
 if(TUMBLE_SANITIZE_LINK)
   target_link_options(tumble_all INTERFACE $<INSTALL_INTERFACE:${TUMBLE_SANITIZE_LINK}>)
 endif()
-set(_tumble_targets tumble_all tumble_core tumble_cpu tumble_pipelines)
+set(_tumble_targets tumble_all tumble_core tumble_primitives tumble_cpu tumble_gpu_host tumble_pipelines)
 set_target_properties(tumble_core PROPERTIES EXPORT_NAME core)
+set_target_properties(tumble_primitives PROPERTIES EXPORT_NAME primitives)
 set_target_properties(tumble_cpu PROPERTIES EXPORT_NAME cpu)
+set_target_properties(tumble_gpu_host PROPERTIES EXPORT_NAME cuda_host)
 set_target_properties(tumble_pipelines PROPERTIES EXPORT_NAME pipelines)
 if(TARGET tumble_gpu)
   set_target_properties(tumble_gpu PROPERTIES EXPORT_NAME cuda)
@@ -29,12 +31,17 @@ install(TARGETS ${_tumble_targets} EXPORT tumbleTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/include/ ${PROJECT_SOURCE_DIR}/cpu/include/
-                  ${PROJECT_BINARY_DIR}/generated/
+                  ${PROJECT_SOURCE_DIR}/cpu/primitives/include/ ${PROJECT_BINARY_DIR}/generated/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.hpp")
+# The CUDA pipeline's headers: host_pipeline.hpp always (cuda-host), cuda_pipeline.hpp with the
+# CUDA module only (it declares what only that module defines).
 if(TARGET tumble_gpu)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/gpu/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-          FILES_MATCHING PATTERN "*.hpp")
+  set(_tumble_gpu_headers PATTERN "*.hpp")
+else()
+  set(_tumble_gpu_headers PATTERN "host_pipeline.hpp")
 endif()
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/gpu/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        FILES_MATCHING ${_tumble_gpu_headers})
 if(TARGET tumble)
   install(TARGETS tumble RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()

@@ -52,6 +52,7 @@ DEADLINE=$((T0 + BUDGET))
 
 if [[ "$DRY" == 1 ]]; then
   PAIR=cpu GPU=cpu
+  GPU_FILTER='*/cuda_host'
   VALIDATION_FILTER='Backends/PairsTest.*/cpu:Backends/DeterminismTest.*/cpu'
   REQUIRE=()
   VALIDATE_ARGS=(--steps 50 --random 3)
@@ -59,7 +60,9 @@ if [[ "$DRY" == 1 ]]; then
   BENCH_PLAN=${BENCH_PLAN:-"16000:20:50:60 128000:20:30:60"}
 else
   PAIR=cpu,cuda GPU=cuda
-  VALIDATION_FILTER='*/cuda:Cuda*'
+  # The device's instances only (label gpu): their host-backend twins (*/cuda_host) run in CI.
+  GPU_FILTER='*/cuda'
+  VALIDATION_FILTER='*/cuda:CudaPrimitives*'
   REQUIRE=(TUMBLE_REQUIRE_CUDA=1)
   VALIDATE_ARGS=()
   if [[ "$STUDY_DEPTH" == full ]]; then STUDY_ARGS=(); else STUDY_ARGS=(--quick); fi
@@ -274,13 +277,13 @@ record 00 sanity PASS "$(elapsed)" "$gpu; $(echo "$ver" | grep '^cuda:' | cut -c
 GT=(--gtest_brief=1 --gtest_color=no)
 if want tests; then
   run_step 01 gtest gpu-tests 60 gpu_tests.log \
-    env LD_LIBRARY_PATH="$LDP" "${REQUIRE[@]}" "$BIN/tumble_gpu_tests" "${GT[@]}"
+    env LD_LIBRARY_PATH="$LDP" "${REQUIRE[@]}" "$BIN/tumble_gpu_tests" "${GT[@]}" --gtest_filter="$GPU_FILTER"
   run_step 02 gtest "validation-$GPU" 150 validation_cuda.log \
     env LD_LIBRARY_PATH="$LDP" "${REQUIRE[@]}" "$BIN/tumble_validation_tests" "${GT[@]}" --gtest_filter="$VALIDATION_FILTER"
 fi
 if want sync; then
   run_step 03 gtest gpu-tests-sync 60 gpu_tests_sync.log \
-    env LD_LIBRARY_PATH="$LDP" "${REQUIRE[@]}" TUMBLE_CUDA_SYNC=1 "$BIN/tumble_gpu_tests" "${GT[@]}"
+    env LD_LIBRARY_PATH="$LDP" "${REQUIRE[@]}" TUMBLE_CUDA_SYNC=1 "$BIN/tumble_gpu_tests" "${GT[@]}" --gtest_filter="$GPU_FILTER"
   run_step 04 gtest "validation-$GPU-sync" 180 validation_cuda_sync.log \
     env LD_LIBRARY_PATH="$LDP" "${REQUIRE[@]}" TUMBLE_CUDA_SYNC=1 "$BIN/tumble_validation_tests" "${GT[@]}" --gtest_filter="$VALIDATION_FILTER"
 fi

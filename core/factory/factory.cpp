@@ -6,6 +6,7 @@
 #include "tumble/cpu/cpu_pipeline.hpp"
 #include "tumble/error.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/gpu/host_pipeline.hpp"
 #if TUMBLE_HAS_CUDA
 #include "tumble/gpu/cuda_pipeline.hpp"
 #endif
@@ -14,9 +15,9 @@ namespace tumble {
 
 std::vector<Backend> compiledBackends() {
 #if TUMBLE_HAS_CUDA
-  return {Backend::Cpu, Backend::Cuda};
+  return {Backend::Cpu, Backend::Cuda, Backend::CudaHost};
 #else
-  return {Backend::Cpu};
+  return {Backend::Cpu, Backend::CudaHost};
 #endif
 }
 
@@ -40,6 +41,7 @@ std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& o
     throw Error("threads = " + std::to_string(options.threads) + ": expected 0 (all cores) to " +
                 std::to_string(kMaxThreads));
   if (backend == Backend::Cpu) return cpu::makeCpuPipeline(options);
+  if (backend == Backend::CudaHost) return gpu::makeCudaHostPipeline(options);
 #if TUMBLE_HAS_CUDA
   return gpu::makeCudaPipeline(options);  // requireReady(deviceStatus()) first
 #else

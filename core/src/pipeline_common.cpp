@@ -10,12 +10,19 @@
 
 namespace tumble {
 
-const char* toString(Backend b) { return b == Backend::Cpu ? "cpu" : "cuda"; }
+const char* toString(Backend b) {
+  switch (b) {
+    case Backend::Cpu: return "cpu";
+    case Backend::Cuda: return "cuda";
+    case Backend::CudaHost: return "cuda-host";
+  }
+  return "?";
+}
 
 Backend backendFromString(const std::string& s) {
-  if (s == "cpu") return Backend::Cpu;
-  if (s == "cuda") return Backend::Cuda;
-  throw Error("unknown pipeline '" + s + "' (expected cpu or cuda)");
+  for (Backend b : {Backend::Cpu, Backend::Cuda, Backend::CudaHost})
+    if (s == toString(b)) return b;
+  throw Error("unknown pipeline '" + s + "' (expected cpu, cuda or cuda-host)");
 }
 
 bool cudaRequired() {

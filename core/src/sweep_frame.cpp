@@ -27,11 +27,11 @@ BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks) 
 }
 
 // Both broadphases' axis from their chunk partials (addCovariance).
-Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std::uint32_t n) {
+Vec3f principalAxisFromPartials(const CovariancePartial* part, std::uint32_t numChunks, std::uint32_t n) {
   if (n < 2) return {0.0f, 0.0f, 1.0f};
   std::array<double, 9> s{};
   for (std::uint32_t c = 0; c < numChunks; ++c)
-    for (int k = 0; k < 9; ++k) s[k] += part[9 * std::size_t(c) + k];
+    for (int k = 0; k < 9; ++k) s[k] += part[c].a[k];
   const double nd = n;
   const double mx = s[0] / nd, my = s[1] / nd, mz = s[2] / nd;
   Eigen::Matrix3d cov;

@@ -143,13 +143,13 @@ void Broadphase::computeFrame(const BroadphaseInput& in, const BroadphaseParams&
   if (m_runsSinceAxis < 0 || m_runsSinceAxis >= std::max(1, params.pcaEvery)) {
     // Centred covariance (SPEC §3.1 fix) in double, per fixed chunk, shifted by particle 0 so
     // that the sums stay well conditioned; the chunks are combined in order.
-    double* cov = tumble::detail::grow(m_covPart, 9 * std::size_t(numChunks));
+    CovariancePartial* cov = tumble::detail::grow(m_covPart, numChunks);
     const double sx = in.x[0], sy = in.y[0], sz = in.z[0];
     tbb::parallel_for(std::uint32_t{0}, numChunks, [&](std::uint32_t c) {
-      double a[9] = {};
+      CovariancePartial a{};
       const std::uint32_t end = std::min(in.n, (c + 1) * kChunk);
-      for (std::uint32_t i = c * kChunk; i < end; ++i) addCovariance(a, in.x[i], in.y[i], in.z[i], sx, sy, sz);
-      std::copy(a, a + 9, cov + 9 * std::size_t(c));
+      for (std::uint32_t i = c * kChunk; i < end; ++i) addCovariance(a.a, in.x[i], in.y[i], in.z[i], sx, sy, sz);
+      cov[c] = a;
     });
     m_axis = principalAxisFromPartials(cov, numChunks, in.n);
     m_runsSinceAxis = 0;

@@ -61,7 +61,7 @@ class Broadphase {
   std::vector<std::uint32_t> m_vals, m_sortedVals, m_recParticle;
   std::vector<std::byte> m_temp;
   std::vector<tumble::detail::BoundsPartial> m_boundsPart;
-  std::vector<double> m_covPart;
+  std::vector<tumble::detail::CovariancePartial> m_covPart;
   // Sorted-record columns: the sweep reads contiguous runs of them (branch-free, vectorisable).
   std::vector<float> m_sx, m_sy, m_sz, m_sr, m_spz;
   std::vector<std::uint32_t> m_sp, m_sbody;

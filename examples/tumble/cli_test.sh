@@ -170,6 +170,30 @@ case "$cuda_state" in
   *) bad "--version has no cuda line: $(cat out.txt)" ;;
 esac
 
+# The tips printed after a run name the command as it was typed (here a path), so they work as
+# written: the export tip is run as printed.
+expect_status "run tips" 0 "$bin" run small.toml --record tips.bin
+tip=$(sed -n 's/.*for ParaView: \(.*\) DIR$/\1/p' err.txt)
+case "$tip" in
+  "$bin export tips.bin") $tip tips_vtk >/dev/null 2>&1 && [ -f tips_vtk/tips.pvd ] && ok "the printed export tip works" ||
+                          bad "the printed tip '$tip DIR' failed" ;;
+  *) bad "the tip names '$tip', not '$bin export tips.bin': $(cat err.txt)" ;;
+esac
+
+# The CUDA pipeline's code on the host backend (every build has it): validate requires it bitwise
+# equal to the CPU pipeline (one compiler), and a run writes the CPU run's state, byte for byte.
+"$bin" --version >version.txt 2>&1
+grep -q "^pipelines: .*cuda-host" version.txt && ok "--version names cuda-host" || bad "--version: no cuda-host: $(cat version.txt)"
+expect_status "validate cpu,cuda-host" 0 "$bin" validate --pipelines cpu,cuda-host --random 1 --steps 60 --scene small.toml
+grep -q "required: bitwise identical" out.txt && grep -q "body states bitwise identical after every step" out.txt &&
+  ok "validate cpu,cuda-host bitwise" || bad "validate cpu,cuda-host: $(tail -5 out.txt)"
+expect_status "run cuda-host" 0 "$bin" run small.toml --pipeline cuda-host --state-out host_state.csv -q
+expect_status "run cpu" 0 "$bin" run small.toml --pipeline cpu --state-out cpu_state.csv -q
+cmp -s host_state.csv cpu_state.csv && ok "cuda-host state equals cpu's" || bad "cuda-host state differs from cpu's"
+expect_status "unknown pipeline" 2 "$bin" run small.toml --pipeline gpu
+expect_msg "unknown pipeline" "unknown pipeline 'gpu' \(expected cpu, cuda or cuda-host\)"
+grep -q "this build: cpu" err.txt && ok "unknown pipeline names the build's" || bad "unknown pipeline: $(cat err.txt)"
+
 # The validation study: case list, a quick run of two cases into a folder, bad case ids.
 expect_status "validate --list" 0 "$bin" validate --list
 grep -q "^ground_restitution$" out.txt && ok "validate --list names the cases" || bad "validate --list: $(cat out.txt)"

@@ -130,8 +130,8 @@ void addBench(CLI::App& app) {
   addSetOption(c, o->sets, "; applies to every --scene file (and needs one); --skin wins over it");
   c->add_option("--threads", o->threads, "Thread counts to sweep, 0 = all cores")->delimiter(',')
       ->check(countIn(0, kMaxThreads));
-  c->add_option("--pipeline", o->pipelines, "Pipelines: cpu and/or cuda")->delimiter(',')
-      ->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--pipeline", o->pipelines, "Pipelines to time, comma-separated (default cpu)")->delimiter(',')
+      ->check(pipelineName());
   c->add_option("--skin", o->skin, "Verlet skin (0 = detect every step; default: the scene's, else automatic)");
   c->add_option("--warmup", o->warmup, "Untimed steps before the window")->check(CLI::NonNegativeNumber);
   c->add_option("--steps", o->steps, "Steps in the timed window")->check(CLI::PositiveNumber);

@@ -54,7 +54,7 @@ void addPairs(CLI::App& app) {
   CLI::App* c = app.add_subcommand("pairs", "Broadphase alone: print every overlapping pair i,j of a CSV particle list");
   c->add_option("particles", o->file, "CSV file: header x,y,z,r,body then one particle per row")->required();
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores")->check(countIn(0, kMaxThreads));
-  c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--pipeline", o->pipeline, "Pipeline (default cpu)")->check(pipelineName());
   c->add_option("--cell-size", o->cellSize, "Cell side of the 2-D subdivision (0 = automatic)")
       ->check(CLI::NonNegativeNumber);
   c->callback([o] { pairs(*o); });

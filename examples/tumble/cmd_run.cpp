@@ -390,9 +390,10 @@ void run(RunOptions o) {
       std::error_code ec;
       if (!namesDescriptor(rec->path()) && std::filesystem::is_regular_file(rec->path(), ec))  // what next
         std::fprintf(stderr,
-                     "  watch it: tumble play %s    make a video: tumble render %s -o video.mp4    "
-                     "for ParaView: tumble export %s DIR\n",
-                     rec->path().c_str(), rec->path().c_str(), rec->path().c_str());
+                     "  watch it: %s play %s    make a video: %s render %s -o video.mp4    "
+                     "for ParaView: %s export %s DIR\n",
+                     invokedAs().c_str(), rec->path().c_str(), invokedAs().c_str(), rec->path().c_str(),
+                     invokedAs().c_str(), rec->path().c_str());
     }
   }
   onWriter([&] {
@@ -451,7 +452,7 @@ void addRun(CLI::App& app) {
       ->check(countIn(1, kMaxSteps));
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores (results do not depend on it)")
       ->check(countIn(0, kMaxThreads));
-  c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--pipeline", o->pipeline, "Pipeline (default cpu)")->check(pipelineName());
   c->add_option("--decomposition", o->decomposition,
                 "Under mpirun: how the domain is cut among the ranks, rcb (recursive bisection, default) or slabs "
                 "(results do not depend on it; docs/mpi.md)")

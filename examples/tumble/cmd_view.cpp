@@ -278,7 +278,7 @@ void addView(CLI::App& app) {
   CLI::App* c = app.add_subcommand("view", "Live window: simulate a scene and draw it, with the pulls on the keys");
   c->add_option("scene", o->scene, "Scene file, e.g. scenes/molecules.toml")->required();
   addSetOption(c, o->sets, "");
-  c->add_option("--pipeline", o->pipeline, "Pipeline: cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--pipeline", o->pipeline, "Pipeline (default cpu)")->check(pipelineName());
   c->add_option("--threads", o->threads, "Worker threads, 0 = all cores")->check(countIn(0, kMaxThreads));
   c->add_option("--record", o->record,
                 "Record from the start into FILE (C switches recording on and off; default file view.bin; each "

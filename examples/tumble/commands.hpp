@@ -57,6 +57,18 @@ std::optional<std::uint64_t> parseCount(const std::string& text, std::uint64_t l
 /// The CLI11 check of a count option: parseCount(text, lo, hi) must succeed.
 CLI::Validator countIn(std::uint64_t lo, std::uint64_t hi);
 
+/// The command as the user can type it again: argv[0] when it names a path ("build/examples/tumble",
+/// "./tumble"), else "tumble" (found on PATH). For the tips a command prints.
+const std::string& invokedAs();
+
+/// The pipelines this build has (compiledBackends(): "cpu, cuda-host" or "cpu, cuda, cuda-host").
+std::string compiledPipelines();
+
+/// The CLI11 check of a --pipeline value: a pipeline name (backendFromString). A pipeline this
+/// build or machine cannot run passes the check and is refused when the command asks for it,
+/// saying why (requireBackend()). The type name lists the pipelines this build has.
+CLI::Validator pipelineName();
+
 /// Adds `--set SECTION.KEY=VALUE` (repeatable, one override per --set) to a command that reads
 /// scene files: the overrides are passed to readSceneFile (tumble/scene_io.hpp). `note` ends the
 /// help text.

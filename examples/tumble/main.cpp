@@ -30,6 +30,31 @@ CLI::Validator tumble::cli::countIn(std::uint64_t lo, std::uint64_t hi) {
       "INT " + range);
 }
 
+namespace {
+std::string g_invokedAs = "tumble";
+}
+
+const std::string& tumble::cli::invokedAs() { return g_invokedAs; }
+
+std::string tumble::cli::compiledPipelines() {
+  std::string out;
+  for (tumble::Backend b : tumble::compiledBackends()) out += std::string(out.empty() ? "" : ", ") + tumble::toString(b);
+  return out;
+}
+
+CLI::Validator tumble::cli::pipelineName() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        try {
+          tumble::backendFromString(s);
+          return {};
+        } catch (const tumble::Error& e) {
+          return std::string(e.what()) + "; this build: " + compiledPipelines();
+        }
+      },
+      "PIPELINE (this build: " + compiledPipelines() + ")");
+}
+
 CLI::Option* tumble::cli::addSetOption(CLI::App* command, std::vector<std::string>& sets, const std::string& note) {
   return command
       ->add_option("--set", sets,
@@ -60,6 +85,7 @@ std::string subcommandOf(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 0 && std::string(argv[0]).find('/') != std::string::npos) g_invokedAs = argv[0];
   // Under mpirun MPI starts here (docs/mpi.md); only `run` runs on several ranks, every rank exits
   // with the same status, and only rank 0 prints.
   std::unique_ptr<tumble::mpi::Session> session;
@@ -84,6 +110,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", [] {
     std::string v = "tumble " TUMBLE_VERSION_STRING "\npipelines:";
     for (tumble::Backend b : tumble::compiledBackends()) v += std::string(" ") + tumble::toString(b);
+    v += " (cuda-host: the CUDA pipeline's code on the CPU, for testing; not a fast path)";
     const tumble::CudaStatus s = tumble::cudaStatus();
     const char* state = s.state == tumble::CudaState::Ready ? "ready" : s.state == tumble::CudaState::NoDevice
                                                                           ? "no device"

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Smoke tests of the CUDA pipeline on its own: the broadphase against an O(N²) loop over the
-// shared predicate, and a few steps of a clump scene with ground. The cross-backend tests
-// (CPU and GPU stepped side by side) live in validation/. Every test skips without a device;
-// nothing here touches CUDA before a test body runs (gtest_discover_tests lists the tests at
-// build time, possibly on a machine without a GPU).
+// Smoke tests of the CUDA pipeline on its own, on each backend of its execution layer (cuda-host
+// everywhere, cuda where built): the broadphase against an O(N²) loop over the shared predicate,
+// and a few steps of a clump scene with ground. The cross-backend tests (the CPU pipeline and
+// the CUDA pipeline stepped side by side) live in validation/. The cuda instances skip without a
+// device; nothing here touches CUDA before a test body runs (gtest_discover_tests lists the
+// tests at build time, possibly on a machine without a GPU).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "tumble/gpu/cuda_pipeline.hpp"
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/random.hpp"
@@ -21,11 +21,10 @@ using namespace tumble;
 
 namespace {
 
-class GpuSmokeTest : public ::testing::Test {
+class GpuSmokeTest : public ::testing::TestWithParam<Backend> {
  protected:
-  void SetUp() override {
-    TUMBLE_NEED_CUDA(gpu::deviceStatus());
-  }
+  void SetUp() override { TUMBLE_NEED_BACKEND(GetParam()); }
+  std::unique_ptr<Pipeline> make() const { return makePipeline(GetParam()); }
 };
 
 std::vector<Pair> bruteForce(const ParticleCloud& c) {
@@ -54,9 +53,9 @@ ParticleCloud randomCloud(std::uint32_t n, std::uint64_t seed, float offset, flo
 
 }  // namespace
 
-TEST_F(GpuSmokeTest, FindPairsMatchesBruteForce) {
-  auto p = gpu::makeCudaPipeline();
-  ASSERT_EQ(p->backend(), Backend::Cuda);
+TEST_P(GpuSmokeTest, FindPairsMatchesBruteForce) {
+  auto p = make();
+  ASSERT_EQ(p->backend(), GetParam());
   struct Case {
     std::uint32_t n;
     float offset, rMin, rMax;
@@ -73,8 +72,8 @@ TEST_F(GpuSmokeTest, FindPairsMatchesBruteForce) {
   }
 }
 
-TEST_F(GpuSmokeTest, FindPairsRejectsNonFinite) {
-  auto p = gpu::makeCudaPipeline();
+TEST_P(GpuSmokeTest, FindPairsRejectsNonFinite) {
+  auto p = make();
   ParticleCloud c = randomCloud(100, 7, 0.0f, 0.1f, 0.2f);
   c.y[42] = std::nanf("");
   c.x[77] = INFINITY;
@@ -86,7 +85,7 @@ TEST_F(GpuSmokeTest, FindPairsRejectsNonFinite) {
   }
 }
 
-TEST_F(GpuSmokeTest, StepRunsOnAClumpSceneWithGround) {
+TEST_P(GpuSmokeTest, StepRunsOnAClumpSceneWithGround) {
   Scene s;
   s.dt = 1.0e-4f;
   s.ground.enabled = true;
@@ -102,7 +101,7 @@ TEST_F(GpuSmokeTest, StepRunsOnAClumpSceneWithGround) {
     s.bodies.push_back(b);
   }
   const World w = World::fromScene(s);
-  auto p = gpu::makeCudaPipeline();
+  auto p = make();
   p->load(w);
   p->setDebugCapture(true);
   p->step(50);
@@ -122,3 +121,36 @@ TEST_F(GpuSmokeTest, StepRunsOnAClumpSceneWithGround) {
   EXPECT_EQ(dbg.contacts, p->pairs());
   for (const Pair& q : p->pairs()) EXPECT_LT(q.i, q.j);
 }
+
+// A pipeline loaded again after an odd number of steps (a pour's reload, a resumed run) has the
+// new world's positions at once, before any step: as the CPU pipeline's, bit for bit.
+TEST_P(GpuSmokeTest, ReloadedPositionsAreTheNewWorlds) {
+  Scene s;
+  s.dt = 1.0e-4f;
+  s.ground.enabled = true;
+  s.shapes = {ShapeDef{"pair", {SphereDef{{-0.1f, 0, 0}, 0.1f, 1.0f, 0.5f}, SphereDef{{0.1f, 0, 0}, 0.12f, 1.5f, 0.7f}}}};
+  for (int i = 0; i < 20; ++i) {
+    BodyDef b;
+    b.position = {0.5f * float(i % 5), 0.5f * float(i / 5), 0.3f};
+    b.angularVelocity = {1.0f, 2.0f, float(i)};
+    s.bodies.push_back(b);
+  }
+  const World first = World::fromScene(s);
+  for (BodyDef& b : s.bodies) b.position.z += 1.0f;
+  s.bodies.resize(17);
+  const World second = World::fromScene(s);
+  auto p = make();
+  auto cpu = makePipeline(Backend::Cpu);
+  std::vector<float> got, want;
+  for (Pipeline* q : {p.get(), cpu.get()}) {
+    q->load(first);
+    q->step(1);
+    q->load(second);
+    q->readLocalPositions(q == p.get() ? got : want);
+  }
+  ASSERT_EQ(got.size(), 3 * std::size_t(second.numParticles()));
+  EXPECT_EQ(got, want);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, GpuSmokeTest, ::testing::ValuesIn(tumble_test::cudaPipelineBackends()),
+                         tumble_test::backendName);

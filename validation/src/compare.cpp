@@ -132,16 +132,26 @@ BodyState stateAfter(Backend backend, const World& world, std::uint64_t steps, c
 }
 
 std::optional<StepDifference> firstStepDifference(Pipeline& a, const World& worldA, Pipeline& b, const World& worldB,
-                                                  std::uint64_t steps, bool debug) {
-  a.load(worldA);
-  b.load(worldB);
+                                                  std::uint64_t steps, bool debug, const Pouring* pouring) {
+  World wa = worldA, wb = worldB;  // grown by the pours
+  a.load(wa);
+  b.load(wb);
   a.setDebugCapture(debug);
   b.setDebugCapture(debug);
   BodyState sa, sb;
   ParticleDebug da, db;
   for (std::uint64_t s = 1; s <= steps; ++s) {
-    a.step(1);
-    b.step(1);
+    if (pouring != nullptr) {
+      pouring->step(a, wa, 1, nullptr);
+      pouring->step(b, wb, 1, nullptr);
+      if (wa.numBodies() != wb.numBodies())
+        return StepDifference{s, "step " + std::to_string(s) + ": the pours brought " +
+                                     std::to_string(wa.numBodies()) + " vs " + std::to_string(wb.numBodies()) +
+                                     " bodies"};
+    } else {
+      a.step(1);
+      b.step(1);
+    }
     const std::string at = "step " + std::to_string(s) + ": ";
     if (const std::string d = firstDifference(a.pairs(), b.pairs()); !d.empty())
       return StepDifference{s, at + "pairs: " + d + " (of the second against the first)"};

@@ -40,6 +40,26 @@ Scene withHertzMindlin(Scene s, float youngsModulus, bool twoMaterials) {
   return s;
 }
 
+Scene modelProbe(ContactLaw law, bool wall) {
+  Scene s;
+  s.dt = 1e-4f;
+  s.ground.enabled = true;
+  s.shapes = {sphereShape(0.1f, 1.0f, 0.5f)};
+  BodyDef b;
+  b.position = {0.0f, 0.0f, 0.1f};
+  s.bodies = {b};
+  if (wall) {
+    WallDef w;
+    w.point = {1.0f, 0.0f, 0.0f};
+    w.normal = {-1.0f, 0.0f, 0.0f};
+    w.contact = wallContact(1.0e4f, 0.5f);
+    s.walls = {w};
+  }
+  if (law == ContactLaw::HookeHistory) return withHookeHistory(s);
+  if (law == ContactLaw::HertzMindlin) return withHertzMindlin(s);
+  return s;
+}
+
 std::string sourcePath(const std::string& relative) {
   // The source tree while it is there (a build), else the installed data (share/tumble: the
   // scenes that `tumble validate` and `tumble bench` read).

@@ -25,7 +25,7 @@ namespace {
 class PairsTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
+    TUMBLE_NEED_BACKEND(GetParam());
   }
 };
 
@@ -301,4 +301,4 @@ TEST_P(PairsTest, OneLargeSphereAmongManySmall) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, PairsTest, ::testing::ValuesIn(compiledBackends()),
-                         [](const auto& info) { return std::string(toString(info.param)); });
+                         tumble_test::backendName);

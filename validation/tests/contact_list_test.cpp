@@ -24,7 +24,7 @@ namespace {
 class ContactListTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
+    TUMBLE_NEED_BACKEND(GetParam());
   }
 };
 
@@ -120,13 +120,13 @@ TEST_P(ContactListTest, Bench16kDoesNotDependOnHowContactsAreFound) {
 // With a tangential history per contact (hooke-history): it follows the contacts across every
 // rebuild and renumbering, so it does not depend on how they were found either.
 TEST_P(ContactListTest, HookeHistoryDoesNotDependOnHowContactsAreFound) {
-  if (GetParam() == Backend::Cuda) GTEST_SKIP() << "the CUDA pipeline runs the report's law only so far";
+  TUMBLE_SKIP_IF_NOT_SUPPORTED(GetParam(), modelProbe(ContactLaw::HookeHistory));
   expectInvariant(GetParam(), "scenes/molecules.toml", 1500, ContactLaw::HookeHistory);
   expectInvariant(GetParam(), "scenes/spheres.toml", 1500, ContactLaw::HookeHistory);
 }
 // hertz-mindlin with two materials (a per-pair table, rolling resistance between some pairs).
 TEST_P(ContactListTest, HertzMindlinDoesNotDependOnHowContactsAreFound) {
-  if (GetParam() == Backend::Cuda) GTEST_SKIP() << "the CUDA pipeline runs the report's law only so far";
+  TUMBLE_SKIP_IF_NOT_SUPPORTED(GetParam(), modelProbe(ContactLaw::HertzMindlin));
   expectInvariant(GetParam(), "scenes/molecules.toml", 1500, ContactLaw::HertzMindlin);
   expectInvariant(GetParam(), "scenes/spheres.toml", 1500, ContactLaw::HertzMindlin);
 }
@@ -374,4 +374,4 @@ TEST_P(ContactListTest, SkinIsReusedAndCounted) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ContactListTest, ::testing::ValuesIn(compiledBackends()),
-                         [](const auto& info) { return std::string(toString(info.param)); });
+                         tumble_test::backendName);

@@ -13,8 +13,8 @@
 #include <random>
 #include <vector>
 
-#include "cub_primitives.cuh"  // gpu/src
-#include "test_util.hpp"       // cpu/tests: sameArray, testSizes
+#include "cpu/tests/test_util.hpp"      // sameArray, testSizes
+#include "gpu/src/cub_primitives.cuh"
 #include "tumble/cpu/radix_sort.hpp"
 #include "tumble/cpu/scan.hpp"
 #include "tumble_test/cuda_gate.hpp"

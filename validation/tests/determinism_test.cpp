@@ -18,7 +18,7 @@ namespace {
 class DeterminismTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
+    TUMBLE_NEED_BACKEND(GetParam());
   }
 };
 
@@ -78,4 +78,4 @@ TEST(PipelineOptionsTest, ThreadCountOutOfRangeIsAnError) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, DeterminismTest, ::testing::ValuesIn(compiledBackends()),
-                         [](const auto& info) { return std::string(toString(info.param)); });
+                         tumble_test::backendName);

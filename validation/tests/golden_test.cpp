@@ -53,9 +53,19 @@ void checkGoldenHashes(Backend backend, std::initializer_list<int> threadCounts)
 
 TEST(Golden, CpuStateHashesMatch) { checkGoldenHashes(Backend::Cpu, {1, 2}); }
 
-// The CUDA pipeline's state is the CPU's bit for bit (TUMBLE_STRICT_FP): the same hashes.
-TEST(CudaGolden, StateHashesMatch) {
-  TUMBLE_NEED_CUDA(cudaStatus());
-  if (!TUMBLE_STRICT_FP) GTEST_SKIP() << "TUMBLE_STRICT_FP=OFF: nvcc may contract multiply-adds";
-  checkGoldenHashes(Backend::Cuda, {0});
+// The CUDA pipeline's state is the CPU's bit for bit: the same hashes, on the host backend (with 1
+// and 2 threads) and on a GPU (TUMBLE_STRICT_FP: without it nvcc may contract multiply-adds).
+class CudaGolden : public ::testing::TestWithParam<Backend> {};
+
+TEST_P(CudaGolden, StateHashesMatch) {
+  TUMBLE_NEED_BACKEND(GetParam());
+  if (GetParam() == Backend::Cuda) {
+    if (!TUMBLE_STRICT_FP) GTEST_SKIP() << "TUMBLE_STRICT_FP=OFF: nvcc may contract multiply-adds";
+    checkGoldenHashes(Backend::Cuda, {0});
+  } else {
+    checkGoldenHashes(GetParam(), {1, 2});
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, CudaGolden, ::testing::ValuesIn(tumble_test::cudaPipelineBackends()),
+                         tumble_test::backendName);

@@ -17,13 +17,14 @@
 #include "tumble/world.hpp"
 
 using namespace tumble;
+using tumble::validation::modelProbe;
 
 namespace {
 
 class GuardTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
+    TUMBLE_NEED_BACKEND(GetParam());
   }
 };
 
@@ -152,7 +153,7 @@ TEST_P(GuardTest, TripsOnAnUnstableTimeStep) {
 // energy as the pile alone does (moving walls do work the guard does not measure, so it skips
 // the energy test only while one moves).
 TEST_P(GuardTest, AWallThatStoppedMovingLeavesTheEnergyGuardOn) {
-  if (GetParam() == Backend::Cuda) GTEST_SKIP() << "the CUDA pipeline has no walls yet";
+  TUMBLE_SKIP_IF_NOT_SUPPORTED(GetParam(), modelProbe(ContactLaw::Report, /*wall=*/true));
   Scene s = pile(2e-2f);
   WallDef belt;
   belt.point = {50.0f, 0.0f, 0.0f};
@@ -438,4 +439,4 @@ TEST(Guard, DivergenceMessageNamesParticleBodyAndDt) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, GuardTest, ::testing::ValuesIn(compiledBackends()),
-                         [](const auto& info) { return std::string(toString(info.param)); });
+                         tumble_test::backendName);

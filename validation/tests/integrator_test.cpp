@@ -21,7 +21,7 @@ namespace {
 class IntegratorTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam() == Backend::Cuda) TUMBLE_NEED_CUDA(cudaStatus());
+    TUMBLE_NEED_BACKEND(GetParam());
   }
 };
 
@@ -161,4 +161,4 @@ TEST(IntegratorKernel, SplittingIsExactForSpinAboutAPrincipalAxis) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, IntegratorTest, ::testing::ValuesIn(compiledBackends()),
-                         [](const auto& info) { return std::string(toString(info.param)); });
+                         tumble_test::backendName);

@@ -16,15 +16,20 @@
 
 namespace tumble {
 
-/// Which implementation of the pipeline.
-enum class Backend { Cpu, Cuda };
+/// Which implementation of the pipeline. Cpu: the CPU reference pipeline on oneTBB. Cuda: the
+/// CUDA pipeline on a GPU. CudaHost: the CUDA pipeline's own code on the host backend of its
+/// execution layer (oneTBB, host memory; every build has it): for testing the CUDA pipeline and
+/// checking a GPU result without a GPU, not a fast path (docs/cuda.md).
+enum class Backend { Cpu, Cuda, CudaHost };
 
-/// "cpu" / "cuda".
+/// "cpu" / "cuda" / "cuda-host".
 const char* toString(Backend b);
-/// Parses "cpu" / "cuda"; throws tumble::Error otherwise.
+/// Parses "cpu" / "cuda" / "cuda-host"; throws tumble::Error otherwise.
 Backend backendFromString(const std::string& s);
-/// Backends compiled into this build.
+/// Backends compiled into this build: cpu, cuda (with the CUDA module), cuda-host.
 std::vector<Backend> compiledBackends();
+/// Whether b runs the CUDA pipeline's code (Cuda or CudaHost).
+inline bool isCudaPipeline(Backend b) { return b == Backend::Cuda || b == Backend::CudaHost; }
 
 /// Whether the CUDA pipeline can run here. NoDevice: the build has no CUDA module, or the
 /// machine has no CUDA device or no driver at all. Broken: a device may be there but CUDA

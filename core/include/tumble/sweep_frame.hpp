@@ -65,27 +65,20 @@ TUMBLE_HD_INLINE void mergeBounds(BoundsPartial& left, const BoundsPartial& righ
 }
 
 /// The bounds of particles [begin, end) added in index order (empty when begin ≥ end): a CPU
-/// chunk, or one thread's share of it in the CUDA block below.
+/// chunk.
 TUMBLE_HD_INLINE BoundsPartial boundsOfRange(const BroadphaseInput& in, std::uint32_t begin, std::uint32_t end) {
   BoundsPartial b = emptyBounds();
   for (std::uint32_t i = begin; i < end; ++i) addParticle(b, i, in.x[i], in.y[i], in.z[i], in.r[i]);
   return b;
 }
 
-/// The CUDA bounds pass reduces each chunk with one block of kBoundsThreads threads, each taking
-/// kBoundsPerThread contiguous particles (boundsOfRange), then combines them as a tree.
-inline constexpr std::uint32_t kBoundsThreads = 256;
-inline constexpr std::uint32_t kBoundsPerThread = kChunk / kBoundsThreads;
-static_assert(kChunk % kBoundsThreads == 0, "a bounds chunk must split evenly over one block");
+/// A chunk's covariance sums (k: Σx, Σy, Σz, Σx², Σy², Σz², Σxy, Σxz, Σyz of the coordinates
+/// shifted by particle 0).
+struct CovariancePartial {
+  double a[9];
+};
 
-/// One level of that tree, for thread t, with stride d = 1, 2, 4, …: after the level, part[t] (t a
-/// multiple of 2d) covers threads [t, t + 2d), so every merge joins two contiguous ranges, the
-/// lower on the left, and the result is the chunk's bounds bit for bit (mergeBounds).
-TUMBLE_HD_INLINE void boundsTreeStep(BoundsPartial* part, std::uint32_t t, std::uint32_t d) {
-  if ((t & (2 * d - 1)) == 0) mergeBounds(part[t], part[t + d]);
-}
-
-/// Adds one particle to a covariance chunk partial a[9] (the layout of principalAxisFromPartials)
+/// Adds one particle to a covariance chunk partial a[9] (CovariancePartial::a)
 /// with the coordinates shifted by (sx, sy, sz): one rounding per operation, never contracted
 /// (__dadd_rn and __dmul_rn on the device, -ffp-contract=off on the host), so that both
 /// pipelines' partials, summed in index order within each chunk, are the same bits.
@@ -122,10 +115,9 @@ TUMBLE_HD_INLINE void addCovariance(double* a, float px, float py, float pz, dou
 /// Combines per-chunk partials in chunk order (host).
 BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks);
 
-/// Principal axis from the covariance chunk partials part[9 c + k] (k: Σx, Σy, Σz, Σx², Σy², Σz²,
-/// Σxy, Σxz, Σyz of the coordinates shifted by particle 0), summed in chunk order, then the same
-/// Eigen solve and sign rule as the CPU's principalAxis. n ≥ 2.
-Vec3f principalAxisFromPartials(const double* part, std::uint32_t numChunks, std::uint32_t n);
+/// Principal axis from the covariance chunk partials, summed in chunk order, then the same Eigen
+/// solve and sign rule as the CPU's principalAxis. n ≥ 2.
+Vec3f principalAxisFromPartials(const CovariancePartial* part, std::uint32_t numChunks, std::uint32_t n);
 
 /// The CPU's Broadphase::computeFrame after the bounds and axis: frame axes, centre, slack,
 /// cell size and cell counts. Returns the number of cell bits of the sort key. The automatic

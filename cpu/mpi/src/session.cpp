@@ -85,9 +85,9 @@ std::unique_ptr<Pipeline> Session::makePipeline(Backend backend, const PipelineO
                                                 Decomposition how) const {
   if (!m_active) return tumble::makePipeline(backend, options);
   if (backend != Backend::Cpu)
-    throw Error(std::string("--pipeline ") + toString(backend) +
-                " under mpirun: not yet (each rank runs the CPU pipeline; one rank per GPU is planned, docs/mpi.md); "
-                "use --pipeline cpu");
+    throw NotSupported(std::string("--pipeline ") + toString(backend) +
+                       " under mpirun: not yet (each rank runs the CPU pipeline; one rank per GPU is planned, "
+                       "docs/mpi.md); use --pipeline cpu");
   return makeMpiPipeline(options, how);
 }
 

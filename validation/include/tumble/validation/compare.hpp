@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tumble/pipeline.hpp"
+#include "tumble/pour.hpp"
 
 namespace tumble::validation {
 
@@ -75,9 +76,10 @@ struct StepDifference {
 /// steps them side by side for `steps` steps, comparing after every step the pair lists, every
 /// bit of the state (bodies, plane springs, contact histories: firstDifference()) and, with
 /// `debug`, every bit of the per-particle debug velocities and forces (readDebug()); stops at the
-/// first difference. nullopt: identical throughout.
+/// first difference. nullopt: identical throughout. With `pouring` (the scene's pours), each
+/// pipeline steps through Pouring::step, so that the bodies due enter both at the batch steps.
 std::optional<StepDifference> firstStepDifference(Pipeline& a, const World& worldA, Pipeline& b, const World& worldB,
-                                                  std::uint64_t steps, bool debug);
+                                                  std::uint64_t steps, bool debug, const Pouring* pouring = nullptr);
 
 /// Steps pipelines a and b from the same world for `steps` steps and compares the body state
 /// (and the pair lists) after every step.

@@ -47,6 +47,11 @@ Scene withHookeHistory(Scene s, float gammaN = 100.0f, float friction = 0.5f);
 /// near those of their linear springs.
 Scene withHertzMindlin(Scene s, float youngsModulus = 1.0e6f, bool twoMaterials = false);
 
+/// One sphere resting on the ground under `law` (hertz-mindlin: withHertzMindlin's material), and
+/// a plane wall beside it when `wall`: a probe that asks a pipeline at load whether it has the
+/// model (tumble::NotSupported; TUMBLE_SKIP_IF_NOT_SUPPORTED).
+Scene modelProbe(ContactLaw law, bool wall = false);
+
 /// A shape of one sphere (radius r, mass m, elasticity e) at its centre, named "sphere".
 ShapeDef sphereShape(float r, float m, float e);
 

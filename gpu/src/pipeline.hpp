@@ -1,0 +1,700 @@
+// SPDX-License-Identifier: MIT
+// The CUDA pipeline (SPEC §2–§4), written once over the execution layer (exec/exec.hpp) and
+// compiled twice: by nvcc for the device (CudaExec: cuda_pipeline.cu, Backend::Cuda) and by g++
+// for the host backend (HostExec: host_pipeline.cpp, Backend::CudaHost). The CPU pipeline's
+// stages (cpu/src/cpu_pipeline.cpp), one kernel per stage.
+//
+// Design notes
+// - Same functions, same bits. Every per-element decision or force is a shared TUMBLE_HD
+//   function of core/ (kernels/step.hpp, kernels/contact_list.hpp), called with the same
+//   arguments as on the CPU; with --fmad=false (TUMBLE_STRICT_FP) the state is bit-identical to
+//   the CPU pipeline's after every step. The CPU fuses the force and integration stages into one
+//   pass over the bodies; here they are two (particleForce per particle, then finishBody per
+//   body, which adds its particles' forces in their order): the same sums in the same order.
+// - Contacts as state. The candidate list is rebuilt only when the skin test asks (the drift
+//   since the last rebuild: a max and a box of displacements, by integer atomics on
+//   order-preserving images of the floats, exact in any order); the rows are sorted by scene
+//   index, so the contacts and their order do not depend on the sweep's output order, the skin or
+//   the internal numbering.
+// - Determinism of the run itself: every output element has one writer, scans are integer scans,
+//   sorts are stable, and the only atomics are an integer max/min and an integer count.
+// - Host synchronisation: per step one small read-back (the skin test and the contact count);
+//   at a rebuild also the broadphase's (bounds, record and entry totals) and the list's total.
+// - Host memory handed to a copy stays as it is until the stream has reached the copy (members,
+//   or locals that outlive a synchronize()): the host backend checks it (host_exec.hpp).
+#pragma once
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "broadphase.hpp"
+#include "exec/exec.hpp"
+#include "tumble/error.hpp"
+#include "tumble/guard.hpp"
+#include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/step.hpp"
+#include "tumble/mesh.hpp"
+#include "tumble/pipeline.hpp"
+#include "tumble/sweep_frame.hpp"
+
+namespace tumble::gpu::detail {
+inline namespace TUMBLE_EXEC_ABI {  // one copy per compiler (exec.hpp)
+
+// --- Per-element functors: the stages' bodies, each a call of a shared function --------------
+
+// Stage 1 at a rebuild: particle positions from the bodies.
+template <bool kClumps>
+struct StateFn {
+  const BodyRow* bodies;
+  const OwnRow* own;
+  const float* radius;
+  PosRow* pos;
+  TUMBLE_HD void operator()(std::uint32_t k) const {
+    bodyParticles<kClumps>(bodies[k], own, radius, nullptr, pos, nullptr);
+  }
+};
+
+// The detection's input columns (radii grown by skin/2) and the build positions.
+struct DetectionInputFn {
+  const PosRow* pos;
+  float halfSkin;
+  float *x, *y, *z, *r;
+  PosRow* buildPos;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    detectionInput(pos, i, halfSkin, x, y, z, r);
+    buildPos[i] = pos[i];
+  }
+};
+
+// Element n writes the trailing zero of the counts.
+struct CandidateCountFn {
+  SweepListView s;
+  std::uint32_t n;
+  std::uint32_t* counts;
+  TUMBLE_HD void operator()(std::uint32_t i) const { counts[i] = i < n ? candidateCount(s, i) : 0u; }
+};
+
+struct CandidateFillFn {
+  SweepListView s;
+  const std::uint32_t* orig;
+  const std::uint32_t* offsets;
+  std::uint32_t* cand;
+  std::uint32_t* key;
+  TUMBLE_HD void operator()(std::uint32_t i) const { fillCandidates(s, orig, offsets, cand, key, i); }
+};
+
+// The reordering: the bounds of the body centres, Morton keys, then gathers in the sorted order.
+struct BodyBoundsOp {
+  const BodyRow* bodies;
+  using Value = tumble::detail::BoundsPartial;
+  static constexpr bool kAnyGrouping = true;  // min and max: exact in any grouping
+  TUMBLE_HD Value identity() const { return tumble::detail::emptyBounds(); }
+  TUMBLE_HD void add(Value& b, std::uint32_t k) const {
+    tumble::detail::addParticle(b, k, bodies[k].x.x, bodies[k].x.y, bodies[k].x.z, 1.0f);
+  }
+  TUMBLE_HD void merge(Value& left, const Value& right) const { tumble::detail::mergeBounds(left, right); }
+};
+
+struct MortonKeyFn {
+  const BodyRow* bodies;
+  MortonGrid g;
+  std::uint32_t* keys;
+  std::uint32_t* vals;
+  TUMBLE_HD void operator()(std::uint32_t k) const {
+    keys[k] = mortonKey(g, bodies[k].x);
+    vals[k] = k;
+  }
+};
+
+// Element numBodies writes the trailing zero of the counts.
+struct PermutedCountFn {
+  const BodyRow* bodies;
+  const std::uint32_t* perm;
+  std::uint32_t numBodies;
+  std::uint32_t* counts;
+  TUMBLE_HD void operator()(std::uint32_t k) const { counts[k] = k < numBodies ? bodies[perm[k]].count : 0u; }
+};
+
+// The reordering's gathers (moveBody, kernels/contact_list.hpp), one body per element.
+struct MoveBodiesFn {
+  const BodyRow* bodies;
+  const BodyStatic* bodyStatic;
+  const std::uint32_t* perm;
+  const std::uint32_t* first;
+  std::uint32_t n, numPlanes;
+  ReorderColumns from;
+  BodyRow* outBodies;
+  BodyStatic* outStatic;
+  ReorderColumns to;
+  TUMBLE_HD void operator()(std::uint32_t k) const {
+    moveBody(bodies, bodyStatic, perm, first, k, n, numPlanes, from, outBodies, outStatic, to);
+  }
+};
+
+/// What each step reads back: the drift (skin test; as order-preserving integer images of the
+/// floats, so that integer atomics give the exact max and min in any order) and the contacts.
+struct StepReadback {
+  unsigned int max2, lo[3], hi[3];
+  unsigned int pad;
+  unsigned long long contacts;
+};
+
+// Stages 3–5 per particle; its force and torque go to f, t (one writer each).
+template <bool kDebug, bool kClumps>
+struct ForcesFn {
+  StepView v;
+  ForceParams fp;
+  DebugForcesView dbg;
+  Vec3f* f;
+  Vec3f* t;
+  unsigned long long* contacts;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    const ParticleForce pf = particleForce<kDebug, kClumps>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
+    f[i] = pf.f;
+    t[i] = pf.t;
+    if (pf.contacts != 0) exec::atomicAddU64(contacts, static_cast<unsigned long long>(pf.contacts));  // exact
+  }
+};
+
+// Stages 6–7 and the next step's stage 1 per body; the drift's max and mins by integer atomics.
+template <bool kClumps>
+struct IntegrateFn {
+  StepView v;
+  const Vec3f* f;
+  const Vec3f* t;
+  Vec3f gravity;
+  float dt;
+  RotationScheme scheme;
+  StepReadback* rb;
+  TUMBLE_HD void operator()(std::uint32_t k) const {
+    const BodyRow& b = v.bodies[k];
+    Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
+    for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i)
+      addToBody<kClumps>(F, T, ParticleForce{f[i], t[i], 0u});
+    Drift d = noDrift();
+    finishBody<kClumps>(v, F, T, gravity, dt, scheme, k, &d);
+    exec::atomicMaxU32(&rb->max2, orderedBits(d.max2));
+    for (int a = 0; a < 3; ++a) {
+      exec::atomicMinU32(&rb->lo[a], orderedBits(d.lo[a]));
+      exec::atomicMaxU32(&rb->hi[a], orderedBits(d.hi[a]));
+    }
+  }
+};
+
+// pairs(): per particle the contacts with a higher scene index, written at its scene index's
+// offset, so that the output comes out sorted by (i, j). Element n writes the trailing zero.
+struct ContactsAboveFn {
+  const PosRow* pos;
+  const std::uint32_t* orig;
+  CandidateListView list;
+  const std::uint8_t* touching;
+  std::uint32_t n;
+  std::uint32_t* countByOrig;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    if (i == n) countByOrig[n] = 0;
+    else countByOrig[orig[i]] = touching[i] ? contactsAbove(pos, orig, list, i) : 0u;
+  }
+};
+
+struct EmitContactsFn {
+  const PosRow* pos;
+  const std::uint32_t* orig;
+  CandidateListView list;
+  const std::uint8_t* touching;
+  const std::uint32_t* at;
+  std::uint32_t* outI;
+  std::uint32_t* outJ;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    if (touching[i]) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ);
+  }
+};
+
+inline constexpr const char* kNoPeriodic =
+    "the CUDA pipeline has no periodic boundaries yet: a scene with [periodic] runs on the CPU pipeline "
+    "(--pipeline cpu)";
+
+/// The CUDA pipeline over execution backend Exec (exec.hpp). `backend`: what backend() reports.
+template <class Exec>
+class CudaPipeline final : public Pipeline {
+ public:
+  using Stream = typename Exec::Stream;
+  template <class T>
+  using Buffer = typename Exec::template Buffer<T>;
+
+  CudaPipeline(Backend backend, const PipelineOptions& options)
+      : m_backend(backend), m_ctx(options.threads), m_reorder(options.reorder) {}
+
+  Backend backend() const override { return m_backend; }
+
+  // As CpuPipeline::load.
+  void load(const World& world) override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // copies from the locals below
+    if (world.numParticles() == 0) throw Error("cannot load an empty world");
+    if (world.params.contact.law != ContactLaw::Report)
+      throw NotSupported(std::string("the CUDA pipeline runs the report's contact law only so far; [contact] law = \"") +
+                         toString(world.params.contact.law) + "\" runs on the CPU pipeline (--pipeline cpu)");
+    if (!world.params.walls.empty())
+      throw NotSupported(std::string("the CUDA pipeline has no walls yet") +
+                         (meshTriangleCount(world.params) > 0 ? " (triangle meshes included)" : "") +
+                         ": a scene with [[wall]] runs on the CPU pipeline (--pipeline cpu)");
+    if (world.params.periodic.any()) throw NotSupported(kNoPeriodic);
+    m_loaded = false;
+    m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
+    const World& w = m_world;
+    const std::uint32_t n = w.numParticles(), nb = w.numBodies();
+    const Stream& s = m_ctx;
+    m_clumps = w.hasClumps;
+    m_ground = w.params.ground.enabled;
+    // Every host array copied from here lives until the synchronize() below.
+    const std::vector<Wall> planes = kernelWalls(world.params, m_frame);  // the ground only (no walls: above)
+    m_planes.upload(planes, s);
+    std::vector<BodyRow> bodies;
+    std::vector<BodyStatic> bodyStatic;
+    std::vector<OwnRow> own;
+    tumble::detail::initialRows(w, &bodies, &bodyStatic, &own);
+    std::vector<std::uint32_t> orig(n);
+    for (std::uint32_t i = 0; i < n; ++i) orig[i] = i;
+    const BodyState& st = w.state;
+    m_bodies.upload(bodies, s);
+    m_bodiesNext.grow(nb);
+    m_bodyStatic.upload(bodyStatic, s);
+    m_own.upload(own, s);
+    m_radius.upload(w.radius, s);
+    m_mass.upload(w.mass, s);
+    m_orig.upload(orig, s);
+    m_bodyOf.upload(w.body, s);
+    m_tx.upload(st.groundSpringX.data(), m_ground ? st.groundSpringX.size() : 0, s);
+    m_ty.upload(st.groundSpringY.data(), m_ground ? st.groundSpringY.size() : 0, s);
+    for (auto& p : m_pos) p.grow(n);
+    m_buildPos.grow(n);
+    m_touching.grow(n);
+    m_f.grow(n);
+    m_t.grow(n);
+    m_candOffsets.grow(std::size_t(n) + 1);
+    m_readback.grow(1);
+    m_cur = 0;  // before the positions: a reload after an odd number of steps writes m_pos[0] too
+    m_clumps ? launchState<true>() : launchState<false>();  // readLocalPositions() before the first step
+    s.synchronize();
+    m_numCand = 0;
+    m_skin = effectiveSkin(w);
+    m_skinLimit = skinClosureLimit(m_skin, w.maxRadius);
+    m_needRebuild = true;
+    m_pulls = w.params.pulls.active;
+    m_time = w.time;
+    m_steps = 0;
+    m_bp.reset();
+    resetStats();
+    m_hasDebug = false;
+    m_loaded = true;
+  }
+
+  void step(std::uint64_t n) override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // read-backs into stepOnce's locals
+    if (!m_loaded) throw Error("step() before load()");
+    for (std::uint64_t k = 0; k < n; ++k) stepOnce();
+  }
+
+  void readState(BodyState& out) const override {
+    readLocalState(out);
+    toWorld(out, m_frame);
+  }
+  LocalFrame frame() const override { return m_frame; }
+
+  void readLocalState(BodyState& out) const override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);
+    if (!m_loaded) {
+      out = BodyState{};  // as the CPU pipeline's empty state before load()
+      return;
+    }
+    const std::uint32_t nb = m_world.numBodies(), n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    std::vector<BodyRow> bodies(nb);
+    std::vector<std::uint32_t> orig(n);
+    std::vector<float> tx(m_ground ? n : 0), ty(m_ground ? n : 0);
+    m_bodies.download(bodies.data(), nb, s);
+    m_orig.download(orig.data(), n, s);
+    m_tx.download(tx.data(), tx.size(), s);
+    m_ty.download(ty.data(), ty.size(), s);
+    s.synchronize();
+    out.resize(nb);
+    for (const BodyRow& b : bodies) {
+      const std::uint32_t o = b.orig;
+      out.px[o] = b.x.x; out.py[o] = b.x.y; out.pz[o] = b.x.z;
+      out.vx[o] = b.v.x; out.vy[o] = b.v.y; out.vz[o] = b.v.z;
+      out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
+      out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
+    }
+    out.contacts.clear();  // no contact history: the report's law only (load())
+    out.groundSpringX.resize(tx.size());
+    out.groundSpringY.resize(ty.size());
+    for (std::size_t i = 0; i < tx.size(); ++i) {
+      out.groundSpringX[orig[i]] = tx[i];
+      out.groundSpringY[orig[i]] = ty[i];
+    }
+  }
+
+  // As CpuPipeline::readLocalPositions.
+  void readLocalPositions(std::vector<float>& out) const override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);
+    const std::uint32_t n = m_world.numParticles();
+    std::vector<PosRow> pos(n);
+    std::vector<std::uint32_t> orig(n);
+    m_pos[m_cur].download(pos.data(), n, m_ctx);
+    m_orig.download(orig.data(), n, m_ctx);
+    m_ctx.synchronize();
+    out.resize(3 * std::size_t(n));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::size_t o = 3 * std::size_t(orig[i]);
+      out[o] = pos[i].x;
+      out[o + 1] = pos[i].y;
+      out[o + 2] = pos[i].z;
+    }
+  }
+
+  // As CpuPipeline::pairs.
+  std::vector<Pair> pairs() const override {
+    if (m_steps == 0) return {};
+    const std::uint32_t n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    const CandidateListView list = compactList(m_candOffsets.data(), m_cand.data());
+    const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
+    Buffer<std::uint32_t> count, at, outI, outJ;
+    Buffer<unsigned char> temp;
+    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
+    const exec::AbandonOnUnwind<Stream> unwind(s);
+    std::uint32_t* c = count.grow(std::size_t(n) + 1);
+    std::uint32_t* a = at.grow(std::size_t(n) + 1);
+    Exec::forEach(s, std::uint64_t(n) + 1, ContactsAboveFn{pos, m_orig.data(), list, m_touching.data(), n, c},
+                  "contactsAbove");
+    Exec::exclusiveSum(s, temp, c, a, n + 1);
+    std::uint32_t total = 0;
+    Exec::copyToHost(s, &total, a + n, 1);
+    s.synchronize();
+    std::vector<std::uint32_t> hi(total), hj(total);
+    if (total > 0) {
+      Exec::forEach(s, n, EmitContactsFn{pos, m_orig.data(), list, m_touching.data(), a, outI.grow(total),
+                                         outJ.grow(total)},
+                    "emitContacts");
+      outI.download(hi.data(), total, s);
+      outJ.download(hj.data(), total, s);
+      s.synchronize();
+    }
+    std::vector<Pair> out(total);
+    for (std::uint32_t k = 0; k < total; ++k) out[k] = Pair{hi[k], hj[k]};
+    return out;
+  }
+
+  // As CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
+  std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
+    const float maxR = checkCloud(cloud);
+    if (cloud.periodic.axes != 0) throw NotSupported(kNoPeriodic);
+    const std::size_t n = cloud.size();
+    if (n == 0) return {};
+    const Stream& s = m_ctx;
+    Buffer<float> x, y, z, r;
+    Buffer<std::uint32_t> body;
+    Broadphase<Exec> b;
+    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
+    const exec::AbandonOnUnwind<Stream> unwind(s);
+    x.upload(cloud.x, s);
+    y.upload(cloud.y, s);
+    z.upload(cloud.z, s);
+    r.upload(cloud.r, s);
+    body.upload(cloud.body, s);
+    const BroadphaseInput in{x.data(), y.data(), z.data(), r.data(), body.data(), static_cast<std::uint32_t>(n), maxR,
+                             tumble::detail::sizingRadius(cloud.r.data(), n)};
+    b.run(in, bp, s, nullptr);
+    return b.sortedPairs(static_cast<std::uint32_t>(n), s);
+  }
+
+  void setDebugCapture(bool on) override { m_debug = on; }
+
+  // As CpuPipeline::readDebug.
+  void readDebug(ParticleDebug& out) const override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);
+    if (!m_hasDebug) throw Error("readDebug(): enable setDebugCapture(true) and run a step first");
+    const std::uint32_t n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    std::vector<float> v(3 * std::size_t(n)), f[5];
+    std::vector<std::uint32_t> orig(n);
+    m_dbgVel.download(v.data(), v.size(), s);
+    for (int k = 0; k < 5; ++k) {
+      f[k].resize(3 * std::size_t(n));
+      m_dbg[k].download(f[k].data(), f[k].size(), s);
+    }
+    m_orig.download(orig.data(), n, s);
+    s.synchronize();
+    out.v.resize(3 * std::size_t(n));
+    for (auto& c : out.force) c.resize(3 * std::size_t(n));
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t o = 3 * std::size_t(orig[i]) + c, a = 3 * std::size_t(i) + c;
+        out.v[o] = v[a];
+        for (int k = 0; k < 5; ++k) out.force[k][o] = f[k][a];
+      }
+    out.contacts = pairs();
+  }
+
+  void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u; }
+  std::uint32_t pulls() const override { return m_pulls; }
+  const StepStats& stats() const override { return m_stats; }
+  void resetStats() override {
+    m_stats = StepStats{};
+    m_stats.skin = m_skin;
+  }
+  double time() const override { return m_time; }
+  std::uint64_t stepCount() const override { return m_world.step + m_steps; }
+
+ private:
+  StepView stepView() {
+    const int c = m_cur;
+    return StepView{m_bodies.data(),
+                    m_bodiesNext.data(),
+                    m_bodyStatic.data(),
+                    m_world.numBodies(),
+                    m_pos[c].data(),
+                    m_pos[1 - c].data(),
+                    m_own.data(),
+                    m_radius.data(),
+                    m_mass.data(),
+                    m_bodyOf.data(),
+                    m_orig.data(),
+                    GroundSpringView{m_tx.data(), m_ty.data()},
+                    m_buildPos.data(),
+                    compactList(m_candOffsets.data(), m_cand.data()),
+                    m_touching.data(),
+                    m_world.numParticles(),
+                    nullptr,   // no contact history: the report's law only (load())
+                    false,
+                    nullptr,   // the report's law: no materials
+                    nullptr,
+                    0,
+                    m_planes.data(),
+                    m_ground ? 1u : 0u,
+                    nullptr,   // one plane at most: its damping is in the own rows
+                    nullptr,
+                    PeriodicBox{},  // no periodic boundaries (load())
+                    MeshView{},     // no mesh walls (load())
+                    MeshListView{},
+                    nullptr,   // the skin test per particle (buildPos)
+                    nullptr};  // the list's rows are walked one by one (no owners)
+  }
+
+  // As CpuPipeline::stepOnce.
+  void stepOnce() {
+    const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
+    const Stream& s = m_ctx;
+    const Scene& p = m_world.params;
+    if (m_needRebuild) {
+      rebuild();
+    } else {
+      for (Phase ph : {Phase::Reorder, Phase::State, Phase::Axis, Phase::Keys, Phase::Sort, Phase::Sweep, Phase::List})
+        m_timer.mark(ph, s);  // no rebuild this step: the phases take no time
+    }
+
+    m_timer.mark(Phase::Forces, s);
+    const StepView v = stepView();
+    const ForceParams fp = makeForceParams(p, m_pulls);
+    DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr};
+    if (m_debug) {
+      for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].grow(3 * std::size_t(n));
+      dbg.v = m_dbgVel.grow(3 * std::size_t(n));
+    }
+    StepReadback* rb = m_readback.data();
+    const Drift none = noDrift();
+    StepReadback init{orderedBits(none.max2), {}, {}, 0u, 0ull};
+    for (int a = 0; a < 3; ++a) {
+      init.lo[a] = orderedBits(none.lo[a]);
+      init.hi[a] = orderedBits(none.hi[a]);
+    }
+    m_readbackInit = init;  // a member: the stream may reach the copy after this function returns
+    Exec::copyToDevice(s, rb, &m_readbackInit, 1);
+    unsigned long long* contacts = &rb->contacts;
+    if (m_debug) {
+      if (m_clumps) Exec::forEach(s, n, ForcesFn<true, true>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
+      else Exec::forEach(s, n, ForcesFn<true, false>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
+    } else {
+      if (m_clumps) Exec::forEach(s, n, ForcesFn<false, true>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
+      else Exec::forEach(s, n, ForcesFn<false, false>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
+    }
+    if (m_debug) m_hasDebug = true;
+
+    m_timer.mark(Phase::Integrate, s);
+    const RotationScheme scheme = p.integrator.rotation;
+    if (m_clumps)
+      Exec::forEach(s, nb, IntegrateFn<true>{v, m_f.data(), m_t.data(), p.gravity, p.dt, scheme, rb}, "integrate");
+    else
+      Exec::forEach(s, nb, IntegrateFn<false>{v, m_f.data(), m_t.data(), p.gravity, p.dt, scheme, rb}, "integrate");
+    StepReadback h{};
+    Exec::copyToHost(s, &h, rb, 1);
+    m_timer.finish(s);
+    m_timer.accumulate(s, m_stats.seconds);  // waits for the step (and the read-back)
+    Drift drift{fromOrderedBits(h.max2), {}, {}};
+    for (int a = 0; a < 3; ++a) {
+      drift.lo[a] = fromOrderedBits(h.lo[a]);
+      drift.hi[a] = fromOrderedBits(h.hi[a]);
+    }
+    m_cur = 1 - m_cur;
+    std::swap(m_bodies, m_bodiesNext);
+    m_needRebuild = !listStillValid(drift, m_skinLimit);
+
+    ++m_steps;
+    m_time += p.dt;
+    ++m_stats.steps;
+    m_stats.numPairs = h.contacts / 2;  // each contact is seen from both sides
+  }
+
+  // Stage 1: the particle positions of the current body state (after a reordering, and at load).
+  template <bool kClumps>
+  void launchState() {
+    Exec::forEach(m_ctx, m_world.numBodies(),
+                  StateFn<kClumps>{m_bodies.data(), m_own.data(), m_radius.data(), m_pos[m_cur].data()}, "state");
+  }
+
+  // As CpuPipeline::rebuild.
+  void rebuild() {
+    const std::uint32_t n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    m_timer.mark(Phase::Reorder, s);
+    if (m_reorder) reorder();
+
+    m_timer.mark(Phase::State, s);
+    m_clumps ? launchState<true>() : launchState<false>();
+    const float h = 0.5f * m_skin;
+    Exec::forEach(s, n,
+                  DetectionInputFn{m_pos[m_cur].data(), h, m_bx.grow(n), m_by.grow(n), m_bz.grow(n), m_br.grow(n),
+                                   m_buildPos.data()},
+                  "detectionInput");
+
+    const BroadphaseInput in{m_bx.data(), m_by.data(), m_bz.data(), m_br.data(), m_bodyOf.data(), n,
+                             m_world.maxRadius + h,
+                             m_world.sizingRadius > 0.0f ? m_world.sizingRadius + h : 0.0f};
+    try {
+      m_bp.run(in, m_world.params.broadphase, s, &m_timer);
+    } catch (const SimulationError& e) {
+      if (e.particle() < 0) throw;
+      std::uint32_t o = 0;
+      Exec::copyToHost(s, &o, m_orig.data() + e.particle(), 1);
+      s.synchronize();
+      throw SimulationError(divergenceMessage(m_world, m_world.step + m_steps, o), o);
+    }
+
+    m_timer.mark(Phase::List, s);
+    const SweepListView sl{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
+                           m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
+    std::uint32_t* count = m_count.grow(std::size_t(n) + 1);
+    Exec::forEach(s, std::uint64_t(n) + 1, CandidateCountFn{sl, n, count}, "candidateCount");
+    Exec::exclusiveSum(s, m_temp, count, m_candOffsets.data(), n + 1);
+    Exec::copyToHost(s, &m_numCand, m_candOffsets.data() + n, 1);
+    s.synchronize();
+    Exec::forEach(s, n,
+                  CandidateFillFn{sl, m_orig.data(), m_candOffsets.data(), m_cand.grow(m_numCand),
+                                  m_candKey.grow(m_numCand)},
+                  "candidateFill");
+    m_needRebuild = false;
+    ++m_stats.numRebuilds;
+    m_stats.numCandidates = m_numCand / 2;
+    m_stats.numRecords = m_bp.numRecords();
+    m_stats.numCells = m_bp.numCells();
+    m_stats.cellSize = m_bp.frame().cellSize;
+  }
+
+  // As CpuPipeline::reorder.
+  void reorder() {
+    const std::uint32_t nb = m_world.numBodies(), n = m_world.numParticles();
+    if (nb < 2) return;
+    const Stream& s = m_ctx;
+    const std::uint32_t numChunks = (nb + exec::kBlock - 1) / exec::kBlock;
+    Exec::reduceChunks(s, nb, exec::kBlock, BodyBoundsOp{m_bodies.data()}, m_boundsPart.grow(numChunks), "bodyBounds");
+    m_hostBounds.resize(numChunks);
+    m_boundsPart.download(m_hostBounds.data(), numChunks, s);
+    s.synchronize();
+    const MortonGrid g = tumble::detail::mortonGridOf(tumble::detail::combineBounds(m_hostBounds.data(), numChunks));
+    std::uint32_t* keys = m_mKeys.grow(nb);
+    std::uint32_t* vals = m_mVals.grow(nb);
+    std::uint32_t* skeys = m_mSortedKeys.grow(nb);
+    std::uint32_t* perm = m_perm.grow(nb);
+    Exec::forEach(s, nb, MortonKeyFn{m_bodies.data(), g, keys, vals}, "mortonKey");
+    Exec::radixSortPairs(s, m_temp, keys, skeys, vals, perm, nb, 0, 30);
+    std::uint32_t* count = m_count.grow(std::size_t(nb) + 1);
+    std::uint32_t* first = m_first.grow(std::size_t(nb) + 1);
+    Exec::forEach(s, std::uint64_t(nb) + 1, PermutedCountFn{m_bodies.data(), perm, nb, count}, "permutedCount");
+    Exec::exclusiveSum(s, m_temp, count, first, nb + 1);
+    const ReorderColumns from{m_own.data(),  m_radius.data(), m_mass.data(),
+                              nullptr,  // the report's law only (load()): no materials
+                              m_orig.data(), m_bodyOf.data(), m_ground ? m_tx.data() : nullptr,
+                              m_ground ? m_ty.data() : nullptr,
+                              nullptr};  // one plane at most: no damping of further planes
+    const ReorderColumns to{m_ownTmp.grow(n),  m_radiusTmp.grow(n), m_massTmp.grow(n), nullptr, m_origTmp.grow(n),
+                            m_bodyOfTmp.grow(n), m_ground ? m_txTmp.grow(n) : nullptr,
+                            m_ground ? m_tyTmp.grow(n) : nullptr, nullptr};
+    Exec::forEach(s, nb,
+                  MoveBodiesFn{m_bodies.data(), m_bodyStatic.data(), perm, first, n, m_ground ? 1u : 0u, from,
+                               m_bodiesNext.data(), m_bodyStaticTmp.grow(nb), to},
+                  "moveBodies");
+    std::swap(m_bodies, m_bodiesNext);
+    std::swap(m_bodyStatic, m_bodyStaticTmp);
+    std::swap(m_own, m_ownTmp);
+    std::swap(m_radius, m_radiusTmp);
+    std::swap(m_mass, m_massTmp);
+    std::swap(m_orig, m_origTmp);
+    std::swap(m_bodyOf, m_bodyOfTmp);
+    if (m_ground) {
+      std::swap(m_tx, m_txTmp);
+      std::swap(m_ty, m_tyTmp);
+    }
+  }
+
+  Backend m_backend;
+  Stream m_ctx;
+  typename Exec::Timer m_timer;
+  bool m_reorder = true;
+  World m_world;
+  LocalFrame m_frame;
+  bool m_loaded = false;
+  bool m_clumps = false;
+  bool m_ground = false;
+  // Internal numbering (see cpu/src/cpu_pipeline.cpp).
+  Buffer<BodyRow> m_bodies, m_bodiesNext;
+  Buffer<BodyStatic> m_bodyStatic;
+  Buffer<OwnRow> m_own;
+  Buffer<Wall> m_planes;  // the ground, when there is one
+  Buffer<float> m_radius, m_mass, m_tx, m_ty;
+  Buffer<std::uint32_t> m_orig, m_bodyOf;
+  Buffer<PosRow> m_pos[2], m_buildPos;
+  int m_cur = 0;
+  Buffer<std::uint32_t> m_candOffsets, m_cand, m_candKey;
+  Buffer<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
+  std::uint32_t m_numCand = 0;
+  float m_skin = 0.0f, m_skinLimit = 0.0f;
+  bool m_needRebuild = true;
+  Buffer<Vec3f> m_f, m_t;  // per-particle force and torque of the step
+  Buffer<StepReadback> m_readback;
+  StepReadback m_readbackInit{};
+  Broadphase<Exec> m_bp;
+  // Scratch (grow-only).
+  Buffer<float> m_bx, m_by, m_bz, m_br;
+  Buffer<std::uint32_t> m_count, m_first, m_mKeys, m_mVals, m_mSortedKeys, m_perm;
+  Buffer<tumble::detail::BoundsPartial> m_boundsPart;
+  std::vector<tumble::detail::BoundsPartial> m_hostBounds;
+  Buffer<unsigned char> m_temp;
+  Buffer<BodyStatic> m_bodyStaticTmp;
+  Buffer<OwnRow> m_ownTmp;
+  Buffer<float> m_radiusTmp, m_massTmp, m_txTmp, m_tyTmp;
+  Buffer<std::uint32_t> m_origTmp, m_bodyOfTmp;
+  Buffer<float> m_dbg[5], m_dbgVel;
+  StepStats m_stats;
+  std::uint32_t m_pulls = 0;
+  double m_time = 0.0;
+  std::uint64_t m_steps = 0;
+  bool m_debug = false;
+  bool m_hasDebug = false;
+};
+
+}  // namespace TUMBLE_EXEC_ABI
+}  // namespace tumble::gpu::detail
