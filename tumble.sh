@@ -7,7 +7,9 @@
 #   ./tumble.sh sanitize                                 the tests again in an ASan + UBSan build (build-sanitize)
 #   ./tumble.sh tsan                                     the threaded tests under ThreadSanitizer (build-tsan)
 #   ./tumble.sh fuzz [SECONDS] [TARGET...]               each libFuzzer target SECONDS (default 60) on its corpus (build-fuzz)
-# Environment: BUILD_DIR (default build), JOBS (default: all cores), TUMBLE_ENABLE_CUDA (AUTO|ON|OFF).
+# Environment: BUILD_DIR (default build), JOBS (default: all cores), TUMBLE_ENABLE_CUDA (AUTO|ON|OFF),
+# TUMBLE_TIMINGS (a file: each step's seconds are appended to it, "command step<TAB>seconds";
+# .ci/run prints them as its stage table).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=${BUILD_DIR:-$here/build}
@@ -20,6 +22,16 @@ packages=(g++ cmake ninja-build pkg-config libtbb-dev libeigen3-dev libtomlplusp
           openmpi-bin libopenmpi-dev)
 # What only the tests need: pytest for the Python module, VTK's reader for the export test.
 test_packages=(python3-pytest python3-vtk9)
+
+# timed STEP CMD...: runs CMD; with TUMBLE_TIMINGS set, appends "<command> STEP<TAB>seconds" to it
+# (also when CMD fails). Returns CMD's status.
+timed() {
+  local step=$1 t0=$SECONDS rc=0
+  shift
+  "$@" || rc=$?
+  if [ -n "${TUMBLE_TIMINGS:-}" ]; then printf '%s %s\t%d\n' "$cmd" "$step" $((SECONDS - t0)) >>"$TUMBLE_TIMINGS"; fi
+  return $rc
+}
 
 install_packages() {
   local missing=()
@@ -53,91 +65,126 @@ ensure_deb_src() {
   $sudo apt-get update -qq
 }
 
+# ccache (Debian's) when it is installed: a second build of the same sources (another checkout, a
+# rerun on the same machine) takes minutes less. Nothing is installed for it.
+launcher=()
+if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+
+# The flags of the sanitizer builds (sanitize, tsan, fuzz): -O1 and line tables only (-g1), as
+# OSS-Fuzz builds: reports keep their file:line stacks, and the build takes about a third of the
+# time of -O2 -g (the fused step pass, cpu/src/cpu_pipeline.cpp: 181 s against 596 s under ASan
+# + UBSan on the 2-core development machine).
+sanitize_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG")
+
+# configure_and_build [TARGET...]: the Release build in $build (every target, or those named).
 configure_and_build() {
-  cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  timed configure cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" \
         -DTUMBLE_ENABLE_CUDA="${TUMBLE_ENABLE_CUDA:-AUTO}" -DTUMBLE_WERROR=ON >/dev/null
-  cmake --build "$build" -j "$jobs"
+  if [ $# -gt 0 ]; then
+    timed build cmake --build "$build" -j "$jobs" --target "$@"
+  else
+    timed build cmake --build "$build" -j "$jobs"
+  fi
 }
 
-# The tests `tsan` runs (a ctest regex; TSAN_TESTS overrides it).
-tsan_tests='SameResultForAnyThreadCount|StepPairsMatchBruteForceOnTheBenchScene|PipelineContactSumsEqualThoseOfItsPairs|DeterminismTest|CheckpointTest|HaloPipelineTest'
+# ctest_longest_first DIR: ctest starts the tests it has timed before longest first. A build that
+# has never run its tests borrows the Release build's timings (the same test names), so that the
+# long tests do not start last and leave one core idle at the end.
+ctest_longest_first() {
+  local costs=Testing/Temporary/CTestCostData.txt
+  if [ ! -f "$1/$costs" ] && [ -f "$here/build/$costs" ] && [ "$1" != "$here/build" ]; then
+    mkdir -p "$1/Testing/Temporary" && cp "$here/build/$costs" "$1/$costs"
+  fi
+}
+
+# The tests `tsan` runs (a ctest regex; TSAN_TESTS overrides it): every parallel stage of both
+# pipelines (detection, contact list, forces, integration, guard sums, checkpoints) with 1 to 4
+# threads, the CUDA pipeline's on the host backend (its forEach: one writer per element).
+tsan_tests='SameResultForAnyThreadCount|StepPairsMatchBruteForceOnTheBenchScene|PipelineContactSumsEqualThoseOfItsPairs|DeterminismTest|CheckpointTest|HaloPipelineTest|CudaHostBroadphase|GpuSmokeTest'
+# The test programs that hold them: `tsan` builds only these.
+tsan_targets=(tumble_validation_tests tumble_gpu_tests tumble_mpi_tests)
 
 cmd=${1:-run}
 [ $# -gt 0 ] && shift
 case "$cmd" in
   build)
-    install_packages; configure_and_build ;;
+    timed install install_packages; configure_and_build ;;
   run)
-    install_packages; configure_and_build
+    # Only the tumble command: the first run does not wait for the tests to build.
+    timed install install_packages; configure_and_build tumble
     scene=$here/scenes/molecules.toml
     if [ $# -gt 0 ] && [[ "$1" != -* ]]; then scene=$1; shift; fi
     exec "$build/examples/tumble" run "$scene" "$@" ;;
   test)
     packages+=("${test_packages[@]}")
-    install_packages; configure_and_build
+    timed install install_packages; configure_and_build
     cd "$build"
-    exec ctest --output-on-failure -j "$jobs" ;;
+    timed tests ctest --output-on-failure -j "$jobs" ;;
   sanitize)
     # Address and undefined-behaviour sanitizers on every test (CI runs this after `test`).
     packages+=("${test_packages[@]}")
-    install_packages
+    timed install install_packages
     build=${SANITIZE_BUILD_DIR:-$here/build-sanitize}
-    cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTUMBLE_ENABLE_CUDA=OFF \
-          -DTUMBLE_SANITIZE=ON -DTUMBLE_BUILD_BENCH=OFF >/dev/null
-    cmake --build "$build" -j "$jobs"
+    timed configure cmake -S "$here" -B "$build" -G Ninja "${sanitize_flags[@]}" "${launcher[@]}" \
+          -DTUMBLE_ENABLE_CUDA=OFF -DTUMBLE_SANITIZE=ON -DTUMBLE_BUILD_BENCH=OFF >/dev/null
+    timed build cmake --build "$build" -j "$jobs"
+    ctest_longest_first "$build"
     cd "$build"
     # Leaks are checked everywhere except in the viewer's tests, where Mesa's EGL drivers keep a
     # few allocations to the end of the process (112 bytes, inside the driver), and in tumble run
-    # under mpirun, where Open MPI does the same (MPI_Init's allocations outlive MPI_Finalize).
+    # under mpirun, where Open MPI does the same (MPI_Init's allocations outlive MPI_Finalize):
+    # those tests carry ASAN_OPTIONS=detect_leaks=0 themselves (TUMBLE_TEST_NO_LEAK_CHECK).
     export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
-    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1} ctest --output-on-failure -j "$jobs" -LE viewer -E '^mpi_runs$'
-    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} ctest --output-on-failure -j "$jobs" -R '^mpi_runs$'
-    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} exec ctest --output-on-failure -j "$jobs" -L viewer ;;
+    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1} timed tests ctest --output-on-failure -j "$jobs" ;;
   tsan)
     # ThreadSanitizer on the tests that run the parallel code. Debian's libtbb is not
     # instrumented, so TSan would see none of oneTBB's synchronisation and report races inside
     # it that are not there; it is built here with TSan from Debian's own source of the
     # installed version (apt-get source onetbb: needs a deb-src line for bookworm), or from
-    # TBB_SOURCE=DIR.
+    # TBB_SOURCE=DIR, once per machine: it is kept in TBB_TSAN_CACHE (default
+    # ~/.cache/tumble/onetbb-tsan-VERSION) and built again only when missing.
     packages+=(dpkg-dev xz-utils)
-    install_packages
+    timed install install_packages
     build=${TSAN_BUILD_DIR:-$here/build-tsan}
     mkdir -p "$build"
-    src=${TBB_SOURCE:-}
-    if [ -z "$src" ]; then
-      src=$(find "$build/onetbb-src" -maxdepth 1 -mindepth 1 -type d -name 'onetbb-*' 2>/dev/null | head -n 1 || true)
+    tbb_version=$(dpkg-query -W -f='${Version}' libtbb-dev 2>/dev/null || echo unknown)
+    tbb=${TBB_TSAN_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/tumble/onetbb-tsan-${tbb_version//[^A-Za-z0-9.+~-]/_}}
+    if [ ! -f "$tbb/lib/cmake/TBB/TBBConfig.cmake" ]; then
+      src=${TBB_SOURCE:-}
       if [ -z "$src" ]; then
-        mkdir -p "$build/onetbb-src"
-        ensure_deb_src
-        if ! (cd "$build/onetbb-src" && apt-get source -qq onetbb >/dev/null 2>&1); then
-          echo "tumble.sh tsan: cannot get Debian's oneTBB source (apt-get source onetbb); check the deb-src" \
-               "lines for bookworm in /etc/apt/sources.list.d and run apt-get update, or set TBB_SOURCE=DIR" >&2
-          exit 2
+        src=$(find "$build/onetbb-src" -maxdepth 1 -mindepth 1 -type d -name 'onetbb-*' 2>/dev/null | head -n 1 || true)
+        if [ -z "$src" ]; then
+          mkdir -p "$build/onetbb-src"
+          ensure_deb_src
+          if ! (cd "$build/onetbb-src" && apt-get source -qq onetbb >/dev/null 2>&1); then
+            echo "tumble.sh tsan: cannot get Debian's oneTBB source (apt-get source onetbb); check the deb-src" \
+                 "lines for bookworm in /etc/apt/sources.list.d and run apt-get update, or set TBB_SOURCE=DIR" >&2
+            exit 2
+          fi
+          src=$(find "$build/onetbb-src" -maxdepth 1 -mindepth 1 -type d -name 'onetbb-*' | head -n 1)
         fi
-        src=$(find "$build/onetbb-src" -maxdepth 1 -mindepth 1 -type d -name 'onetbb-*' | head -n 1)
       fi
+      echo "tumble.sh tsan: building oneTBB $tbb_version with ThreadSanitizer into $tbb (once per machine)" >&2
+      timed onetbb-configure cmake -S "$src" -B "$build/onetbb-build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+            -DTBB_TEST=OFF -DTBB_STRICT=OFF -DTBB_SANITIZE=thread -DCMAKE_INSTALL_PREFIX="$tbb" >/dev/null
+      timed onetbb-build cmake --build "$build/onetbb-build" -j "$jobs" --target install >/dev/null
     fi
-    if [ ! -f "$build/onetbb/lib/cmake/TBB/TBBConfig.cmake" ]; then
-      cmake -S "$src" -B "$build/onetbb-build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTBB_TEST=OFF \
-            -DTBB_STRICT=OFF -DTBB_SANITIZE=thread -DCMAKE_INSTALL_PREFIX="$build/onetbb" >/dev/null
-      cmake --build "$build/onetbb-build" -j "$jobs" --target install >/dev/null
-    fi
-    cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTUMBLE_ENABLE_CUDA=OFF \
-          -DTUMBLE_SANITIZE=thread -DTUMBLE_BUILD_BENCH=OFF -DTUMBLE_VIEWER=OFF \
-          -DTBB_DIR="$build/onetbb/lib/cmake/TBB" >/dev/null
-    cmake --build "$build" -j "$jobs"
+    timed configure cmake -S "$here" -B "$build" -G Ninja "${sanitize_flags[@]}" "${launcher[@]}" \
+          -DTUMBLE_ENABLE_CUDA=OFF -DTUMBLE_SANITIZE=thread -DTUMBLE_BUILD_BENCH=OFF -DTUMBLE_VIEWER=OFF \
+          -DTBB_DIR="$tbb/lib/cmake/TBB" >/dev/null
+    timed build cmake --build "$build" -j "$jobs" --target "${tsan_targets[@]}"
+    ctest_longest_first "$build"
     cd "$build"
-    # Any report fails its test. The selection runs every parallel stage (detection, contact list,
-    # forces, integration, guard sums, checkpoints) with 1 to 4 threads in a few minutes; the
-    # whole suite under TSan takes hours on two cores.
+    # Any report fails its test. The selection runs every parallel stage with 1 to 4 threads in a
+    # few minutes; the whole suite under TSan takes hours on two cores.
     export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1 exitcode=66 second_deadlock_stack=1}
-    exec ctest --output-on-failure -j "$jobs" -R "${TSAN_TESTS:-$tsan_tests}" ;;
+    timed tests ctest --output-on-failure -j "$jobs" -R "${TSAN_TESTS:-$tsan_tests}" ;;
   fuzz)
     # The readers under libFuzzer with ASan + UBSan (docs/fuzzing.md). New inputs go to
     # build-fuzz/corpus/TARGET, findings (the input, for the regression test) to
     # build-fuzz/findings; the seed corpus in validation/fuzz/corpus is only read.
     packages+=(clang-14 libclang-rt-14-dev)
-    install_packages
+    timed install install_packages
     seconds=60
     if [ $# -gt 0 ] && [[ "$1" =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
     targets=("$@")
@@ -150,26 +197,29 @@ case "$cmd" in
         { echo "tumble.sh fuzz: no target '$t' (expected one of: ${all[*]})" >&2; exit 2; }
     done
     build=${FUZZ_BUILD_DIR:-$here/build-fuzz}
-    CC=clang-14 CXX=clang++-14 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-          -DTUMBLE_ENABLE_CUDA=OFF -DTUMBLE_FUZZ=ON -DTUMBLE_SANITIZE=ON -DTUMBLE_BUILD_TESTS=OFF \
+    CC=clang-14 CXX=clang++-14 timed configure cmake -S "$here" -B "$build" -G Ninja "${sanitize_flags[@]}" \
+          "${launcher[@]}" -DTUMBLE_ENABLE_CUDA=OFF -DTUMBLE_FUZZ=ON -DTUMBLE_SANITIZE=ON -DTUMBLE_BUILD_TESTS=OFF \
           -DTUMBLE_BUILD_BENCH=OFF -DTUMBLE_BUILD_EXAMPLES=OFF >/dev/null
-    cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+    timed build cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
     mkdir -p "$build/findings"
     export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
-    status=0
-    for t in "${targets[@]}"; do
-      mkdir -p "$build/corpus/$t"
-      echo "tumble.sh fuzz: $t for $seconds s" >&2
-      if ! "$build/validation/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 \
-             -print_final_stats=1 -artifact_prefix="$build/findings/$t-" \
-             "$build/corpus/$t" "$here/validation/fuzz/corpus/$t" >"$build/fuzz-$t.log" 2>&1; then
-        tail -n 60 "$build/fuzz-$t.log" >&2
-        echo "tumble.sh fuzz: $t found a problem; the input is in $build/findings (log: $build/fuzz-$t.log)" >&2
-        status=1
-      fi
-      grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$build/fuzz-$t.log" | sed "s/^/  $t /" >&2 || true
-    done
-    exit $status ;;
+    fuzz_targets() {
+      local t status=0
+      for t in "${targets[@]}"; do
+        mkdir -p "$build/corpus/$t"
+        echo "tumble.sh fuzz: $t for $seconds s" >&2
+        if ! "$build/validation/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 \
+               -print_final_stats=1 -artifact_prefix="$build/findings/$t-" \
+               "$build/corpus/$t" "$here/validation/fuzz/corpus/$t" >"$build/fuzz-$t.log" 2>&1; then
+          tail -n 60 "$build/fuzz-$t.log" >&2
+          echo "tumble.sh fuzz: $t found a problem; the input is in $build/findings (log: $build/fuzz-$t.log)" >&2
+          status=1
+        fi
+        grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$build/fuzz-$t.log" | sed "s/^/  $t /" >&2 || true
+      done
+      return $status
+    }
+    timed run fuzz_targets ;;
   -h|--help|help)
     sed -n '3,10p' "$0" | sed 's/^# \{0,1\}//' ;;
   *)
