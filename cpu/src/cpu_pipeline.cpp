@@ -53,6 +53,7 @@
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/history.hpp"
 #include "tumble/kernels/step.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/sweep_frame.hpp"
@@ -865,47 +866,31 @@ class CpuPipeline final : public HaloPipeline {
     std::vector<Vec3f> hist;
   };
 
-  // keyOf(e): the key of entry e of the rows offsets[i] .. offsets[i+1] (internal numbering).
+  // keyOf(e): the key of entry e of the rows offsets[i] .. offsets[i+1] (internal numbering);
+  // count → scan → fill by scene index (kernels/history.hpp, as the CUDA pipeline).
   template <class KeyOf>
-  void keepRows(const std::vector<std::uint32_t>& offsets, const std::vector<Vec3f>& hist, KeyOf&& keyOf,
+  void keepRows(const std::vector<std::uint32_t>& offsets, const std::vector<Vec3f>& hist, const KeyOf& keyOf,
                 KeptHistories& out) {
     const std::uint32_t n = m_world.numParticles();
     std::uint32_t* count = tumble::detail::grow(out.count, std::size_t(n) + 1);
-    forEach(n, kGrain, [&](std::uint32_t i) {
-      std::uint32_t c = 0;
-      for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += isZero(hist[e]) ? 0u : 1u;
-      count[m_orig[i]] = c;
-    });
+    forEach(n, kGrain, [&](std::uint32_t i) { count[m_orig[i]] = keptCount(offsets.data(), hist.data(), i); });
     count[n] = 0;
     out.offsets.resize(std::size_t(n) + 1);
     scanCounts(count, std::size_t(n) + 1, out.offsets.data());
     out.key.resize(out.offsets[n]);
     out.hist.resize(out.offsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
-      std::uint32_t at = out.offsets[m_orig[i]];
-      for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
-        if (!isZero(hist[e])) {
-          out.key[at] = keyOf(e);
-          out.hist[at++] = hist[e];
-        }
+      keepRow(offsets.data(), hist.data(), keyOf, i, out.offsets[m_orig[i]], out.key.data(), out.hist.data());
     });
   }
 
   template <class KeyOf>
-  void restoreRows(const KeptHistories& kept, const std::vector<std::uint32_t>& offsets, KeyOf&& keyOf,
+  void restoreRows(const KeptHistories& kept, const std::vector<std::uint32_t>& offsets, const KeyOf& keyOf,
                    std::vector<Vec3f>& hist) {
     const std::uint32_t n = m_world.numParticles();
     hist.resize(offsets[n]);
-    forEach(n, kGrain, [&](std::uint32_t i) {
-      const std::uint32_t o = m_orig[i];
-      std::uint32_t k = kept.offsets[o];
-      const std::uint32_t kEnd = kept.offsets[o + 1];
-      for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
-        const std::uint32_t key = keyOf(e);
-        while (k < kEnd && kept.key[k] < key) ++k;
-        hist[e] = k < kEnd && kept.key[k] == key ? kept.hist[k] : Vec3f{0.0f, 0.0f, 0.0f};
-      }
-    });
+    const KeptView k{kept.offsets.data(), kept.key.data(), kept.hist.data()};
+    forEach(n, kGrain, [&](std::uint32_t i) { restoreRow(k, m_orig[i], offsets.data(), keyOf, i, hist.data()); });
   }
 
   // The entries with a key and a non-zero ξ that `take` accepts, as out[...] = make(scene index,
@@ -926,7 +911,7 @@ class CpuPipeline final : public HaloPipeline {
     m_arena.execute([&] {
       forEach(n, kGrain, [&](std::uint32_t i) {
         std::uint32_t c = 0;
-        for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += take(m_orig[i], keyOf(e)) && !isZero(hist[e]) ? 1u : 0u;
+        for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += take(m_orig[i], keyOf(e)) && !isZeroSpring(hist[e]) ? 1u : 0u;
         count[m_orig[i] + 1] = c;
       });
     });
@@ -937,17 +922,13 @@ class CpuPipeline final : public HaloPipeline {
         const std::uint32_t me = m_orig[i];
         std::uint32_t at = count[me];
         for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
-          if (take(me, keyOf(e)) && !isZero(hist[e])) out[at++] = make(me, keyOf(e), hist[e]);
+          if (take(me, keyOf(e)) && !isZeroSpring(hist[e])) out[at++] = make(me, keyOf(e), hist[e]);
       });
     });
   }
 
-  void keepHistory() {
-    keepRows(m_candOffsets, m_hist, [&](std::uint32_t e) { return m_orig[m_cand[e]]; }, m_keep);
-  }
-  void restoreHistory() {
-    restoreRows(m_keep, m_candOffsets, [&](std::uint32_t e) { return m_orig[m_cand[e]]; }, m_hist);
-  }
+  void keepHistory() { keepRows(m_candOffsets, m_hist, PartnerKey{m_orig.data(), m_cand.data()}, m_keep); }
+  void restoreHistory() { restoreRows(m_keep, m_candOffsets, PartnerKey{m_orig.data(), m_cand.data()}, m_hist); }
 
   // The histories of a loaded state (BodyState::contacts, i < j sorted) in the kept form.
   void keepLoadedHistory(const std::vector<ContactHistory>& contacts) {
@@ -982,12 +963,8 @@ class CpuPipeline final : public HaloPipeline {
 
   // The mesh springs: kept and restored by triangle; a loaded state's (BodyState::meshContacts,
   // sorted by (particle, triangle)) in the kept form.
-  void keepMeshHistory() {
-    keepRows(m_meshOffsets, m_meshHist, [&](std::uint32_t e) { return m_meshTri[e]; }, m_meshKeep);
-  }
-  void restoreMeshHistory() {
-    restoreRows(m_meshKeep, m_meshOffsets, [&](std::uint32_t e) { return m_meshTri[e]; }, m_meshHist);
-  }
+  void keepMeshHistory() { keepRows(m_meshOffsets, m_meshHist, TriangleKey{m_meshTri.data()}, m_meshKeep); }
+  void restoreMeshHistory() { restoreRows(m_meshKeep, m_meshOffsets, TriangleKey{m_meshTri.data()}, m_meshHist); }
   void keepLoadedMeshHistory(const std::vector<MeshContactHistory>& contacts) {
     const std::uint32_t n = m_world.numParticles();
     m_meshKeep.offsets.assign(std::size_t(n) + 1, 0u);
@@ -1046,8 +1023,6 @@ class CpuPipeline final : public HaloPipeline {
       tumble::detail::sortRow(m_meshTri.data() + m_meshOffsets[i], nullptr, at - m_meshOffsets[i]);
     });
   }
-
-  static bool isZero(Vec3f h) { return h.x == 0.0f && h.y == 0.0f && h.z == 0.0f; }
 
   // out[k] = count[0] + … + count[k − 1] for k < len (the project's scan, scratch in m_temp):
   // the offsets of every CSR list the pipeline builds.

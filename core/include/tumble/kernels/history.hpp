@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+/// @file history.hpp
+/// Histories across a rebuild of a candidate list, written once for both pipelines: the
+/// tangential springs ξ of the laws with a history (per entry of the candidate list, keyed by the
+/// partner's scene index) and the mesh springs (per entry of the mesh candidate list, keyed by
+/// the triangle). Before a rebuild the non-zero ξ of each particle's row are kept by scene index,
+/// each with its key, in the row's order (ascending key): count (keptCount) → scan → fill
+/// (keepRow). After it, each row of the new list takes the ξ of its keys from the kept row, by a
+/// merge of the two sorted rows, and zero for the others (restoreRow). So a history depends on
+/// the contacts only, not on the list, the skin or the numbering. Each function writes only
+/// particle i's outputs.
+#pragma once
+#include <cstdint>
+
+#include "tumble/hd.hpp"
+#include "tumble/math.hpp"
+
+namespace tumble {
+
+/// Whether a spring is zero (out of contact): all three components exactly 0.
+TUMBLE_HD_INLINE bool isZeroSpring(Vec3f h) { return h.x == 0.0f && h.y == 0.0f && h.z == 0.0f; }
+
+/// The key of a candidate-list entry: its partner's scene index.
+struct PartnerKey {
+  const std::uint32_t* orig;
+  const std::uint32_t* cand;
+  TUMBLE_HD_INLINE std::uint32_t operator()(std::uint32_t e) const { return orig[cand[e]]; }
+};
+
+/// The key of a mesh candidate-list entry: its triangle.
+struct TriangleKey {
+  const std::uint32_t* tri;
+  TUMBLE_HD_INLINE std::uint32_t operator()(std::uint32_t e) const { return tri[e]; }
+};
+
+/// Kept histories: CSR by scene index (row o: offsets[o] .. offsets[o + 1]), keys ascending.
+struct KeptView {
+  const std::uint32_t* offsets;
+  const std::uint32_t* key;
+  const Vec3f* hist;
+};
+
+/// The number of non-zero ξ in row i (rows at `offsets`, internal numbering).
+TUMBLE_HD_INLINE std::uint32_t keptCount(const std::uint32_t* offsets, const Vec3f* hist, std::uint32_t i) {
+  std::uint32_t c = 0;
+  for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += isZeroSpring(hist[e]) ? 0u : 1u;
+  return c;
+}
+
+/// Row i's non-zero ξ with their keys, written from `at` on (the scan of keptCount() by scene
+/// index: at = keptOffsets[orig[i]]), in row order.
+template <class KeyOf>
+TUMBLE_HD_INLINE void keepRow(const std::uint32_t* offsets, const Vec3f* hist, const KeyOf& keyOf, std::uint32_t i,
+                              std::uint32_t at, std::uint32_t* outKey, Vec3f* outHist) {
+  for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
+    if (!isZeroSpring(hist[e])) {
+      outKey[at] = keyOf(e);
+      outHist[at++] = hist[e];
+    }
+}
+
+/// Row i of a new list (rows at `offsets`, keys ascending) takes the kept ξ of particle i's scene
+/// index `o` for the keys it has, zero for the others.
+template <class KeyOf>
+TUMBLE_HD_INLINE void restoreRow(const KeptView& kept, std::uint32_t o, const std::uint32_t* offsets, const KeyOf& keyOf,
+                                 std::uint32_t i, Vec3f* hist) {
+  std::uint32_t k = kept.offsets[o];
+  const std::uint32_t kEnd = kept.offsets[o + 1];
+  for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+    const std::uint32_t key = keyOf(e);
+    while (k < kEnd && kept.key[k] < key) ++k;
+    hist[e] = k < kEnd && kept.key[k] == key ? kept.hist[k] : Vec3f{0.0f, 0.0f, 0.0f};
+  }
+}
+
+}  // namespace tumble
