@@ -8,6 +8,7 @@
 #   ./tumble.sh tsan                                     the threaded tests under ThreadSanitizer (build-tsan)
 #   ./tumble.sh fuzz [SECONDS] [TARGET...]               each libFuzzer target SECONDS (default 60) on its corpus (build-fuzz)
 # Environment: BUILD_DIR (default build), JOBS (default: all cores), TUMBLE_ENABLE_CUDA (AUTO|ON|OFF),
+# TUMBLE_CUDA_ARCHITECTURES (nvcc's targets, e.g. "90"; default 80 and 90, what CI builds too),
 # TUMBLE_TIMINGS (a file: each step's seconds are appended to it, "command step<TAB>seconds";
 # .ci/run prints them as its stage table).
 set -euo pipefail
@@ -78,7 +79,9 @@ sanitize_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBI
 
 # configure_and_build [TARGET...]: the Release build in $build (every target, or those named).
 configure_and_build() {
-  timed configure cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" \
+  local archs=()
+  if [ -n "${TUMBLE_CUDA_ARCHITECTURES:-}" ]; then archs=(-DCMAKE_CUDA_ARCHITECTURES="$TUMBLE_CUDA_ARCHITECTURES"); fi
+  timed configure cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "${archs[@]}" \
         -DTUMBLE_ENABLE_CUDA="${TUMBLE_ENABLE_CUDA:-AUTO}" -DTUMBLE_WERROR=ON >/dev/null
   if [ $# -gt 0 ]; then
     timed build cmake --build "$build" -j "$jobs" --target "$@"
@@ -155,8 +158,8 @@ case "$cmd" in
         src=$(find "$build/onetbb-src" -maxdepth 1 -mindepth 1 -type d -name 'onetbb-*' 2>/dev/null | head -n 1 || true)
         if [ -z "$src" ]; then
           mkdir -p "$build/onetbb-src"
-          ensure_deb_src
-          if ! (cd "$build/onetbb-src" && apt-get source -qq onetbb >/dev/null 2>&1); then
+          timed deb-src ensure_deb_src
+          if ! (cd "$build/onetbb-src" && timed onetbb-source apt-get source -qq onetbb >/dev/null 2>&1); then
             echo "tumble.sh tsan: cannot get Debian's oneTBB source (apt-get source onetbb); check the deb-src" \
                  "lines for bookworm in /etc/apt/sources.list.d and run apt-get update, or set TBB_SOURCE=DIR" >&2
             exit 2
@@ -203,18 +206,33 @@ case "$cmd" in
     timed build cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
     mkdir -p "$build/findings"
     export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
+    # One target: its log, and a note on stderr when it found something.
+    fuzz_one() {
+      local t=$1
+      mkdir -p "$build/corpus/$t"
+      if ! "$build/validation/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 \
+             -print_final_stats=1 -artifact_prefix="$build/findings/$t-" \
+             "$build/corpus/$t" "$here/validation/fuzz/corpus/$t" >"$build/fuzz-$t.log" 2>&1; then
+        tail -n 60 "$build/fuzz-$t.log" >&2
+        echo "tumble.sh fuzz: $t found a problem; the input is in $build/findings (log: $build/fuzz-$t.log)" >&2
+        return 1
+      fi
+    }
+    # The targets side by side, $jobs at a time: each fuzzer is one process on one core, so every
+    # target still gets its SECONDS of a whole core, in a fraction of the wall time.
     fuzz_targets() {
-      local t status=0
+      local t status=0 pids=() names=() k
       for t in "${targets[@]}"; do
-        mkdir -p "$build/corpus/$t"
         echo "tumble.sh fuzz: $t for $seconds s" >&2
-        if ! "$build/validation/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 \
-               -print_final_stats=1 -artifact_prefix="$build/findings/$t-" \
-               "$build/corpus/$t" "$here/validation/fuzz/corpus/$t" >"$build/fuzz-$t.log" 2>&1; then
-          tail -n 60 "$build/fuzz-$t.log" >&2
-          echo "tumble.sh fuzz: $t found a problem; the input is in $build/findings (log: $build/fuzz-$t.log)" >&2
-          status=1
+        fuzz_one "$t" &
+        pids+=($!) names+=("$t")
+        if [ ${#pids[@]} -ge "$jobs" ]; then
+          wait "${pids[0]}" || status=1
+          pids=("${pids[@]:1}")
         fi
+      done
+      for k in "${pids[@]}"; do wait "$k" || status=1; done
+      for t in "${names[@]}"; do
         grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$build/fuzz-$t.log" | sed "s/^/  $t /" >&2 || true
       done
       return $status
