@@ -11,6 +11,9 @@ target_compile_options(tumble_flags INTERFACE
 # viewer's, where Mesa's EGL driver keeps 112 bytes to the end of the process; tumble run under
 # mpirun, where Open MPI keeps MPI_Init's allocations past MPI_Finalize); empty otherwise.
 set(TUMBLE_TEST_NO_LEAK_CHECK "")
+# TUMBLE_TEST_SANITIZED: "TUMBLE_TEST_SANITIZED=1" in a sanitizer build (the ENVIRONMENT of the
+# end-to-end scripts, whose seed sweeps then run their first seed: examples/tumble/cli_test.sh).
+set(TUMBLE_TEST_SANITIZED "")
 # TUMBLE_SANITIZE: ON means address,undefined; thread cannot be combined with address.
 # (A thread build reports races inside Debian's uninstrumented libtbb: README, "Sanitizers".)
 if(TUMBLE_SANITIZE AND NOT TUMBLE_SANITIZE STREQUAL "OFF")
@@ -35,6 +38,7 @@ if(TUMBLE_SANITIZE AND NOT TUMBLE_SANITIZE STREQUAL "OFF")
   if("address" IN_LIST _san_list)
     set(TUMBLE_TEST_NO_LEAK_CHECK "ASAN_OPTIONS=detect_leaks=0")
   endif()
+  set(TUMBLE_TEST_SANITIZED "TUMBLE_TEST_SANITIZED=1")
   set(TUMBLE_SANITIZE_LINK -fsanitize=${_san})  # what a consumer of the installed library links too
   message(STATUS "tumble: sanitizers ${_san}")
 endif()
