@@ -171,6 +171,41 @@ std::vector<Vec3f> initialOmega(const World& world) {
   return omega;
 }
 
+KeptRows keptOfContacts(std::uint32_t n, const std::vector<ContactHistory>& contacts) {
+  KeptRows k;
+  k.offsets.assign(std::size_t(n) + 1, 0u);
+  for (const ContactHistory& c : contacts) {
+    ++k.offsets[c.i + 1];
+    ++k.offsets[c.j + 1];
+  }
+  for (std::uint32_t i = 0; i < n; ++i) k.offsets[i + 1] += k.offsets[i];
+  k.key.resize(k.offsets[n]);
+  k.hist.resize(k.offsets[n]);
+  // In (i, j) order, row p receives its partners below p before those above, each ascending.
+  std::vector<std::uint32_t> at(k.offsets.begin(), k.offsets.end() - 1);
+  for (const ContactHistory& c : contacts) {
+    k.key[at[c.i]] = c.j;
+    k.hist[at[c.i]++] = Vec3f{c.x, c.y, c.z};
+    k.key[at[c.j]] = c.i;
+    k.hist[at[c.j]++] = Vec3f{-c.x, -c.y, -c.z};
+  }
+  return k;
+}
+
+KeptRows keptOfMeshContacts(std::uint32_t n, const std::vector<MeshContactHistory>& contacts) {
+  KeptRows k;
+  k.offsets.assign(std::size_t(n) + 1, 0u);
+  for (const MeshContactHistory& c : contacts) ++k.offsets[c.particle + 1];
+  for (std::uint32_t i = 0; i < n; ++i) k.offsets[i + 1] += k.offsets[i];
+  k.key.resize(contacts.size());
+  k.hist.resize(contacts.size());
+  for (std::size_t e = 0; e < contacts.size(); ++e) {
+    k.key[e] = contacts[e].triangle;
+    k.hist[e] = Vec3f{contacts[e].x, contacts[e].y, contacts[e].z};
+  }
+  return k;
+}
+
 // Both broadphases' sorted pairs (Broadphase::sortedPairs).
 std::vector<Pair> sortedPairs(std::uint32_t n, const std::uint32_t* recFirst, const std::uint32_t* inv,
                               const std::uint32_t* nbrOffsets, const std::uint32_t* nbr, std::uint64_t numEntries) {

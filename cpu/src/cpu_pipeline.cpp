@@ -861,9 +861,8 @@ class CpuPipeline final : public HaloPipeline {
   // key); after it, each row of the new list takes the ξ of its keys there, by a merge of the
   // two sorted rows, and zero for the others. So the history depends on the contacts only, not
   // on the list, the skin or the numbering.
-  struct KeptHistories {
-    std::vector<std::uint32_t> offsets, key, count;  // CSR by scene index; count: scratch
-    std::vector<Vec3f> hist;
+  struct KeptHistories : tumble::detail::KeptRows {
+    std::vector<std::uint32_t> count;  // scratch
   };
 
   // keyOf(e): the key of entry e of the rows offsets[i] .. offsets[i+1] (internal numbering);
@@ -873,14 +872,17 @@ class CpuPipeline final : public HaloPipeline {
                 KeptHistories& out) {
     const std::uint32_t n = m_world.numParticles();
     std::uint32_t* count = tumble::detail::grow(out.count, std::size_t(n) + 1);
-    forEach(n, kGrain, [&](std::uint32_t i) { count[m_orig[i]] = keptCount(offsets.data(), hist.data(), i); });
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      count[m_orig[i]] = takenCount(offsets.data(), hist.data(), keyOf, TakeAll{}, i, m_orig[i]);
+    });
     count[n] = 0;
     out.offsets.resize(std::size_t(n) + 1);
     scanCounts(count, std::size_t(n) + 1, out.offsets.data());
     out.key.resize(out.offsets[n]);
     out.hist.resize(out.offsets[n]);
     forEach(n, kGrain, [&](std::uint32_t i) {
-      keepRow(offsets.data(), hist.data(), keyOf, i, out.offsets[m_orig[i]], out.key.data(), out.hist.data());
+      takeRow(offsets.data(), hist.data(), keyOf, TakeAll{}, i, m_orig[i], out.offsets[m_orig[i]], out.key.data(),
+              out.hist.data());
     });
   }
 
@@ -893,38 +895,31 @@ class CpuPipeline final : public HaloPipeline {
     forEach(n, kGrain, [&](std::uint32_t i) { restoreRow(k, m_orig[i], offsets.data(), keyOf, i, hist.data()); });
   }
 
-  // The entries with a key and a non-zero ξ that `take` accepts, as out[...] = make(scene index,
-  // key, ξ), sorted by (scene index, key): from the rows of a list, or before the first rebuild
-  // (loaded, not stepped) from the kept histories.
+  // The entries with a key and a non-zero ξ that `take` accepts, as make(scene index, key, ξ),
+  // sorted by (scene index, key): taken out of the rows of a list (count → scan → fill by scene
+  // index, kernels/history.hpp, as the CUDA pipeline), or before the first rebuild (loaded, not
+  // stepped) from the kept histories.
   template <class Out, class KeyOf, class Take, class Make>
-  void readRows(const KeptHistories& kept, const std::vector<std::uint32_t>& offsets, const std::vector<Vec3f>& hist,
-                KeyOf&& keyOf, Take&& take, Make&& make, std::vector<Out>& out) const {
+  std::vector<Out> readRows(const KeptHistories& kept, const std::vector<std::uint32_t>& offsets,
+                            const std::vector<Vec3f>& hist, const KeyOf& keyOf, const Take& take, const Make& make) const {
     const std::uint32_t n = m_world.numParticles();
-    out.clear();
-    if (!m_listBuilt) {
-      for (std::uint32_t i = 0; i < n; ++i)
-        for (std::uint32_t k = kept.offsets[i]; k < kept.offsets[i + 1]; ++k)
-          if (take(i, kept.key[k])) out.push_back(make(i, kept.key[k], kept.hist[k]));
-      return;
-    }
-    std::vector<std::uint32_t> count(std::size_t(n) + 1, 0u);
+    if (!m_listBuilt)
+      return tumble::detail::readRows<Out>(n, kept.offsets.data(), kept.key.data(), kept.hist.data(), take, make);
+    std::vector<std::uint32_t> at(std::size_t(n) + 1, 0u);
     m_arena.execute([&] {
       forEach(n, kGrain, [&](std::uint32_t i) {
-        std::uint32_t c = 0;
-        for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += take(m_orig[i], keyOf(e)) && !isZeroSpring(hist[e]) ? 1u : 0u;
-        count[m_orig[i] + 1] = c;
+        at[m_orig[i] + 1] = takenCount(offsets.data(), hist.data(), keyOf, take, i, m_orig[i]);
       });
     });
-    for (std::uint32_t i = 0; i < n; ++i) count[i + 1] += count[i];
-    out.resize(count[n]);
+    for (std::uint32_t o = 0; o < n; ++o) at[o + 1] += at[o];
+    std::vector<std::uint32_t> key(at[n]);
+    std::vector<Vec3f> taken(at[n]);
     m_arena.execute([&] {
       forEach(n, kGrain, [&](std::uint32_t i) {
-        const std::uint32_t me = m_orig[i];
-        std::uint32_t at = count[me];
-        for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
-          if (take(me, keyOf(e)) && !isZeroSpring(hist[e])) out[at++] = make(me, keyOf(e), hist[e]);
+        takeRow(offsets.data(), hist.data(), keyOf, take, i, m_orig[i], at[m_orig[i]], key.data(), taken.data());
       });
     });
+    return tumble::detail::readRows<Out>(n, at.data(), key.data(), taken.data(), TakeAll{}, make);
   }
 
   void keepHistory() { keepRows(m_candOffsets, m_hist, PartnerKey{m_orig.data(), m_cand.data()}, m_keep); }
@@ -932,33 +927,15 @@ class CpuPipeline final : public HaloPipeline {
 
   // The histories of a loaded state (BodyState::contacts, i < j sorted) in the kept form.
   void keepLoadedHistory(const std::vector<ContactHistory>& contacts) {
-    const std::uint32_t n = m_world.numParticles();
-    m_keep.offsets.assign(std::size_t(n) + 1, 0u);
-    for (const ContactHistory& c : contacts) {
-      ++m_keep.offsets[c.i + 1];
-      ++m_keep.offsets[c.j + 1];
-    }
-    for (std::uint32_t i = 0; i < n; ++i) m_keep.offsets[i + 1] += m_keep.offsets[i];
-    m_keep.key.resize(m_keep.offsets[n]);
-    m_keep.hist.resize(m_keep.offsets[n]);
-    // In (i, j) order, row p receives its partners below p before those above, each ascending.
-    std::vector<std::uint32_t> at(m_keep.offsets.begin(), m_keep.offsets.end() - 1);
-    for (const ContactHistory& c : contacts) {
-      m_keep.key[at[c.i]] = c.j;
-      m_keep.hist[at[c.i]++] = Vec3f{c.x, c.y, c.z};
-      m_keep.key[at[c.j]] = c.i;
-      m_keep.hist[at[c.j]++] = Vec3f{-c.x, -c.y, -c.z};
-    }
+    static_cast<tumble::detail::KeptRows&>(m_keep) = tumble::detail::keptOfContacts(m_world.numParticles(), contacts);
   }
 
   // BodyState::contacts: the non-zero ξ of the pairs i < j (scene indices), sorted.
   void readHistory(std::vector<ContactHistory>& out) const {
     out.clear();
     if (!m_history) return;
-    readRows(
-        m_keep, m_candOffsets, m_hist, [&](std::uint32_t e) { return m_orig[m_cand[e]]; },
-        [](std::uint32_t me, std::uint32_t other) { return other > me; },
-        [](std::uint32_t me, std::uint32_t other, Vec3f h) { return ContactHistory{me, other, h.x, h.y, h.z}; }, out);
+    out = readRows<ContactHistory>(m_keep, m_candOffsets, m_hist, PartnerKey{m_orig.data(), m_cand.data()}, TakeAbove{},
+                                   tumble::detail::MakeContact{});
   }
 
   // The mesh springs: kept and restored by triangle; a loaded state's (BodyState::meshContacts,
@@ -966,24 +943,14 @@ class CpuPipeline final : public HaloPipeline {
   void keepMeshHistory() { keepRows(m_meshOffsets, m_meshHist, TriangleKey{m_meshTri.data()}, m_meshKeep); }
   void restoreMeshHistory() { restoreRows(m_meshKeep, m_meshOffsets, TriangleKey{m_meshTri.data()}, m_meshHist); }
   void keepLoadedMeshHistory(const std::vector<MeshContactHistory>& contacts) {
-    const std::uint32_t n = m_world.numParticles();
-    m_meshKeep.offsets.assign(std::size_t(n) + 1, 0u);
-    for (const MeshContactHistory& c : contacts) ++m_meshKeep.offsets[c.particle + 1];
-    for (std::uint32_t i = 0; i < n; ++i) m_meshKeep.offsets[i + 1] += m_meshKeep.offsets[i];
-    m_meshKeep.key.resize(contacts.size());
-    m_meshKeep.hist.resize(contacts.size());
-    for (std::size_t k = 0; k < contacts.size(); ++k) {
-      m_meshKeep.key[k] = contacts[k].triangle;
-      m_meshKeep.hist[k] = Vec3f{contacts[k].x, contacts[k].y, contacts[k].z};
-    }
+    static_cast<tumble::detail::KeptRows&>(m_meshKeep) =
+        tumble::detail::keptOfMeshContacts(m_world.numParticles(), contacts);
   }
   void readMeshHistory(std::vector<MeshContactHistory>& out) const {
     out.clear();
     if (!m_hasMesh) return;
-    readRows(
-        m_meshKeep, m_meshOffsets, m_meshHist, [&](std::uint32_t e) { return m_meshTri[e]; },
-        [](std::uint32_t, std::uint32_t) { return true; },
-        [](std::uint32_t me, std::uint32_t t, Vec3f h) { return MeshContactHistory{me, t, h.x, h.y, h.z}; }, out);
+    out = readRows<MeshContactHistory>(m_meshKeep, m_meshOffsets, m_meshHist, TriangleKey{m_meshTri.data()}, TakeAll{},
+                                       tumble::detail::MakeMeshContact{});
   }
 
   // The mesh candidate list at the current positions (those of the rebuild): per particle the

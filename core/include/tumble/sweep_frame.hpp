@@ -14,6 +14,7 @@
 #include "tumble/hd.hpp"
 #include "tumble/kernels/cell_key.hpp"
 #include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/history.hpp"
 #include "tumble/kernels/records.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"
@@ -147,6 +148,42 @@ void initialRows(const World& world, std::vector<BodyRow>* outBodies, std::vecto
 /// under a law that turns spheres (ContactParams::rotatesSpheres); 0 for the others (they do
 /// not rotate; their L is kept but never used). The pipelines' load().
 std::vector<Vec3f> initialOmega(const World& world);
+
+/// Contact histories kept across a rebuild (kernels/history.hpp), on the host: CSR by scene
+/// index (row o: offsets[o] .. offsets[o + 1]), each row's keys ascending.
+struct KeptRows {
+  std::vector<std::uint32_t> offsets, key;
+  std::vector<Vec3f> hist;
+};
+
+/// The kept form of a loaded state's contact histories (BodyState::contacts: pairs i < j,
+/// sorted) for n particles: each pair in both rows, ξ negated in row j's; row p holds its
+/// partners below p, then those above, each ascending. The pipelines' load().
+KeptRows keptOfContacts(std::uint32_t n, const std::vector<ContactHistory>& contacts);
+/// The same of the mesh springs (BodyState::meshContacts, sorted by (particle, triangle)).
+KeptRows keptOfMeshContacts(std::uint32_t n, const std::vector<MeshContactHistory>& contacts);
+
+/// BodyState::contacts and meshContacts entries: make(me, key, ξ) of readRows().
+struct MakeContact {
+  ContactHistory operator()(std::uint32_t me, std::uint32_t other, Vec3f h) const { return {me, other, h.x, h.y, h.z}; }
+};
+struct MakeMeshContact {
+  MeshContactHistory operator()(std::uint32_t me, std::uint32_t t, Vec3f h) const { return {me, t, h.x, h.y, h.z}; }
+};
+
+/// The entries of rows CSR by scene index (as KeptRows: offsets of n + 1) that take(me, key)
+/// accepts (TakeAll, TakeAbove) and whose ξ is non-zero, as make(me, key, ξ), in row order:
+/// BodyState::contacts and meshContacts from the kept rows, or from rows a pipeline took out of
+/// its lists (takenCount() → scan → takeRow()).
+template <class Out, class Take, class Make>
+std::vector<Out> readRows(std::uint32_t n, const std::uint32_t* offsets, const std::uint32_t* key, const Vec3f* hist,
+                          const Take& take, const Make& make) {
+  std::vector<Out> out;
+  for (std::uint32_t me = 0; me < n; ++me)
+    for (std::uint32_t k = offsets[me]; k < offsets[me + 1]; ++k)
+      if (take(me, key[k]) && !isZeroSpring(hist[k])) out.push_back(make(me, key[k], hist[k]));
+  return out;
+}
 
 /// Pairs (i < j), sorted, from the forward half of the CSR contact list (the CPU's
 /// Broadphase::sortedPairs).

@@ -4,11 +4,12 @@
 /// tangential springs ξ of the laws with a history (per entry of the candidate list, keyed by the
 /// partner's scene index) and the mesh springs (per entry of the mesh candidate list, keyed by
 /// the triangle). Before a rebuild the non-zero ξ of each particle's row are kept by scene index,
-/// each with its key, in the row's order (ascending key): count (keptCount) → scan → fill
-/// (keepRow). After it, each row of the new list takes the ξ of its keys from the kept row, by a
+/// each with its key, in the row's order (ascending key): count (takenCount, TakeAll) → scan →
+/// fill (takeRow). After it, each row of the new list takes the ξ of its keys from the kept row, by a
 /// merge of the two sorted rows, and zero for the others (restoreRow). So a history depends on
-/// the contacts only, not on the list, the skin or the numbering. Each function writes only
-/// particle i's outputs.
+/// the contacts only, not on the list, the skin or the numbering. The same count → scan → fill
+/// reads them out (BodyState::contacts, meshContacts). Each function writes only particle i's
+/// outputs.
 #pragma once
 #include <cstdint>
 
@@ -40,20 +41,34 @@ struct KeptView {
   const Vec3f* hist;
 };
 
-/// The number of non-zero ξ in row i (rows at `offsets`, internal numbering).
-TUMBLE_HD_INLINE std::uint32_t keptCount(const std::uint32_t* offsets, const Vec3f* hist, std::uint32_t i) {
+/// Which entries of a row count, take(me, key) with `me` the row's scene index: every one (kept
+/// across a rebuild; BodyState::meshContacts), or those whose partner has a higher scene index
+/// (BodyState::contacts: each pair once, i < j).
+struct TakeAll {
+  TUMBLE_HD_INLINE bool operator()(std::uint32_t, std::uint32_t) const { return true; }
+};
+struct TakeAbove {
+  TUMBLE_HD_INLINE bool operator()(std::uint32_t me, std::uint32_t key) const { return key > me; }
+};
+
+/// The number of entries of row i (rows at `offsets`, internal numbering; `me` its scene index)
+/// that `take` accepts and whose ξ is non-zero.
+template <class KeyOf, class Take>
+TUMBLE_HD_INLINE std::uint32_t takenCount(const std::uint32_t* offsets, const Vec3f* hist, const KeyOf& keyOf,
+                                          const Take& take, std::uint32_t i, std::uint32_t me) {
   std::uint32_t c = 0;
-  for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += isZeroSpring(hist[e]) ? 0u : 1u;
+  for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) c += take(me, keyOf(e)) && !isZeroSpring(hist[e]) ? 1u : 0u;
   return c;
 }
 
-/// Row i's non-zero ξ with their keys, written from `at` on (the scan of keptCount() by scene
-/// index: at = keptOffsets[orig[i]]), in row order.
-template <class KeyOf>
-TUMBLE_HD_INLINE void keepRow(const std::uint32_t* offsets, const Vec3f* hist, const KeyOf& keyOf, std::uint32_t i,
-                              std::uint32_t at, std::uint32_t* outKey, Vec3f* outHist) {
+/// Those entries with their keys, written from `at` on (the scan of takenCount() by scene
+/// index: at = outOffsets[me]), in row order.
+template <class KeyOf, class Take>
+TUMBLE_HD_INLINE void takeRow(const std::uint32_t* offsets, const Vec3f* hist, const KeyOf& keyOf, const Take& take,
+                              std::uint32_t i, std::uint32_t me, std::uint32_t at, std::uint32_t* outKey,
+                              Vec3f* outHist) {
   for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
-    if (!isZeroSpring(hist[e])) {
+    if (take(me, keyOf(e)) && !isZeroSpring(hist[e])) {
       outKey[at] = keyOf(e);
       outHist[at++] = hist[e];
     }
