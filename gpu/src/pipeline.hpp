@@ -37,6 +37,7 @@
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/history.hpp"
 #include "tumble/kernels/step.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/pipeline.hpp"
@@ -144,8 +145,9 @@ struct StepReadback {
   unsigned long long contacts;
 };
 
-// Stages 3–5 per particle; its force and torque go to f, t (one writer each).
-template <bool kDebug, bool kClumps>
+// Stages 3–5 per particle; its force and torque go to f, t (one writer each); under a law with
+// history also its row's ξ (StepView::history).
+template <bool kDebug, bool kClumps, ContactLaw kLaw>
 struct ForcesFn {
   StepView v;
   ForceParams fp;
@@ -154,7 +156,7 @@ struct ForcesFn {
   Vec3f* t;
   unsigned long long* contacts;
   TUMBLE_HD void operator()(std::uint32_t i) const {
-    const ParticleForce pf = particleForce<kDebug, kClumps>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
+    const ParticleForce pf = particleForce<kDebug, kClumps, kLaw>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
     f[i] = pf.f;
     t[i] = pf.t;
     if (pf.contacts != 0) exec::atomicAddU64(contacts, static_cast<unsigned long long>(pf.contacts));  // exact
@@ -184,6 +186,51 @@ struct IntegrateFn {
       exec::atomicMaxU32(&rb->hi[a], orderedBits(d.hi[a]));
     }
   }
+};
+
+// The histories across a rebuild (kernels/history.hpp), by scene index: kept from the rows of
+// the old list (count → scan → fill: CudaPipeline::takeRows), restored into the rows of the new
+// one; the same count → scan → fill reads them out (readLocalState()).
+template <class KeyOf, class Take>
+struct ListRows {
+  const std::uint32_t* offsets;
+  const Vec3f* hist;
+  KeyOf keyOf;
+  Take take;
+  const std::uint32_t* orig;
+};
+
+// Element n writes the trailing zero of the counts.
+template <class KeyOf, class Take>
+struct TakenCountFn {
+  ListRows<KeyOf, Take> r;
+  std::uint32_t n;
+  std::uint32_t* count;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    if (i == n) count[n] = 0;
+    else count[r.orig[i]] = takenCount(r.offsets, r.hist, r.keyOf, r.take, i, r.orig[i]);
+  }
+};
+
+template <class KeyOf, class Take>
+struct TakeRowFn {
+  ListRows<KeyOf, Take> r;
+  const std::uint32_t* at;
+  std::uint32_t* outKey;
+  Vec3f* outHist;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    takeRow(r.offsets, r.hist, r.keyOf, r.take, i, r.orig[i], at[r.orig[i]], outKey, outHist);
+  }
+};
+
+template <class KeyOf>
+struct RestoreRowFn {
+  KeptView kept;
+  const std::uint32_t* orig;
+  const std::uint32_t* offsets;
+  KeyOf keyOf;
+  Vec3f* hist;
+  TUMBLE_HD void operator()(std::uint32_t i) const { restoreRow(kept, orig[i], offsets, keyOf, i, hist); }
 };
 
 // pairs(): per particle the contacts with a higher scene index, written at its scene index's
@@ -235,9 +282,6 @@ class CudaPipeline final : public Pipeline {
   void load(const World& world) override {
     const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // copies from the locals below
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
-    if (world.params.contact.law != ContactLaw::Report)
-      throw NotSupported(std::string("the CUDA pipeline runs the report's contact law only so far; [contact] law = \"") +
-                         toString(world.params.contact.law) + "\" runs on the CPU pipeline (--pipeline cpu)");
     if (!world.params.walls.empty())
       throw NotSupported(std::string("the CUDA pipeline has no walls yet") +
                          (meshTriangleCount(world.params) > 0 ? " (triangle meshes included)" : "") +
@@ -248,8 +292,10 @@ class CudaPipeline final : public Pipeline {
     const World& w = m_world;
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
     const Stream& s = m_ctx;
-    m_clumps = w.hasClumps;
+    m_clumps = w.hasClumps || w.params.contact.rotatesSpheres();  // the rotating path
     m_ground = w.params.ground.enabled;
+    m_law = w.params.contact.law;
+    m_history = w.params.contact.hasHistory();
     // Every host array copied from here lives until the synchronize() below.
     const std::vector<Wall> planes = kernelWalls(world.params, m_frame);  // the ground only (no walls: above)
     m_planes.upload(planes, s);
@@ -268,6 +314,18 @@ class CudaPipeline final : public Pipeline {
     m_mass.upload(w.mass, s);
     m_orig.upload(orig, s);
     m_bodyOf.upload(w.body, s);
+    // One material: every particle's is 0 and the kernels need no column.
+    m_hasMaterial = w.params.materials.size() > 1;
+    m_material.upload(w.material.data(), m_hasMaterial ? w.material.size() : 0, s);
+    m_hertz.upload(w.materialPairs, s);
+    m_planeHertz.upload(w.planeHertz, s);
+    // A loaded state's contact histories, kept as before a rebuild (restored by the first).
+    const tumble::detail::KeptRows kept = m_history ? tumble::detail::keptOfContacts(n, st.contacts)
+                                                    : tumble::detail::KeptRows{};
+    m_keptOffsets.upload(kept.offsets, s);
+    m_keptKey.upload(kept.key, s);
+    m_keptHist.upload(kept.hist, s);
+    m_listBuilt = false;
     m_tx.upload(st.groundSpringX.data(), m_ground ? st.groundSpringX.size() : 0, s);
     m_ty.upload(st.groundSpringY.data(), m_ground ? st.groundSpringY.size() : 0, s);
     for (auto& p : m_pos) p.grow(n);
@@ -329,7 +387,7 @@ class CudaPipeline final : public Pipeline {
       out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
       out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
     }
-    out.contacts.clear();  // no contact history: the report's law only (load())
+    out.contacts = m_history ? readHistory() : std::vector<ContactHistory>{};
     out.groundSpringX.resize(tx.size());
     out.groundSpringY.resize(ty.size());
     for (std::size_t i = 0; i < tx.size(); ++i) {
@@ -469,15 +527,15 @@ class CudaPipeline final : public Pipeline {
                     compactList(m_candOffsets.data(), m_cand.data()),
                     m_touching.data(),
                     m_world.numParticles(),
-                    nullptr,   // no contact history: the report's law only (load())
-                    false,
-                    nullptr,   // the report's law: no materials
-                    nullptr,
-                    0,
+                    m_history ? m_hist.data() : nullptr,
+                    m_world.params.contact.rotatesSpheres(),
+                    m_world.materialPairs.empty() ? nullptr : m_hertz.data(),
+                    m_hasMaterial ? m_material.data() : nullptr,
+                    static_cast<std::uint32_t>(m_world.params.materials.size()),
                     m_planes.data(),
                     m_ground ? 1u : 0u,
                     nullptr,   // one plane at most: its damping is in the own rows
-                    nullptr,
+                    m_world.planeHertz.empty() ? nullptr : m_planeHertz.data(),
                     PeriodicBox{},  // no periodic boundaries (load())
                     MeshView{},     // no mesh walls (load())
                     MeshListView{},
@@ -515,13 +573,7 @@ class CudaPipeline final : public Pipeline {
     m_readbackInit = init;  // a member: the stream may reach the copy after this function returns
     Exec::copyToDevice(s, rb, &m_readbackInit, 1);
     unsigned long long* contacts = &rb->contacts;
-    if (m_debug) {
-      if (m_clumps) Exec::forEach(s, n, ForcesFn<true, true>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
-      else Exec::forEach(s, n, ForcesFn<true, false>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
-    } else {
-      if (m_clumps) Exec::forEach(s, n, ForcesFn<false, true>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
-      else Exec::forEach(s, n, ForcesFn<false, false>{v, fp, dbg, m_f.data(), m_t.data(), contacts}, "forces");
-    }
+    m_debug ? launchForces<true>(v, fp, dbg, contacts) : launchForces<false>(v, fp, dbg, contacts);
     if (m_debug) m_hasDebug = true;
 
     m_timer.mark(Phase::Integrate, s);
@@ -549,6 +601,26 @@ class CudaPipeline final : public Pipeline {
     m_stats.numPairs = h.contacts / 2;  // each contact is seen from both sides
   }
 
+  // Stages 3–5, instantiated for the scene's law (the laws with history rotate every body, as on
+  // the CPU).
+  template <bool kDebug>
+  void launchForces(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, unsigned long long* contacts) {
+    const std::uint32_t n = m_world.numParticles();
+    Vec3f* f = m_f.data();
+    Vec3f* t = m_t.data();
+    switch (m_law) {
+      case ContactLaw::HookeHistory:
+        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HookeHistory>{v, fp, dbg, f, t, contacts}, "forces");
+        break;
+      case ContactLaw::HertzMindlin:
+        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HertzMindlin>{v, fp, dbg, f, t, contacts}, "forces");
+        break;
+      default:
+        if (m_clumps) Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::Report>{v, fp, dbg, f, t, contacts}, "forces");
+        else Exec::forEach(m_ctx, n, ForcesFn<kDebug, false, ContactLaw::Report>{v, fp, dbg, f, t, contacts}, "forces");
+    }
+  }
+
   // Stage 1: the particle positions of the current body state (after a reordering, and at load).
   template <bool kClumps>
   void launchState() {
@@ -561,6 +633,10 @@ class CudaPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
     m_timer.mark(Phase::Reorder, s);
+    if (m_listBuilt && m_history) {  // by scene index: survives the renumbering
+      keepHistory();
+      m_listBuilt = false;  // until the new list holds them (a failed rebuild keeps the kept ones)
+    }
     if (m_reorder) reorder();
 
     m_timer.mark(Phase::State, s);
@@ -596,12 +672,83 @@ class CudaPipeline final : public Pipeline {
                   CandidateFillFn{sl, m_orig.data(), m_candOffsets.data(), m_cand.grow(m_numCand),
                                   m_candKey.grow(m_numCand)},
                   "candidateFill");
+    if (m_history) restoreHistory();
+    m_listBuilt = true;
     m_needRebuild = false;
     ++m_stats.numRebuilds;
     m_stats.numCandidates = m_numCand / 2;
     m_stats.numRecords = m_bp.numRecords();
     m_stats.numCells = m_bp.numCells();
     m_stats.cellSize = m_bp.frame().cellSize;
+  }
+
+  // The non-zero ξ of the candidate list's rows that `take` accepts (kernels/history.hpp), by
+  // scene index with their partners' scene indices: count → scan → fill into offsets (n + 1),
+  // key and hist. Returns their number.
+  template <class Take>
+  std::uint32_t takeRows(Take take, Buffer<std::uint32_t>& count, Buffer<unsigned char>& temp,
+                         Buffer<std::uint32_t>& offsets, Buffer<std::uint32_t>& key, Buffer<Vec3f>& hist) const {
+    const std::uint32_t n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    const ListRows<PartnerKey, Take> rows{m_candOffsets.data(), m_hist.data(), PartnerKey{m_orig.data(), m_cand.data()},
+                                          take, m_orig.data()};
+    std::uint32_t* at = offsets.grow(std::size_t(n) + 1);
+    Exec::forEach(s, std::uint64_t(n) + 1, TakenCountFn<PartnerKey, Take>{rows, n, count.grow(std::size_t(n) + 1)},
+                  "takenCount");
+    Exec::exclusiveSum(s, temp, count.data(), at, n + 1);
+    std::uint32_t total = 0;
+    Exec::copyToHost(s, &total, at + n, 1);
+    s.synchronize();
+    Exec::forEach(s, n, TakeRowFn<PartnerKey, Take>{rows, at, key.grow(total), hist.grow(total)}, "takeRow");
+    return total;
+  }
+
+  // As CpuPipeline::keepHistory: every non-zero ξ of the list, kept for the rebuild.
+  void keepHistory() { takeRows(TakeAll{}, m_count, m_temp, m_keptOffsets, m_keptKey, m_keptHist); }
+
+  // As CpuPipeline::restoreHistory: each row of the new list takes its kept ξ.
+  void restoreHistory() {
+    const KeptView kept{m_keptOffsets.data(), m_keptKey.data(), m_keptHist.data()};
+    Exec::forEach(m_ctx, m_world.numParticles(),
+                  RestoreRowFn<PartnerKey>{kept, m_orig.data(), m_candOffsets.data(),
+                                           PartnerKey{m_orig.data(), m_cand.data()}, m_hist.grow(m_numCand)},
+                  "restoreRow");
+  }
+
+  // As CpuPipeline::readHistory: BodyState::contacts, the non-zero ξ of the pairs i < j (scene
+  // indices), sorted; taken out of the list's rows (count → scan → fill by scene index), or
+  // before the first rebuild from the kept histories.
+  std::vector<ContactHistory> readHistory() const {
+    const std::uint32_t n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    std::vector<std::uint32_t> at(std::size_t(n) + 1);
+    std::vector<std::uint32_t> key;
+    std::vector<Vec3f> hist;
+    if (!m_listBuilt) {
+      m_keptOffsets.download(at.data(), at.size(), s);
+      s.synchronize();
+      key.resize(at[n]);
+      hist.resize(at[n]);
+      m_keptKey.download(key.data(), key.size(), s);
+      m_keptHist.download(hist.data(), hist.size(), s);
+      s.synchronize();
+      return tumble::detail::readRows<ContactHistory>(n, at.data(), key.data(), hist.data(), TakeAbove{},
+                                                      tumble::detail::MakeContact{});
+    }
+    Buffer<std::uint32_t> count, offsets, outKey;
+    Buffer<Vec3f> outHist;
+    Buffer<unsigned char> temp;
+    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
+    const exec::AbandonOnUnwind<Stream> unwind(s);
+    const std::uint32_t total = takeRows(TakeAbove{}, count, temp, offsets, outKey, outHist);
+    key.resize(total);
+    hist.resize(total);
+    offsets.download(at.data(), at.size(), s);
+    outKey.download(key.data(), key.size(), s);
+    outHist.download(hist.data(), hist.size(), s);
+    s.synchronize();
+    return tumble::detail::readRows<ContactHistory>(n, at.data(), key.data(), hist.data(), TakeAll{},
+                                                    tumble::detail::MakeContact{});
   }
 
   // As CpuPipeline::reorder.
@@ -626,11 +773,12 @@ class CudaPipeline final : public Pipeline {
     Exec::forEach(s, std::uint64_t(nb) + 1, PermutedCountFn{m_bodies.data(), perm, nb, count}, "permutedCount");
     Exec::exclusiveSum(s, m_temp, count, first, nb + 1);
     const ReorderColumns from{m_own.data(),  m_radius.data(), m_mass.data(),
-                              nullptr,  // the report's law only (load()): no materials
+                              m_hasMaterial ? m_material.data() : nullptr,
                               m_orig.data(), m_bodyOf.data(), m_ground ? m_tx.data() : nullptr,
                               m_ground ? m_ty.data() : nullptr,
                               nullptr};  // one plane at most: no damping of further planes
-    const ReorderColumns to{m_ownTmp.grow(n),  m_radiusTmp.grow(n), m_massTmp.grow(n), nullptr, m_origTmp.grow(n),
+    const ReorderColumns to{m_ownTmp.grow(n),  m_radiusTmp.grow(n), m_massTmp.grow(n),
+                            m_hasMaterial ? m_materialTmp.grow(n) : nullptr, m_origTmp.grow(n),
                             m_bodyOfTmp.grow(n), m_ground ? m_txTmp.grow(n) : nullptr,
                             m_ground ? m_tyTmp.grow(n) : nullptr, nullptr};
     Exec::forEach(s, nb,
@@ -644,6 +792,7 @@ class CudaPipeline final : public Pipeline {
     std::swap(m_mass, m_massTmp);
     std::swap(m_orig, m_origTmp);
     std::swap(m_bodyOf, m_bodyOfTmp);
+    if (m_hasMaterial) std::swap(m_material, m_materialTmp);
     if (m_ground) {
       std::swap(m_tx, m_txTmp);
       std::swap(m_ty, m_tyTmp);
@@ -659,6 +808,12 @@ class CudaPipeline final : public Pipeline {
   bool m_loaded = false;
   bool m_clumps = false;
   bool m_ground = false;
+  ContactLaw m_law = ContactLaw::Report;
+  bool m_history = false;      // the law keeps a tangential history per contact
+  bool m_listBuilt = false;    // a candidate list (and m_hist) exists since the load
+  bool m_hasMaterial = false;  // hertz-mindlin with several materials: m_material
+  Buffer<std::uint16_t> m_material, m_materialTmp;
+  Buffer<HertzPair> m_hertz, m_planeHertz;  // World::materialPairs, planeHertz
   // Internal numbering (see cpu/src/cpu_pipeline.cpp).
   Buffer<BodyRow> m_bodies, m_bodiesNext;
   Buffer<BodyStatic> m_bodyStatic;
@@ -670,6 +825,9 @@ class CudaPipeline final : public Pipeline {
   int m_cur = 0;
   Buffer<std::uint32_t> m_candOffsets, m_cand, m_candKey;
   Buffer<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
+  Buffer<Vec3f> m_hist;             // laws with a history: ξ per candidate-list entry
+  Buffer<std::uint32_t> m_keptOffsets, m_keptKey;  // the histories kept across a rebuild (CSR by scene index)
+  Buffer<Vec3f> m_keptHist;
   std::uint32_t m_numCand = 0;
   float m_skin = 0.0f, m_skinLimit = 0.0f;
   bool m_needRebuild = true;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // CPU ≡ CUDA step by step: the CPU pipeline and the CUDA pipeline stepped side by side on
-// molecules, spheres, bench-16k and a pour for 1000 steps (and a dense cluster for 200), comparing after every step the pair
+// molecules, spheres, bench-16k and a pour for 1000 steps (and a dense cluster for 200), under
+// the report's law and the laws with history, comparing after every step the pair
 // lists, every bit of the body state and contact-list state (the contacts and their histories),
 // and the debug velocities and forces; a failure names the first differing step, quantity and
 // body or particle. Each runs on every backend of the CUDA pipeline: cuda-host (its code on the
@@ -26,8 +27,8 @@ namespace {
 
 World sceneWorld(const char* file) { return World::fromScene(readSceneFile(sourcePath(file))); }
 
-// Balls and dimers poured onto the ground under the report's law (the CUDA pipeline's model so
-// far), a batch every 50 steps (interval 0.005 s): the world grows and both pipelines are loaded afresh with it.
+// Balls and dimers poured onto the ground under the report's law, a batch every 50 steps
+// (interval 0.005 s): the world grows and both pipelines are loaded afresh with it.
 const char* kPour = R"(
 [scene]
 dt = 1e-4
@@ -71,7 +72,7 @@ scale = [0.8, 1.2]
 // gravity: every particle is in contact from the first step on, so that a row, a record or an
 // offset lost at any index shows (the last particle of the internal order included, which in
 // the scenes above may touch nothing).
-World denseCluster() {
+World denseCluster(ContactLaw law = ContactLaw::Report) {
   Scene s;
   s.gravity = {0.0f, 0.0f, 0.0f};
   s.dt = 1e-3f;
@@ -85,6 +86,8 @@ World denseCluster() {
                   0.18f * float(i / 144) + rng.uniform(-0.01f, 0.01f)};
     s.bodies.push_back(b);
   }
+  if (law == ContactLaw::HookeHistory) s = withHookeHistory(s);
+  if (law == ContactLaw::HertzMindlin) s = withHertzMindlin(s, 1.0e6f, true);
   return World::fromScene(s);
 }
 
@@ -142,6 +145,23 @@ TEST_P(CudaEqualsCpu, SpheresStepByStep) { expectEqual(sceneWorld("scenes/sphere
 TEST_P(CudaEqualsCpu, Bench16kStepByStep) { expectEqual(sceneWorld("scenes/bench-16k.toml"), 1000, "bench-16k"); }
 
 TEST_P(CudaEqualsCpu, DenseClusterStepByStep) { expectEqual(denseCluster(), 200, "dense cluster"); }
+
+// The laws with a tangential history per contact (the histories compared after every step with
+// the state): molecules' clumps falling onto the ground and into each other, and the dense
+// cluster's single spheres (which rotate under these laws), where every particle carries
+// histories from the first step and each rebuild must carry them all across; hertz-mindlin with
+// two materials (a per-pair table, rolling resistance between some pairs: withHertzMindlin).
+TEST_P(CudaEqualsCpu, HookeHistoryStepByStep) {
+  expectEqual(World::fromScene(withHookeHistory(readSceneFile(sourcePath("scenes/molecules.toml")))), 1000,
+              "molecules, hooke-history");
+  expectEqual(denseCluster(ContactLaw::HookeHistory), 200, "dense cluster, hooke-history");
+}
+
+TEST_P(CudaEqualsCpu, HertzMindlinStepByStep) {
+  expectEqual(World::fromScene(withHertzMindlin(readSceneFile(sourcePath("scenes/molecules.toml")), 1.0e6f, true)),
+              1000, "molecules, hertz-mindlin");
+  expectEqual(denseCluster(ContactLaw::HertzMindlin), 200, "dense cluster, hertz-mindlin");
+}
 
 TEST_P(CudaEqualsCpu, PourStepByStep) {
   const Scene s = parseScene(kPour, "pour (cuda_equals_cpu_test.cpp)");
