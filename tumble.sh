@@ -25,11 +25,17 @@ packages=(g++ cmake ninja-build pkg-config libtbb-dev libeigen3-dev libtomlplusp
 test_packages=(python3-pytest python3-vtk9)
 
 # timed STEP CMD...: runs CMD; with TUMBLE_TIMINGS set, appends "<command> STEP<TAB>seconds" to it
-# (also when CMD fails). Returns CMD's status.
+# (also when CMD fails). Returns CMD's status. CMD runs in a subshell with `set -e` on: a shell
+# function stops at its first failing command, as it would unwrapped (`CMD || rc=$?` would turn
+# -e off inside it; so does calling timed itself in a condition). CMD cannot set this shell's
+# variables.
 timed() {
   local step=$1 t0=$SECONDS rc=0
   shift
-  "$@" || rc=$?
+  set +e
+  (set -e; "$@")
+  rc=$?
+  set -e
   if [ -n "${TUMBLE_TIMINGS:-}" ]; then printf '%s %s\t%d\n' "$cmd" "$step" $((SECONDS - t0)) >>"$TUMBLE_TIMINGS"; fi
   return $rc
 }
@@ -239,7 +245,7 @@ case "$cmd" in
     }
     timed run fuzz_targets ;;
   -h|--help|help)
-    sed -n '3,10p' "$0" | sed 's/^# \{0,1\}//' ;;
+    sed -n '3,13p' "$0" | sed 's/^# \{0,1\}//' ;;
   *)
     echo "tumble.sh: unknown command '$cmd' (expected run, test, build, sanitize, tsan or fuzz)" >&2; exit 2 ;;
 esac

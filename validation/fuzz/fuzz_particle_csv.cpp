@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const Error&) {
     return 0;
   }
-  static auto pipeline = makePipeline(Backend::Cpu);
+  static auto pipeline = fuzz::cpuPipeline();
   const std::vector<Pair> want = validation::bruteForcePairs(cloud);
   BroadphaseParams coarse;
   coarse.cellSize = std::min(4.0f * maxRadius, 3.0e38f);

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "fuzz_util.hpp"
 #include "tumble/error.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene_io.hpp"
@@ -27,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (particles > 256) return 0;  // speed: the detection on large scenes has its own tests
   try {
     const World world = World::fromScene(scene);
-    auto pipeline = makePipeline(Backend::Cpu);
+    auto pipeline = fuzz::cpuPipeline();
     pipeline->load(world);
     pipeline->step(scene.steps < 3 ? scene.steps : 3);
     BodyState state;

@@ -8,9 +8,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <set>
 #include <string>
 #include <unistd.h>
+
+#include "tumble/pipeline.hpp"
 
 namespace tumble::fuzz {
 
@@ -40,6 +43,14 @@ inline std::string writeInput(const std::uint8_t* data, std::size_t size, const 
   if (size && std::fwrite(data, 1, size, f) != size) std::abort();
   std::fclose(f);
   return path;
+}
+
+/// The CPU pipeline on one thread: `tumble.sh fuzz` runs the targets side by side, one core each,
+/// so a target's own threads would only take time from its neighbour.
+inline std::unique_ptr<Pipeline> cpuPipeline() {
+  PipelineOptions one;
+  one.threads = 1;
+  return makePipeline(Backend::Cpu, one);
 }
 
 /// A property does not hold: say which, and abort (libFuzzer keeps the input).
