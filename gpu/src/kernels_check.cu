@@ -55,8 +55,8 @@ __global__ void movingMeshCheckKernel(StepView v, ForceParams fp, std::uint32_t*
   count[i] = c + f.contacts;
 }
 
-// The CPU's body batch (bodyForces(), one body per thread here) and the particle pass's debug
-// and history paths, which the CUDA pipeline does not instantiate.
+// The CPU's body batch (bodyForces(), one body per thread here), which the CUDA pipeline does
+// not instantiate, and the particle pass's debug and history paths.
 __global__ void bodyBatchCheckKernel(StepView v, ForceParams fp, DebugForcesView dbg, Vec3f* out) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= v.numBodies) return;

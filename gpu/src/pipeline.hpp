@@ -282,10 +282,9 @@ class CudaPipeline final : public Pipeline {
   void load(const World& world) override {
     const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // copies from the locals below
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
-    if (!world.params.walls.empty())
-      throw NotSupported(std::string("the CUDA pipeline has no walls yet") +
-                         (meshTriangleCount(world.params) > 0 ? " (triangle meshes included)" : "") +
-                         ": a scene with [[wall]] runs on the CPU pipeline (--pipeline cpu)");
+    if (meshTriangleCount(world.params) > 0)
+      throw NotSupported("the CUDA pipeline has no triangle-mesh walls yet: a scene with a mesh [[wall]] runs on the "
+                         "CPU pipeline (--pipeline cpu)");
     if (world.params.periodic.any()) throw NotSupported(kNoPeriodic);
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
@@ -293,12 +292,14 @@ class CudaPipeline final : public Pipeline {
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
     const Stream& s = m_ctx;
     m_clumps = w.hasClumps || w.params.contact.rotatesSpheres();  // the rotating path
-    m_ground = w.params.ground.enabled;
     m_law = w.params.contact.law;
     m_history = w.params.contact.hasHistory();
     // Every host array copied from here lives until the synchronize() below.
-    const std::vector<Wall> planes = kernelWalls(world.params, m_frame);  // the ground only (no walls: above)
-    m_planes.upload(planes, s);
+    m_planesNow = kernelWalls(world.params, m_frame);  // from the world's points: as the guard sees them
+    m_numPlanes = static_cast<std::uint32_t>(m_planesNow.size());
+    m_wallsMove = world.params.wallsMove();
+    m_planes.upload(m_planesNow, s);
+    m_planeDamping.upload(w.planeDamping, s);
     std::vector<BodyRow> bodies;
     std::vector<BodyStatic> bodyStatic;
     std::vector<OwnRow> own;
@@ -314,8 +315,9 @@ class CudaPipeline final : public Pipeline {
     m_mass.upload(w.mass, s);
     m_orig.upload(orig, s);
     m_bodyOf.upload(w.body, s);
-    // One material: every particle's is 0 and the kernels need no column.
-    m_hasMaterial = w.params.materials.size() > 1;
+    // One material: every particle's is 0 and the kernels need no column; as the CPU pipeline,
+    // the column is the world's (filled for the laws that use materials only).
+    m_hasMaterial = w.params.materials.size() > 1 && !w.material.empty();
     m_material.upload(w.material.data(), m_hasMaterial ? w.material.size() : 0, s);
     m_hertz.upload(w.materialPairs, s);
     m_planeHertz.upload(w.planeHertz, s);
@@ -326,8 +328,9 @@ class CudaPipeline final : public Pipeline {
     m_keptKey.upload(kept.key, s);
     m_keptHist.upload(kept.hist, s);
     m_listBuilt = false;
-    m_tx.upload(st.groundSpringX.data(), m_ground ? st.groundSpringX.size() : 0, s);
-    m_ty.upload(st.groundSpringY.data(), m_ground ? st.groundSpringY.size() : 0, s);
+    m_numSprings = st.groundSpringX.size();  // localWorld sized them: planes × particles
+    m_tx.upload(st.groundSpringX, s);
+    m_ty.upload(st.groundSpringY, s);
     for (auto& p : m_pos) p.grow(n);
     m_buildPos.grow(n);
     m_touching.grow(n);
@@ -373,7 +376,7 @@ class CudaPipeline final : public Pipeline {
     const Stream& s = m_ctx;
     std::vector<BodyRow> bodies(nb);
     std::vector<std::uint32_t> orig(n);
-    std::vector<float> tx(m_ground ? n : 0), ty(m_ground ? n : 0);
+    std::vector<float> tx(m_numSprings), ty(m_numSprings);
     m_bodies.download(bodies.data(), nb, s);
     m_orig.download(orig.data(), n, s);
     m_tx.download(tx.data(), tx.size(), s);
@@ -390,9 +393,10 @@ class CudaPipeline final : public Pipeline {
     out.contacts = m_history ? readHistory() : std::vector<ContactHistory>{};
     out.groundSpringX.resize(tx.size());
     out.groundSpringY.resize(ty.size());
-    for (std::size_t i = 0; i < tx.size(); ++i) {
-      out.groundSpringX[orig[i]] = tx[i];
-      out.groundSpringY[orig[i]] = ty[i];
+    for (std::size_t k = 0; k < tx.size(); ++k) {
+      const std::size_t o = (k / n) * n + orig[k % n];  // plane-major
+      out.groundSpringX[o] = tx[k];
+      out.groundSpringY[o] = ty[k];
     }
   }
 
@@ -533,8 +537,8 @@ class CudaPipeline final : public Pipeline {
                     m_hasMaterial ? m_material.data() : nullptr,
                     static_cast<std::uint32_t>(m_world.params.materials.size()),
                     m_planes.data(),
-                    m_ground ? 1u : 0u,
-                    nullptr,   // one plane at most: its damping is in the own rows
+                    m_numPlanes,
+                    m_planeDamping.data(),  // planes 1.. (plane 0's damping is in the own rows)
                     m_world.planeHertz.empty() ? nullptr : m_planeHertz.data(),
                     PeriodicBox{},  // no periodic boundaries (load())
                     MeshView{},     // no mesh walls (load())
@@ -548,6 +552,10 @@ class CudaPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
     const Stream& s = m_ctx;
     const Scene& p = m_world.params;
+    if (m_wallsMove) {  // the walls at this step's start; the copy is read before the step's read-back
+      setWallMotion(m_planesNow, p, m_time);
+      Exec::copyToDevice(s, m_planes.data(), m_planesNow.data(), m_planesNow.size());
+    }
     if (m_needRebuild) {
       rebuild();
     } else {
@@ -735,17 +743,13 @@ class CudaPipeline final : public Pipeline {
       return tumble::detail::readRows<ContactHistory>(n, at.data(), key.data(), hist.data(), TakeAbove{},
                                                       tumble::detail::MakeContact{});
     }
-    Buffer<std::uint32_t> count, offsets, outKey;
-    Buffer<Vec3f> outHist;
-    Buffer<unsigned char> temp;
-    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
-    const exec::AbandonOnUnwind<Stream> unwind(s);
-    const std::uint32_t total = takeRows(TakeAbove{}, count, temp, offsets, outKey, outHist);
+    ReadScratch& r = m_read;
+    const std::uint32_t total = takeRows(TakeAbove{}, r.count, r.temp, r.offsets, r.key, r.hist);
     key.resize(total);
     hist.resize(total);
-    offsets.download(at.data(), at.size(), s);
-    outKey.download(key.data(), key.size(), s);
-    outHist.download(hist.data(), hist.size(), s);
+    r.offsets.download(at.data(), at.size(), s);
+    r.key.download(key.data(), key.size(), s);
+    r.hist.download(hist.data(), hist.size(), s);
     s.synchronize();
     return tumble::detail::readRows<ContactHistory>(n, at.data(), key.data(), hist.data(), TakeAll{},
                                                     tumble::detail::MakeContact{});
@@ -772,17 +776,18 @@ class CudaPipeline final : public Pipeline {
     std::uint32_t* first = m_first.grow(std::size_t(nb) + 1);
     Exec::forEach(s, std::uint64_t(nb) + 1, PermutedCountFn{m_bodies.data(), perm, nb, count}, "permutedCount");
     Exec::exclusiveSum(s, m_temp, count, first, nb + 1);
+    const bool springs = m_numSprings > 0, damping = m_numPlanes > 1;
     const ReorderColumns from{m_own.data(),  m_radius.data(), m_mass.data(),
                               m_hasMaterial ? m_material.data() : nullptr,
-                              m_orig.data(), m_bodyOf.data(), m_ground ? m_tx.data() : nullptr,
-                              m_ground ? m_ty.data() : nullptr,
-                              nullptr};  // one plane at most: no damping of further planes
+                              m_orig.data(), m_bodyOf.data(), springs ? m_tx.data() : nullptr,
+                              springs ? m_ty.data() : nullptr, damping ? m_planeDamping.data() : nullptr};
     const ReorderColumns to{m_ownTmp.grow(n),  m_radiusTmp.grow(n), m_massTmp.grow(n),
                             m_hasMaterial ? m_materialTmp.grow(n) : nullptr, m_origTmp.grow(n),
-                            m_bodyOfTmp.grow(n), m_ground ? m_txTmp.grow(n) : nullptr,
-                            m_ground ? m_tyTmp.grow(n) : nullptr, nullptr};
+                            m_bodyOfTmp.grow(n), springs ? m_txTmp.grow(m_numSprings) : nullptr,
+                            springs ? m_tyTmp.grow(m_numSprings) : nullptr,
+                            damping ? m_planeDampingTmp.grow(std::size_t(m_numPlanes - 1) * n) : nullptr};
     Exec::forEach(s, nb,
-                  MoveBodiesFn{m_bodies.data(), m_bodyStatic.data(), perm, first, n, m_ground ? 1u : 0u, from,
+                  MoveBodiesFn{m_bodies.data(), m_bodyStatic.data(), perm, first, n, m_numPlanes, from,
                                m_bodiesNext.data(), m_bodyStaticTmp.grow(nb), to},
                   "moveBodies");
     std::swap(m_bodies, m_bodiesNext);
@@ -793,10 +798,11 @@ class CudaPipeline final : public Pipeline {
     std::swap(m_orig, m_origTmp);
     std::swap(m_bodyOf, m_bodyOfTmp);
     if (m_hasMaterial) std::swap(m_material, m_materialTmp);
-    if (m_ground) {
+    if (springs) {
       std::swap(m_tx, m_txTmp);
       std::swap(m_ty, m_tyTmp);
     }
+    if (damping) std::swap(m_planeDamping, m_planeDampingTmp);
   }
 
   Backend m_backend;
@@ -807,18 +813,22 @@ class CudaPipeline final : public Pipeline {
   LocalFrame m_frame;
   bool m_loaded = false;
   bool m_clumps = false;
-  bool m_ground = false;
+  std::vector<Wall> m_planesNow;  // the planes at this step's start (kernelWalls, setWallMotion)
+  std::uint32_t m_numPlanes = 0;  // the ground, then the walls
+  bool m_wallsMove = false;       // some wall's surface moves: m_planes is copied before each step
+  std::size_t m_numSprings = 0;   // plane springs m_tx, m_ty: numPlanes × n, plane-major (or none)
   ContactLaw m_law = ContactLaw::Report;
   bool m_history = false;      // the law keeps a tangential history per contact
   bool m_listBuilt = false;    // a candidate list (and m_hist) exists since the load
-  bool m_hasMaterial = false;  // hertz-mindlin with several materials: m_material
+  bool m_hasMaterial = false;  // hertz-mindlin with several materials: m_material (n)
   Buffer<std::uint16_t> m_material, m_materialTmp;
   Buffer<HertzPair> m_hertz, m_planeHertz;  // World::materialPairs, planeHertz
   // Internal numbering (see cpu/src/cpu_pipeline.cpp).
   Buffer<BodyRow> m_bodies, m_bodiesNext;
   Buffer<BodyStatic> m_bodyStatic;
   Buffer<OwnRow> m_own;
-  Buffer<Wall> m_planes;  // the ground, when there is one
+  Buffer<Wall> m_planes;
+  Buffer<float> m_planeDamping, m_planeDampingTmp;  // planes 1.. (World::planeDamping), internal numbering
   Buffer<float> m_radius, m_mass, m_tx, m_ty;
   Buffer<std::uint32_t> m_orig, m_bodyOf;
   Buffer<PosRow> m_pos[2], m_buildPos;
@@ -828,6 +838,14 @@ class CudaPipeline final : public Pipeline {
   Buffer<Vec3f> m_hist;             // laws with a history: ξ per candidate-list entry
   Buffer<std::uint32_t> m_keptOffsets, m_keptKey;  // the histories kept across a rebuild (CSR by scene index)
   Buffer<Vec3f> m_keptHist;
+  // readHistory()'s scratch (a read-out allocates nothing once they have grown; the reads of a
+  // state are const, its scratch is not).
+  struct ReadScratch {
+    Buffer<std::uint32_t> count, offsets, key;
+    Buffer<Vec3f> hist;
+    Buffer<unsigned char> temp;
+  };
+  mutable ReadScratch m_read;
   std::uint32_t m_numCand = 0;
   float m_skin = 0.0f, m_skinLimit = 0.0f;
   bool m_needRebuild = true;

@@ -10,6 +10,7 @@
 // and names the first difference of two that must not.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 
 #include "tumble/config.hpp"
@@ -86,10 +87,23 @@ World denseCluster(ContactLaw law = ContactLaw::Report) {
                   0.18f * float(i / 144) + rng.uniform(-0.01f, 0.01f)};
     s.bodies.push_back(b);
   }
-  if (law == ContactLaw::HookeHistory) s = withHookeHistory(s);
-  if (law == ContactLaw::HertzMindlin) s = withHertzMindlin(s, 1.0e6f, true);
+  if (law == ContactLaw::HookeHistory) {
+    s = withHookeHistory(s);
+    s.contact.rollingFriction = 0.05f;  // rolling resistance between the spheres and on the ground
+  }
+  if (law == ContactLaw::HertzMindlin) {  // every other sphere of the second material
+    s.shapes.push_back(s.shapes[0]);
+    for (std::size_t k = 1; k < s.bodies.size(); k += 2) s.bodies[k].shape = 1;
+    s = withHertzMindlin(s, 1.0e6f, true);
+    SphereDef& b = s.shapes[1].spheres[0];
+    b.material = 1;
+    b.elasticity = s.materials[1].restitution;
+  }
   return World::fromScene(s);
 }
+
+// Steps of each wall scene (WallsStepByStep).
+constexpr std::uint64_t kWallSteps = 1000;
 
 class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
  protected:
@@ -109,6 +123,31 @@ class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
     BodyState s;
     cpu->readState(s);
     return s.size();
+  }
+
+  // A resume: the CPU's state after `before` steps (with its histories) loaded into a CPU and a
+  // CUDA pipeline; their states before any step, then `after` steps side by side.
+  void expectResumeEqual(const World& w, std::uint64_t before, std::uint64_t after, const char* what) {
+    auto first = makePipeline(Backend::Cpu);
+    first->load(w);
+    first->step(before);
+    World resumed = w;
+    first->readState(resumed.state);
+    resumed.time = first->time();
+    resumed.step = first->stepCount();
+    ASSERT_FALSE(resumed.state.contacts.empty()) << what << ": no history to resume";
+    auto cpu = makePipeline(Backend::Cpu);
+    auto cuda = makePipeline(GetParam());
+    cpu->load(resumed);
+    cuda->load(resumed);
+    BodyState a, b;
+    cpu->readState(a);
+    cuda->readState(b);
+    const auto loaded = firstDifference(a, b);
+    EXPECT_FALSE(loaded) << what << ", resumed, before its first step: " << loaded->describe();
+    EXPECT_EQ(b.contacts.size(), resumed.state.contacts.size()) << what;
+    const auto d = firstStepDifference(*cpu, resumed, *cuda, resumed, after, /*debug=*/true);
+    EXPECT_FALSE(d) << what << ", resumed, CPU against " << toString(GetParam()) << ": " << d->what;
   }
 };
 
@@ -148,19 +187,70 @@ TEST_P(CudaEqualsCpu, DenseClusterStepByStep) { expectEqual(denseCluster(), 200,
 
 // The laws with a tangential history per contact (the histories compared after every step with
 // the state): molecules' clumps falling onto the ground and into each other, and the dense
-// cluster's single spheres (which rotate under these laws), where every particle carries
-// histories from the first step and each rebuild must carry them all across; hertz-mindlin with
-// two materials (a per-pair table, rolling resistance between some pairs: withHertzMindlin).
+// cluster's single spheres (which rotate under these laws; hooke-history with rolling
+// resistance), where every particle carries histories from the first step and each rebuild must
+// carry them all across; hertz-mindlin with two materials (a per-pair table, rolling resistance
+// between some pairs: withHertzMindlin). Then a resume: the CPU's state after 150 steps of the
+// dense cluster, histories and all, loaded into both, read out before any step (the CUDA
+// pipeline's from the rows it keeps for its first rebuild) and stepped 50 more.
 TEST_P(CudaEqualsCpu, HookeHistoryStepByStep) {
   expectEqual(World::fromScene(withHookeHistory(readSceneFile(sourcePath("scenes/molecules.toml")))), 1000,
               "molecules, hooke-history");
   expectEqual(denseCluster(ContactLaw::HookeHistory), 200, "dense cluster, hooke-history");
+  expectResumeEqual(denseCluster(ContactLaw::HookeHistory), 150, 50, "dense cluster, hooke-history");
 }
 
 TEST_P(CudaEqualsCpu, HertzMindlinStepByStep) {
   expectEqual(World::fromScene(withHertzMindlin(readSceneFile(sourcePath("scenes/molecules.toml")), 1.0e6f, true)),
               1000, "molecules, hertz-mindlin");
   expectEqual(denseCluster(ContactLaw::HertzMindlin), 200, "dense cluster, hertz-mindlin");
+  expectResumeEqual(denseCluster(ContactLaw::HertzMindlin), 150, 50, "dense cluster, hertz-mindlin");
+}
+
+// One CUDA pipeline loaded with one world after another (as a run's pours and resumes do): the
+// dense cluster under hertz-mindlin (a material column), then the larger molecules under
+// hooke-history with two materials that give density only (no column there): nothing of the
+// first world may be read in the second.
+TEST_P(CudaEqualsCpu, ReloadAcrossLaws) {
+  auto cpu = makePipeline(Backend::Cpu);
+  auto cuda = makePipeline(GetParam());
+  const World first = denseCluster(ContactLaw::HertzMindlin);
+  cuda->load(first);
+  cuda->step(20);
+  const World w =
+      World::fromScene(withHookeHistory(withHertzMindlin(readSceneFile(sourcePath("scenes/molecules.toml")), 1.0e6f, true)));
+  ASSERT_EQ(w.params.materials.size(), 2u);
+  ASSERT_TRUE(w.material.empty());  // density only under hooke-history
+  ASSERT_GT(w.numParticles(), first.numParticles());
+  const auto d = firstStepDifference(*cpu, w, *cuda, w, 300, /*debug=*/true);
+  EXPECT_FALSE(d) << "molecules after the dense cluster, CPU against " << toString(GetParam()) << ": " << d->what;
+}
+
+// Walls (not meshes) under hooke-history: the drum's turning cylinder and end disks, the
+// hopper's cone and cylinder, the box, the silo's cylinder and ring, every wall moving from the
+// first step as it would after its start, and every body thrown down at 3 m/s onto them. Each
+// run must have loaded some wall's tangential springs by its end, so that the comparison
+// covered the wall contacts.
+TEST_P(CudaEqualsCpu, WallsStepByStep) {
+  for (const char* file : {"scenes/drum.toml", "scenes/hopper.toml", "scenes/box.toml", "scenes/silo.toml"}) {
+    Scene s = readSceneFile(sourcePath(file));
+    for (WallDef& wall : s.walls) wall.start = 0.0;
+    for (BodyDef& b : s.bodies) b.velocity.z -= 3.0f;
+    const World w = World::fromScene(s);
+    auto cpu = makePipeline(Backend::Cpu);
+    auto cuda = makePipeline(GetParam());
+    const auto d = firstStepDifference(*cpu, w, *cuda, w, kWallSteps, /*debug=*/true);
+    EXPECT_FALSE(d) << file << ", CPU against " << toString(GetParam()) << ": " << d->what;
+    BodyState st;
+    cpu->readLocalState(st);
+    const std::size_t n = w.numParticles(), first = w.params.ground.enabled ? n : 0;  // plane-major, ground first
+    std::size_t loaded = 0;
+    for (std::size_t k = first; k < st.groundSpringX.size(); ++k)
+      loaded += st.groundSpringX[k] != 0.0f || st.groundSpringY[k] != 0.0f ? 1u : 0u;
+    std::printf("%s: %zu particle-wall springs loaded after %llu steps\n", file, loaded,
+                static_cast<unsigned long long>(kWallSteps));
+    EXPECT_GT(loaded, 0u) << file << ": no wall contact in " << kWallSteps << " steps";
+  }
 }
 
 TEST_P(CudaEqualsCpu, PourStepByStep) {

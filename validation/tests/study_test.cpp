@@ -82,7 +82,7 @@ TEST(StudyTest, FailingCheckFailsTheStudy) {
 }
 
 // A case whose model the backend does not have yet (tumble::NotSupported, as the CUDA pipeline
-// throws for the granular laws, walls and periodic boundaries) is marked not run, with the reason,
+// throws for mesh walls and periodic boundaries) is marked not run, with the reason,
 // and fails nothing; any other exception still fails the case.
 TEST(StudyTest, NotSupportedMarksTheRunInsteadOfFailingIt) {
   std::vector<Case> cases{{"needs_walls", [](const CaseContext&) -> CaseResult {

@@ -179,6 +179,7 @@ template <class Out, class Take, class Make>
 std::vector<Out> readRows(std::uint32_t n, const std::uint32_t* offsets, const std::uint32_t* key, const Vec3f* hist,
                           const Take& take, const Make& make) {
   std::vector<Out> out;
+  out.reserve(offsets[n]);
   for (std::uint32_t me = 0; me < n; ++me)
     for (std::uint32_t k = offsets[me]; k < offsets[me + 1]; ++k)
       if (take(me, key[k]) && !isZeroSpring(hist[k])) out.push_back(make(me, key[k], hist[k]));
