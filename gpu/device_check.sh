@@ -119,8 +119,8 @@ study_result() {
   local log=$1 c h threw
   c=$(grep -aoE '^- [0-9]+ of [0-9]+ checks within tolerance' "$log" | tail -1 | sed -E 's/^- ([0-9]+) of ([0-9]+).*/\1\/\2 checks pass/')
   h=$(grep -aoE '^## Validation study \([^)]*\)' "$log" | tail -1 | sed -E 's/^## Validation study \((.*)\)/\1/')
-  # A case that throws fails; one whose model the pipeline lacks (on CUDA: a contact law, walls or
-  # periodic axes) is not run and named.
+  # A case that throws fails; one whose model the pipeline lacks (on CUDA: periodic axes) is not
+  # run and named.
   threw=$(grep -aE '^\| [a-z]+ \| [a-z0-9_]+ \| case ran to completion \|.*\| FAIL \|$' "$log" |
     awk -F'|' '{ gsub(/ /, "", $3); printf "%s%s", (n++ ? "," : ""), $3 }')
   ns=$(grep -acE '^\| [a-z]+ \| [a-z0-9_]+ \| \(not run\) \|' "$log")

@@ -387,22 +387,7 @@ std::string meshTriangleWhere(const Scene& scene, std::uint32_t t) {
   return "mesh triangle " + std::to_string(t);
 }
 
-MeshView KernelMesh::view() const {
-  MeshView v;
-  if (tri.empty()) return v;
-  v.vertices = vertices.data();
-  v.triangles = triangles.data();
-  v.tri = tri.data();
-  v.triEdges = triEdges.data();
-  v.edgeTriOffsets = edgeTriOffsets.data();
-  v.edgeTris = edgeTris.data();
-  v.vertexTriOffsets = vertexTriOffsets.data();
-  v.vertexTris = vertexTris.data();
-  v.nodes = nodes.data();
-  v.prims = prims.data();
-  v.numTriangles = numTriangles();
-  return v;
-}
+MeshView KernelMesh::view() const { return meshViewOf(*this); }
 
 MeshView KernelMesh::view(const std::vector<MeshPose>& poses) const {
   MeshView v = view();

@@ -273,11 +273,7 @@ class CpuPipeline final : public HaloPipeline {
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used, with its mesh rows
     const MeshView mv = m_mesh.view(m_meshPoses);  // and its poses
     const auto forHits = [&](std::uint32_t i, auto&& f) {
-      const Vec3f x{pos[i].x, pos[i].y, pos[i].z};
-      for (std::uint32_t e = m_meshOffsets[i]; e < m_meshOffsets[i + 1]; ++e) {
-        const std::uint32_t t = m_meshTri[e];
-        if (meshHit(mv, t, meshPoint(mv, mv.tri[t].wall, x), pos[i].r).counts) f(t);
-      }
+      forMeshHits(mv, m_meshOffsets.data(), m_meshTri.data(), pos[i], i, f);
     };
     std::vector<std::uint32_t> start(std::size_t(n) + 1, 0u);
     m_arena.execute([&] {
@@ -966,14 +962,8 @@ class CpuPipeline final : public HaloPipeline {
     const std::uint32_t n = m_world.numParticles();
     const MeshView mv = m_mesh.view(m_meshPoses);
     const PosRow* pos = m_pos[m_cur].data();
-    const float grow = static_cast<float>(0.5 * double(m_skin) + roundingMargin(m_skin, m_world.maxRadius));
-    const auto near = [&](std::uint32_t i, auto&& f) {
-      const Vec3f x{pos[i].x, pos[i].y, pos[i].z};
-      if constexpr (kPosed)
-        forPosedTrianglesNear(mv, x, pos[i].r + grow, f);
-      else
-        forTrianglesNear(mv, x, pos[i].r + grow, f);
-    };
+    const float grow = tumble::detail::meshRowGrowth(m_skin, m_world.maxRadius);
+    const auto near = [&](std::uint32_t i, auto&& f) { forMeshRow<kPosed>(mv, pos[i], grow, f); };
     std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
     forEach(n, kGrain, [&](std::uint32_t i) {
       std::uint32_t c = 0;

@@ -40,8 +40,8 @@ __global__ void kernelsCheckKernel(SweepFrame f, const float* x, float* out, std
   out[i] = xo.x + fromOrderedBits(orderedBits(q.w)) + rotate(q, p).y + tx;
 }
 
-// The walls with moving meshes (the CUDA pipeline refuses walls so far; the CPU pipeline runs
-// these): the posed mesh contacts and the posed candidate query.
+// The walls with moving meshes: the posed mesh contacts and the posed candidate query (the CUDA
+// pipeline instantiates them too, under its launch configuration; kept here as a direct check).
 __global__ void movingMeshCheckKernel(StepView v, ForceParams fp, std::uint32_t* count) {
   const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= v.numParticles) return;

@@ -18,8 +18,10 @@
 //   the internal numbering.
 // - Determinism of the run itself: every output element has one writer, scans are integer scans,
 //   sorts are stable, and the only atomics are an integer max/min and an integer count.
-// - Host synchronisation: per step one small read-back (the skin test and the contact count);
-//   at a rebuild also the broadphase's (bounds, record and entry totals) and the list's total.
+// - Host synchronisation: per step one small read-back (the skin test and the contact count),
+//   and with moving walls one small copy of the walls and mesh poses to the device before it; at
+//   a rebuild also the broadphase's (bounds, record and entry totals), the lists' totals and the
+//   kept histories' total.
 // - Host memory handed to a copy stays as it is until the stream has reached the copy (members,
 //   or locals that outlive a synchronize()): the host backend checks it (host_exec.hpp).
 #pragma once
@@ -147,7 +149,7 @@ struct StepReadback {
 
 // Stages 3–5 per particle; its force and torque go to f, t (one writer each); under a law with
 // history also its row's ξ (StepView::history).
-template <bool kDebug, bool kClumps, ContactLaw kLaw>
+template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPosedMesh>
 struct ForcesFn {
   StepView v;
   ForceParams fp;
@@ -156,7 +158,8 @@ struct ForcesFn {
   Vec3f* t;
   unsigned long long* contacts;
   TUMBLE_HD void operator()(std::uint32_t i) const {
-    const ParticleForce pf = particleForce<kDebug, kClumps, kLaw>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
+    const ParticleForce pf =
+        particleForce<kDebug, kClumps, kLaw, false, kPosedMesh>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
     f[i] = pf.f;
     t[i] = pf.t;
     if (pf.contacts != 0) exec::atomicAddU64(contacts, static_cast<unsigned long long>(pf.contacts));  // exact
@@ -233,6 +236,75 @@ struct RestoreRowFn {
   TUMBLE_HD void operator()(std::uint32_t i) const { restoreRow(kept, orig[i], offsets, keyOf, i, hist); }
 };
 
+// count[visit.slot(i)] = the number of elements visit(i, f) reports (the count of a count →
+// scan → fill); element n writes the trailing zero of the counts.
+template <class Visit>
+struct VisitCountFn {
+  Visit visit;
+  std::uint32_t n;
+  std::uint32_t* count;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    if (i == n) {
+      count[n] = 0;
+      return;
+    }
+    std::uint32_t c = 0;
+    visit(i, [&](std::uint32_t) { ++c; });
+    count[visit.slot(i)] = c;
+  }
+};
+
+// The mesh candidate list (forMeshRow(), kernels/mesh.hpp) at a rebuild: count → scan → fill,
+// each row sorted by triangle.
+template <bool kPosed>
+struct MeshRowVisit {
+  MeshView mesh;
+  const PosRow* pos;
+  float grow;
+  TUMBLE_HD std::uint32_t slot(std::uint32_t i) const { return i; }
+  template <class F>
+  TUMBLE_HD void operator()(std::uint32_t i, F&& f) const {
+    forMeshRow<kPosed>(mesh, pos[i], grow, f);
+  }
+};
+
+template <bool kPosed>
+struct MeshRowFillFn {
+  MeshRowVisit<kPosed> visit;
+  const std::uint32_t* offsets;
+  std::uint32_t* tri;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    std::uint32_t at = offsets[i];
+    visit(i, [&](std::uint32_t t) { tri[at++] = t; });
+    tumble::detail::sortRow(tri + offsets[i], nullptr, at - offsets[i]);
+  }
+};
+
+// meshContacts(): per particle the triangles its sphere meets (forMeshHits()), written at its
+// scene index's offset, so that the output comes out sorted by (particle, triangle).
+struct MeshHitsVisit {
+  MeshView mesh;
+  const std::uint32_t* offsets;
+  const std::uint32_t* tri;
+  const PosRow* pos;
+  const std::uint32_t* orig;
+  TUMBLE_HD std::uint32_t slot(std::uint32_t i) const { return orig[i]; }
+  template <class F>
+  TUMBLE_HD void operator()(std::uint32_t i, F&& f) const {
+    forMeshHits(mesh, offsets, tri, pos[i], i, f);
+  }
+};
+
+struct MeshHitsFillFn {
+  MeshHitsVisit visit;
+  const std::uint32_t* at;
+  MeshContact* out;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    std::uint32_t k = at[visit.slot(i)];
+    visit(i, [&](std::uint32_t t) { out[k++] = MeshContact{visit.orig[i], t}; });
+  }
+};
+
 // pairs(): per particle the contacts with a higher scene index, written at its scene index's
 // offset, so that the output comes out sorted by (i, j). Element n writes the trailing zero.
 struct ContactsAboveFn {
@@ -273,6 +345,21 @@ class CudaPipeline final : public Pipeline {
   template <class T>
   using Buffer = typename Exec::template Buffer<T>;
 
+ private:
+  // Histories kept across a rebuild (kernels/history.hpp): CSR by scene index, each row's keys
+  // ascending (tumble::detail::KeptRows on the device).
+  struct KeptBuffers {
+    Buffer<std::uint32_t> offsets, key;
+    Buffer<Vec3f> hist;
+    void upload(const tumble::detail::KeptRows& k, const Stream& s) {
+      offsets.upload(k.offsets, s);
+      key.upload(k.key, s);
+      hist.upload(k.hist, s);
+    }
+    KeptView view() const { return {offsets.data(), key.data(), hist.data()}; }
+  };
+
+ public:
   CudaPipeline(Backend backend, const PipelineOptions& options)
       : m_backend(backend), m_ctx(options.threads), m_reorder(options.reorder) {}
 
@@ -282,9 +369,6 @@ class CudaPipeline final : public Pipeline {
   void load(const World& world) override {
     const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // copies from the locals below
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
-    if (meshTriangleCount(world.params) > 0)
-      throw NotSupported("the CUDA pipeline has no triangle-mesh walls yet: a scene with a mesh [[wall]] runs on the "
-                         "CPU pipeline (--pipeline cpu)");
     if (world.params.periodic.any()) throw NotSupported(kNoPeriodic);
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
@@ -324,9 +408,16 @@ class CudaPipeline final : public Pipeline {
     // A loaded state's contact histories, kept as before a rebuild (restored by the first).
     const tumble::detail::KeptRows kept = m_history ? tumble::detail::keptOfContacts(n, st.contacts)
                                                     : tumble::detail::KeptRows{};
-    m_keptOffsets.upload(kept.offsets, s);
-    m_keptKey.upload(kept.key, s);
-    m_keptHist.upload(kept.hist, s);
+    m_kept.upload(kept, s);
+    // Mesh walls: their triangles and hierarchy, from the world's scene and the run's frame (as
+    // the guard's); the springs of a loaded state kept for the first rebuild.
+    const KernelMesh mesh = kernelMesh(world.params, m_frame);
+    m_hasMesh = mesh.numTriangles() > 0;
+    m_mesh.upload(mesh, s);
+    const tumble::detail::KeptRows meshKept = tumble::detail::keptOfMeshContacts(n, st.meshContacts);  // a local: copied later
+    m_meshKept.upload(meshKept, s);
+    Exec::fillZero(s, m_meshOffsets.grow(std::size_t(n) + 1), std::size_t(n) + 1);
+    m_numMeshCand = 0;
     m_listBuilt = false;
     m_numSprings = st.groundSpringX.size();  // localWorld sized them: planes × particles
     m_tx.upload(st.groundSpringX, s);
@@ -344,6 +435,11 @@ class CudaPipeline final : public Pipeline {
     m_numCand = 0;
     m_skin = effectiveSkin(w);
     m_skinLimit = skinClosureLimit(m_skin, w.maxRadius);
+    // Moving meshes: their poses at each step's start (setWallMotion()), and their motion in the
+    // skin test (MeshMotionBound).
+    m_meshMotion = MeshMotionBound(w.params, mesh, m_planesNow, w.maxRadius, m_skin);
+    m_meshPosesNow.assign(m_meshMotion.any() ? m_planesNow.size() : 0, MeshPose{});
+    m_meshPoses.grow(m_meshPosesNow.size());
     m_needRebuild = true;
     m_pulls = w.params.pulls.active;
     m_time = w.time;
@@ -390,7 +486,10 @@ class CudaPipeline final : public Pipeline {
       out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
       out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
     }
-    out.contacts = m_history ? readHistory() : std::vector<ContactHistory>{};
+    out.contacts = m_history ? readRows<ContactHistory>(m_kept, partnerRows(TakeAbove{}), tumble::detail::MakeContact{})
+                             : std::vector<ContactHistory>{};
+    out.meshContacts = m_hasMesh ? readRows<MeshContactHistory>(m_meshKept, meshRows(), tumble::detail::MakeMeshContact{})
+                                 : std::vector<MeshContactHistory>{};
     out.groundSpringX.resize(tx.size());
     out.groundSpringY.resize(ty.size());
     for (std::size_t k = 0; k < tx.size(); ++k) {
@@ -448,6 +547,36 @@ class CudaPipeline final : public Pipeline {
     }
     std::vector<Pair> out(total);
     for (std::uint32_t k = 0; k < total; ++k) out[k] = Pair{hi[k], hj[k]};
+    return out;
+  }
+
+  // As CpuPipeline::meshContacts: the (particle, triangle) contacts of the last step, at its
+  // positions and poses, sorted.
+  std::vector<MeshContact> meshContacts() const override {
+    if (m_steps == 0 || !m_hasMesh) return {};
+    const std::uint32_t n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used, with its mesh rows
+    const MeshView mv = meshView();                // and its poses
+    Buffer<std::uint32_t> count, at;
+    Buffer<MeshContact> hits;
+    Buffer<unsigned char> temp;
+    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
+    const exec::AbandonOnUnwind<Stream> unwind(s);
+    std::uint32_t* c = count.grow(std::size_t(n) + 1);
+    std::uint32_t* a = at.grow(std::size_t(n) + 1);
+    const MeshHitsVisit hitsOf{mv, m_meshOffsets.data(), m_meshTri.data(), pos, m_orig.data()};
+    Exec::forEach(s, std::uint64_t(n) + 1, VisitCountFn<MeshHitsVisit>{hitsOf, n, c}, "meshHitsCount");
+    Exec::exclusiveSum(s, temp, c, a, n + 1);
+    std::uint32_t total = 0;
+    Exec::copyToHost(s, &total, a + n, 1);
+    s.synchronize();
+    std::vector<MeshContact> out(total);
+    if (total > 0) {
+      Exec::forEach(s, n, MeshHitsFillFn{hitsOf, a, hits.grow(total)}, "meshHitsFill");
+      hits.download(out.data(), total, s);
+      s.synchronize();
+    }
     return out;
   }
 
@@ -526,7 +655,7 @@ class CudaPipeline final : public Pipeline {
                     m_mass.data(),
                     m_bodyOf.data(),
                     m_orig.data(),
-                    GroundSpringView{m_tx.data(), m_ty.data()},
+                    m_numSprings > 0 ? GroundSpringView{m_tx.data(), m_ty.data()} : GroundSpringView{nullptr, nullptr},
                     m_buildPos.data(),
                     compactList(m_candOffsets.data(), m_cand.data()),
                     m_touching.data(),
@@ -538,11 +667,11 @@ class CudaPipeline final : public Pipeline {
                     static_cast<std::uint32_t>(m_world.params.materials.size()),
                     m_planes.data(),
                     m_numPlanes,
-                    m_planeDamping.data(),  // planes 1.. (plane 0's damping is in the own rows)
+                    m_numPlanes > 1 ? m_planeDamping.data() : nullptr,  // planes 1.. (plane 0's is in the own rows)
                     m_world.planeHertz.empty() ? nullptr : m_planeHertz.data(),
                     PeriodicBox{},  // no periodic boundaries (load())
-                    MeshView{},     // no mesh walls (load())
-                    MeshListView{},
+                    meshView(),
+                    MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_hasMesh ? m_meshHist.data() : nullptr},
                     nullptr,   // the skin test per particle (buildPos)
                     nullptr};  // the list's rows are walked one by one (no owners)
   }
@@ -552,9 +681,10 @@ class CudaPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
     const Stream& s = m_ctx;
     const Scene& p = m_world.params;
-    if (m_wallsMove) {  // the walls at this step's start; the copy is read before the step's read-back
-      setWallMotion(m_planesNow, p, m_time);
+    if (m_wallsMove) {  // the walls at this step's start; the copies are read before the step's read-back
+      setWallMotion(m_planesNow, p, m_time, m_meshPosesNow.empty() ? nullptr : m_meshPosesNow.data());
       Exec::copyToDevice(s, m_planes.data(), m_planesNow.data(), m_planesNow.size());
+      Exec::copyToDevice(s, m_meshPoses.data(), m_meshPosesNow.data(), m_meshPosesNow.size());
     }
     if (m_needRebuild) {
       rebuild();
@@ -601,7 +731,11 @@ class CudaPipeline final : public Pipeline {
     }
     m_cur = 1 - m_cur;
     std::swap(m_bodies, m_bodiesNext);
-    m_needRebuild = !listStillValid(drift, m_skinLimit);
+    // As CpuPipeline::decideList (no near list): with mesh walls the closure on a static wall
+    // too (wallClosureOf()), and the moving meshes' motion since the rebuild up to the next step.
+    const float closure = m_hasMesh ? wallClosureOf(drift) : closureOf(drift);
+    const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, m_time + p.dt) : 0.0;
+    m_needRebuild = !(double(closure) + meshes < double(m_skinLimit));
 
     ++m_steps;
     m_time += p.dt;
@@ -610,22 +744,35 @@ class CudaPipeline final : public Pipeline {
   }
 
   // Stages 3–5, instantiated for the scene's law (the laws with history rotate every body, as on
-  // the CPU).
+  // the CPU) and for moving meshes (kPosedMesh: a scene whose meshes stand still runs the code
+  // without poses).
   template <bool kDebug>
   void launchForces(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, unsigned long long* contacts) {
+    m_meshPosesNow.empty() ? launchForcesLaw<kDebug, false>(v, fp, dbg, contacts)
+                           : launchForcesLaw<kDebug, true>(v, fp, dbg, contacts);
+  }
+  template <bool kDebug, bool kPosed>
+  void launchForcesLaw(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
+                       unsigned long long* contacts) {
     const std::uint32_t n = m_world.numParticles();
     Vec3f* f = m_f.data();
     Vec3f* t = m_t.data();
     switch (m_law) {
       case ContactLaw::HookeHistory:
-        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HookeHistory>{v, fp, dbg, f, t, contacts}, "forces");
+        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HookeHistory, kPosed>{v, fp, dbg, f, t, contacts},
+                      "forces");
         break;
       case ContactLaw::HertzMindlin:
-        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HertzMindlin>{v, fp, dbg, f, t, contacts}, "forces");
+        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HertzMindlin, kPosed>{v, fp, dbg, f, t, contacts},
+                      "forces");
         break;
       default:
-        if (m_clumps) Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::Report>{v, fp, dbg, f, t, contacts}, "forces");
-        else Exec::forEach(m_ctx, n, ForcesFn<kDebug, false, ContactLaw::Report>{v, fp, dbg, f, t, contacts}, "forces");
+        if (m_clumps)
+          Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::Report, kPosed>{v, fp, dbg, f, t, contacts},
+                        "forces");
+        else
+          Exec::forEach(m_ctx, n, ForcesFn<kDebug, false, ContactLaw::Report, kPosed>{v, fp, dbg, f, t, contacts},
+                        "forces");
     }
   }
 
@@ -641,9 +788,10 @@ class CudaPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
     m_timer.mark(Phase::Reorder, s);
-    if (m_listBuilt && m_history) {  // by scene index: survives the renumbering
-      keepHistory();
-      m_listBuilt = false;  // until the new list holds them (a failed rebuild keeps the kept ones)
+    if (m_listBuilt && (m_history || m_hasMesh)) {  // by scene index: survives the renumbering
+      if (m_history) keepHistory();
+      if (m_hasMesh) keepMeshHistory();
+      m_listBuilt = false;  // until the new lists hold them (a failed rebuild keeps the kept ones)
     }
     if (m_reorder) reorder();
 
@@ -681,7 +829,12 @@ class CudaPipeline final : public Pipeline {
                                   m_candKey.grow(m_numCand)},
                   "candidateFill");
     if (m_history) restoreHistory();
+    if (m_hasMesh) {
+      m_meshPosesNow.empty() ? buildMeshList<false>() : buildMeshList<true>();
+      restoreMeshHistory();
+    }
     m_listBuilt = true;
+    m_rebuildTime = m_time;
     m_needRebuild = false;
     ++m_stats.numRebuilds;
     m_stats.numCandidates = m_numCand / 2;
@@ -690,69 +843,101 @@ class CudaPipeline final : public Pipeline {
     m_stats.cellSize = m_bp.frame().cellSize;
   }
 
-  // The non-zero ξ of the candidate list's rows that `take` accepts (kernels/history.hpp), by
-  // scene index with their partners' scene indices: count → scan → fill into offsets (n + 1),
-  // key and hist. Returns their number.
-  template <class Take>
-  std::uint32_t takeRows(Take take, Buffer<std::uint32_t>& count, Buffer<unsigned char>& temp,
-                         Buffer<std::uint32_t>& offsets, Buffer<std::uint32_t>& key, Buffer<Vec3f>& hist) const {
+  // As CpuPipeline::buildMeshList: the mesh candidate list at the rebuild's positions.
+  template <bool kPosed>
+  void buildMeshList() {
     const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
-    const ListRows<PartnerKey, Take> rows{m_candOffsets.data(), m_hist.data(), PartnerKey{m_orig.data(), m_cand.data()},
-                                          take, m_orig.data()};
-    std::uint32_t* at = offsets.grow(std::size_t(n) + 1);
-    Exec::forEach(s, std::uint64_t(n) + 1, TakenCountFn<PartnerKey, Take>{rows, n, count.grow(std::size_t(n) + 1)},
+    const MeshView mv = meshView();
+    const PosRow* pos = m_pos[m_cur].data();
+    const float grow = tumble::detail::meshRowGrowth(m_skin, m_world.maxRadius);
+    std::uint32_t* count = m_count.grow(std::size_t(n) + 1);
+    const MeshRowVisit<kPosed> rows{mv, pos, grow};
+    Exec::forEach(s, std::uint64_t(n) + 1, VisitCountFn<MeshRowVisit<kPosed>>{rows, n, count}, "meshRowCount");
+    Exec::exclusiveSum(s, m_temp, count, m_meshOffsets.data(), n + 1);
+    Exec::copyToHost(s, &m_numMeshCand, m_meshOffsets.data() + n, 1);
+    s.synchronize();
+    Exec::forEach(s, n, MeshRowFillFn<kPosed>{rows, m_meshOffsets.data(), m_meshTri.grow(m_numMeshCand)}, "meshRowFill");
+  }
+
+  // The meshes as the kernels see them, posed where some move (the poses of the step's start).
+  MeshView meshView() const {
+    MeshView v = meshViewOf(m_mesh);
+    if (!m_meshPosesNow.empty() && v.numTriangles > 0) {
+      v.poses = m_meshPoses.data();
+      v.numPoses = static_cast<std::uint32_t>(m_meshPosesNow.size());
+    }
+    return v;
+  }
+
+  // The rows of the candidate list (ξ keyed by the partner's scene index) and of the mesh
+  // candidate list (keyed by the triangle), as takeRows() reads them.
+  template <class Take>
+  ListRows<PartnerKey, Take> partnerRows(Take take) const {
+    return {m_candOffsets.data(), m_hist.data(), PartnerKey{m_orig.data(), m_cand.data()}, take, m_orig.data()};
+  }
+  ListRows<TriangleKey, TakeAll> meshRows() const {
+    return {m_meshOffsets.data(), m_meshHist.data(), TriangleKey{m_meshTri.data()}, TakeAll{}, m_orig.data()};
+  }
+
+  // The non-zero ξ of the rows that `rows.take` accepts (kernels/history.hpp), by scene index
+  // with their keys: count → scan → fill into out (offsets of n + 1). Returns their number.
+  template <class KeyOf, class Take>
+  std::uint32_t takeRows(const ListRows<KeyOf, Take>& rows, Buffer<std::uint32_t>& count, Buffer<unsigned char>& temp,
+                         KeptBuffers& out) const {
+    const std::uint32_t n = m_world.numParticles();
+    const Stream& s = m_ctx;
+    std::uint32_t* at = out.offsets.grow(std::size_t(n) + 1);
+    Exec::forEach(s, std::uint64_t(n) + 1, TakenCountFn<KeyOf, Take>{rows, n, count.grow(std::size_t(n) + 1)},
                   "takenCount");
     Exec::exclusiveSum(s, temp, count.data(), at, n + 1);
     std::uint32_t total = 0;
     Exec::copyToHost(s, &total, at + n, 1);
     s.synchronize();
-    Exec::forEach(s, n, TakeRowFn<PartnerKey, Take>{rows, at, key.grow(total), hist.grow(total)}, "takeRow");
+    Exec::forEach(s, n, TakeRowFn<KeyOf, Take>{rows, at, out.key.grow(total), out.hist.grow(total)}, "takeRow");
     return total;
   }
 
-  // As CpuPipeline::keepHistory: every non-zero ξ of the list, kept for the rebuild.
-  void keepHistory() { takeRows(TakeAll{}, m_count, m_temp, m_keptOffsets, m_keptKey, m_keptHist); }
+  // As CpuPipeline::keepHistory/keepMeshHistory: every non-zero ξ of a list, kept for the rebuild.
+  void keepHistory() { takeRows(partnerRows(TakeAll{}), m_count, m_temp, m_kept); }
+  void keepMeshHistory() { takeRows(meshRows(), m_count, m_temp, m_meshKept); }
 
-  // As CpuPipeline::restoreHistory: each row of the new list takes its kept ξ.
-  void restoreHistory() {
-    const KeptView kept{m_keptOffsets.data(), m_keptKey.data(), m_keptHist.data()};
-    Exec::forEach(m_ctx, m_world.numParticles(),
-                  RestoreRowFn<PartnerKey>{kept, m_orig.data(), m_candOffsets.data(),
-                                           PartnerKey{m_orig.data(), m_cand.data()}, m_hist.grow(m_numCand)},
+  // As CpuPipeline::restoreHistory/restoreMeshHistory: each row of the new list takes its kept ξ.
+  template <class KeyOf>
+  void restoreRows(const KeptBuffers& kept, const std::uint32_t* offsets, KeyOf keyOf, Vec3f* hist) {
+    Exec::forEach(m_ctx, m_world.numParticles(), RestoreRowFn<KeyOf>{kept.view(), m_orig.data(), offsets, keyOf, hist},
                   "restoreRow");
   }
+  void restoreHistory() {
+    restoreRows(m_kept, m_candOffsets.data(), PartnerKey{m_orig.data(), m_cand.data()}, m_hist.grow(m_numCand));
+  }
+  void restoreMeshHistory() {
+    restoreRows(m_meshKept, m_meshOffsets.data(), TriangleKey{m_meshTri.data()}, m_meshHist.grow(m_numMeshCand));
+  }
 
-  // As CpuPipeline::readHistory: BodyState::contacts, the non-zero ξ of the pairs i < j (scene
-  // indices), sorted; taken out of the list's rows (count → scan → fill by scene index), or
-  // before the first rebuild from the kept histories.
-  std::vector<ContactHistory> readHistory() const {
+  // As CpuPipeline::readRows: the entries of `rows` with a non-zero ξ that rows.take accepts,
+  // as make(scene index, key, ξ), sorted by (scene index, key); taken out of the list's rows
+  // (count → scan → fill by scene index), or before the first rebuild from the kept ones.
+  template <class Out, class KeyOf, class Take, class Make>
+  std::vector<Out> readRows(const KeptBuffers& kept, const ListRows<KeyOf, Take>& rows, const Make& make) const {
     const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
     std::vector<std::uint32_t> at(std::size_t(n) + 1);
     std::vector<std::uint32_t> key;
     std::vector<Vec3f> hist;
-    if (!m_listBuilt) {
-      m_keptOffsets.download(at.data(), at.size(), s);
-      s.synchronize();
-      key.resize(at[n]);
-      hist.resize(at[n]);
-      m_keptKey.download(key.data(), key.size(), s);
-      m_keptHist.download(hist.data(), hist.size(), s);
-      s.synchronize();
-      return tumble::detail::readRows<ContactHistory>(n, at.data(), key.data(), hist.data(), TakeAbove{},
-                                                      tumble::detail::MakeContact{});
+    const KeptBuffers* from = &kept;
+    if (m_listBuilt) {
+      takeRows(rows, m_read.count, m_read.temp, m_read.out);
+      from = &m_read.out;
     }
-    ReadScratch& r = m_read;
-    const std::uint32_t total = takeRows(TakeAbove{}, r.count, r.temp, r.offsets, r.key, r.hist);
-    key.resize(total);
-    hist.resize(total);
-    r.offsets.download(at.data(), at.size(), s);
-    r.key.download(key.data(), key.size(), s);
-    r.hist.download(hist.data(), hist.size(), s);
+    from->offsets.download(at.data(), at.size(), s);
     s.synchronize();
-    return tumble::detail::readRows<ContactHistory>(n, at.data(), key.data(), hist.data(), TakeAll{},
-                                                    tumble::detail::MakeContact{});
+    key.resize(at[n]);
+    hist.resize(at[n]);
+    from->key.download(key.data(), key.size(), s);
+    from->hist.download(hist.data(), hist.size(), s);
+    s.synchronize();
+    return tumble::detail::readRows<Out>(n, at.data(), key.data(), hist.data(), rows.take, make);
   }
 
   // As CpuPipeline::reorder.
@@ -836,14 +1021,46 @@ class CudaPipeline final : public Pipeline {
   Buffer<std::uint32_t> m_candOffsets, m_cand, m_candKey;
   Buffer<std::uint8_t> m_touching;  // the last step's contacts per particle (capped at 255)
   Buffer<Vec3f> m_hist;             // laws with a history: ξ per candidate-list entry
-  Buffer<std::uint32_t> m_keptOffsets, m_keptKey;  // the histories kept across a rebuild (CSR by scene index)
-  Buffer<Vec3f> m_keptHist;
-  // readHistory()'s scratch (a read-out allocates nothing once they have grown; the reads of a
+  KeptBuffers m_kept, m_meshKept;  // the contacts' ξ, the mesh springs
+  // Mesh walls (kernelMesh()): their data on the device, the mesh candidate list with its springs
+  // (as the CPU pipeline's), the poses of the moving meshes at the step's start (plane-indexed;
+  // empty when no mesh moves) and their motion's bound for the skin test.
+  struct MeshBuffers {
+    Buffer<Vec3f> vertices;
+    Buffer<std::uint32_t> triangles, triEdges, edgeTriOffsets, edgeTris, vertexTriOffsets, vertexTris, prims;
+    Buffer<MeshTriangle> tri;
+    Buffer<MeshBvhNode> nodes;
+    std::uint32_t count = 0;
+    std::uint32_t numTriangles() const { return count; }
+    void upload(const KernelMesh& m, const Stream& s) {
+      vertices.upload(m.vertices, s);
+      triangles.upload(m.triangles, s);
+      tri.upload(m.tri, s);
+      triEdges.upload(m.triEdges, s);
+      edgeTriOffsets.upload(m.edgeTriOffsets, s);
+      edgeTris.upload(m.edgeTris, s);
+      vertexTriOffsets.upload(m.vertexTriOffsets, s);
+      vertexTris.upload(m.vertexTris, s);
+      nodes.upload(m.nodes, s);
+      prims.upload(m.prims, s);
+      count = m.numTriangles();
+    }
+  };
+  bool m_hasMesh = false;
+  MeshBuffers m_mesh;
+  Buffer<std::uint32_t> m_meshOffsets, m_meshTri;
+  Buffer<Vec3f> m_meshHist;
+  std::uint32_t m_numMeshCand = 0;
+  std::vector<MeshPose> m_meshPosesNow;
+  Buffer<MeshPose> m_meshPoses;
+  MeshMotionBound m_meshMotion;
+  double m_rebuildTime = 0.0;  // the time of the last rebuild (the meshes' motion since)
+  // readRows()'s scratch (a read-out allocates nothing once they have grown; the reads of a
   // state are const, its scratch is not).
   struct ReadScratch {
-    Buffer<std::uint32_t> count, offsets, key;
-    Buffer<Vec3f> hist;
+    Buffer<std::uint32_t> count;
     Buffer<unsigned char> temp;
+    KeptBuffers out;
   };
   mutable ReadScratch m_read;
   std::uint32_t m_numCand = 0;

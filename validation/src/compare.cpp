@@ -155,6 +155,12 @@ std::optional<StepDifference> firstStepDifference(Pipeline& a, const World& worl
     const std::string at = "step " + std::to_string(s) + ": ";
     if (const std::string d = firstDifference(a.pairs(), b.pairs()); !d.empty())
       return StepDifference{s, at + "pairs: " + d + " (of the second against the first)"};
+    if (const std::vector<MeshContact> ma = a.meshContacts(), mb = b.meshContacts(); ma != mb) {
+      std::size_t k = 0;
+      while (k < ma.size() && k < mb.size() && ma[k] == mb[k]) ++k;
+      return StepDifference{s, at + "mesh contacts: " + std::to_string(ma.size()) + " vs " + std::to_string(mb.size()) +
+                                   ", the first difference at entry " + std::to_string(k)};
+    }
     a.readState(sa);
     b.readState(sb);
     if (const auto d = firstDifference(sa, sb)) return StepDifference{s, at + d->describe()};

@@ -207,6 +207,13 @@ TEST_P(CudaEqualsCpu, HertzMindlinStepByStep) {
   expectResumeEqual(denseCluster(ContactLaw::HertzMindlin), 150, 50, "dense cluster, hertz-mindlin");
 }
 
+// The heaps of scenes/ as they are: heap (hooke-history, rolling resistance) and heap-hertz
+// (hertz-mindlin, materials), each column collapsing onto the ground.
+TEST_P(CudaEqualsCpu, HeapsStepByStep) {
+  expectEqual(sceneWorld("scenes/heap.toml"), 1000, "heap");
+  expectEqual(sceneWorld("scenes/heap-hertz.toml"), 1000, "heap-hertz");
+}
+
 // One CUDA pipeline loaded with one world after another (as a run's pours and resumes do): the
 // dense cluster under hertz-mindlin (a material column), then the larger molecules under
 // hooke-history with two materials that give density only (no column there): nothing of the
@@ -226,31 +233,57 @@ TEST_P(CudaEqualsCpu, ReloadAcrossLaws) {
   EXPECT_FALSE(d) << "molecules after the dense cluster, CPU against " << toString(GetParam()) << ": " << d->what;
 }
 
-// Walls (not meshes) under hooke-history: the drum's turning cylinder and end disks, the
-// hopper's cone and cylinder, the box, the silo's cylinder and ring, every wall moving from the
-// first step as it would after its start, and every body thrown down at 3 m/s onto them. Each
-// run must have loaded some wall's tangential springs by its end, so that the comparison
-// covered the wall contacts.
+// Walls: the drum's turning cylinder and end disks, the hopper's cone and cylinder, the box,
+// the silo's cylinder and ring, and the triangle meshes of hopper-mesh (standing) and drum-mesh
+// (turning), under their scenes' hooke-history, the turning walls turning from the first step
+// and every body thrown down at 3 m/s onto the walls below it; then the silo with its ring
+// rising at 0.3 m/s from step 200 to step 700 (a wall that moves along, starts and stops), and
+// the box under hertz-mindlin (two materials) and under the report's law. Each run prints the
+// tangential springs loaded per wall at its end (a plane's or a mesh's) and must have loaded
+// some, so that the comparison covered wall contacts.
 TEST_P(CudaEqualsCpu, WallsStepByStep) {
-  for (const char* file : {"scenes/drum.toml", "scenes/hopper.toml", "scenes/box.toml", "scenes/silo.toml"}) {
+  const auto thrown = [](const char* file) {
     Scene s = readSceneFile(sourcePath(file));
     for (WallDef& wall : s.walls) wall.start = 0.0;
     for (BodyDef& b : s.bodies) b.velocity.z -= 3.0f;
+    return s;
+  };
+  const auto run = [&](const Scene& s, const std::string& what) {
     const World w = World::fromScene(s);
     auto cpu = makePipeline(Backend::Cpu);
     auto cuda = makePipeline(GetParam());
     const auto d = firstStepDifference(*cpu, w, *cuda, w, kWallSteps, /*debug=*/true);
-    EXPECT_FALSE(d) << file << ", CPU against " << toString(GetParam()) << ": " << d->what;
+    EXPECT_FALSE(d) << what << ", CPU against " << toString(GetParam()) << ": " << d->what;
     BodyState st;
     cpu->readLocalState(st);
-    const std::size_t n = w.numParticles(), first = w.params.ground.enabled ? n : 0;  // plane-major, ground first
-    std::size_t loaded = 0;
-    for (std::size_t k = first; k < st.groundSpringX.size(); ++k)
-      loaded += st.groundSpringX[k] != 0.0f || st.groundSpringY[k] != 0.0f ? 1u : 0u;
-    std::printf("%s: %zu particle-wall springs loaded after %llu steps\n", file, loaded,
-                static_cast<unsigned long long>(kWallSteps));
-    EXPECT_GT(loaded, 0u) << file << ": no wall contact in " << kWallSteps << " steps";
-  }
+    const std::size_t n = w.numParticles();
+    std::string perWall;
+    std::size_t loaded = st.meshContacts.size();  // the non-zero mesh springs
+    for (std::size_t k = w.params.ground.enabled ? 1 : 0; n > 0 && k < st.groundSpringX.size() / n; ++k) {
+      std::size_t c = 0;  // plane k's springs (plane-major, the ground first)
+      for (std::size_t i = k * n; i < (k + 1) * n; ++i)
+        c += st.groundSpringX[i] != 0.0f || st.groundSpringY[i] != 0.0f ? 1u : 0u;
+      perWall += ' ';  // (not " " + …: GCC 12 warns falsely, -Wrestrict)
+      perWall += std::to_string(c);
+      loaded += c;
+    }
+    std::printf("%s: springs loaded after %llu steps: planes%s, mesh %zu\n", what.c_str(),
+                static_cast<unsigned long long>(kWallSteps), perWall.c_str(), st.meshContacts.size());
+    EXPECT_GT(loaded, 0u) << what << ": no wall contact in " << kWallSteps << " steps";
+  };
+  for (const char* file : {"scenes/drum.toml", "scenes/hopper.toml", "scenes/box.toml", "scenes/silo.toml",
+                           "scenes/hopper-mesh.toml", "scenes/drum-mesh.toml"})
+    run(thrown(file), file);
+  Scene piston = thrown("scenes/silo.toml");
+  WallDef& ring = piston.walls.at(1);
+  ring.velocity = {0.0f, 0.0f, 0.3f};
+  ring.start = 200.0 * double(piston.dt);
+  ring.stop = 700.0 * double(piston.dt);
+  run(piston, "silo, the ring rising from step 200 to 700");
+  run(withHertzMindlin(thrown("scenes/box.toml"), 1.0e6f, true), "box, hertz-mindlin");
+  Scene report = thrown("scenes/box.toml");
+  report.contact.law = ContactLaw::Report;
+  run(report, "box, the report's law");
 }
 
 TEST_P(CudaEqualsCpu, PourStepByStep) {

@@ -73,6 +73,27 @@ std::string meshTriangleWhere(const Scene& scene, std::uint32_t t);
 /// diagonal), the edges and vertices with their incident triangles, and a bounding volume
 /// hierarchy (median splits of the triangles' centres along the longest axis, 4 per leaf).
 /// Empty for a scene without meshes.
+/// The MeshView of a mesh's arrays wherever they live: m has the members of KernelMesh (on the
+/// host) or the same names in device buffers (the CUDA pipeline's), each with data(), and
+/// numTriangles(). No triangles: an empty view.
+template <class M>
+MeshView meshViewOf(const M& m) {
+  MeshView v;
+  if (m.numTriangles() == 0) return v;
+  v.vertices = m.vertices.data();
+  v.triangles = m.triangles.data();
+  v.tri = m.tri.data();
+  v.triEdges = m.triEdges.data();
+  v.edgeTriOffsets = m.edgeTriOffsets.data();
+  v.edgeTris = m.edgeTris.data();
+  v.vertexTriOffsets = m.vertexTriOffsets.data();
+  v.vertexTris = m.vertexTris.data();
+  v.nodes = m.nodes.data();
+  v.prims = m.prims.data();
+  v.numTriangles = m.numTriangles();
+  return v;
+}
+
 struct KernelMesh {
   std::vector<Vec3f> vertices;
   std::vector<std::uint32_t> triangles;

@@ -149,6 +149,12 @@ void initialRows(const World& world, std::vector<BodyRow>* outBodies, std::vecto
 /// not rotate; their L is kept but never used). The pipelines' load().
 std::vector<Vec3f> initialOmega(const World& world);
 
+/// How far beyond a particle's radius its mesh row reaches at a rebuild (forMeshRow()):
+/// skin/2 and the rounding margin of the skin test.
+inline float meshRowGrowth(float skin, float maxRadius) {
+  return static_cast<float>(0.5 * double(skin) + roundingMargin(skin, maxRadius));
+}
+
 /// Contact histories kept across a rebuild (kernels/history.hpp), on the host: CSR by scene
 /// index (row o: offsets[o] .. offsets[o + 1]), each row's keys ascending.
 struct KeptRows {

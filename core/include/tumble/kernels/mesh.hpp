@@ -219,4 +219,29 @@ TUMBLE_HD_INLINE void forPosedTrianglesNear(const MeshView& m, Vec3f x, float re
   }
 }
 
+/// Particle i's row of the mesh candidate list at a rebuild (its position p there): f(t) for
+/// every triangle within p.r + grow (forTrianglesNear(); kPosed: some mesh moves, each where
+/// the view's poses put it, forPosedTrianglesNear()). Both pipelines' count → scan → fill; the
+/// fill sorts the row by triangle (detail::sortRow), so that it does not depend on the hierarchy.
+template <bool kPosed, class F>
+TUMBLE_HD_INLINE void forMeshRow(const MeshView& m, const PosRow& p, float grow, F&& f) {
+  const Vec3f x{p.x, p.y, p.z};
+  if constexpr (kPosed)
+    forPosedTrianglesNear(m, x, p.r + grow, f);
+  else
+    forTrianglesNear(m, x, p.r + grow, f);
+}
+
+/// The triangles of particle i's mesh row (offsets, tri: the mesh candidate list) that its
+/// sphere at p meets (meshHit().counts), f(t) in row order: Pipeline::meshContacts().
+template <class F>
+TUMBLE_HD_INLINE void forMeshHits(const MeshView& m, const std::uint32_t* offsets, const std::uint32_t* tri,
+                                  const PosRow& p, std::uint32_t i, F&& f) {
+  const Vec3f x{p.x, p.y, p.z};
+  for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+    const std::uint32_t t = tri[e];
+    if (meshHit(m, t, meshPoint(m, m.tri[t].wall, x), p.r).counts) f(t);
+  }
+}
+
 }  // namespace tumble
