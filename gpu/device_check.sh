@@ -7,9 +7,12 @@
 #   2. tumble_gpu_tests and the CUDA instances of tumble_validation_tests with TUMBLE_REQUIRE_CUDA=1
 #   3. the same with TUMBLE_CUDA_SYNC=1 as well
 #   4. compute-sanitizer memcheck, racecheck, initcheck and synccheck on 20 steps of bench-16k
-#      (the four at once; SANITIZER_JOBS=1 runs them one after the other)
+#      (the four at once; SANITIZER_JOBS=1 runs them one after the other), then memcheck on 20
+#      steps each of drum (hooke-history, turning walls), drum-mesh (a turning triangle mesh) and
+#      heap-hertz (hertz-mindlin)
 #   5. tumble bench --pipeline cuda at 16k, 128k, 960k, 4M and 10M particles, one call per size
-#      (BENCH_PLAN: size:warmup:steps:timeout ...): the GPU numbers early, while they are cheap
+#      (BENCH_PLAN: size:warmup:steps:timeout ...): the GPU numbers early, while they are cheap;
+#      then bench --pipeline cpu,cuda on heap (a history law: hooke-history, rolling resistance)
 #   6. tumble validate --pipelines cpu,cuda
 #   7. tumble validate --pipelines cuda --quick --out LOG_DIR/study (the study; STUDY_DEPTH=full for
 #      the full one, which takes far longer than the budget)
@@ -308,6 +311,18 @@ for tool in memcheck racecheck initcheck synccheck; do
   fi
 done
 wait
+# The models beyond the bench scene's, under memcheck: 20 steps of each scene (the wall and mesh
+# candidate lists built and walked, the history and Hertz paths; the scenes' walls start turning
+# and their bodies reach them only later, so wall contacts and moving meshes are not under it).
+if want sanitizers; then
+  if [[ -z "$SAN" ]]; then
+    record 09 sanitizer-memcheck-scenes SKIP 0 "no compute-sanitizer that runs"
+  else
+    run_step 09 sanitizer sanitizer-memcheck-scenes 120 sanitizer_memcheck_scenes.log \
+      "${SAN_CMD[@]}" --tool memcheck --error-exitcode 86 "${SAN_ENV[@]}" "$BIN/tumble" bench \
+      --scene scenes/drum.toml scenes/drum-mesh.toml scenes/heap-hertz.toml --pipeline "$GPU" --warmup 0 --steps 20
+  fi
+fi
 
 # ---- 5-8. the CUDA bench (its numbers first: cheap), validate, the study, the CPU bench -------------
 # bench_pass FIRST_ID PIPELINE PLAN: one `tumble bench` per size (size:warmup:steps:timeout).
@@ -322,6 +337,8 @@ bench_pass() {
   done
 }
 want bench && bench_pass 10 "$GPU" "$BENCH_PLAN"
+want bench && run_step 16 bench "bench heap $PAIR" 90 bench_heap.log \
+  env LD_LIBRARY_PATH="$LDP" "$BIN/tumble" bench --scene scenes/heap.toml --pipeline "$PAIR" --warmup 200 --steps 1000
 want validate && run_step 20 validate "validate $PAIR" 90 validate.log \
   env LD_LIBRARY_PATH="$LDP" "$BIN/tumble" validate --pipelines "$PAIR" "${VALIDATE_ARGS[@]}"
 want study && run_step 21 study "study $GPU $STUDY_DEPTH" 150 study.log \

@@ -41,7 +41,14 @@ std::uint64_t cellKey(std::int64_t a, std::int64_t b, std::int64_t c) {
 }
 }  // namespace
 
-std::int64_t SphereHash::cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / m_cell)); }
+// Clamped in double to ±2^62 before the conversion (a fill region of radius 1e28 m gave cell
+// indices beyond 2^63: undefined, found by the scene fuzzer; NaN goes to the low end): monotone,
+// so neighbouring cells stay neighbours, and the cells merged beyond it only cost tests.
+std::int64_t SphereHash::cellOf(double v) const {
+  constexpr double kLimit = 0x1p62;
+  const double c = std::floor(v / m_cell);
+  return static_cast<std::int64_t>(!(c > -kLimit) ? -kLimit : c < kLimit ? c : kLimit);
+}
 
 void SphereHash::setPeriodic(const PeriodicParams& p, const LocalFrame& frame) {
   const double o[2] = {frame.x, frame.y};

@@ -1419,17 +1419,33 @@ class SceneParser {
   std::vector<std::size_t> m_wallOfTable;     ///< per [[wall]] table, the index of its first wall
 };
 
-// Non-ASCII bytes outside strings and comments are refused before toml++ sees them: its 3.3.0
-// reaches an "unreachable" branch (undefined behaviour) for some code points where it expects
-// whitespace (U+00A1–U+0499, e.g. "Ñ"). Strings: "…" and '…', and their multi-line forms.
-void checkAsciiOutsideStrings(std::string_view t, const std::string& file) {
+// The most parts a dotted key or table header may have: tumble's deepest have two
+// ("[[shape.sphere]]"); toml++ 3.3.0 parses a dotted key by recursion, one frame per part, and
+// overflows the stack at some tens of thousands (an 80 KB file).
+inline constexpr int kMaxKeyParts = 64;
+
+// What toml++ must not see, refused before it parses, with the line: non-ASCII bytes outside
+// strings and comments (its 3.3.0 reaches an "unreachable" branch, undefined behaviour, for some
+// code points where it expects whitespace: U+00A1–U+0499, e.g. "Ñ"), and dotted keys of more
+// than kMaxKeyParts parts (the dots outside strings and comments since the last newline, '=',
+// ',', bracket or brace: a key's or a header's separators; a value such as 1.5 has one).
+// Strings: "…" and '…', and their multi-line forms.
+void checkBeforeToml(std::string_view t, const std::string& file) {
   long line = 1;
+  int dots = 0;
   std::size_t i = t.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // a UTF-8 byte-order mark (toml++ skips it)
   const auto starts = [&](std::string_view s) { return t.substr(i, s.size()) == s; };
   while (i < t.size()) {
     const char c = t[i];
-    if (c == '\n') {
-      ++line;
+    if (c == '\n' || c == '=' || c == ',' || c == '[' || c == ']' || c == '{' || c == '}') {
+      dots = 0;
+      if (c == '\n') ++line;
+      ++i;
+    } else if (c == '.') {
+      if (++dots >= kMaxKeyParts)
+        throw InputError(file, line,
+                         "a dotted key or table header of more than " + std::to_string(kMaxKeyParts) +
+                             " parts; tumble's keys have at most two (docs/scenes.md)");
       ++i;
     } else if (c == '#') {  // comment: to the end of the line
       while (i < t.size() && t[i] != '\n') ++i;
@@ -1474,7 +1490,7 @@ void checkAsciiOutsideStrings(std::string_view t, const std::string& file) {
 /// The TOML document of `text`, refused (InputError at `name` and the line) for a syntax error
 /// or a non-ASCII character outside strings and comments.
 toml::table parseToml(std::string_view text, const std::string& name) {
-  checkAsciiOutsideStrings(text, name);
+  checkBeforeToml(text, name);
 #if TOML_EXCEPTIONS
   try {
     return toml::parse(text, std::string_view(name));

@@ -864,6 +864,56 @@ TEST(SceneIoErrors, TooManyParticles) {
 
 }  // namespace
 
+// toml++ 3.3.0 parses a dotted key by recursion and overflowed the stack (SIGSEGV) on a key or
+// header of 40 000 parts: refused before it parses, with the line; 63 parts still reach it (and
+// its own message), and dots in values, strings and comments do not count.
+TEST(SceneIo, DeepDottedKeysAreRefusedBeforeTomlParsesThem) {
+  std::string deep;
+  for (int k = 0; k < 40000; ++k) deep += "x.";
+  // (Strings built by +=: GCC 12 warns falsely, -Wrestrict, on some chains of +.)
+  std::string key = deep, header = "z = 1\n[";
+  key += "y = 1\n";
+  header += deep;
+  header += "y]\n";
+  expectError(withExtra(key), 12, {"dotted key or table header of more than 64 parts"});
+  expectError(withExtra(header), 13, {"more than 64 parts"});
+  // Below the bound, in comments and strings, and in values: toml++ and the reader decide (here
+  // an unknown key of [[body]]), not the bound.
+  std::string parts63, dotty = "# ";
+  for (int k = 0; k < 63; ++k) parts63 += "x.";
+  parts63 += "y = 1\n";
+  dotty += deep;
+  dotty += "\nnote = \"";
+  dotty += deep;
+  dotty += "\"\n";
+  for (int k = 0; k < 100; ++k) {
+    dotty += 'v';
+    dotty += std::to_string(k);
+    dotty += " = [1.5, 2.5, 3.5]\n";
+  }
+  for (const std::string& extra : {parts63, dotty}) {
+    try {
+      (void)tumble::parseScene(withExtra(extra), "test.toml");
+      ADD_FAILURE() << "an unknown key was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find("parts"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A [[fill]] region of radius 1e28 m (found by the scene fuzzer): the placement's cell indices
+// went beyond 2^63 (undefined, UBSan in the sanitizer build); they are clamped, and the fill
+// places its bodies.
+TEST(SceneIo, AFillRegionBeyondTheCellIndexRangePlacesItsBodies) {
+  const std::string text = join({"[scene]", "dt = 1e-4", "steps = 1", "seed = 3", "[[shape]]", "name = \"small\"",
+                                 "[[shape.sphere]]", "radius = 0.01", "mass = 0.01", "[[fill]]", "shapes = [\"small\"]",
+                                 "count = 87", "region = \"cylinder\"", "point = [0, 0, 0]", "axis = [0, 0, 0.5]",
+                                 "radius = 9999999999999999999999999990.1"});
+  const tumble::Scene s = tumble::parseScene(text, "test.toml");
+  ASSERT_EQ(s.bodies.size(), 87u);
+  for (const tumble::BodyDef& b : s.bodies) EXPECT_TRUE(std::isfinite(b.position.x) && std::isfinite(b.position.y));
+}
+
 // toml++ 3.3.0 has undefined behaviour for some non-ASCII code points where it expects
 // whitespace ("Ñ", found by UBSan): they are refused, with the line, before it parses; in
 // strings (all four kinds) and comments they are fine.

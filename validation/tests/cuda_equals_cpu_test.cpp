@@ -105,6 +105,16 @@ World denseCluster(ContactLaw law = ContactLaw::Report) {
 // Steps of each wall scene (WallsStepByStep).
 constexpr std::uint64_t kWallSteps = 1000;
 
+// A wall scene of scenes/ with its walls moving from the first step (as they would after their
+// start) and every body thrown down at 3 m/s onto the walls below it: wall contacts within the
+// first few hundred steps.
+Scene thrownAtWalls(const char* file) {
+  Scene s = readSceneFile(sourcePath(file));
+  for (WallDef& wall : s.walls) wall.start = 0.0;
+  for (BodyDef& b : s.bodies) b.velocity.z -= 3.0f;
+  return s;
+}
+
 class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
@@ -127,7 +137,9 @@ class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
 
   // A resume: the CPU's state after `before` steps (with its histories) loaded into a CPU and a
   // CUDA pipeline; their states before any step, then `after` steps side by side.
-  void expectResumeEqual(const World& w, std::uint64_t before, std::uint64_t after, const char* what) {
+  // meshSprings: the state must hold mesh springs too.
+  void expectResumeEqual(const World& w, std::uint64_t before, std::uint64_t after, const char* what,
+                         bool meshSprings = false) {
     auto first = makePipeline(Backend::Cpu);
     first->load(w);
     first->step(before);
@@ -135,7 +147,13 @@ class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
     first->readState(resumed.state);
     resumed.time = first->time();
     resumed.step = first->stepCount();
+    std::printf("%s: resumed after %llu steps with %zu contact histories and %zu mesh springs\n", what,
+                static_cast<unsigned long long>(before), resumed.state.contacts.size(),
+                resumed.state.meshContacts.size());
     ASSERT_FALSE(resumed.state.contacts.empty()) << what << ": no history to resume";
+    if (meshSprings) {
+      ASSERT_FALSE(resumed.state.meshContacts.empty()) << what << ": no mesh spring to resume";
+    }
     auto cpu = makePipeline(Backend::Cpu);
     auto cuda = makePipeline(GetParam());
     cpu->load(resumed);
@@ -146,6 +164,7 @@ class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
     const auto loaded = firstDifference(a, b);
     EXPECT_FALSE(loaded) << what << ", resumed, before its first step: " << loaded->describe();
     EXPECT_EQ(b.contacts.size(), resumed.state.contacts.size()) << what;
+    EXPECT_EQ(b.meshContacts.size(), resumed.state.meshContacts.size()) << what;
     const auto d = firstStepDifference(*cpu, resumed, *cuda, resumed, after, /*debug=*/true);
     EXPECT_FALSE(d) << what << ", resumed, CPU against " << toString(GetParam()) << ": " << d->what;
   }
@@ -242,17 +261,14 @@ TEST_P(CudaEqualsCpu, ReloadAcrossLaws) {
 // tangential springs loaded per wall at its end (a plane's or a mesh's) and must have loaded
 // some, so that the comparison covered wall contacts.
 TEST_P(CudaEqualsCpu, WallsStepByStep) {
-  const auto thrown = [](const char* file) {
-    Scene s = readSceneFile(sourcePath(file));
-    for (WallDef& wall : s.walls) wall.start = 0.0;
-    for (BodyDef& b : s.bodies) b.velocity.z -= 3.0f;
-    return s;
-  };
-  const auto run = [&](const Scene& s, const std::string& what) {
+  const auto thrown = thrownAtWalls;
+  // debug: the debug capture compared too (then the CPU goes particle by particle); without it,
+  // under the report's law, the CPU's body batch (bodyForces) is what the CUDA pipeline meets.
+  const auto run = [&](const Scene& s, const std::string& what, bool debug = true) {
     const World w = World::fromScene(s);
     auto cpu = makePipeline(Backend::Cpu);
     auto cuda = makePipeline(GetParam());
-    const auto d = firstStepDifference(*cpu, w, *cuda, w, kWallSteps, /*debug=*/true);
+    const auto d = firstStepDifference(*cpu, w, *cuda, w, kWallSteps, debug);
     EXPECT_FALSE(d) << what << ", CPU against " << toString(GetParam()) << ": " << d->what;
     BodyState st;
     cpu->readLocalState(st);
@@ -274,16 +290,39 @@ TEST_P(CudaEqualsCpu, WallsStepByStep) {
   for (const char* file : {"scenes/drum.toml", "scenes/hopper.toml", "scenes/box.toml", "scenes/silo.toml",
                            "scenes/hopper-mesh.toml", "scenes/drum-mesh.toml"})
     run(thrown(file), file);
-  Scene piston = thrown("scenes/silo.toml");
-  WallDef& ring = piston.walls.at(1);
-  ring.velocity = {0.0f, 0.0f, 0.3f};
-  ring.start = 200.0 * double(piston.dt);
-  ring.stop = 700.0 * double(piston.dt);
-  run(piston, "silo, the ring rising from step 200 to 700");
-  run(withHertzMindlin(thrown("scenes/box.toml"), 1.0e6f, true), "box, hertz-mindlin");
-  Scene report = thrown("scenes/box.toml");
-  report.contact.law = ContactLaw::Report;
-  run(report, "box, the report's law");
+  // Wall `wall` of `file` rising at 0.3 m/s from step 200 to step 700.
+  const auto rising = [&](const char* file, std::size_t wall) {
+    Scene s = thrown(file);
+    WallDef& w = s.walls.at(wall);
+    w.velocity = {0.0f, 0.0f, 0.3f};
+    w.start = 200.0 * double(s.dt);
+    w.stop = 700.0 * double(s.dt);
+    return s;
+  };
+  run(rising("scenes/silo.toml", 1), "silo, the ring rising from step 200 to 700");
+  run(rising("scenes/hopper-mesh.toml", 0), "hopper-mesh, the mesh rising from step 200 to 700");
+  for (const char* file : {"scenes/box.toml", "scenes/drum-mesh.toml"}) {
+    run(withHertzMindlin(thrown(file), 1.0e6f, true), std::string(file) + ", hertz-mindlin");
+    Scene report = thrown(file);
+    report.contact.law = ContactLaw::Report;
+    run(report, std::string(file) + ", the report's law, no debug capture", /*debug=*/false);
+  }
+}
+
+// A resume with mesh springs: drum-mesh's state after 600 steps (its bodies against the turning
+// mesh), loaded into both, read out before the first step, then 100 steps. And one CUDA pipeline
+// loaded with one wall scene after another (a turning mesh, a standing one, planes only), each
+// against a fresh CPU pipeline: nothing of a scene's walls may remain in the next.
+TEST_P(CudaEqualsCpu, WallsAcrossLoads) {
+  expectResumeEqual(World::fromScene(thrownAtWalls("scenes/drum-mesh.toml")), 600, 100, "drum-mesh", /*meshSprings=*/true);
+  auto cuda = makePipeline(GetParam());
+  for (const char* file : {"scenes/drum-mesh.toml", "scenes/hopper-mesh.toml", "scenes/box.toml"}) {
+    const World w = World::fromScene(thrownAtWalls(file));
+    auto cpu = makePipeline(Backend::Cpu);
+    const auto d = firstStepDifference(*cpu, w, *cuda, w, 300, /*debug=*/true);
+    EXPECT_FALSE(d) << file << " after the one before in the same pipeline, CPU against " << toString(GetParam())
+                    << ": " << d->what;
+  }
 }
 
 TEST_P(CudaEqualsCpu, PourStepByStep) {

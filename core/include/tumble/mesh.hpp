@@ -73,6 +73,20 @@ std::string meshTriangleWhere(const Scene& scene, std::uint32_t t);
 /// diagonal), the edges and vertices with their incident triangles, and a bounding volume
 /// hierarchy (median splits of the triangles' centres along the longest axis, 4 per leaf).
 /// Empty for a scene without meshes.
+struct KernelMesh {
+  std::vector<Vec3f> vertices;
+  std::vector<std::uint32_t> triangles;
+  std::vector<MeshTriangle> tri;
+  std::vector<std::uint32_t> triEdges, edgeTriOffsets, edgeTris, vertexTriOffsets, vertexTris;
+  std::vector<MeshBvhNode> nodes;
+  std::vector<std::uint32_t> prims;
+  std::uint32_t numTriangles() const { return static_cast<std::uint32_t>(tri.size()); }
+  MeshView view() const;
+  /// The view with the meshes posed (MeshView::poses; one pose per plane, setWallMotion());
+  /// empty `poses`: every mesh where it was given, view().
+  MeshView view(const std::vector<MeshPose>& poses) const;
+};
+
 /// The MeshView of a mesh's arrays wherever they live: m has the members of KernelMesh (on the
 /// host) or the same names in device buffers (the CUDA pipeline's), each with data(), and
 /// numTriangles(). No triangles: an empty view.
@@ -93,20 +107,6 @@ MeshView meshViewOf(const M& m) {
   v.numTriangles = m.numTriangles();
   return v;
 }
-
-struct KernelMesh {
-  std::vector<Vec3f> vertices;
-  std::vector<std::uint32_t> triangles;
-  std::vector<MeshTriangle> tri;
-  std::vector<std::uint32_t> triEdges, edgeTriOffsets, edgeTris, vertexTriOffsets, vertexTris;
-  std::vector<MeshBvhNode> nodes;
-  std::vector<std::uint32_t> prims;
-  std::uint32_t numTriangles() const { return static_cast<std::uint32_t>(tri.size()); }
-  MeshView view() const;
-  /// The view with the meshes posed (MeshView::poses; one pose per plane, setWallMotion());
-  /// empty `poses`: every mesh where it was given, view().
-  MeshView view(const std::vector<MeshPose>& poses) const;
-};
 
 /// The thinnest triangle a mesh may have: its smallest height over its longest edge. Thinner,
 /// the orientation of its edges' planes (computed in double at load) and the kernels' tests (in
