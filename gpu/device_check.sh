@@ -316,9 +316,9 @@ wait
 # and their bodies reach them only later, so wall contacts and moving meshes are not under it).
 if want sanitizers; then
   if [[ -z "$SAN" ]]; then
-    record 09 sanitizer-memcheck-scenes SKIP 0 "no compute-sanitizer that runs"
+    record 09 sanitizer-scenes SKIP 0 "no compute-sanitizer that runs"
   else
-    run_step 09 sanitizer sanitizer-memcheck-scenes 120 sanitizer_memcheck_scenes.log \
+    run_step 09 sanitizer sanitizer-scenes 120 sanitizer_memcheck_scenes.log \
       "${SAN_CMD[@]}" --tool memcheck --error-exitcode 86 "${SAN_ENV[@]}" "$BIN/tumble" bench \
       --scene scenes/drum.toml scenes/drum-mesh.toml scenes/heap-hertz.toml --pipeline "$GPU" --warmup 0 --steps 20
   fi
