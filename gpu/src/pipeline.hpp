@@ -412,7 +412,6 @@ class CudaPipeline final : public Pipeline {
     // Mesh walls: their triangles and hierarchy, from the world's scene and the run's frame (as
     // the guard's); the springs of a loaded state kept for the first rebuild.
     const KernelMesh mesh = kernelMesh(world.params, m_frame);
-    m_hasMesh = mesh.numTriangles() > 0;
     m_mesh.upload(mesh, s);
     const tumble::detail::KeptRows meshKept = tumble::detail::keptOfMeshContacts(n, st.meshContacts);  // a local: copied later
     m_meshKept.upload(meshKept, s);
@@ -488,7 +487,7 @@ class CudaPipeline final : public Pipeline {
     }
     out.contacts = m_history ? readRows<ContactHistory>(m_kept, partnerRows(TakeAbove{}), tumble::detail::MakeContact{})
                              : std::vector<ContactHistory>{};
-    out.meshContacts = m_hasMesh ? readRows<MeshContactHistory>(m_meshKept, meshRows(), tumble::detail::MakeMeshContact{})
+    out.meshContacts = hasMesh() ? readRows<MeshContactHistory>(m_meshKept, meshRows(), tumble::detail::MakeMeshContact{})
                                  : std::vector<MeshContactHistory>{};
     out.groundSpringX.resize(tx.size());
     out.groundSpringY.resize(ty.size());
@@ -553,7 +552,7 @@ class CudaPipeline final : public Pipeline {
   // As CpuPipeline::meshContacts: the (particle, triangle) contacts of the last step, at its
   // positions and poses, sorted.
   std::vector<MeshContact> meshContacts() const override {
-    if (m_steps == 0 || !m_hasMesh) return {};
+    if (m_steps == 0 || !hasMesh()) return {};
     const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used, with its mesh rows
@@ -671,7 +670,7 @@ class CudaPipeline final : public Pipeline {
                     m_world.planeHertz.empty() ? nullptr : m_planeHertz.data(),
                     PeriodicBox{},  // no periodic boundaries (load())
                     meshView(),
-                    MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_hasMesh ? m_meshHist.data() : nullptr},
+                    MeshListView{m_meshOffsets.data(), m_meshTri.data(), hasMesh() ? m_meshHist.data() : nullptr},
                     nullptr,   // the skin test per particle (buildPos)
                     nullptr};  // the list's rows are walked one by one (no owners)
   }
@@ -733,7 +732,7 @@ class CudaPipeline final : public Pipeline {
     std::swap(m_bodies, m_bodiesNext);
     // As CpuPipeline::decideList (no near list): with mesh walls the closure on a static wall
     // too (wallClosureOf()), and the moving meshes' motion since the rebuild up to the next step.
-    const float closure = m_hasMesh ? wallClosureOf(drift) : closureOf(drift);
+    const float closure = hasMesh() ? wallClosureOf(drift) : closureOf(drift);
     const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, m_time + p.dt) : 0.0;
     m_needRebuild = !(double(closure) + meshes < double(m_skinLimit));
 
@@ -788,9 +787,9 @@ class CudaPipeline final : public Pipeline {
     const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
     m_timer.mark(Phase::Reorder, s);
-    if (m_listBuilt && (m_history || m_hasMesh)) {  // by scene index: survives the renumbering
+    if (m_listBuilt && (m_history || hasMesh())) {  // by scene index: survives the renumbering
       if (m_history) keepHistory();
-      if (m_hasMesh) keepMeshHistory();
+      if (hasMesh()) keepMeshHistory();
       m_listBuilt = false;  // until the new lists hold them (a failed rebuild keeps the kept ones)
     }
     if (m_reorder) reorder();
@@ -829,7 +828,7 @@ class CudaPipeline final : public Pipeline {
                                   m_candKey.grow(m_numCand)},
                   "candidateFill");
     if (m_history) restoreHistory();
-    if (m_hasMesh) {
+    if (hasMesh()) {
       m_meshPosesNow.empty() ? buildMeshList<false>() : buildMeshList<true>();
       restoreMeshHistory();
     }
@@ -1046,8 +1045,8 @@ class CudaPipeline final : public Pipeline {
       count = m.numTriangles();
     }
   };
-  bool m_hasMesh = false;
   MeshBuffers m_mesh;
+  bool hasMesh() const { return m_mesh.numTriangles() > 0; }
   Buffer<std::uint32_t> m_meshOffsets, m_meshTri;
   Buffer<Vec3f> m_meshHist;
   std::uint32_t m_numMeshCand = 0;
