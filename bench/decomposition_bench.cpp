@@ -74,7 +74,7 @@ void BM_Decomposition(benchmark::State& state) {
     for (const std::uint32_t k : ghosts[static_cast<std::size_t>(r)]) {
       g += l.count[k];
       from.insert(owner[k]);
-      sent[static_cast<std::size_t>(owner[k])] += double(sizeof(tumble::cpu::BodyMotion));  // a ghost row
+      sent[static_cast<std::size_t>(owner[k])] += double(sizeof(tumble::BodyMotion));  // a ghost row
     }
     ghostMean += g / ranks;
     ghostMax = std::max(ghostMax, g);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The pipeline factory: the one place that knows which backends this build has.
+// The pipeline factory: the one place that knows which backends this build has. Every pipeline
+// has the hooks of a domain decomposition (HaloPipeline): makePipeline() is makeHaloPipeline().
 #include <string>
 
 #include "tumble/config.hpp"
@@ -37,10 +38,14 @@ void requireBackend(Backend b) {
 }
 
 std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options) {
+  return makeHaloPipeline(backend, options);
+}
+
+std::unique_ptr<HaloPipeline> makeHaloPipeline(Backend backend, const PipelineOptions& options) {
   if (options.threads < 0 || options.threads > kMaxThreads)
     throw Error("threads = " + std::to_string(options.threads) + ": expected 0 (all cores) to " +
                 std::to_string(kMaxThreads));
-  if (backend == Backend::Cpu) return cpu::makeCpuPipeline(options);
+  if (backend == Backend::Cpu) return cpu::makeCpuHaloPipeline(options);
   if (backend == Backend::CudaHost) return gpu::makeCudaHostPipeline(options);
 #if TUMBLE_HAS_CUDA
   return gpu::makeCudaPipeline(options);  // requireReady(deviceStatus()) first

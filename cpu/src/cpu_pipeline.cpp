@@ -30,7 +30,7 @@
 //   is allocated in a step once the sizes have settled.
 // - Periodic boundaries (kernels/periodic.hpp): the step takes differences through the minimum
 //   image and wraps the bodies' centres; the detection sweeps the particles and their ghost
-//   images (periodic_images.hpp) and merges each particle's finds into its row, so the candidate
+//   images (kernels/periodic_images.hpp) and merges each particle's finds into its row, so the candidate
 //   list is the same canonical list as without boundaries.
 #include "tumble/cpu/cpu_pipeline.hpp"
 
@@ -310,24 +310,8 @@ class CpuPipeline final : public HaloPipeline {
     const CandidateListView list = contactListView();
     m_arena.execute([&] {
       forEach(nb, kBodyGrain, [&](std::uint32_t b) {
-        const BodyRow& row = m_bodies[b];
-        const double errI = bodyRounding(row.x.x, row.x.y, row.x.z);
-        ContactSums a;
-        for (std::uint32_t p = row.first, e1 = row.first + row.count; p < e1; ++p) {
-          if (m_touching[p] == 0) continue;  // the last step saw it touch nothing
-          const PosRow xi = now[p];
-          const std::uint32_t me = orig[p];
-          forContactsAbove(
-              was, orig, list, p,
-              [&](std::uint32_t j, std::uint32_t other) {
-                const PosRow& xj = now[j];
-                const Vec3f& xb = m_bodies[m_bodyOf[j]].x;
-                addContactSum(a, xi.x, xi.y, xi.z, xi.r, xj.x, xj.y, xj.z, xj.r, errI, bodyRounding(xb.x, xb.y, xb.z),
-                              law, me, other, m_periodic);
-              },
-              m_periodic);
-        }
-        out[row.orig] = a;
+        out[m_bodies[b].orig] = bodyContactSums(m_bodies.data(), m_bodyOf.data(), m_touching.data(), was, now, orig,
+                                                list, law, m_periodic, b);
       });
     });
     return true;
@@ -385,8 +369,7 @@ class CpuPipeline final : public HaloPipeline {
     const std::vector<std::uint32_t>& at = internalBodies();
     out.resize(bodies.size());
     for (std::size_t k = 0; k < bodies.size(); ++k) {
-      const BodyRow& b = m_bodies[at[bodies[k]]];
-      out[k] = BodyMotion{b.v, b.omega, b.rot, b.x, b.q, b.l, {b.image[0], b.image[1]}};
+      out[k] = motionOf(m_bodies[at[bodies[k]]]);
     }
   }
 
@@ -396,15 +379,7 @@ class CpuPipeline final : public HaloPipeline {
     m_arena.execute([&] {
       forEach(static_cast<std::uint32_t>(bodies.size()), kBodyGrain, [&](std::uint32_t k) {
         BodyRow& b = m_bodies[at[bodies[k]]];
-        const BodyMotion& r = motion[k];
-        b.v = r.v;
-        b.omega = r.omega;
-        b.rot = r.rot;
-        b.x = r.x;
-        b.q = r.q;
-        b.l = r.l;
-        b.image[0] = r.image[0];
-        b.image[1] = r.image[1];
+        setMotion(b, motion[k]);
         if (m_clumps)
           bodyParticles<true>(b, m_own.data(), m_radius.data(), nullptr, pos, nullptr);
         else
@@ -452,20 +427,8 @@ class CpuPipeline final : public HaloPipeline {
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
     const CandidateListView list = contactListView();
     std::uint64_t total = 0;
-    for (const std::uint32_t body : bodies) {
-      const BodyRow& b = m_bodies[at[body]];
-      for (std::uint32_t p = b.first; p < b.first + b.count; ++p) {
-        if (m_touching[p] < 255) {  // the count, unless capped
-          total += m_touching[p];
-          continue;
-        }
-        const PosRow pi = pos[p];
-        for (std::uint32_t e = list.begin[p]; e < list.end[p]; ++e) {
-          const PosRow pj = pos[list.cand[e]];
-          total += spheresOverlap(m_periodic, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r) ? 1u : 0u;
-        }
-      }
-    }
+    for (const std::uint32_t body : bodies)
+      total += bodyContactCount(m_bodies[at[body]], m_touching.data(), pos, list, m_periodic);
     return total;
   }
 
@@ -776,27 +739,14 @@ class CpuPipeline final : public HaloPipeline {
     });
   }
 
-  // What a periodic detection grows the radii by, beyond half the skin: the sweep compares ghost
-  // coordinates shifted by a period, rounded at the size of the box, where the exact predicate
-  // takes the nearest image of a difference, rounded otherwise; twice the rounding margin of such
-  // a difference covers both (a pair within rounding of touching across the boundary was missed
-  // without it when the list is rebuilt every step: PeriodicTest.PairsWithinRoundingOfTouching...).
-  static float periodicGrowth(float maxRadius, const PeriodicBox& box) {
-    return static_cast<float>(2.0 * roundingMargin(0.0f, maxRadius, periodicRoundingReach(box)));
-  }
-  // How near a lower end of the periodic box a particle of (grown) radius up to maxRadius gets a
-  // ghost (PeriodicImages): any pair it may form, 2 maxRadius, and that margin again.
-  static float ghostReach(float maxRadius, const PeriodicBox& box) {
-    return 2.0f * maxRadius + periodicGrowth(maxRadius, box);
-  }
-
   // buildList() with periodic boundaries: each particle's row gathers what it and its ghosts
-  // found (PeriodicImages::fillRow, sorted by scene index, each partner once), first at room for
+  // found (fillPeriodicRow(), sorted by scene index, each partner once), first at room for
   // every image's candidates, then compacted.
   void buildPeriodicList(const SweepListView& s) {
     const std::uint32_t n = m_world.numParticles();
     std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
-    forEach(n, kGrain, [&](std::uint32_t i) { count[i] = m_images.rowBound(s, i); });
+    const PeriodicImagesView images = m_images.view();
+    forEach(n, kGrain, [&](std::uint32_t i) { count[i] = periodicRowBound(s, images, i); });
     count[n] = 0;
     m_roomOffsets.resize(std::size_t(n) + 1);
     scanCounts(count, std::size_t(n) + 1, m_roomOffsets.data());
@@ -804,7 +754,7 @@ class CpuPipeline final : public HaloPipeline {
     std::uint32_t* rows = tumble::detail::grow(m_roomCand, room);
     std::uint32_t* key = tumble::detail::grow(m_candKey, room);
     forEach(n, kGrain, [&](std::uint32_t i) {
-      count[i] = m_images.fillRow(s, m_orig.data(), i, rows + m_roomOffsets[i], key + m_roomOffsets[i]);
+      count[i] = fillPeriodicRow(s, images, m_orig.data(), i, rows + m_roomOffsets[i], key + m_roomOffsets[i]);
     });
     scanCounts(count, std::size_t(n) + 1, m_candOffsets.data());
     m_cand.resize(m_candOffsets[n]);
@@ -831,14 +781,15 @@ class CpuPipeline final : public HaloPipeline {
     b.run(images.input(), bp, sec);
     const SweepListView s{b.recFirst.data(), b.inv.data(),         b.nbrOffsets.data(),
                           b.nbr.data(),      b.backOffsets.data(), b.back.data()};
+    const PeriodicImagesView iv = images.view();
     std::vector<std::uint32_t> orig(n), roomOffsets(std::size_t(n) + 1, 0u);
     for (std::uint32_t i = 0; i < n; ++i) {
       orig[i] = i;
-      roomOffsets[i + 1] = roomOffsets[i] + images.rowBound(s, i);
+      roomOffsets[i + 1] = roomOffsets[i] + periodicRowBound(s, iv, i);
     }
     std::vector<std::uint32_t> rows(roomOffsets[n]), key(roomOffsets[n]), len(n);
     forEach(n, kGrain, [&](std::uint32_t i) {
-      len[i] = images.fillRow(s, orig.data(), i, rows.data() + roomOffsets[i], key.data() + roomOffsets[i]);
+      len[i] = fillPeriodicRow(s, iv, orig.data(), i, rows.data() + roomOffsets[i], key.data() + roomOffsets[i]);
     });
     std::vector<Pair> out;
     for (std::uint32_t i = 0; i < n; ++i)

@@ -286,6 +286,11 @@ class Broadphase {
     return tumble::detail::sortedPairs(n, hFirst.data(), hInv.data(), hOffs.data(), hNbr.data(), m_numEntries);
   }
 
+  /// The sweep's lists as the rows read them (kernels/contact_list.hpp; valid after run()).
+  SweepListView listView() const {
+    return {recFirst.data(), inv.data(), nbrOffsets.data(), nbr.data(), backOffsets.data(), back.data()};
+  }
+
   // CSR contact list in the backend's memory (valid after run()).
   Buffer<std::uint32_t> recFirst;     ///< n + 1
   Buffer<std::uint32_t> inv;          ///< unsorted record → sorted position

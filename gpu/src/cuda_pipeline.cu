@@ -60,7 +60,7 @@ CudaStatus deviceStatus() noexcept {
   }
 }
 
-std::unique_ptr<Pipeline> makeCudaPipeline(const PipelineOptions& options) {
+std::unique_ptr<HaloPipeline> makeCudaPipeline(const PipelineOptions& options) {
   requireReady(deviceStatus());
   return std::make_unique<detail::CudaPipeline<exec::CudaExec>>(Backend::Cuda, options);
 }

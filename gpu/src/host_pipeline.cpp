@@ -10,7 +10,7 @@
 
 namespace tumble::gpu {
 
-std::unique_ptr<Pipeline> makeCudaHostPipeline(const PipelineOptions& options) {
+std::unique_ptr<HaloPipeline> makeCudaHostPipeline(const PipelineOptions& options) {
   return std::make_unique<detail::CudaPipeline<exec::HostExec>>(Backend::CudaHost, options);
 }
 

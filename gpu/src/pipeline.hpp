@@ -35,11 +35,14 @@
 #include <vector>
 
 #include "broadphase.hpp"
+#include "periodic_images.hpp"
 #include "exec/exec.hpp"
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/contact_sums.hpp"
 #include "tumble/kernels/history.hpp"
+#include "tumble/kernels/periodic_images.hpp"
 #include "tumble/kernels/step.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/pipeline.hpp"
@@ -139,6 +142,54 @@ struct MoveBodiesFn {
   }
 };
 
+// The hooks of a domain decomposition (HaloPipeline): the internal index of each body by scene
+// index, and the rows of the listed bodies read, overwritten (their particles' positions
+// recomputed) and their contacts counted.
+struct BodyIndexFn {
+  const BodyRow* bodies;
+  std::uint32_t* at;
+  TUMBLE_HD void operator()(std::uint32_t k) const { at[bodies[k].orig] = k; }
+};
+
+struct ReadMotionFn {
+  const BodyRow* bodies;
+  const std::uint32_t* at;
+  const std::uint32_t* list;
+  BodyMotion* out;
+  TUMBLE_HD void operator()(std::uint32_t k) const { out[k] = motionOf(bodies[at[list[k]]]); }
+};
+
+template <bool kClumps>
+struct WriteMotionFn {
+  BodyRow* bodies;
+  const std::uint32_t* at;
+  const std::uint32_t* list;
+  const BodyMotion* motion;
+  const OwnRow* own;
+  const float* radius;
+  PosRow* pos;
+  TUMBLE_HD void operator()(std::uint32_t k) const {
+    BodyRow& b = bodies[at[list[k]]];
+    setMotion(b, motion[k]);
+    bodyParticles<kClumps>(b, own, radius, nullptr, pos, nullptr);
+  }
+};
+
+struct BodyContactCountFn {
+  const BodyRow* bodies;
+  const std::uint32_t* at;
+  const std::uint32_t* list;
+  const std::uint8_t* touching;
+  const PosRow* pos;
+  CandidateListView l;
+  PeriodicBox box;
+  unsigned long long* total;
+  TUMBLE_HD void operator()(std::uint32_t k) const {
+    const std::uint64_t c = bodyContactCount(bodies[at[list[k]]], touching, pos, l, box);
+    if (c != 0) exec::atomicAddU64(total, static_cast<unsigned long long>(c));  // exact
+  }
+};
+
 /// What each step reads back: the drift (skin test; as order-preserving integer images of the
 /// floats, so that integer atomics give the exact max and min in any order) and the contacts.
 struct StepReadback {
@@ -149,7 +200,7 @@ struct StepReadback {
 
 // Stages 3–5 per particle; its force and torque go to f, t (one writer each); under a law with
 // history also its row's ξ (StepView::history).
-template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPosedMesh>
+template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
 struct ForcesFn {
   StepView v;
   ForceParams fp;
@@ -159,15 +210,41 @@ struct ForcesFn {
   unsigned long long* contacts;
   TUMBLE_HD void operator()(std::uint32_t i) const {
     const ParticleForce pf =
-        particleForce<kDebug, kClumps, kLaw, false, kPosedMesh>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
+        particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
     f[i] = pf.f;
     t[i] = pf.t;
     if (pf.contacts != 0) exec::atomicAddU64(contacts, static_cast<unsigned long long>(pf.contacts));  // exact
   }
 };
 
+// A drift merged into the read-back by integer atomics on the floats' ordered images: exact in
+// any order.
+TUMBLE_HD_INLINE void mergeDriftInto(StepReadback* rb, const Drift& d) {
+  exec::atomicMaxU32(&rb->max2, orderedBits(d.max2));
+  for (int a = 0; a < 3; ++a) {
+    exec::atomicMinU32(&rb->lo[a], orderedBits(d.lo[a]));
+    exec::atomicMaxU32(&rb->hi[a], orderedBits(d.hi[a]));
+  }
+}
+
+// The skin test again per particle (HaloPipeline::writeMotion): its displacement since the
+// rebuild, through the minimum image on periodic axes (as the step's, kernels/step.hpp).
+struct ParticleDriftFn {
+  const PosRow* pos;
+  const PosRow* buildPos;
+  PeriodicBox box;
+  StepReadback* rb;
+  TUMBLE_HD void operator()(std::uint32_t i) const {
+    const Vec3f dx = periodicDifference(box, Vec3f{pos[i].x, pos[i].y, pos[i].z},
+                                        Vec3f{buildPos[i].x, buildPos[i].y, buildPos[i].z});
+    Drift d = noDrift();
+    addDisplacement(d, dx.x, dx.y, dx.z);
+    mergeDriftInto(rb, d);
+  }
+};
+
 // Stages 6–7 and the next step's stage 1 per body; the drift's max and mins by integer atomics.
-template <bool kClumps>
+template <bool kClumps, bool kPeriodic>
 struct IntegrateFn {
   StepView v;
   const Vec3f* f;
@@ -182,12 +259,25 @@ struct IntegrateFn {
     for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i)
       addToBody<kClumps>(F, T, ParticleForce{f[i], t[i], 0u});
     Drift d = noDrift();
-    finishBody<kClumps>(v, F, T, gravity, dt, scheme, k, &d);
-    exec::atomicMaxU32(&rb->max2, orderedBits(d.max2));
-    for (int a = 0; a < 3; ++a) {
-      exec::atomicMinU32(&rb->lo[a], orderedBits(d.lo[a]));
-      exec::atomicMaxU32(&rb->hi[a], orderedBits(d.hi[a]));
-    }
+    finishBody<kClumps, kPeriodic>(v, F, T, gravity, dt, scheme, k, &d);
+    mergeDriftInto(rb, d);
+  }
+};
+
+// contactSumsPerBody(): one body's sums (bodyContactSums()), written at its scene index.
+struct BodyContactSumsFn {
+  const BodyRow* bodies;
+  const std::uint32_t* bodyOf;
+  const std::uint8_t* touching;
+  const PosRow* was;
+  const PosRow* now;
+  const std::uint32_t* orig;
+  CandidateListView list;
+  SpringLaw law;
+  PeriodicBox box;
+  ContactSums* out;
+  TUMBLE_HD void operator()(std::uint32_t b) const {
+    out[bodies[b].orig] = bodyContactSums(bodies, bodyOf, touching, was, now, orig, list, law, box, b);
   }
 };
 
@@ -306,17 +396,20 @@ struct MeshHitsFillFn {
 };
 
 // pairs(): per particle the contacts with a higher scene index, written at its scene index's
-// offset, so that the output comes out sorted by (i, j). Element n writes the trailing zero.
+// offset, so that the output comes out sorted by (i, j); with periodic boundaries through the
+// minimum image. touching: the particles to walk (the force stage's; nullptr: all). Element n
+// writes the trailing zero.
 struct ContactsAboveFn {
   const PosRow* pos;
   const std::uint32_t* orig;
   CandidateListView list;
   const std::uint8_t* touching;
+  PeriodicBox box;
   std::uint32_t n;
   std::uint32_t* countByOrig;
   TUMBLE_HD void operator()(std::uint32_t i) const {
     if (i == n) countByOrig[n] = 0;
-    else countByOrig[orig[i]] = touching[i] ? contactsAbove(pos, orig, list, i) : 0u;
+    else countByOrig[orig[i]] = touching == nullptr || touching[i] ? contactsAbove(pos, orig, list, i, box) : 0u;
   }
 };
 
@@ -325,21 +418,18 @@ struct EmitContactsFn {
   const std::uint32_t* orig;
   CandidateListView list;
   const std::uint8_t* touching;
+  PeriodicBox box;
   const std::uint32_t* at;
   std::uint32_t* outI;
   std::uint32_t* outJ;
   TUMBLE_HD void operator()(std::uint32_t i) const {
-    if (touching[i]) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ);
+    if (touching == nullptr || touching[i]) emitContactsAbove(pos, orig, list, i, at[orig[i]], outI, outJ, box);
   }
 };
 
-inline constexpr const char* kNoPeriodic =
-    "the CUDA pipeline has no periodic boundaries yet: a scene with [periodic] runs on the CPU pipeline "
-    "(--pipeline cpu)";
-
 /// The CUDA pipeline over execution backend Exec (exec.hpp). `backend`: what backend() reports.
 template <class Exec>
-class CudaPipeline final : public Pipeline {
+class CudaPipeline final : public HaloPipeline {
  public:
   using Stream = typename Exec::Stream;
   template <class T>
@@ -369,7 +459,6 @@ class CudaPipeline final : public Pipeline {
   void load(const World& world) override {
     const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // copies from the locals below
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
-    if (world.params.periodic.any()) throw NotSupported(kNoPeriodic);
     m_loaded = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;
@@ -433,14 +522,20 @@ class CudaPipeline final : public Pipeline {
     s.synchronize();
     m_numCand = 0;
     m_skin = effectiveSkin(w);
-    m_skinLimit = skinClosureLimit(m_skin, w.maxRadius);
+    // Periodic boundaries (periodic_images.hpp), as CpuPipeline::load.
+    m_periodic = kernelPeriodic(w.params, m_frame);
+    for (int a = 0; a < 2; ++a)  // the skin may be another than the scene's (--skin)
+      if (const std::string why = periodTooShort(w.params.periodic, a, periodReach(w, m_skin)); !why.empty())
+        throw Error(why);
+    m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * m_skin, m_periodic) : 0.0f;
+    m_skinLimit = skinClosureLimit(m_skin, w.maxRadius, periodicRoundingReach(m_periodic));
     // Moving meshes: their poses at each step's start (setWallMotion()), and their motion in the
     // skin test (MeshMotionBound).
     m_meshMotion = MeshMotionBound(w.params, mesh, m_planesNow, w.maxRadius, m_skin);
     m_meshPosesNow.assign(m_meshMotion.any() ? m_planesNow.size() : 0, MeshPose{});
     m_meshPoses.grow(m_meshPosesNow.size());
     m_needRebuild = true;
-    m_pulls = w.params.pulls.active;
+    m_pulls = w.params.pulls.active & ~w.params.periodic.conflictingPulls();
     m_time = w.time;
     m_steps = 0;
     m_bp.reset();
@@ -478,12 +573,16 @@ class CudaPipeline final : public Pipeline {
     m_ty.download(ty.data(), ty.size(), s);
     s.synchronize();
     out.resize(nb);
+    out.imageX.resize(m_periodic.on(0) ? nb : 0);
+    out.imageY.resize(m_periodic.on(1) ? nb : 0);
     for (const BodyRow& b : bodies) {
       const std::uint32_t o = b.orig;
       out.px[o] = b.x.x; out.py[o] = b.x.y; out.pz[o] = b.x.z;
       out.vx[o] = b.v.x; out.vy[o] = b.v.y; out.vz[o] = b.v.z;
       out.qw[o] = b.q.w; out.qx[o] = b.q.x; out.qy[o] = b.q.y; out.qz[o] = b.q.z;
       out.lx[o] = b.l.x; out.ly[o] = b.l.y; out.lz[o] = b.l.z;
+      if (m_periodic.on(0)) out.imageX[o] = b.image[0];
+      if (m_periodic.on(1)) out.imageY[o] = b.image[1];
     }
     out.contacts = m_history ? readRows<ContactHistory>(m_kept, partnerRows(TakeAbove{}), tumble::detail::MakeContact{})
                              : std::vector<ContactHistory>{};
@@ -519,34 +618,9 @@ class CudaPipeline final : public Pipeline {
   // As CpuPipeline::pairs.
   std::vector<Pair> pairs() const override {
     if (m_steps == 0) return {};
-    const std::uint32_t n = m_world.numParticles();
-    const Stream& s = m_ctx;
     const CandidateListView list = compactList(m_candOffsets.data(), m_cand.data());
     const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
-    Buffer<std::uint32_t> count, at, outI, outJ;
-    Buffer<unsigned char> temp;
-    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
-    const exec::AbandonOnUnwind<Stream> unwind(s);
-    std::uint32_t* c = count.grow(std::size_t(n) + 1);
-    std::uint32_t* a = at.grow(std::size_t(n) + 1);
-    Exec::forEach(s, std::uint64_t(n) + 1, ContactsAboveFn{pos, m_orig.data(), list, m_touching.data(), n, c},
-                  "contactsAbove");
-    Exec::exclusiveSum(s, temp, c, a, n + 1);
-    std::uint32_t total = 0;
-    Exec::copyToHost(s, &total, a + n, 1);
-    s.synchronize();
-    std::vector<std::uint32_t> hi(total), hj(total);
-    if (total > 0) {
-      Exec::forEach(s, n, EmitContactsFn{pos, m_orig.data(), list, m_touching.data(), a, outI.grow(total),
-                                         outJ.grow(total)},
-                    "emitContacts");
-      outI.download(hi.data(), total, s);
-      outJ.download(hj.data(), total, s);
-      s.synchronize();
-    }
-    std::vector<Pair> out(total);
-    for (std::uint32_t k = 0; k < total; ++k) out[k] = Pair{hi[k], hj[k]};
-    return out;
+    return contactsOf(pos, m_orig.data(), list, m_touching.data(), m_periodic, m_world.numParticles());
   }
 
   // As CpuPipeline::meshContacts: the (particle, triangle) contacts of the last step, at its
@@ -579,10 +653,110 @@ class CudaPipeline final : public Pipeline {
     return out;
   }
 
+  // The hooks of a domain decomposition (HaloPipeline; tumble::mpi), as CpuPipeline's.
+  void readMotion(const std::vector<std::uint32_t>& bodies, std::vector<BodyMotion>& out) const override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);
+    const auto m = static_cast<std::uint32_t>(bodies.size());
+    out.resize(m);
+    if (m == 0) return;
+    const Stream& s = m_ctx;
+    const std::uint32_t* at = bodyIndex();
+    m_halo.list.upload(bodies, s);
+    Exec::forEach(s, m, ReadMotionFn{m_bodies.data(), at, m_halo.list.data(), m_halo.motion.grow(m)}, "readMotion");
+    m_halo.motion.download(out.data(), m, s);
+    s.synchronize();
+  }
+
+  void writeMotion(const std::vector<std::uint32_t>& bodies, const std::vector<BodyMotion>& motion) override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);
+    const auto m = static_cast<std::uint32_t>(bodies.size());
+    const Stream& s = m_ctx;
+    if (m > 0) {
+      const std::uint32_t* at = bodyIndex();
+      m_halo.list.upload(bodies, s);
+      m_halo.motion.upload(motion.data(), m, s);
+      PosRow* pos = m_pos[m_cur].data();
+      if (m_clumps)
+        Exec::forEach(s, m,
+                      WriteMotionFn<true>{m_bodies.data(), at, m_halo.list.data(), m_halo.motion.data(), m_own.data(),
+                                          m_radius.data(), pos},
+                      "writeMotion");
+      else
+        Exec::forEach(s, m,
+                      WriteMotionFn<false>{m_bodies.data(), at, m_halo.list.data(), m_halo.motion.data(), m_own.data(),
+                                           m_radius.data(), pos},
+                      "writeMotion");
+    }
+    if (m_steps == 0) {  // the first step rebuilds anyway
+      s.synchronize();
+      return;
+    }
+    // The skin test of the step just taken, again, on the positions as they are now.
+    StepReadback* rb = clearReadback();
+    Exec::forEach(s, m_world.numParticles(), ParticleDriftFn{m_pos[m_cur].data(), m_buildPos.data(), m_periodic, rb},
+                  "particleDrift");
+    StepReadback h{};
+    Exec::copyToHost(s, &h, rb, 1);
+    s.synchronize();
+    decideRebuild(driftOf(h), m_time);  // the step just taken has advanced m_time
+  }
+
+  std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const override {
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);
+    const auto m = static_cast<std::uint32_t>(bodies.size());
+    if (m_steps == 0 || m == 0) return 0;
+    const Stream& s = m_ctx;
+    const std::uint32_t* at = bodyIndex();
+    m_halo.list.upload(bodies, s);
+    unsigned long long* total = m_halo.total.grow(1);
+    Exec::fillZero(s, total, 1);
+    Exec::forEach(s, m,
+                  BodyContactCountFn{m_bodies.data(), at, m_halo.list.data(), m_touching.data(), m_pos[1 - m_cur].data(),
+                                     compactList(m_candOffsets.data(), m_cand.data()), m_periodic, total},
+                  "contactsOf");
+    unsigned long long h = 0;
+    Exec::copyToHost(s, &h, total, 1);
+    s.synchronize();
+    return h;
+  }
+
+  // As CpuPipeline::contactSumsPerBody: the guard's sums per body where the contacts lie, one
+  // writer per body; the law's tables (host memory) copied for the kernel.
+  bool contactSumsPerBody(const SpringLaw& law, std::vector<ContactSums>& out) const override {
+    const std::uint32_t nb = m_world.numBodies();
+    if (m_steps == 0) {  // no contacts yet, as pairs()
+      out.assign(nb, ContactSums{});
+      return true;
+    }
+    const Stream& s = m_ctx;
+    Buffer<HertzPair> hertz;
+    Buffer<std::uint16_t> material;
+    Buffer<ContactSums> sums;
+    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
+    const exec::AbandonOnUnwind<Stream> unwind(s);
+    SpringLaw onDevice = law;
+    if (law.hertz != nullptr) {
+      hertz.upload(law.hertz, std::size_t(law.numMaterials + 1) * (law.numMaterials + 1), s);
+      onDevice.hertz = hertz.data();
+    }
+    if (law.material != nullptr) {
+      material.upload(law.material, m_world.numParticles(), s);
+      onDevice.material = material.data();
+    }
+    Exec::forEach(s, nb,
+                  BodyContactSumsFn{m_bodies.data(), m_bodyOf.data(), m_touching.data(), m_pos[1 - m_cur].data(),
+                                    m_pos[m_cur].data(), m_orig.data(), compactList(m_candOffsets.data(), m_cand.data()),
+                                    onDevice, m_periodic, sums.grow(nb)},
+                  "contactSums");
+    out.resize(nb);
+    sums.download(out.data(), nb, s);
+    s.synchronize();
+    return true;
+  }
+
   // As CpuPipeline::findPairs (same checks, same messages, a fresh broadphase).
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
     const float maxR = checkCloud(cloud);
-    if (cloud.periodic.axes != 0) throw NotSupported(kNoPeriodic);
     const std::size_t n = cloud.size();
     if (n == 0) return {};
     const Stream& s = m_ctx;
@@ -598,6 +772,7 @@ class CudaPipeline final : public Pipeline {
     body.upload(cloud.body, s);
     const BroadphaseInput in{x.data(), y.data(), z.data(), r.data(), body.data(), static_cast<std::uint32_t>(n), maxR,
                              tumble::detail::sizingRadius(cloud.r.data(), n)};
+    if (cloud.periodic.axes != 0) return findPeriodicPairs(cloud, in, bp, b);
     b.run(in, bp, s, nullptr);
     return b.sortedPairs(static_cast<std::uint32_t>(n), s);
   }
@@ -630,7 +805,8 @@ class CudaPipeline final : public Pipeline {
     out.contacts = pairs();
   }
 
-  void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u; }
+  // A pull along a periodic axis is left off (its potential has no period; scene files refuse it).
+  void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u & ~m_world.params.periodic.conflictingPulls(); }
   std::uint32_t pulls() const override { return m_pulls; }
   const StepStats& stats() const override { return m_stats; }
   void resetStats() override {
@@ -641,6 +817,70 @@ class CudaPipeline final : public Pipeline {
   std::uint64_t stepCount() const override { return m_world.step + m_steps; }
 
  private:
+  // The contacts of the rows `list` at the positions pos (touching: the particles to walk, nullptr
+  // for all) as sorted scene-index pairs: per particle its contacts with a higher scene index,
+  // counted, scanned by scene index and written there (count → scan → fill).
+  std::vector<Pair> contactsOf(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& list,
+                               const std::uint8_t* touching, const PeriodicBox& box, std::uint32_t n) const {
+    const Stream& s = m_ctx;
+    Buffer<std::uint32_t> count, at, outI, outJ;
+    Buffer<unsigned char> temp;
+    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
+    const exec::AbandonOnUnwind<Stream> unwind(s);
+    std::uint32_t* c = count.grow(std::size_t(n) + 1);
+    std::uint32_t* a = at.grow(std::size_t(n) + 1);
+    Exec::forEach(s, std::uint64_t(n) + 1, ContactsAboveFn{pos, orig, list, touching, box, n, c}, "contactsAbove");
+    Exec::exclusiveSum(s, temp, c, a, n + 1);
+    std::uint32_t total = 0;
+    Exec::copyToHost(s, &total, a + n, 1);
+    s.synchronize();
+    std::vector<std::uint32_t> hi(total), hj(total);
+    if (total > 0) {
+      Exec::forEach(s, n, EmitContactsFn{pos, orig, list, touching, box, a, outI.grow(total), outJ.grow(total)},
+                    "emitContacts");
+      outI.download(hi.data(), total, s);
+      outJ.download(hj.data(), total, s);
+      s.synchronize();
+    }
+    std::vector<Pair> out(total);
+    for (std::uint32_t k = 0; k < total; ++k) out[k] = Pair{hi[k], hj[k]};
+    return out;
+  }
+
+  // As CpuPipeline::findPeriodicPairs: the sweep over the images on radii grown by the rounding
+  // margin of a difference across the boundary, then the exact predicate (the minimum image, as
+  // the oracle) on each particle's merged row.
+  std::vector<Pair> findPeriodicPairs(const ParticleCloud& cloud, const BroadphaseInput& in, const BroadphaseParams& bp,
+                                      Broadphase<Exec>& b) {
+    const std::uint32_t n = in.n;
+    const Stream& s = m_ctx;
+    const PeriodicBox& box = cloud.periodic;
+    const float g = periodicGrowth(in.maxRadius, box);
+    std::vector<float> grown(n);
+    std::vector<PosRow> rows(n);
+    std::vector<std::uint32_t> orig(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      grown[i] = cloud.r[i] + g;
+      rows[i] = PosRow{cloud.x[i], cloud.y[i], cloud.z[i], cloud.r[i]};
+      orig[i] = i;
+    }
+    Buffer<float> r;
+    Buffer<PosRow> pos;
+    Buffer<std::uint32_t> ids, offsets, cand, key;
+    PeriodicImages<Exec> images;
+    // After the buffers: on an exception the queue is dropped before they free (and drain) it.
+    const exec::AbandonOnUnwind<Stream> unwind(s);
+    r.upload(grown, s);
+    pos.upload(rows, s);
+    ids.upload(orig, s);
+    const BroadphaseInput gin{in.x, in.y, in.z, r.data(), in.body, n, in.maxRadius + g,
+                              in.cellRadius > 0.0f ? in.cellRadius + g : 0.0f};
+    images.build(gin, box, ghostReach(gin.maxRadius, box), s);
+    b.run(images.input(), bp, s, nullptr);
+    images.rows(b.listView(), ids.data(), offsets, cand, key, s);
+    return contactsOf(pos.data(), ids.data(), compactList(offsets.data(), cand.data()), nullptr, box, n);
+  }
+
   StepView stepView() {
     const int c = m_cur;
     return StepView{m_bodies.data(),
@@ -668,7 +908,7 @@ class CudaPipeline final : public Pipeline {
                     m_numPlanes,
                     m_numPlanes > 1 ? m_planeDamping.data() : nullptr,  // planes 1.. (plane 0's is in the own rows)
                     m_world.planeHertz.empty() ? nullptr : m_planeHertz.data(),
-                    PeriodicBox{},  // no periodic boundaries (load())
+                    m_periodic,
                     meshView(),
                     MeshListView{m_meshOffsets.data(), m_meshTri.data(), hasMesh() ? m_meshHist.data() : nullptr},
                     nullptr,   // the skin test per particle (buildPos)
@@ -677,7 +917,7 @@ class CudaPipeline final : public Pipeline {
 
   // As CpuPipeline::stepOnce.
   void stepOnce() {
-    const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
+    const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
     const Scene& p = m_world.params;
     if (m_wallsMove) {  // the walls at this step's start; the copies are read before the step's read-back
@@ -700,41 +940,24 @@ class CudaPipeline final : public Pipeline {
       for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].grow(3 * std::size_t(n));
       dbg.v = m_dbgVel.grow(3 * std::size_t(n));
     }
-    StepReadback* rb = m_readback.data();
-    const Drift none = noDrift();
-    StepReadback init{orderedBits(none.max2), {}, {}, 0u, 0ull};
-    for (int a = 0; a < 3; ++a) {
-      init.lo[a] = orderedBits(none.lo[a]);
-      init.hi[a] = orderedBits(none.hi[a]);
-    }
-    m_readbackInit = init;  // a member: the stream may reach the copy after this function returns
-    Exec::copyToDevice(s, rb, &m_readbackInit, 1);
+    StepReadback* rb = clearReadback();
     unsigned long long* contacts = &rb->contacts;
     m_debug ? launchForces<true>(v, fp, dbg, contacts) : launchForces<false>(v, fp, dbg, contacts);
     if (m_debug) m_hasDebug = true;
 
     m_timer.mark(Phase::Integrate, s);
     const RotationScheme scheme = p.integrator.rotation;
-    if (m_clumps)
-      Exec::forEach(s, nb, IntegrateFn<true>{v, m_f.data(), m_t.data(), p.gravity, p.dt, scheme, rb}, "integrate");
+    if (m_periodic.axes != 0)
+      m_clumps ? launchIntegrate<true, true>(v, scheme, rb) : launchIntegrate<false, true>(v, scheme, rb);
     else
-      Exec::forEach(s, nb, IntegrateFn<false>{v, m_f.data(), m_t.data(), p.gravity, p.dt, scheme, rb}, "integrate");
+      m_clumps ? launchIntegrate<true, false>(v, scheme, rb) : launchIntegrate<false, false>(v, scheme, rb);
     StepReadback h{};
     Exec::copyToHost(s, &h, rb, 1);
     m_timer.finish(s);
     m_timer.accumulate(s, m_stats.seconds);  // waits for the step (and the read-back)
-    Drift drift{fromOrderedBits(h.max2), {}, {}};
-    for (int a = 0; a < 3; ++a) {
-      drift.lo[a] = fromOrderedBits(h.lo[a]);
-      drift.hi[a] = fromOrderedBits(h.hi[a]);
-    }
     m_cur = 1 - m_cur;
     std::swap(m_bodies, m_bodiesNext);
-    // As CpuPipeline::decideList (no near list): with mesh walls the closure on a static wall
-    // too (wallClosureOf()), and the moving meshes' motion since the rebuild up to the next step.
-    const float closure = hasMesh() ? wallClosureOf(drift) : closureOf(drift);
-    const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, m_time + p.dt) : 0.0;
-    m_needRebuild = !(double(closure) + meshes < double(m_skinLimit));
+    decideRebuild(driftOf(h), m_time + p.dt);
 
     ++m_steps;
     m_time += p.dt;
@@ -742,15 +965,53 @@ class CudaPipeline final : public Pipeline {
     m_stats.numPairs = h.contacts / 2;  // each contact is seen from both sides
   }
 
+  // The step's read-back on the device, reset (no drift, no contacts).
+  StepReadback* clearReadback() {
+    const Drift none = noDrift();
+    StepReadback init{orderedBits(none.max2), {}, {}, 0u, 0ull};
+    for (int a = 0; a < 3; ++a) {
+      init.lo[a] = orderedBits(none.lo[a]);
+      init.hi[a] = orderedBits(none.hi[a]);
+    }
+    m_readbackInit = init;  // a member: the stream may reach the copy after this function returns
+    Exec::copyToDevice(m_ctx, m_readback.data(), &m_readbackInit, 1);
+    return m_readback.data();
+  }
+  static Drift driftOf(const StepReadback& h) {
+    Drift drift{fromOrderedBits(h.max2), {}, {}};
+    for (int a = 0; a < 3; ++a) {
+      drift.lo[a] = fromOrderedBits(h.lo[a]);
+      drift.hi[a] = fromOrderedBits(h.hi[a]);
+    }
+    return drift;
+  }
+
+  // As CpuPipeline::decideList (no near list): with mesh walls the closure on a static wall too
+  // (wallClosureOf()), and the moving meshes' motion since the rebuild up to the next step's
+  // start (`next`).
+  void decideRebuild(const Drift& drift, double next) {
+    const float closure = hasMesh() ? wallClosureOf(drift) : closureOf(drift);
+    const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, next) : 0.0;
+    m_needRebuild = !(double(closure) + meshes < double(m_skinLimit));
+  }
+
+  // The internal index of each body by scene index (the hooks of a domain decomposition).
+  const std::uint32_t* bodyIndex() const {
+    const std::uint32_t nb = m_world.numBodies();
+    Exec::forEach(m_ctx, nb, BodyIndexFn{m_bodies.data(), m_halo.at.grow(nb)}, "bodyIndex");
+    return m_halo.at.data();
+  }
+
   // Stages 3–5, instantiated for the scene's law (the laws with history rotate every body, as on
-  // the CPU) and for moving meshes (kPosedMesh: a scene whose meshes stand still runs the code
-  // without poses).
+  // the CPU), for periodic boundaries and for moving meshes (kPosedMesh: a scene whose meshes
+  // stand still runs the code without poses; a periodic scene has no mesh).
   template <bool kDebug>
   void launchForces(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, unsigned long long* contacts) {
-    m_meshPosesNow.empty() ? launchForcesLaw<kDebug, false>(v, fp, dbg, contacts)
-                           : launchForcesLaw<kDebug, true>(v, fp, dbg, contacts);
+    if (m_periodic.axes != 0) return launchForcesLaw<kDebug, true, false>(v, fp, dbg, contacts);
+    m_meshPosesNow.empty() ? launchForcesLaw<kDebug, false, false>(v, fp, dbg, contacts)
+                           : launchForcesLaw<kDebug, false, true>(v, fp, dbg, contacts);
   }
-  template <bool kDebug, bool kPosed>
+  template <bool kDebug, bool kPeriodic, bool kPosed>
   void launchForcesLaw(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                        unsigned long long* contacts) {
     const std::uint32_t n = m_world.numParticles();
@@ -758,21 +1019,33 @@ class CudaPipeline final : public Pipeline {
     Vec3f* t = m_t.data();
     switch (m_law) {
       case ContactLaw::HookeHistory:
-        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HookeHistory, kPosed>{v, fp, dbg, f, t, contacts},
+        Exec::forEach(m_ctx, n,
+                      ForcesFn<kDebug, true, ContactLaw::HookeHistory, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
                       "forces");
         break;
       case ContactLaw::HertzMindlin:
-        Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::HertzMindlin, kPosed>{v, fp, dbg, f, t, contacts},
+        Exec::forEach(m_ctx, n,
+                      ForcesFn<kDebug, true, ContactLaw::HertzMindlin, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
                       "forces");
         break;
       default:
         if (m_clumps)
-          Exec::forEach(m_ctx, n, ForcesFn<kDebug, true, ContactLaw::Report, kPosed>{v, fp, dbg, f, t, contacts},
+          Exec::forEach(m_ctx, n,
+                        ForcesFn<kDebug, true, ContactLaw::Report, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
                         "forces");
         else
-          Exec::forEach(m_ctx, n, ForcesFn<kDebug, false, ContactLaw::Report, kPosed>{v, fp, dbg, f, t, contacts},
+          Exec::forEach(m_ctx, n,
+                        ForcesFn<kDebug, false, ContactLaw::Report, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
                         "forces");
     }
+  }
+
+  // Stages 6–7 per body, instantiated for rotating bodies and periodic boundaries.
+  template <bool kClumps, bool kPeriodic>
+  void launchIntegrate(const StepView& v, RotationScheme scheme, StepReadback* rb) {
+    const Scene& p = m_world.params;
+    Exec::forEach(m_ctx, m_world.numBodies(),
+                  IntegrateFn<kClumps, kPeriodic>{v, m_f.data(), m_t.data(), p.gravity, p.dt, scheme, rb}, "integrate");
   }
 
   // Stage 1: the particle positions of the current body state (after a reordering, and at load).
@@ -796,7 +1069,9 @@ class CudaPipeline final : public Pipeline {
 
     m_timer.mark(Phase::State, s);
     m_clumps ? launchState<true>() : launchState<false>();
-    const float h = 0.5f * m_skin;
+    // Detection input: the positions and the radii grown by skin/2 (and with periodic boundaries
+    // by the rounding of a difference across them, periodicGrowth()).
+    const float h = 0.5f * m_skin + m_periodicGrowth;
     Exec::forEach(s, n,
                   DetectionInputFn{m_pos[m_cur].data(), h, m_bx.grow(n), m_by.grow(n), m_bz.grow(n), m_br.grow(n),
                                    m_buildPos.data()},
@@ -806,7 +1081,12 @@ class CudaPipeline final : public Pipeline {
                              m_world.maxRadius + h,
                              m_world.sizingRadius > 0.0f ? m_world.sizingRadius + h : 0.0f};
     try {
-      m_bp.run(in, m_world.params.broadphase, s, &m_timer);
+      if (m_periodic.axes != 0) {  // the sweep over the particles and their ghost images
+        m_images.build(in, m_periodic, ghostReach(in.maxRadius, m_periodic), s);
+        m_bp.run(m_images.input(), m_world.params.broadphase, s, &m_timer);
+      } else {
+        m_bp.run(in, m_world.params.broadphase, s, &m_timer);
+      }
     } catch (const SimulationError& e) {
       if (e.particle() < 0) throw;
       std::uint32_t o = 0;
@@ -816,17 +1096,20 @@ class CudaPipeline final : public Pipeline {
     }
 
     m_timer.mark(Phase::List, s);
-    const SweepListView sl{m_bp.recFirst.data(), m_bp.inv.data(),         m_bp.nbrOffsets.data(),
-                           m_bp.nbr.data(),      m_bp.backOffsets.data(), m_bp.back.data()};
-    std::uint32_t* count = m_count.grow(std::size_t(n) + 1);
-    Exec::forEach(s, std::uint64_t(n) + 1, CandidateCountFn{sl, n, count}, "candidateCount");
-    Exec::exclusiveSum(s, m_temp, count, m_candOffsets.data(), n + 1);
-    Exec::copyToHost(s, &m_numCand, m_candOffsets.data() + n, 1);
-    s.synchronize();
-    Exec::forEach(s, n,
-                  CandidateFillFn{sl, m_orig.data(), m_candOffsets.data(), m_cand.grow(m_numCand),
-                                  m_candKey.grow(m_numCand)},
-                  "candidateFill");
+    const SweepListView sl = m_bp.listView();
+    if (m_periodic.axes != 0) {
+      m_numCand = m_images.rows(sl, m_orig.data(), m_candOffsets, m_cand, m_candKey, s);
+    } else {
+      std::uint32_t* count = m_count.grow(std::size_t(n) + 1);
+      Exec::forEach(s, std::uint64_t(n) + 1, CandidateCountFn{sl, n, count}, "candidateCount");
+      Exec::exclusiveSum(s, m_temp, count, m_candOffsets.data(), n + 1);
+      Exec::copyToHost(s, &m_numCand, m_candOffsets.data() + n, 1);
+      s.synchronize();
+      Exec::forEach(s, n,
+                    CandidateFillFn{sl, m_orig.data(), m_candOffsets.data(), m_cand.grow(m_numCand),
+                                    m_candKey.grow(m_numCand)},
+                    "candidateFill");
+    }
     if (m_history) restoreHistory();
     if (hasMesh()) {
       m_meshPosesNow.empty() ? buildMeshList<false>() : buildMeshList<true>();
@@ -1062,6 +1345,13 @@ class CudaPipeline final : public Pipeline {
     KeptBuffers out;
   };
   mutable ReadScratch m_read;
+  // The hooks' scratch (readMotion(), writeMotion(), contactsOf()).
+  struct HaloScratch {
+    Buffer<std::uint32_t> at, list;
+    Buffer<BodyMotion> motion;
+    Buffer<unsigned long long> total;
+  };
+  mutable HaloScratch m_halo;
   std::uint32_t m_numCand = 0;
   float m_skin = 0.0f, m_skinLimit = 0.0f;
   bool m_needRebuild = true;
@@ -1069,6 +1359,9 @@ class CudaPipeline final : public Pipeline {
   Buffer<StepReadback> m_readback;
   StepReadback m_readbackInit{};
   Broadphase<Exec> m_bp;
+  PeriodicBox m_periodic;          // kernelPeriodic(); axes = 0: none
+  float m_periodicGrowth = 0.0f;   // what the detection grows the radii by beyond skin/2 (periodicGrowth())
+  PeriodicImages<Exec> m_images;   // the periodic detection's particles and ghosts
   // Scratch (grow-only).
   Buffer<float> m_bx, m_by, m_bz, m_br;
   Buffer<std::uint32_t> m_count, m_first, m_mKeys, m_mVals, m_mSortedKeys, m_perm;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // CPU ≡ CUDA step by step: the CPU pipeline and the CUDA pipeline stepped side by side on
-// molecules, spheres, bench-16k and a pour for 1000 steps (and a dense cluster for 200), under
-// the report's law and the laws with history, comparing after every step the pair
+// molecules, spheres, bench-16k, a pour and every other scene of scenes/ (the bench-128k and
+// bench-960k aside) for 1000 steps (and a dense cluster for 200), under the report's law and the
+// laws with history, with walls, meshes and periodic boundaries, comparing after every step the pair
 // lists, every bit of the body state and contact-list state (the contacts and their histories),
 // and the debug velocities and forces; a failure names the first differing step, quantity and
 // body or particle. Each runs on every backend of the CUDA pipeline: cuda-host (its code on the
@@ -10,7 +11,9 @@
 // and names the first difference of two that must not.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "tumble/config.hpp"
@@ -331,6 +334,55 @@ TEST_P(CudaEqualsCpu, PourStepByStep) {
   const World w = pouring.worldWith(pouring.initialBodies());
   // Every poured body must have entered within the 1000 steps (else the test saw less of it).
   EXPECT_EQ(expectEqual(w, 1000, "pour", &pouring), pouring.finalBodies());
+}
+
+// The scenes of scenes/ as they are (their walls starting when the scenes say, the hopper-mesh's
+// [[fill]], the periodic chute), 1000 steps each; the molecules, spheres, bench-16k and the heaps
+// are compared above, bench-128k and bench-960k are left to `tumble validate` (their size).
+TEST_P(CudaEqualsCpu, ScenesAsTheyAreStepByStep) {
+  for (const char* file : {"scenes/box.toml", "scenes/drum.toml", "scenes/silo.toml", "scenes/hopper.toml",
+                           "scenes/hopper-mesh.toml", "scenes/drum-mesh.toml", "scenes/chute.toml"})
+    expectEqual(sceneWorld(file), 1000, file);
+}
+
+// Periodic boundaries (the ghost images of the detection, minimum images in the forces, bodies
+// wrapped into the box): the chute under the report's law (its plates are clumps) and
+// hertz-mindlin, and the molecules' clumps in a box periodic on x and y, thrown sideways so that
+// they cross it and meet across its boundaries; then a resume of the chute with its histories.
+TEST_P(CudaEqualsCpu, PeriodicStepByStep) {
+  Scene chute = readSceneFile(sourcePath("scenes/chute.toml"));
+  Scene report = chute;
+  report.contact.law = ContactLaw::Report;
+  expectEqual(World::fromScene(report), 500, "chute, the report's law");
+  expectEqual(World::fromScene(withHertzMindlin(chute, 1.0e6f, true)), 500, "chute, hertz-mindlin");
+  Scene m = readSceneFile(sourcePath("scenes/molecules.toml"));
+  m.pulls.active = 0;
+  Vec3f lo{1e30f, 1e30f, 0.0f}, hi{-1e30f, -1e30f, 0.0f};
+  for (const BodyDef& b : m.bodies) {
+    lo = {std::min(lo.x, b.position.x), std::min(lo.y, b.position.y), 0.0f};
+    hi = {std::max(hi.x, b.position.x), std::max(hi.y, b.position.y), 0.0f};
+  }
+  ASSERT_FALSE(m.bodies.empty());
+  for (int a = 0; a < 2; ++a) {
+    m.periodic.on[a] = true;
+    m.periodic.lo[a] = (a == 0 ? lo.x : lo.y) - 0.3f;
+    m.periodic.hi[a] = (a == 0 ? hi.x : hi.y) + 0.3f;
+  }
+  Rng rng(20261206);
+  for (BodyDef& b : m.bodies) b.velocity = {rng.uniform(-4.0f, 4.0f), rng.uniform(-4.0f, 4.0f), b.velocity.z};
+  const World w = World::fromScene(m);
+  expectEqual(w, 1000, "molecules, periodic on x and y");
+  auto cpu = makePipeline(Backend::Cpu);
+  cpu->load(w);
+  cpu->step(1000);
+  BodyState st;
+  cpu->readState(st);
+  int crossings = 0;
+  for (const auto* c : {&st.imageX, &st.imageY})
+    for (std::int32_t k : *c) crossings += std::abs(k);
+  std::printf("molecules, periodic on x and y: %d crossings in 1000 steps\n", crossings);
+  EXPECT_GT(crossings, 20) << "the bodies must cross the boundaries";
+  expectResumeEqual(World::fromScene(chute), 600, 200, "chute");
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, CudaEqualsCpu, ::testing::ValuesIn(tumble_test::cudaPipelineBackends()),

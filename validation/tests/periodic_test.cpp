@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <iterator>
 #include <string>
 #include <unistd.h>
@@ -129,17 +130,18 @@ std::size_t expectExactAtEveryStep(Pipeline& p, const World& w, int steps, const
   return across;
 }
 
-/// A pipeline (CPU, `threads` threads) that has run `steps` steps of `w` with the given skin, its
+/// A pipeline (`threads` threads) that has run `steps` steps of `w` with the given skin, its
 /// contacts checked against the oracle at every step; *across receives expectExactAtEveryStep's.
 std::unique_ptr<Pipeline> checkedRun(const World& w, float skin, int threads, int steps, const std::string& what,
-                                     std::size_t* across = nullptr) {
+                                     std::size_t* across = nullptr, Backend backend = Backend::Cpu) {
   World ws = w;
   ws.params.broadphase.skin = skin;
   PipelineOptions o;
   o.threads = threads;
-  auto p = makePipeline(Backend::Cpu, o);
+  auto p = makePipeline(backend, o);
   const std::size_t n = expectExactAtEveryStep(*p, ws, steps, what + ", skin " + std::to_string(skin) + ", " +
-                                                                 std::to_string(threads) + " thread(s)");
+                                                                 std::to_string(threads) + " thread(s), " +
+                                                                 toString(backend));
   if (across) *across = n;
   return p;
 }
@@ -158,7 +160,11 @@ std::string tempPath(const std::string& name) {
 
 }  // namespace
 
-TEST(PeriodicTest, ContactsAreTheOracleAtEveryStep) {
+namespace {
+
+// The contacts of random periodic boxes (x, y, both; spheres and clumps) against the oracle at
+// every step, for the skins given and 1 and 2 threads.
+void expectContactsAreTheOracle(Backend backend, std::initializer_list<float> skins) {
   const std::uint64_t seed = 20261212;
   std::printf("random periodic boxes, seed %llu\n", static_cast<unsigned long long>(seed));
   struct Box {
@@ -169,11 +175,11 @@ TEST(PeriodicTest, ContactsAreTheOracleAtEveryStep) {
   for (const Box& b : {Box{"x", 9.0f, 0.0f}, Box{"y", 0.0f, 7.5f}, Box{"x and y", 8.0f, 6.5f}}) {
     for (bool clumps : {false, true}) {
       const World w = World::fromScene(randomBox(seed, b.lx, b.ly, 60, 1.5f, clumps));
-      for (float skin : {0.0f, -1.0f, 1.5f}) {  // every step, automatic, large (3 radii)
+      for (float skin : skins) {
         for (int threads : {1, 2}) {
           const std::string what = std::string("periodic ") + b.name + (clumps ? ", clumps" : ", spheres");
           std::size_t across = 0;
-          const auto p = checkedRun(w, skin, threads, 120, what, &across);
+          const auto p = checkedRun(w, skin, threads, 120, what, &across, backend);
           acrossMost = std::max(acrossMost, across);
           EXPECT_GT(across, 0u) << what << ": no contact across a boundary";
           BodyState st;
@@ -186,7 +192,15 @@ TEST(PeriodicTest, ContactsAreTheOracleAtEveryStep) {
   std::printf("at most %zu contacts across a boundary in one step\n", acrossMost);
 }
 
-TEST(PeriodicTest, HardCasesAtTheBoundaries) {
+}  // namespace
+
+TEST(PeriodicTest, ContactsAreTheOracleAtEveryStep) {
+  expectContactsAreTheOracle(Backend::Cpu, {0.0f, -1.0f, 1.5f});  // every step, automatic, large (3 radii)
+}
+
+namespace {
+
+void expectHardCasesAtTheBoundaries(Backend backend) {
   // A box [0, 4) × [0, 4): a sphere exactly at x0 and one at x1 − ulp (touching across x), two
   // spheres exactly touching across y (not a contact: the predicate is strict), four at the
   // corners overlapping across both, a clump straddling x, a fast sphere crossing the box every
@@ -223,12 +237,12 @@ TEST(PeriodicTest, HardCasesAtTheBoundaries) {
     EXPECT_TRUE(has(5, 6));
     EXPECT_TRUE(has(4, 5) && has(4, 6) && has(5, 7) && has(6, 7));
     EXPECT_TRUE(has(8, 10)) << "the clump straddling x touches the sphere at 3.7";
-    auto p = makePipeline(Backend::Cpu);
+    auto p = makePipeline(backend);
     EXPECT_EQ(p->findPairs(c, BroadphaseParams{}), pairs) << "findPairs() in a periodic box is the oracle";
   }
   for (float skin : {0.0f, -1.0f, 0.6f})
     for (int threads : {1, 2}) {
-      const auto p = checkedRun(w, skin, threads, 60, "hard cases");
+      const auto p = checkedRun(w, skin, threads, 60, "hard cases", nullptr, backend);
       BodyState st;
       p->readLocalState(st);
       EXPECT_GT(std::abs(st.imageX[10]), 5) << "the fast sphere crosses the box every few steps";
@@ -240,11 +254,11 @@ TEST(PeriodicTest, HardCasesAtTheBoundaries) {
     }
 }
 
-TEST(PeriodicTest, FindPairsIsTheOracleOnRandomClouds) {
+void expectFindPairsIsTheOracleOnRandomClouds(Backend backend) {
   const std::uint64_t seed = 20261213;
   std::printf("random periodic clouds, seed %llu\n", static_cast<unsigned long long>(seed));
   Rng rng(seed);
-  auto p = makePipeline(Backend::Cpu);
+  auto p = makePipeline(backend);
   for (int k = 0; k < 12; ++k) {
     const float l = rng.uniform(3.0f, 20.0f);
     ParticleCloud c = randomCloud(200 + rng.below(2000), seed + k, l, 0.1f, 0.5f, 1 + rng.below(3));
@@ -262,6 +276,12 @@ TEST(PeriodicTest, FindPairsIsTheOracleOnRandomClouds) {
     EXPECT_EQ(p->findPairs(c, BroadphaseParams{}), want) << "cloud " << k << ", axes " << c.periodic.axes;
   }
 }
+
+}  // namespace
+
+TEST(PeriodicTest, HardCasesAtTheBoundaries) { expectHardCasesAtTheBoundaries(Backend::Cpu); }
+
+TEST(PeriodicTest, FindPairsIsTheOracleOnRandomClouds) { expectFindPairsIsTheOracleOnRandomClouds(Backend::Cpu); }
 
 namespace {
 
@@ -493,9 +513,11 @@ TEST(PeriodicTest, TheEnergyGuardFollowsBodiesAcrossTheBoundary) {
   EXPECT_LT(e, e0) << "friction and collisions only take energy out";
 }
 
-TEST(PeriodicTest, PipelineContactSumsEqualThoseOfItsPairs) {
+namespace {
+
+void expectContactSumsEqualThoseOfThePairs(Backend backend) {
   const World w = World::fromScene(randomBox(20261218, 8.0f, 6.5f, 60, 1.5f, true));
-  auto p = makePipeline(Backend::Cpu);
+  auto p = makePipeline(backend);
   p->load(w);
   const SpringLaw law = springLawOf(w);
   const PeriodicBox box = kernelPeriodic(w.params, p->frame());
@@ -522,6 +544,10 @@ TEST(PeriodicTest, PipelineContactSumsEqualThoseOfItsPairs) {
   }
   EXPECT_GT(across, 0u) << "contacts across the boundary must be among those summed";
 }
+
+}  // namespace
+
+TEST(PeriodicTest, PipelineContactSumsEqualThoseOfItsPairs) { expectContactSumsEqualThoseOfThePairs(Backend::Cpu); }
 
 TEST(PeriodicTest, ABallTrainInAPeriodicPipe) {
   // A pipe along the periodic x (a cylinder of radius 1.5 reaching half a period beyond the box),
@@ -589,21 +615,19 @@ TEST(PeriodicTest, ScenesBuiltInCodeAreCheckedToo) {
   s.bodies[0].position.x = 1.0f;
   expectRefused(s, "[periodic] x spans 2 m, not more than the shortest period this scene allows");
   // A skin given after the scene (--skin, or a test) is checked when a pipeline loads the world.
+  // Every pipeline: the host backend everywhere, the device where CUDA is there at all (a broken
+  // driver fails here, in makePipeline).
   World w = World::fromScene(ok);
   w.params.broadphase.skin = 3.0f;
-  auto p = makePipeline(Backend::Cpu);
-  try {
-    p->load(w);
-    ADD_FAILURE() << "a skin of 3 leaves a period of 8 too short";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("the skin 3 m"), std::string::npos) << e.what();
-  }
-  // The CUDA pipeline has no periodic boundaries yet: its host backend everywhere, and the device
-  // where CUDA is there at all (a broken driver fails here, in makePipeline).
-  for (const Backend b : tumble_test::cudaPipelineBackends()) {
+  for (const Backend b : compiledBackends()) {
     if (b == Backend::Cuda && cudaStatus().state == CudaState::NoDevice) continue;
-    auto cuda = makePipeline(b);
-    EXPECT_THROW(cuda->load(World::fromScene(ok)), NotSupported) << toString(b);
+    auto p = makePipeline(b);
+    try {
+      p->load(w);
+      ADD_FAILURE() << toString(b) << ": a skin of 3 leaves a period of 8 too short";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("the skin 3 m"), std::string::npos) << toString(b) << ": " << e.what();
+    }
   }
 }
 
@@ -634,3 +658,28 @@ TEST(PeriodicTest, PairsWithinRoundingOfTouchingAcrossTheBoundary) {
   const World w = World::fromScene(s);
   for (float skin : {0.0f, -1.0f}) (void)checkedRun(w, skin, 2, 2, "pairs within rounding of touching across x");
 }
+
+// The CUDA pipeline's periodic detection (gpu/src/periodic_images.hpp, the per-element steps of
+// kernels/periodic_images.hpp): the same oracles on the host backend in every build, on the
+// device where there is one. Its trajectories are the CPU's bit for bit: cuda_equals_cpu_test.cpp.
+class PeriodicCudaPipeline : public ::testing::TestWithParam<Backend> {
+ protected:
+  void SetUp() override { TUMBLE_NEED_BACKEND(GetParam()); }
+};
+
+TEST_P(PeriodicCudaPipeline, ContactsAreTheOracleAtEveryStep) {
+  expectContactsAreTheOracle(GetParam(), {0.0f, -1.0f});  // every step, automatic
+}
+
+TEST_P(PeriodicCudaPipeline, HardCasesAtTheBoundaries) { expectHardCasesAtTheBoundaries(GetParam()); }
+
+TEST_P(PeriodicCudaPipeline, FindPairsIsTheOracleOnRandomClouds) {
+  expectFindPairsIsTheOracleOnRandomClouds(GetParam());
+}
+
+TEST_P(PeriodicCudaPipeline, PipelineContactSumsEqualThoseOfItsPairs) {
+  expectContactSumsEqualThoseOfThePairs(GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, PeriodicCudaPipeline, ::testing::ValuesIn(tumble_test::cudaPipelineBackends()),
+                         tumble_test::backendName);

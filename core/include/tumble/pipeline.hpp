@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tumble/kernels/contact_sums.hpp"
+#include "tumble/soa.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble {
@@ -198,7 +199,28 @@ class Pipeline {
   virtual std::uint64_t stepCount() const = 0;
 };
 
+/// A pipeline with the three hooks a domain decomposition needs (tumble::mpi, docs/mpi.md). A
+/// rank loads the bodies it owns and ghost copies of the bodies near them; after each step it
+/// reads the motion of its own bodies that other ranks hold as ghosts, and overwrites its
+/// ghosts' with those their owners integrated. Bodies are named by their scene index in the
+/// loaded world. Not thread-safe, as Pipeline.
+class HaloPipeline : public Pipeline {
+ public:
+  /// The motion of `bodies` as the last step's integration left it, out[k] for bodies[k].
+  virtual void readMotion(const std::vector<std::uint32_t>& bodies, std::vector<BodyMotion>& out) const = 0;
+  /// Overwrites the motion of `bodies` (motion[k] for bodies[k]), recomputes their particles'
+  /// positions, then redoes the skin test (per particle, or per body as the step does) with the
+  /// moving meshes' motion, so that the candidate list (and a near list) is rebuilt when the
+  /// overwritten positions need it. Nothing else of the state changes.
+  virtual void writeMotion(const std::vector<std::uint32_t>& bodies, const std::vector<BodyMotion>& motion) = 0;
+  /// How many touching contacts the particles of `bodies` had in the last step, each counted
+  /// from its particle's side (a contact between two of them counts twice); 0 before the first step.
+  virtual std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const = 0;
+};
+
 /// Creates a pipeline. Throws tumble::Error when the backend is not compiled in or has no device.
 std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options = {});
+/// The same pipeline behind the HaloPipeline interface (what each rank of the MPI pipeline runs).
+std::unique_ptr<HaloPipeline> makeHaloPipeline(Backend backend, const PipelineOptions& options = {});
 
 }  // namespace tumble

@@ -38,6 +38,34 @@ struct alignas(64) BodyRow {
 };
 static_assert(sizeof(BodyRow) == 128, "two cache lines");
 
+/// A body's motion as the integration leaves it: its BodyRow without the pipeline's own fields
+/// (numbering, mass). What a domain decomposition copies from a body's owner to its ghosts
+/// (HaloPipeline, tumble/pipeline.hpp).
+struct BodyMotion {
+  Vec3f v, omega;  ///< V, and the Ω of this state
+  Mat3f rot;       ///< R = rotationMatrix(q), as the integration computed it
+  Vec3f x;
+  Quatf q;
+  Vec3f l;
+  std::int32_t image[2];
+};
+static_assert(sizeof(BodyMotion) == 108, "27 words a body");
+
+TUMBLE_HD_INLINE BodyMotion motionOf(const BodyRow& b) {
+  return BodyMotion{b.v, b.omega, b.rot, b.x, b.q, b.l, {b.image[0], b.image[1]}};
+}
+
+TUMBLE_HD_INLINE void setMotion(BodyRow& b, const BodyMotion& m) {
+  b.v = m.v;
+  b.omega = m.omega;
+  b.rot = m.rot;
+  b.x = m.x;
+  b.q = m.q;
+  b.l = m.l;
+  b.image[0] = m.image[0];
+  b.image[1] = m.image[1];
+}
+
 /// A body's static mass properties (internal numbering).
 struct alignas(16) BodyStatic {
   Sym3f invInertia;  ///< body-frame I0⁻¹ about the centre of mass

@@ -3,8 +3,9 @@
 // MPI_COMM_WORLD, bit-identical to one process.
 //
 // Design notes
-// - Every rank holds the whole static world (the tables of every body and particle) and runs the
-//   CPU pipeline (HaloPipeline) on a *local world*: the bodies it owns and ghost copies of every
+// - Every rank holds the whole static world (the tables of every body and particle) and runs a
+//   pipeline (HaloPipeline: the CPU pipeline, or the CUDA pipeline on the rank's device or on the
+//   host backend) on a *local world*: the bodies it owns and ghost copies of every
 //   body with a particle near its own. Local bodies are in ascending scene index, so the local
 //   pipeline's canonical order (ascending scene index of the partner, kernels/contact_list.hpp)
 //   is the global one, and the local world integrates in the global run's frame (LocalFrame of
@@ -50,7 +51,6 @@
 #include <type_traits>
 
 #include "agree.hpp"
-#include "tumble/cpu/cpu_pipeline.hpp"
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
@@ -121,7 +121,8 @@ std::vector<T> allGather(MPI_Comm comm, int size, const std::vector<T>& mine, st
 
 class MpiPipelineImpl final : public MpiPipeline {
  public:
-  MpiPipelineImpl(const PipelineOptions& o, Decomposition how) : m_options(o), m_how(how) {
+  MpiPipelineImpl(const PipelineOptions& o, Decomposition how, Backend backend)
+      : m_options(o), m_how(how), m_backend(backend) {
     int on = 0;
     MPI_Initialized(&on);
     if (!on) throw Error("the MPI pipeline needs MPI started (tumble::mpi::Session, under mpirun)");
@@ -143,7 +144,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     MPI_Comm_free(&m_comm);
   }
 
-  Backend backend() const override { return Backend::Cpu; }
+  Backend backend() const override { return m_backend; }
   Decomposition decomposition() const override { return m_how; }
 
   void load(const World& world) override {
@@ -254,7 +255,7 @@ class MpiPipelineImpl final : public MpiPipeline {
   // Every rank finds the pairs of the whole cloud (the guard's first measurement only): the same
   // answer everywhere, no communication.
   std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) override {
-    if (!m_finder) m_finder = cpu::makeCpuPipeline(m_options);
+    if (!m_finder) m_finder = tumble::makePipeline(m_backend, m_options);
     return m_finder->findPairs(cloud, bp);
   }
 
@@ -384,7 +385,7 @@ class MpiPipelineImpl final : public MpiPipeline {
       const std::size_t a = m_recvOffsets[std::size_t(r)], e = m_recvOffsets[std::size_t(r) + 1];
       if (e > a) {
         requests.emplace_back();
-        MPI_Irecv(&m_recvBuf[a], static_cast<int>((e - a) * sizeof(cpu::BodyMotion)), MPI_BYTE, r, kGhostTag, m_comm,
+        MPI_Irecv(&m_recvBuf[a], static_cast<int>((e - a) * sizeof(BodyMotion)), MPI_BYTE, r, kGhostTag, m_comm,
                   &requests.back());
       }
     }
@@ -392,9 +393,9 @@ class MpiPipelineImpl final : public MpiPipeline {
       const std::size_t a = m_sendOffsets[std::size_t(r)], e = m_sendOffsets[std::size_t(r) + 1];
       if (e > a) {
         requests.emplace_back();
-        MPI_Isend(&m_sendBuf[a], static_cast<int>((e - a) * sizeof(cpu::BodyMotion)), MPI_BYTE, r, kGhostTag, m_comm,
+        MPI_Isend(&m_sendBuf[a], static_cast<int>((e - a) * sizeof(BodyMotion)), MPI_BYTE, r, kGhostTag, m_comm,
                   &requests.back());
-        m_mpi.counts.haloBytes += (e - a) * sizeof(cpu::BodyMotion);
+        m_mpi.counts.haloBytes += (e - a) * sizeof(BodyMotion);
         ++m_mpi.counts.haloMessages;
       }
     }
@@ -569,7 +570,7 @@ class MpiPipelineImpl final : public MpiPipeline {
       if (local.empty()) {
         m_local.reset();
       } else {
-        if (!m_local) m_local = cpu::makeCpuHaloPipeline(m_options);
+        if (!m_local) m_local = makeHaloPipeline(m_backend, m_options);
         m_local->load(worldOf(local, state));
         m_local->setPulls(m_pulls);
         m_local->setDebugCapture(m_debug);
@@ -664,6 +665,7 @@ class MpiPipelineImpl final : public MpiPipeline {
 
   PipelineOptions m_options;
   Decomposition m_how;
+  Backend m_backend;  // the pipeline each rank runs
   MPI_Comm m_comm = MPI_COMM_NULL;
   MPI_Datatype m_reduceType = MPI_DATATYPE_NULL;
   MPI_Op m_reduceOp = MPI_OP_NULL;
@@ -673,7 +675,7 @@ class MpiPipelineImpl final : public MpiPipeline {
   LocalFrame m_frame;
   float m_skin = 0.0f, m_haloSkin = 0.0f, m_haloLimit = 0.0f;
   bool m_clumps = false;
-  std::unique_ptr<cpu::HaloPipeline> m_local;  // null on a rank without bodies
+  std::unique_ptr<HaloPipeline> m_local;  // null on a rank without bodies
   std::unique_ptr<Pipeline> m_finder;          // findPairs()
 
   // The decomposition of the last redistribution.
@@ -697,17 +699,18 @@ class MpiPipelineImpl final : public MpiPipeline {
   mutable MpiStats m_mpi;
 
   mutable std::vector<float> m_buf;
-  std::vector<cpu::BodyMotion> m_sendBuf, m_recvBuf;
+  std::vector<BodyMotion> m_sendBuf, m_recvBuf;
   std::vector<MPI_Request> m_requests;
 };
 
 }  // namespace
 
-std::unique_ptr<MpiPipeline> makeMpiPipeline(const PipelineOptions& options, Decomposition how) {
+std::unique_ptr<MpiPipeline> makeMpiPipeline(const PipelineOptions& options, Decomposition how, Backend backend) {
   if (options.threads < 0 || options.threads > kMaxThreads)
     throw Error("threads = " + std::to_string(options.threads) + ": expected 0 (all cores) to " +
                 std::to_string(kMaxThreads));
-  return std::make_unique<MpiPipelineImpl>(options, how);
+  requireBackend(backend);
+  return std::make_unique<MpiPipelineImpl>(options, how, backend);
 }
 
 }  // namespace tumble::mpi

@@ -84,15 +84,11 @@ int Session::maxOf(int value) const {
 std::unique_ptr<Pipeline> Session::makePipeline(Backend backend, const PipelineOptions& options,
                                                 Decomposition how) const {
   if (!m_active) return tumble::makePipeline(backend, options);
-  if (backend != Backend::Cpu)
-    throw NotSupported(std::string("--pipeline ") + toString(backend) +
-                       " under mpirun: not yet (each rank runs the CPU pipeline; one rank per GPU is planned, "
-                       "docs/mpi.md); use --pipeline cpu");
-  return makeMpiPipeline(options, how);
+  return makeMpiPipeline(options, how, backend);
 }
 
 #if !TUMBLE_HAS_MPI
-std::unique_ptr<MpiPipeline> makeMpiPipeline(const PipelineOptions&, Decomposition) {
+std::unique_ptr<MpiPipeline> makeMpiPipeline(const PipelineOptions&, Decomposition, Backend) {
   throw Error("this tumble was built without MPI: no MPI pipeline (rebuild with libopenmpi-dev, TUMBLE_ENABLE_MPI=ON)");
 }
 #endif

@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
-// The CPU pipeline's hooks for a domain decomposition (cpu::HaloPipeline): rows read and written
-// back change no bit, the contacts counted per body add up to the run's, and rows that jump
-// (a ghost overwritten by its owner's) make the pipeline rebuild its list when they must.
+// The pipelines' hooks for a domain decomposition (HaloPipeline; the CPU pipeline and the CUDA
+// pipeline, on the host backend in every build): rows read and written back change no bit, the
+// contacts counted per body add up to the run's, and rows that jump (a ghost overwritten by its
+// owner's) make the pipeline rebuild its list when they must.
 #include <gtest/gtest.h>
 
 #include <numeric>
 
-#include "tumble/cpu/cpu_pipeline.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"
+#include "tumble_test/cuda_gate.hpp"
 
 using namespace tumble;
 using namespace tumble::validation;
@@ -22,9 +23,20 @@ std::vector<std::uint32_t> allBodies(const World& w) {
   return b;
 }
 
+class HaloPipelineTest : public ::testing::TestWithParam<Backend> {
+ protected:
+  void SetUp() override { TUMBLE_NEED_BACKEND(GetParam()); }
+};
+
+std::vector<Backend> haloBackends() {
+  std::vector<Backend> b{Backend::Cpu};
+  for (Backend c : tumble_test::cudaPipelineBackends()) b.push_back(c);
+  return b;
+}
+
 }  // namespace
 
-TEST(HaloPipelineTest, RowsWrittenBackChangeNoBit) {
+TEST_P(HaloPipelineTest, RowsWrittenBackChangeNoBit) {
   Scene sc = readSceneFile(sourcePath("scenes/molecules.toml"));
   sc.integrator.rotation = RotationScheme::Splitting;
   const World w = World::fromScene(sc);
@@ -32,10 +44,10 @@ TEST(HaloPipelineTest, RowsWrittenBackChangeNoBit) {
   PipelineOptions o;
   o.threads = 2;
   const BodyState ref = stateAfter(Backend::Cpu, w, steps, o);
-  auto p = cpu::makeCpuHaloPipeline(o);
+  auto p = makeHaloPipeline(GetParam(), o);
   p->load(w);
   const std::vector<std::uint32_t> bodies = allBodies(w);
-  std::vector<cpu::BodyMotion> rows;
+  std::vector<BodyMotion> rows;
   std::uint64_t touching = 0;
   for (std::uint64_t s = 0; s < steps; ++s) {
     p->step(1);
@@ -52,7 +64,7 @@ TEST(HaloPipelineTest, RowsWrittenBackChangeNoBit) {
   EXPECT_FALSE(diff) << diff->describe();
 }
 
-TEST(HaloPipelineTest, RowsThatJumpRebuildTheList) {
+TEST_P(HaloPipelineTest, RowsThatJumpRebuildTheList) {
   // Clumps flying apart and into each other fast, without ground or gravity (no plane springs,
   // no history: the state is the bodies alone).
   Scene sc = benchScene(4096);
@@ -63,14 +75,14 @@ TEST(HaloPipelineTest, RowsThatJumpRebuildTheList) {
   PipelineOptions o;
   o.threads = 2;
   const std::vector<std::uint32_t> bodies = allBodies(w);
-  auto a = cpu::makeCpuHaloPipeline(o);
+  auto a = makeHaloPipeline(GetParam(), o);
   a->load(w);
   a->step(100);
-  std::vector<cpu::BodyMotion> later;
+  std::vector<BodyMotion> later;
   a->readMotion(bodies, later);
   // b's list is built at the start; its rows then jump 99 steps on (0.25 m at 2.5 m/s), farther
   // than the skin: its next step must rebuild the list, or it misses contacts.
-  auto b = cpu::makeCpuHaloPipeline(o);
+  auto b = makeHaloPipeline(GetParam(), o);
   b->load(w);
   b->step(1);
   b->writeMotion(bodies, later);
@@ -84,3 +96,5 @@ TEST(HaloPipelineTest, RowsThatJumpRebuildTheList) {
   EXPECT_FALSE(diff) << diff->describe();
   EXPECT_EQ(a->stats().numPairs, b->stats().numPairs);
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, HaloPipelineTest, ::testing::ValuesIn(haloBackends()), tumble_test::backendName);

@@ -21,15 +21,18 @@ bad()  { fails=$((fails+1)); echo "FAIL: $1"; }
 same() {  # name file-a file-b
   if cmp -s "$2" "$3"; then ok "$1"; else bad "$1: $2 and $3 differ ($(cmp "$2" "$3" 2>&1 | head -1))"; fi
 }
-# The one-process run, then the same run on each rank count, compared byte for byte.
+# The one-process run (the CPU pipeline), then the same run on each rank count, compared byte
+# for byte; rank_args: what the ranks' runs add (--pipeline cuda-host: the CUDA pipeline's code
+# on every rank).
 # usage: ranks_equal NAME "RANKS" run args...  (each run writes --state-out and --thermo)
+rank_args=()
 ranks_equal() {
   local name=$1 ranks=$2; shift 2
   if ! "$bin" run "$@" --threads 1 -q --state-out ref.csv --thermo ref.thermo.csv --thermo-every 50 2>err.txt; then
     bad "$name: the one-process run failed: $(cat err.txt)"; return
   fi
   for np in $ranks; do
-    if ! mpi "$np" run "$@" --threads 1 -q --state-out np.csv --thermo np.thermo.csv --thermo-every 50 2>err.txt; then
+    if ! mpi "$np" run "$@" "${rank_args[@]}" --threads 1 -q --state-out np.csv --thermo np.thermo.csv --thermo-every 50 2>err.txt; then
       bad "$name on $np ranks failed: $(cat err.txt)"; continue
     fi
     same "$name, $np ranks: state" ref.csv np.csv
@@ -60,6 +63,16 @@ ranks_equal "drum (moving walls)" "3" "$src/scenes/drum.toml" --steps 300 --set 
   bad "drum-mesh to step 7400: $(cat err.txt)"
 ranks_equal "drum-mesh (a turning mesh, steps 7400-8000)" "2 3" "$src/scenes/drum-mesh.toml" --resume drum-mesh.ck \
   --steps 8000 --set output.record='""'
+# The CUDA pipeline on every rank (one GPU per rank on a machine with GPUs; here its host
+# backend, the same code) against one CPU process: clumps under the report's law, and the
+# turning mesh drum under hooke-history (contact histories and mesh springs carried across the
+# redistributions).
+rank_args=(--pipeline cuda-host)
+ranks_equal "molecules, the CUDA pipeline (cuda-host) on every rank" "1 2 3" "$src/scenes/molecules.toml" --steps 1500 \
+            --set output.record='""'
+ranks_equal "drum-mesh (steps 7400-8000), the CUDA pipeline (cuda-host) on every rank" "1 2 3" \
+            "$src/scenes/drum-mesh.toml" --resume drum-mesh.ck --steps 8000 --set output.record='""'
+rank_args=()
 
 # --- Purpose-built scenes.
 ball='[[shape]]

@@ -181,6 +181,26 @@ TUMBLE_HD_INLINE std::uint32_t forContactsAbove(const PosRow* pos, const std::ui
   return n;
 }
 
+/// How many contacts the particles of body b had in the last step, each from its particle's
+/// side (HaloPipeline::contactsOf): the force stage's count per particle (touching), or where it
+/// is capped (255), the particle's row walked again at that step's positions `pos`.
+TUMBLE_HD_INLINE std::uint64_t bodyContactCount(const BodyRow& b, const std::uint8_t* touching, const PosRow* pos,
+                                                const CandidateListView& l, const PeriodicBox& box) {
+  std::uint64_t total = 0;
+  for (std::uint32_t p = b.first; p < b.first + b.count; ++p) {
+    if (touching[p] < 255) {  // the count, unless capped
+      total += touching[p];
+      continue;
+    }
+    const PosRow pi = pos[p];
+    for (std::uint32_t e = l.begin[p]; e < l.end[p]; ++e) {
+      const PosRow pj = pos[l.cand[e]];
+      total += spheresOverlap(box, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r) ? 1u : 0u;
+    }
+  }
+  return total;
+}
+
 /// Number of those contacts.
 TUMBLE_HD_INLINE std::uint32_t contactsAbove(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& l,
                                              std::uint32_t i, const PeriodicBox& box = PeriodicBox{}) {

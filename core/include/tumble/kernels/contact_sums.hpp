@@ -14,7 +14,9 @@
 
 #include "tumble/hd.hpp"
 #include "tumble/kernels/contact.hpp"
+#include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/periodic.hpp"
+#include "tumble/soa.hpp"
 
 namespace tumble {
 
@@ -90,6 +92,36 @@ TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi
     a.deepestI = i;
     a.deepestJ = j;
   }
+}
+
+/// Body b's entry of Pipeline::contactSumsPerBody() where a pipeline keeps its contacts (one
+/// writer per body, both pipelines): the pairs() contacts of its particles, the rows `list`
+/// decided at `was` (the positions of the last step; touching: the particles that touched
+/// something there), each term at `now` with its bodies' rounding (bodyRounding of their
+/// centres; bodyOf: a particle's body), in the order of contactSumsOfPairs(). Internal numbering;
+/// orig: the scene indices, as law.material reads them.
+TUMBLE_HD_INLINE ContactSums bodyContactSums(const BodyRow* bodies, const std::uint32_t* bodyOf,
+                                             const std::uint8_t* touching, const PosRow* was, const PosRow* now,
+                                             const std::uint32_t* orig, const CandidateListView& list,
+                                             const SpringLaw& law, const PeriodicBox& box, std::uint32_t b) {
+  const BodyRow& row = bodies[b];
+  const double errI = bodyRounding(row.x.x, row.x.y, row.x.z);
+  ContactSums a;
+  for (std::uint32_t p = row.first, e = row.first + row.count; p < e; ++p) {
+    if (touching[p] == 0) continue;  // the last step saw it touch nothing
+    const PosRow xi = now[p];
+    const std::uint32_t me = orig[p];
+    forContactsAbove(
+        was, orig, list, p,
+        [&](std::uint32_t j, std::uint32_t other) {
+          const PosRow& xj = now[j];
+          const Vec3f& xb = bodies[bodyOf[j]].x;
+          addContactSum(a, xi.x, xi.y, xi.z, xi.r, xj.x, xj.y, xj.z, xj.r, errI, bodyRounding(xb.x, xb.y, xb.z), law,
+                        me, other, box);
+        },
+        box);
+  }
+  return a;
 }
 
 /// Appends the sums r of the contacts that come after those of l (in pair order).

@@ -28,7 +28,7 @@ namespace gpu {
 /// sums, integer keys, stable sorts, no float atomics).
 /// Throws tumble::Error when no CUDA device is available, tumble::CudaError when the device
 /// cannot be set up.
-std::unique_ptr<Pipeline> makeCudaPipeline(const PipelineOptions& options = {});
+std::unique_ptr<HaloPipeline> makeCudaPipeline(const PipelineOptions& options = {});
 
 /// Whether the CUDA runtime can use a device (tumble::cudaStatus() of a build with CUDA): Ready
 /// with at least one device; NoDevice when the runtime reports none (cudaErrorNoDevice, or a

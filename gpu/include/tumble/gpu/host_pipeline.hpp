@@ -15,6 +15,6 @@ namespace tumble::gpu {
 /// Creates the CUDA pipeline on the host backend. Determinism: as the CUDA pipeline (the pair
 /// list, counts and offsets bitwise equal to the CPU pipeline's; the float state bitwise equal
 /// under TUMBLE_STRICT_FP), for any thread count (options.threads).
-std::unique_ptr<Pipeline> makeCudaHostPipeline(const PipelineOptions& options = {});
+std::unique_ptr<HaloPipeline> makeCudaHostPipeline(const PipelineOptions& options = {});
 
 }  // namespace tumble::gpu

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file mpi_pipeline.hpp
 /// The MPI pipeline (docs/mpi.md): one simulation over every rank of MPI_COMM_WORLD, each rank
-/// running the CPU pipeline on the bodies it owns plus ghost copies of those near them, with
+/// running a pipeline (the CPU's or the CUDA pipeline) on the bodies it owns plus ghost copies of those near them, with
 /// trajectories bit-identical to one process. It is a tumble::Pipeline whose every method is
 /// collective: all ranks call the same methods in the same order with the same arguments (the
 /// drivers do, running the same code on the same scene), and every read returns the whole
@@ -41,7 +41,7 @@ struct MpiStats {
   } counts;
 };
 
-/// The MPI pipeline. Backend::Cpu (the pipeline each rank runs).
+/// The MPI pipeline. backend(): the pipeline each rank runs.
 class MpiPipeline : public Pipeline {
  public:
   /// Every rank's MpiStats, in rank order (collective).
@@ -49,11 +49,14 @@ class MpiPipeline : public Pipeline {
   virtual Decomposition decomposition() const = 0;
 };
 
-/// Creates the MPI pipeline over MPI_COMM_WORLD (started by Session). options.threads are each
-/// rank's. Throws tumble::Error when this build has no MPI or MPI is not started.
+/// Creates the MPI pipeline over MPI_COMM_WORLD (started by Session), each rank running the
+/// pipeline of `backend` (makeHaloPipeline(); Backend::Cuda on the rank's current CUDA device:
+/// one GPU per rank where CUDA_VISIBLE_DEVICES gives each rank its own, docs/mpi.md).
+/// options.threads are each rank's. Throws tumble::Error when this build has no MPI, MPI is not
+/// started or the backend cannot run here (requireBackend()).
 /// load() refuses, for now, periodic boundaries (tumble::Error naming them).
-std::unique_ptr<MpiPipeline> makeMpiPipeline(const PipelineOptions& options,
-                                             Decomposition how = Decomposition::Rcb);
+std::unique_ptr<MpiPipeline> makeMpiPipeline(const PipelineOptions& options, Decomposition how = Decomposition::Rcb,
+                                             Backend backend = Backend::Cpu);
 
 /// The table of gatherStats() that `tumble run` prints: per rank the bodies, particles, ghosts
 /// (and their share of the rank's particles), neighbours, the ghost rows' bytes and messages per

@@ -62,9 +62,9 @@ class Session {
   /// Collective: the largest of the ranks' values (a stop signal seen by any rank).
   int maxOf(int value) const;
 
-  /// The pipeline of a run: under MPI the MPI pipeline (makeMpiPipeline(): the CPU pipeline on
-  /// each rank's share of the bodies, cut as `how` says); otherwise makePipeline(backend,
-  /// options). Throws tumble::Error for the CUDA pipeline under MPI (not yet).
+  /// The pipeline of a run: under MPI the MPI pipeline (makeMpiPipeline(): the pipeline of
+  /// `backend` on each rank's share of the bodies, cut as `how` says); otherwise
+  /// makePipeline(backend, options).
   std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options,
                                          Decomposition how = Decomposition::Rcb) const;
 
