@@ -523,21 +523,9 @@ class CpuPipeline final : public HaloPipeline {
     return tbb::parallel_reduce(
         tbb::blocked_range<std::uint32_t>(0, v.numBodies, kBodyGrain), StepTotals{},
         [&](const auto& rg, StepTotals acc) {
-          for (std::uint32_t k = rg.begin(); k != rg.end(); ++k) {
-            const BodyRow& self = v.bodies[k];
-            Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
-            if constexpr (!kDebug && kLaw == ContactLaw::Report) {
-              acc.contacts += bodyForces<kClumps, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
-            } else {
-              for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
-                const ParticleForce pf =
-                    particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
-                addToBody<kClumps>(F, T, pf);
-                acc.contacts += pf.contacts;
-              }
-            }
-            finishBody<kClumps, kPeriodic>(v, F, T, g, dt, scheme, k, &acc.drift);
-          }
+          for (std::uint32_t k = rg.begin(); k != rg.end(); ++k)
+            acc.contacts +=
+                stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, g, dt, scheme, k, &acc.drift);
           return acc;
         },
         [](StepTotals x, const StepTotals& y) {

@@ -8,9 +8,10 @@
 // - Same functions, same bits. Every per-element decision or force is a shared TUMBLE_HD
 //   function of core/ (kernels/step.hpp, kernels/contact_list.hpp), called with the same
 //   arguments as on the CPU; with --fmad=false (TUMBLE_STRICT_FP) the state is bit-identical to
-//   the CPU pipeline's after every step. The CPU fuses the force and integration stages into one
-//   pass over the bodies; here they are two (particleForce per particle, then finishBody per
-//   body, which adds its particles' forces in their order): the same sums in the same order.
+//   the CPU pipeline's after every step. Both pipelines step a body in one pass (stepBody(): its
+//   particles' forces summed in order as they come, then its integration), one thread per body
+//   here: a body's force and torque stay in registers, no per-particle force is stored and read
+//   back (the lever DEM-Engine measured for clumps), and the sums are the CPU's in its order.
 // - Contacts as state. The candidate list is rebuilt only when the skin test asks (the drift
 //   since the last rebuild: a max and a box of displacements, by integer atomics on
 //   order-preserving images of the floats, exact in any order); the rows are sorted by scene
@@ -198,25 +199,6 @@ struct StepReadback {
   unsigned long long contacts;
 };
 
-// Stages 3–5 per particle; its force and torque go to f, t (one writer each); under a law with
-// history also its row's ξ (StepView::history).
-template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
-struct ForcesFn {
-  StepView v;
-  ForceParams fp;
-  DebugForcesView dbg;
-  Vec3f* f;
-  Vec3f* t;
-  unsigned long long* contacts;
-  TUMBLE_HD void operator()(std::uint32_t i) const {
-    const ParticleForce pf =
-        particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, v.bodies[kClumps ? v.bodyOf[i] : i], i);
-    f[i] = pf.f;
-    t[i] = pf.t;
-    if (pf.contacts != 0) exec::atomicAddU64(contacts, static_cast<unsigned long long>(pf.contacts));  // exact
-  }
-};
-
 // A drift merged into the read-back by integer atomics on the floats' ordered images: exact in
 // any order.
 TUMBLE_HD_INLINE void mergeDriftInto(StepReadback* rb, const Drift& d) {
@@ -243,24 +225,24 @@ struct ParticleDriftFn {
   }
 };
 
-// Stages 6–7 and the next step's stage 1 per body; the drift's max and mins by integer atomics.
-template <bool kClumps, bool kPeriodic>
-struct IntegrateFn {
+// Stages 3–7 and the next step's stage 1 per body (stepBody(): its particles' forces summed in
+// order as they come, then its integration); the drift's max and mins and the contacts by
+// integer atomics.
+template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
+struct StepBodyFn {
   StepView v;
-  const Vec3f* f;
-  const Vec3f* t;
+  ForceParams fp;
+  DebugForcesView dbg;
   Vec3f gravity;
   float dt;
   RotationScheme scheme;
   StepReadback* rb;
   TUMBLE_HD void operator()(std::uint32_t k) const {
-    const BodyRow& b = v.bodies[k];
-    Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
-    for (std::uint32_t i = b.first, e = b.first + b.count; i < e; ++i)
-      addToBody<kClumps>(F, T, ParticleForce{f[i], t[i], 0u});
     Drift d = noDrift();
-    finishBody<kClumps, kPeriodic>(v, F, T, gravity, dt, scheme, k, &d);
+    const std::uint32_t contacts =
+        stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, gravity, dt, scheme, k, &d);
     mergeDriftInto(rb, d);
+    if (contacts != 0) exec::atomicAddU64(&rb->contacts, static_cast<unsigned long long>(contacts));  // exact
   }
 };
 
@@ -513,8 +495,6 @@ class CudaPipeline final : public HaloPipeline {
     for (auto& p : m_pos) p.grow(n);
     m_buildPos.grow(n);
     m_touching.grow(n);
-    m_f.grow(n);
-    m_t.grow(n);
     m_candOffsets.grow(std::size_t(n) + 1);
     m_readback.grow(1);
     m_cur = 0;  // before the positions: a reload after an odd number of steps writes m_pos[0] too
@@ -941,16 +921,10 @@ class CudaPipeline final : public HaloPipeline {
       dbg.v = m_dbgVel.grow(3 * std::size_t(n));
     }
     StepReadback* rb = clearReadback();
-    unsigned long long* contacts = &rb->contacts;
-    m_debug ? launchForces<true>(v, fp, dbg, contacts) : launchForces<false>(v, fp, dbg, contacts);
+    m_debug ? launchStep<true>(v, fp, dbg, rb) : launchStep<false>(v, fp, dbg, rb);
     if (m_debug) m_hasDebug = true;
+    m_timer.mark(Phase::Integrate, s);  // in the forces' kernel: no time of its own, as on the CPU
 
-    m_timer.mark(Phase::Integrate, s);
-    const RotationScheme scheme = p.integrator.rotation;
-    if (m_periodic.axes != 0)
-      m_clumps ? launchIntegrate<true, true>(v, scheme, rb) : launchIntegrate<false, true>(v, scheme, rb);
-    else
-      m_clumps ? launchIntegrate<true, false>(v, scheme, rb) : launchIntegrate<false, false>(v, scheme, rb);
     StepReadback h{};
     Exec::copyToHost(s, &h, rb, 1);
     m_timer.finish(s);
@@ -1002,50 +976,34 @@ class CudaPipeline final : public HaloPipeline {
     return m_halo.at.data();
   }
 
-  // Stages 3–5, instantiated for the scene's law (the laws with history rotate every body, as on
-  // the CPU), for periodic boundaries and for moving meshes (kPosedMesh: a scene whose meshes
-  // stand still runs the code without poses; a periodic scene has no mesh).
+  // Stages 3–7 (StepBodyFn), instantiated for the scene's law (the laws with history rotate
+  // every body, as on the CPU), for periodic boundaries and for moving meshes (kPosedMesh: a
+  // scene whose meshes stand still runs the code without poses; a periodic scene has no mesh).
   template <bool kDebug>
-  void launchForces(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, unsigned long long* contacts) {
-    if (m_periodic.axes != 0) return launchForcesLaw<kDebug, true, false>(v, fp, dbg, contacts);
-    m_meshPosesNow.empty() ? launchForcesLaw<kDebug, false, false>(v, fp, dbg, contacts)
-                           : launchForcesLaw<kDebug, false, true>(v, fp, dbg, contacts);
+  void launchStep(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb) {
+    if (m_periodic.axes != 0) return launchStepLaw<kDebug, true, false>(v, fp, dbg, rb);
+    m_meshPosesNow.empty() ? launchStepLaw<kDebug, false, false>(v, fp, dbg, rb)
+                           : launchStepLaw<kDebug, false, true>(v, fp, dbg, rb);
   }
   template <bool kDebug, bool kPeriodic, bool kPosed>
-  void launchForcesLaw(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
-                       unsigned long long* contacts) {
-    const std::uint32_t n = m_world.numParticles();
-    Vec3f* f = m_f.data();
-    Vec3f* t = m_t.data();
+  void launchStepLaw(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb) {
     switch (m_law) {
       case ContactLaw::HookeHistory:
-        Exec::forEach(m_ctx, n,
-                      ForcesFn<kDebug, true, ContactLaw::HookeHistory, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
-                      "forces");
-        break;
+        return launchStepOf<kDebug, true, ContactLaw::HookeHistory, kPeriodic, kPosed>(v, fp, dbg, rb);
       case ContactLaw::HertzMindlin:
-        Exec::forEach(m_ctx, n,
-                      ForcesFn<kDebug, true, ContactLaw::HertzMindlin, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
-                      "forces");
-        break;
+        return launchStepOf<kDebug, true, ContactLaw::HertzMindlin, kPeriodic, kPosed>(v, fp, dbg, rb);
       default:
-        if (m_clumps)
-          Exec::forEach(m_ctx, n,
-                        ForcesFn<kDebug, true, ContactLaw::Report, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
-                        "forces");
-        else
-          Exec::forEach(m_ctx, n,
-                        ForcesFn<kDebug, false, ContactLaw::Report, kPeriodic, kPosed>{v, fp, dbg, f, t, contacts},
-                        "forces");
+        return m_clumps ? launchStepOf<kDebug, true, ContactLaw::Report, kPeriodic, kPosed>(v, fp, dbg, rb)
+                        : launchStepOf<kDebug, false, ContactLaw::Report, kPeriodic, kPosed>(v, fp, dbg, rb);
     }
   }
-
-  // Stages 6–7 per body, instantiated for rotating bodies and periodic boundaries.
-  template <bool kClumps, bool kPeriodic>
-  void launchIntegrate(const StepView& v, RotationScheme scheme, StepReadback* rb) {
+  template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosed>
+  void launchStepOf(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb) {
     const Scene& p = m_world.params;
     Exec::forEach(m_ctx, m_world.numBodies(),
-                  IntegrateFn<kClumps, kPeriodic>{v, m_f.data(), m_t.data(), p.gravity, p.dt, scheme, rb}, "integrate");
+                  StepBodyFn<kDebug, kClumps, kLaw, kPeriodic, kPosed>{v, fp, dbg, p.gravity, p.dt,
+                                                                       p.integrator.rotation, rb},
+                  "step");
   }
 
   // Stage 1: the particle positions of the current body state (after a reordering, and at load).
@@ -1355,7 +1313,6 @@ class CudaPipeline final : public HaloPipeline {
   std::uint32_t m_numCand = 0;
   float m_skin = 0.0f, m_skinLimit = 0.0f;
   bool m_needRebuild = true;
-  Buffer<Vec3f> m_f, m_t;  // per-particle force and torque of the step
   Buffer<StepReadback> m_readback;
   StepReadback m_readbackInit{};
   Broadphase<Exec> m_bp;

@@ -558,4 +558,29 @@ TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f grav
   }
 }
 
+/// Stages 3–7 and the next step's stage 1 for body k, in one pass (both pipelines' step, one
+/// writer per body): its particles' forces in order (particleForce(); under the report's law
+/// without debug capture the body batch, bodyForces(), which gives the same bits), summed into
+/// its force and torque as they come (addToBody()), then finishBody(). The body's force and
+/// torque never leave the registers: no per-particle force is stored for a second pass.
+/// Returns the contacts its particles counted.
+template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
+TUMBLE_HD_INLINE std::uint32_t stepBody(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
+                                        Vec3f gravity, float dt, RotationScheme scheme, std::uint32_t k, Drift* drift) {
+  const BodyRow& self = v.bodies[k];
+  Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
+  std::uint32_t contacts = 0;
+  if constexpr (!kDebug && kLaw == ContactLaw::Report) {
+    contacts = bodyForces<kClumps, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
+  } else {
+    for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
+      const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
+      addToBody<kClumps>(F, T, pf);
+      contacts += pf.contacts;
+    }
+  }
+  finishBody<kClumps, kPeriodic>(v, F, T, gravity, dt, scheme, k, drift);
+  return contacts;
+}
+
 }  // namespace tumble
