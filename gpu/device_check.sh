@@ -8,8 +8,8 @@
 #   3. the same with TUMBLE_CUDA_SYNC=1 as well
 #   4. compute-sanitizer memcheck, racecheck, initcheck and synccheck on 20 steps of bench-16k
 #      (the four at once; SANITIZER_JOBS=1 runs them one after the other), then memcheck on 20
-#      steps each of drum (hooke-history, turning walls), drum-mesh (a turning triangle mesh) and
-#      heap-hertz (hertz-mindlin)
+#      steps each of drum (hooke-history, turning walls), drum-mesh (a turning triangle mesh),
+#      heap-hertz (hertz-mindlin) and chute (periodic boundaries: the ghost images' detection)
 #   5. tumble bench --pipeline cuda at 16k, 128k, 960k, 4M and 10M particles, one call per size
 #      (BENCH_PLAN: size:warmup:steps:timeout ...): the GPU numbers early, while they are cheap;
 #      then bench --pipeline cpu,cuda on heap (a history law: hooke-history, rolling resistance)
@@ -122,8 +122,8 @@ study_result() {
   local log=$1 c h threw
   c=$(grep -aoE '^- [0-9]+ of [0-9]+ checks within tolerance' "$log" | tail -1 | sed -E 's/^- ([0-9]+) of ([0-9]+).*/\1\/\2 checks pass/')
   h=$(grep -aoE '^## Validation study \([^)]*\)' "$log" | tail -1 | sed -E 's/^## Validation study \((.*)\)/\1/')
-  # A case that throws fails; one whose model the pipeline lacks (on CUDA: periodic axes) is not
-  # run and named.
+  # A case that throws fails; one whose model the pipeline lacks (tumble::NotSupported) is not run
+  # and named.
   threw=$(grep -aE '^\| [a-z]+ \| [a-z0-9_]+ \| case ran to completion \|.*\| FAIL \|$' "$log" |
     awk -F'|' '{ gsub(/ /, "", $3); printf "%s%s", (n++ ? "," : ""), $3 }')
   ns=$(grep -acE '^\| [a-z]+ \| [a-z0-9_]+ \| \(not run\) \|' "$log")
@@ -312,7 +312,8 @@ for tool in memcheck racecheck initcheck synccheck; do
 done
 wait
 # The models beyond the bench scene's, under memcheck: 20 steps of each scene (the wall and mesh
-# candidate lists built and walked, the history and Hertz paths; the scenes' walls start turning
+# candidate lists built and walked, the history and Hertz paths, the periodic images and rows
+# built at every rebuild; the scenes' walls start turning
 # and their bodies reach them only later, so wall contacts and moving meshes are not under it).
 if want sanitizers; then
   if [[ -z "$SAN" ]]; then
@@ -320,7 +321,8 @@ if want sanitizers; then
   else
     run_step 09 sanitizer sanitizer-scenes 120 sanitizer_memcheck_scenes.log \
       "${SAN_CMD[@]}" --tool memcheck --error-exitcode 86 "${SAN_ENV[@]}" "$BIN/tumble" bench \
-      --scene scenes/drum.toml scenes/drum-mesh.toml scenes/heap-hertz.toml --pipeline "$GPU" --warmup 0 --steps 20
+      --scene scenes/drum.toml scenes/drum-mesh.toml scenes/heap-hertz.toml scenes/chute.toml --pipeline "$GPU" \
+      --warmup 0 --steps 20
   fi
 fi
 

@@ -19,10 +19,13 @@
 //   the internal numbering.
 // - Determinism of the run itself: every output element has one writer, scans are integer scans,
 //   sorts are stable, and the only atomics are an integer max/min and an integer count.
-// - Host synchronisation: per step one small read-back (the skin test and the contact count),
-//   and with moving walls one small copy of the walls and mesh poses to the device before it; at
-//   a rebuild also the broadphase's (bounds, record and entry totals), the lists' totals and the
-//   kept histories' total.
+// - Host synchronisation: none between the steps of a batch (up to kMaxBatch = 64 steps of one
+//   step() call): each step's skin test runs on the device (DecideFn) and, where it asks for a
+//   rebuild, the batch's later steps do nothing; the host reads the batch's outcome (the steps
+//   taken, their read-backs) once at its end and rebuilds before the next step. With moving walls
+//   each step copies its walls and mesh poses (computed on the host for the whole batch) to the
+//   device before its kernel. At a rebuild: the broadphase's read-backs (bounds, record and entry
+//   totals), the lists' totals and the kept histories' total.
 // - Host memory handed to a copy stays as it is until the stream has reached the copy (members,
 //   or locals that outlive a synchronize()): the host backend checks it (host_exec.hpp).
 #pragma once
@@ -237,12 +240,42 @@ struct StepBodyFn {
   float dt;
   RotationScheme scheme;
   StepReadback* rb;
+  const std::uint32_t* stop;  // non-zero: an earlier step of the batch asked for a rebuild (DecideFn)
   TUMBLE_HD void operator()(std::uint32_t k) const {
+    if (*stop != 0) return;
     Drift d = noDrift();
     const std::uint32_t contacts =
         stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, gravity, dt, scheme, k, &d);
     mergeDriftInto(rb, d);
     if (contacts != 0) exec::atomicAddU64(&rb->contacts, static_cast<unsigned long long>(contacts));  // exact
+  }
+};
+
+// The drift a read-back holds.
+TUMBLE_HD_INLINE Drift driftOf(const StepReadback& h) {
+  Drift drift{fromOrderedBits(h.max2), {}, {}};
+  for (int a = 0; a < 3; ++a) {
+    drift.lo[a] = fromOrderedBits(h.lo[a]);
+    drift.hi[a] = fromOrderedBits(h.hi[a]);
+  }
+  return drift;
+}
+
+// After step s of a batch (one element): the skin test of CudaPipeline::decideRebuild on the
+// device. Where the list is no longer valid, *stop = s + 1: the batch's later steps do nothing
+// and the host rebuilds before the next.
+struct DecideFn {
+  const StepReadback* rb;
+  const double* meshes;  // per step of the batch, the moving meshes' closure since the rebuild
+  std::uint32_t s;
+  float limit;
+  bool walls;  // mesh walls: the closure on a static wall too (wallClosureOf())
+  std::uint32_t* stop;
+  TUMBLE_HD void operator()(std::uint32_t) const {
+    if (*stop != 0) return;
+    const Drift d = driftOf(rb[s]);
+    const float closure = walls ? wallClosureOf(d) : closureOf(d);
+    if (!(double(closure) + meshes[s] < double(limit))) *stop = s + 1;
   }
 };
 
@@ -525,9 +558,9 @@ class CudaPipeline final : public HaloPipeline {
   }
 
   void step(std::uint64_t n) override {
-    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // read-backs into stepOnce's locals
+    const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // read-backs into stepBatch's locals
     if (!m_loaded) throw Error("step() before load()");
-    for (std::uint64_t k = 0; k < n; ++k) stepOnce();
+    while (n > 0) n -= stepBatch(static_cast<std::uint32_t>(std::min<std::uint64_t>(n, kMaxBatch)));
   }
 
   void readState(BodyState& out) const override {
@@ -672,7 +705,7 @@ class CudaPipeline final : public HaloPipeline {
       return;
     }
     // The skin test of the step just taken, again, on the positions as they are now.
-    StepReadback* rb = clearReadback();
+    StepReadback* rb = clearReadbacks(1);
     Exec::forEach(s, m_world.numParticles(), ParticleDriftFn{m_pos[m_cur].data(), m_buildPos.data(), m_periodic, rb},
                   "particleDrift");
     StepReadback h{};
@@ -895,69 +928,102 @@ class CudaPipeline final : public HaloPipeline {
                     nullptr};  // the list's rows are walked one by one (no owners)
   }
 
-  // As CpuPipeline::stepOnce.
-  void stepOnce() {
+  // As CpuPipeline::stepOnce, `count` times in a row with no host round trip between the steps:
+  // each step's kernel, then its skin test on the device (DecideFn). Where a step's test asks for
+  // a rebuild, the batch's later steps do nothing, and the host, which reads the batch's outcome
+  // once at its end, rebuilds before the next step. Returns the steps taken (at least 1).
+  std::uint32_t stepBatch(std::uint32_t count) {
     const std::uint32_t n = m_world.numParticles();
     const Stream& s = m_ctx;
     const Scene& p = m_world.params;
-    if (m_wallsMove) {  // the walls at this step's start; the copies are read before the step's read-back
-      setWallMotion(m_planesNow, p, m_time, m_meshPosesNow.empty() ? nullptr : m_meshPosesNow.data());
-      Exec::copyToDevice(s, m_planes.data(), m_planesNow.data(), m_planesNow.size());
-      Exec::copyToDevice(s, m_meshPoses.data(), m_meshPosesNow.data(), m_meshPosesNow.size());
+    // The batch's step times (as the steps add dt one by one), the moving walls and meshes at
+    // each step's start, and the meshes' motion since the rebuild up to each step's end. Host
+    // arrays copied from here stay as they are until the synchronize() below.
+    m_batchTimes.resize(count + 1);
+    m_batchTimes[0] = m_time;
+    for (std::uint32_t k = 0; k < count; ++k) m_batchTimes[k + 1] = m_batchTimes[k] + p.dt;
+    const std::size_t planes = m_planesNow.size(), poses = m_meshPosesNow.size();
+    if (m_wallsMove) {
+      m_batchWalls.resize(count * planes);
+      m_batchPoses.resize(count * poses);
+      for (std::uint32_t k = 0; k < count; ++k) {
+        std::vector<Wall>& now = m_planesNow;
+        setWallMotion(now, p, m_batchTimes[k], poses == 0 ? nullptr : &m_batchPoses[k * poses]);
+        std::copy(now.begin(), now.end(), m_batchWalls.begin() + std::ptrdiff_t(k * planes));
+      }
     }
+    // The walls at the first step's start, before a rebuild reads them.
+    if (m_wallsMove) copyWalls(0);
     if (m_needRebuild) {
       rebuild();
     } else {
       for (Phase ph : {Phase::Reorder, Phase::State, Phase::Axis, Phase::Keys, Phase::Sort, Phase::Sweep, Phase::List})
         m_timer.mark(ph, s);  // no rebuild this step: the phases take no time
     }
+    m_batchMeshes.assign(count, 0.0);
+    if (m_meshMotion.any())
+      for (std::uint32_t k = 0; k < count; ++k) m_batchMeshes[k] = m_meshMotion.closure(m_rebuildTime, m_batchTimes[k + 1]);
+    m_meshClosure.upload(m_batchMeshes, s);
+    StepReadback* rb = clearReadbacks(count);
+    std::uint32_t* stop = m_stop.grow(1);
+    Exec::fillZero(s, stop, 1);
 
     m_timer.mark(Phase::Forces, s);
-    const StepView v = stepView();
     const ForceParams fp = makeForceParams(p, m_pulls);
     DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr};
     if (m_debug) {
       for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].grow(3 * std::size_t(n));
       dbg.v = m_dbgVel.grow(3 * std::size_t(n));
     }
-    StepReadback* rb = clearReadback();
-    m_debug ? launchStep<true>(v, fp, dbg, rb) : launchStep<false>(v, fp, dbg, rb);
-    if (m_debug) m_hasDebug = true;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      if (m_wallsMove && k > 0) copyWalls(k);
+      const StepView v = stepView();
+      m_debug ? launchStep<true>(v, fp, dbg, rb + k, stop) : launchStep<false>(v, fp, dbg, rb + k, stop);
+      Exec::forEach(s, 1, DecideFn{rb, m_meshClosure.data(), k, m_skinLimit, hasMesh(), stop}, "decide");
+      m_cur = 1 - m_cur;  // as if the step is taken; corrected below for the steps that were not
+      std::swap(m_bodies, m_bodiesNext);
+    }
     m_timer.mark(Phase::Integrate, s);  // in the forces' kernel: no time of its own, as on the CPU
 
-    StepReadback h{};
-    Exec::copyToHost(s, &h, rb, 1);
+    std::uint32_t stopped = 0;
+    Exec::copyToHost(s, &stopped, stop, 1);
+    m_readbackHost.resize(count);
+    Exec::copyToHost(s, m_readbackHost.data(), rb, count);
     m_timer.finish(s);
-    m_timer.accumulate(s, m_stats.seconds);  // waits for the step (and the read-back)
-    m_cur = 1 - m_cur;
-    std::swap(m_bodies, m_bodiesNext);
-    decideRebuild(driftOf(h), m_time + p.dt);
-
-    ++m_steps;
-    m_time += p.dt;
-    ++m_stats.steps;
+    m_timer.accumulate(s, m_stats.seconds);  // waits for the batch (and the read-backs)
+    const std::uint32_t taken = stopped != 0 ? stopped : count;
+    if ((count - taken) % 2 != 0) {  // the buffers of the last step taken
+      m_cur = 1 - m_cur;
+      std::swap(m_bodies, m_bodiesNext);
+    }
+    const StepReadback& h = m_readbackHost[taken - 1];
+    m_needRebuild = stopped != 0;
+    if (m_debug) m_hasDebug = true;
+    m_steps += taken;
+    m_time = m_batchTimes[taken];
+    m_stats.steps += taken;
     m_stats.numPairs = h.contacts / 2;  // each contact is seen from both sides
+    return taken;
   }
 
-  // The step's read-back on the device, reset (no drift, no contacts).
-  StepReadback* clearReadback() {
+  // The walls and meshes' poses at the start of step k of the batch, copied to the device.
+  void copyWalls(std::uint32_t k) {
+    const std::size_t planes = m_planesNow.size(), poses = m_meshPosesNow.size();
+    Exec::copyToDevice(m_ctx, m_planes.data(), &m_batchWalls[k * planes], planes);
+    if (poses > 0) Exec::copyToDevice(m_ctx, m_meshPoses.data(), &m_batchPoses[k * poses], poses);
+  }
+
+  // `count` steps' read-backs on the device, reset (no drift, no contacts).
+  StepReadback* clearReadbacks(std::uint32_t count) {
     const Drift none = noDrift();
     StepReadback init{orderedBits(none.max2), {}, {}, 0u, 0ull};
     for (int a = 0; a < 3; ++a) {
       init.lo[a] = orderedBits(none.lo[a]);
       init.hi[a] = orderedBits(none.hi[a]);
     }
-    m_readbackInit = init;  // a member: the stream may reach the copy after this function returns
-    Exec::copyToDevice(m_ctx, m_readback.data(), &m_readbackInit, 1);
+    m_readbackInit.assign(count, init);  // a member: the stream may reach the copy after this function returns
+    Exec::copyToDevice(m_ctx, m_readback.grow(count), m_readbackInit.data(), count);
     return m_readback.data();
-  }
-  static Drift driftOf(const StepReadback& h) {
-    Drift drift{fromOrderedBits(h.max2), {}, {}};
-    for (int a = 0; a < 3; ++a) {
-      drift.lo[a] = fromOrderedBits(h.lo[a]);
-      drift.hi[a] = fromOrderedBits(h.hi[a]);
-    }
-    return drift;
   }
 
   // As CpuPipeline::decideList (no near list): with mesh walls the closure on a static wall too
@@ -980,29 +1046,32 @@ class CudaPipeline final : public HaloPipeline {
   // every body, as on the CPU), for periodic boundaries and for moving meshes (kPosedMesh: a
   // scene whose meshes stand still runs the code without poses; a periodic scene has no mesh).
   template <bool kDebug>
-  void launchStep(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb) {
-    if (m_periodic.axes != 0) return launchStepLaw<kDebug, true, false>(v, fp, dbg, rb);
-    m_meshPosesNow.empty() ? launchStepLaw<kDebug, false, false>(v, fp, dbg, rb)
-                           : launchStepLaw<kDebug, false, true>(v, fp, dbg, rb);
+  void launchStep(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb,
+                  const std::uint32_t* stop) {
+    if (m_periodic.axes != 0) return launchStepLaw<kDebug, true, false>(v, fp, dbg, rb, stop);
+    m_meshPosesNow.empty() ? launchStepLaw<kDebug, false, false>(v, fp, dbg, rb, stop)
+                           : launchStepLaw<kDebug, false, true>(v, fp, dbg, rb, stop);
   }
   template <bool kDebug, bool kPeriodic, bool kPosed>
-  void launchStepLaw(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb) {
+  void launchStepLaw(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb,
+                     const std::uint32_t* stop) {
     switch (m_law) {
       case ContactLaw::HookeHistory:
-        return launchStepOf<kDebug, true, ContactLaw::HookeHistory, kPeriodic, kPosed>(v, fp, dbg, rb);
+        return launchStepOf<kDebug, true, ContactLaw::HookeHistory, kPeriodic, kPosed>(v, fp, dbg, rb, stop);
       case ContactLaw::HertzMindlin:
-        return launchStepOf<kDebug, true, ContactLaw::HertzMindlin, kPeriodic, kPosed>(v, fp, dbg, rb);
+        return launchStepOf<kDebug, true, ContactLaw::HertzMindlin, kPeriodic, kPosed>(v, fp, dbg, rb, stop);
       default:
-        return m_clumps ? launchStepOf<kDebug, true, ContactLaw::Report, kPeriodic, kPosed>(v, fp, dbg, rb)
-                        : launchStepOf<kDebug, false, ContactLaw::Report, kPeriodic, kPosed>(v, fp, dbg, rb);
+        return m_clumps ? launchStepOf<kDebug, true, ContactLaw::Report, kPeriodic, kPosed>(v, fp, dbg, rb, stop)
+                        : launchStepOf<kDebug, false, ContactLaw::Report, kPeriodic, kPosed>(v, fp, dbg, rb, stop);
     }
   }
   template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosed>
-  void launchStepOf(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb) {
+  void launchStepOf(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb,
+                    const std::uint32_t* stop) {
     const Scene& p = m_world.params;
     Exec::forEach(m_ctx, m_world.numBodies(),
                   StepBodyFn<kDebug, kClumps, kLaw, kPeriodic, kPosed>{v, fp, dbg, p.gravity, p.dt,
-                                                                       p.integrator.rotation, rb},
+                                                                       p.integrator.rotation, rb, stop},
                   "step");
   }
 
@@ -1313,8 +1382,15 @@ class CudaPipeline final : public HaloPipeline {
   std::uint32_t m_numCand = 0;
   float m_skin = 0.0f, m_skinLimit = 0.0f;
   bool m_needRebuild = true;
+  // A batch of steps (stepBatch()): per step its read-back, and the host arrays its copies read.
+  static constexpr std::uint32_t kMaxBatch = 64;
   Buffer<StepReadback> m_readback;
-  StepReadback m_readbackInit{};
+  std::vector<StepReadback> m_readbackInit, m_readbackHost;
+  Buffer<std::uint32_t> m_stop;
+  Buffer<double> m_meshClosure;
+  std::vector<double> m_batchTimes, m_batchMeshes;
+  std::vector<Wall> m_batchWalls;
+  std::vector<MeshPose> m_batchPoses;
   Broadphase<Exec> m_bp;
   PeriodicBox m_periodic;          // kernelPeriodic(); axes = 0: none
   float m_periodicGrowth = 0.0f;   // what the detection grows the radii by beyond skin/2 (periodicGrowth())

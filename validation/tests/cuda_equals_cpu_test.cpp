@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 
 #include "tumble/config.hpp"
 #include "tumble/pour.hpp"
@@ -383,6 +384,44 @@ TEST_P(CudaEqualsCpu, PeriodicStepByStep) {
   std::printf("molecules, periodic on x and y: %d crossings in 1000 steps\n", crossings);
   EXPECT_GT(crossings, 20) << "the bodies must cross the boundaries";
   expectResumeEqual(World::fromScene(chute), 600, 200, "chute");
+}
+
+// step(n) runs its steps in batches with no host round trip between them (CudaPipeline::
+// stepBatch: each step's skin test on the device, the batch's later steps skipped where it asks
+// for a rebuild). One call of step(1000) must take every step the CPU takes, rebuild before the
+// same steps as 1000 calls of step(1), and move the walls and meshes at every step: a turning
+// mesh drum and a silo whose ring rises, both thrown at their walls, and the chute.
+TEST_P(CudaEqualsCpu, BatchesOfStepsEqualSingleSteps) {
+  Scene silo = thrownAtWalls("scenes/silo.toml");
+  silo.walls.at(1).velocity = {0.0f, 0.0f, 0.3f};
+  for (const auto& [scene, what] : {std::pair{thrownAtWalls("scenes/drum-mesh.toml"), "drum-mesh, turning"},
+                                    std::pair{silo, "silo, the ring rising"},
+                                    std::pair{readSceneFile(sourcePath("scenes/chute.toml")), "chute"}}) {
+    const World w = World::fromScene(scene);
+    auto cpu = makePipeline(Backend::Cpu);
+    auto batched = makePipeline(GetParam());
+    auto single = makePipeline(GetParam());
+    cpu->load(w);
+    batched->load(w);
+    single->load(w);
+    cpu->step(1000);
+    batched->step(1000);
+    for (int k = 0; k < 1000; ++k) single->step(1);
+    BodyState a, b, c;
+    cpu->readState(a);
+    batched->readState(b);
+    single->readState(c);
+    const auto d = firstDifference(a, b);
+    EXPECT_FALSE(d) << what << ", step(1000) on " << toString(GetParam()) << " against the CPU: " << d->describe();
+    EXPECT_EQ(batched->stats().numRebuilds, single->stats().numRebuilds) << what;
+    EXPECT_EQ(batched->stats().steps, 1000u) << what;
+    EXPECT_EQ(batched->stepCount(), cpu->stepCount()) << what;
+    EXPECT_EQ(batched->time(), cpu->time()) << what;
+    EXPECT_EQ(batched->pairs(), cpu->pairs()) << what;
+    EXPECT_EQ(batched->stats().numPairs, cpu->stats().numPairs) << what;
+    EXPECT_GT(batched->stats().numRebuilds, 2u) << what << ": rebuilds inside the batches";
+    std::printf("%s: %llu rebuilds in 1000 steps\n", what, static_cast<unsigned long long>(batched->stats().numRebuilds));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, CudaEqualsCpu, ::testing::ValuesIn(tumble_test::cudaPipelineBackends()),
