@@ -986,6 +986,12 @@ std::string periodTooShort(const PeriodicParams& p, int a, const PeriodReach& re
   return buf;
 }
 
+void requirePeriodsFit(const World& world) {
+  const PeriodReach reach = periodReach(world, effectiveSkin(world));
+  for (int a = 0; a < 2; ++a)
+    if (const std::string why = periodTooShort(world.params.periodic, a, reach); !why.empty()) throw Error(why);
+}
+
 std::string periodicWallProblem(const WallDef& wall, const PeriodicParams& p) {
   if (!p.any()) return {};
   const float n[2] = {wall.normal.x, wall.normal.y};

@@ -89,6 +89,7 @@ class CpuPipeline final : public HaloPipeline {
 
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
+    requirePeriodsFit(world);  // before any state changes
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
@@ -123,9 +124,6 @@ class CpuPipeline final : public HaloPipeline {
     m_cur = 0;
     m_skin = effectiveSkin(w);
     m_periodic = kernelPeriodic(w.params, m_frame);
-    for (int a = 0; a < 2; ++a)  // the skin may be another than the scene's (--skin)
-      if (const std::string why = periodTooShort(w.params.periodic, a, periodReach(w, m_skin)); !why.empty())
-        throw Error(why);
     const double periodicReach = periodicRoundingReach(m_periodic);
     m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * m_skin, m_periodic) : 0.0f;
     m_fullLimit = skinClosureLimit(m_skin, w.maxRadius, periodicReach);
@@ -525,7 +523,7 @@ class CpuPipeline final : public HaloPipeline {
         [&](const auto& rg, StepTotals acc) {
           for (std::uint32_t k = rg.begin(); k != rg.end(); ++k)
             acc.contacts +=
-                stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, g, dt, scheme, k, &acc.drift);
+                stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh, true>(v, fp, dbg, g, dt, scheme, k, &acc.drift);
           return acc;
         },
         [](StepTotals x, const StepTotals& y) {

@@ -56,7 +56,8 @@ __global__ void movingMeshCheckKernel(StepView v, ForceParams fp, std::uint32_t*
 }
 
 // The CPU's body batch (bodyForces(), one body per thread here), which the CUDA pipeline does
-// not instantiate, and the particle pass's debug and history paths.
+// not instantiate (stepBody<…, kBodyBatch = false>), and the particle pass's debug and history
+// paths.
 __global__ void bodyBatchCheckKernel(StepView v, ForceParams fp, DebugForcesView dbg, Vec3f* out) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= v.numBodies) return;

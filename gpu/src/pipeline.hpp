@@ -245,7 +245,7 @@ struct StepBodyFn {
     if (*stop != 0) return;
     Drift d = noDrift();
     const std::uint32_t contacts =
-        stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, gravity, dt, scheme, k, &d);
+        stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh, false>(v, fp, dbg, gravity, dt, scheme, k, &d);
     mergeDriftInto(rb, d);
     if (contacts != 0) exec::atomicAddU64(&rb->contacts, static_cast<unsigned long long>(contacts));  // exact
   }
@@ -474,7 +474,10 @@ class CudaPipeline final : public HaloPipeline {
   void load(const World& world) override {
     const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // copies from the locals below
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
+    requirePeriodsFit(world);  // before any state changes
     m_loaded = false;
+    m_steps = 0;  // the previous world's contacts are no longer read, whatever follows
+    m_hasDebug = false;
     m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
     const World& w = m_world;
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
@@ -537,9 +540,6 @@ class CudaPipeline final : public HaloPipeline {
     m_skin = effectiveSkin(w);
     // Periodic boundaries (periodic_images.hpp), as CpuPipeline::load.
     m_periodic = kernelPeriodic(w.params, m_frame);
-    for (int a = 0; a < 2; ++a)  // the skin may be another than the scene's (--skin)
-      if (const std::string why = periodTooShort(w.params.periodic, a, periodReach(w, m_skin)); !why.empty())
-        throw Error(why);
     m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * m_skin, m_periodic) : 0.0f;
     m_skinLimit = skinClosureLimit(m_skin, w.maxRadius, periodicRoundingReach(m_periodic));
     // Moving meshes: their poses at each step's start (setWallMotion()), and their motion in the
@@ -550,10 +550,8 @@ class CudaPipeline final : public HaloPipeline {
     m_needRebuild = true;
     m_pulls = w.params.pulls.active & ~w.params.periodic.conflictingPulls();
     m_time = w.time;
-    m_steps = 0;
     m_bp.reset();
     resetStats();
-    m_hasDebug = false;
     m_loaded = true;
   }
 

@@ -129,10 +129,12 @@ class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
   }
 
   // Returns the number of bodies at the end (the pours add some).
-  std::size_t expectEqual(const World& w, std::uint64_t steps, const char* what, const Pouring* pouring = nullptr) {
+  // debug: the debug capture compared too.
+  std::size_t expectEqual(const World& w, std::uint64_t steps, const char* what, const Pouring* pouring = nullptr,
+                          bool debug = true) {
     auto cpu = makePipeline(Backend::Cpu);
     auto cuda = makePipeline(GetParam());
-    const auto d = firstStepDifference(*cpu, w, *cuda, w, steps, /*debug=*/true, pouring);
+    const auto d = firstStepDifference(*cpu, w, *cuda, w, steps, debug, pouring);
     EXPECT_FALSE(d) << what << ", CPU against " << toString(GetParam()) << ": " << d->what;
     BodyState s;
     cpu->readState(s);
@@ -339,11 +341,42 @@ TEST_P(CudaEqualsCpu, PourStepByStep) {
 
 // The scenes of scenes/ as they are (their walls starting when the scenes say, the hopper-mesh's
 // [[fill]], the periodic chute), 1000 steps each; the molecules, spheres, bench-16k and the heaps
-// are compared above, bench-128k and bench-960k are left to `tumble validate` (their size).
+// are compared above, the larger bench scenes below.
 TEST_P(CudaEqualsCpu, ScenesAsTheyAreStepByStep) {
   for (const char* file : {"scenes/box.toml", "scenes/drum.toml", "scenes/silo.toml", "scenes/hopper.toml",
                            "scenes/hopper-mesh.toml", "scenes/drum-mesh.toml", "scenes/chute.toml"})
     expectEqual(sceneWorld(file), 1000, file);
+}
+
+// The bench scenes (clumps of the peers' benchmark, as bench-16k above): bench-128k step by
+// step for 1000 steps (the debug capture aside: 128 000 particles' forces per step), and
+// bench-960k's state after 1000 steps, taken in one call each (the CUDA pipeline's batches),
+// with its pair list; under the sanitizers (10 to 50 times slower) 100 steps of bench-960k.
+TEST_P(CudaEqualsCpu, BenchScenes) {
+  expectEqual(sceneWorld("scenes/bench-128k.toml"), 1000, "bench-128k", nullptr, /*debug=*/false);
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  constexpr std::uint64_t kSteps = 100;
+#else
+  constexpr std::uint64_t kSteps = 1000;
+#endif
+  const World w = sceneWorld("scenes/bench-960k.toml");
+  auto cpu = makePipeline(Backend::Cpu);
+  auto cuda = makePipeline(GetParam());
+  cpu->load(w);
+  cuda->load(w);
+  cpu->step(kSteps);
+  cuda->step(kSteps);
+  BodyState a, b;
+  cpu->readState(a);
+  cuda->readState(b);
+  const auto d = firstDifference(a, b);
+  EXPECT_FALSE(d) << "bench-960k after " << kSteps << " steps, CPU against " << toString(GetParam()) << ": "
+                  << d->describe();
+  const std::vector<Pair> pairs = cpu->pairs();
+  EXPECT_EQ(cuda->pairs(), pairs) << "bench-960k";
+  EXPECT_GT(pairs.size(), 100000u) << "bench-960k: its clumps must touch";
+  std::printf("bench-960k: %llu steps, %zu contacts at the end\n", static_cast<unsigned long long>(kSteps),
+              pairs.size());
 }
 
 // Periodic boundaries (the ghost images of the detection, minimum images in the forces, bodies

@@ -616,18 +616,31 @@ TEST(PeriodicTest, ScenesBuiltInCodeAreCheckedToo) {
   expectRefused(s, "[periodic] x spans 2 m, not more than the shortest period this scene allows");
   // A skin given after the scene (--skin, or a test) is checked when a pipeline loads the world.
   // Every pipeline: the host backend everywhere, the device where CUDA is there at all (a broken
-  // driver fails here, in makePipeline).
+  // driver fails here, in makePipeline). The refused load follows a run of another world, which
+  // it must leave as it was: the same contacts, and the run goes on as if nothing happened.
   World w = World::fromScene(ok);
   w.params.broadphase.skin = 3.0f;
+  const World before = World::fromScene(randomBox(20261219, 9.0f, 0.0f, 60, 1.5f, true));
+  const BodyState want = stateAfter(Backend::Cpu, before, 60);
   for (const Backend b : compiledBackends()) {
     if (b == Backend::Cuda && cudaStatus().state == CudaState::NoDevice) continue;
     auto p = makePipeline(b);
+    p->load(before);
+    p->step(50);
+    const std::vector<Pair> pairs = p->pairs();
+    ASSERT_FALSE(pairs.empty()) << toString(b);
     try {
       p->load(w);
       ADD_FAILURE() << toString(b) << ": a skin of 3 leaves a period of 8 too short";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("the skin 3 m"), std::string::npos) << toString(b) << ": " << e.what();
     }
+    EXPECT_EQ(p->pairs(), pairs) << toString(b) << ": pairs() after a refused load";
+    p->step(10);
+    BodyState got;
+    p->readState(got);
+    const auto d = firstDifference(want, got);
+    EXPECT_FALSE(d) << toString(b) << ": the run after a refused load: " << d->describe();
   }
 }
 
@@ -668,7 +681,7 @@ class PeriodicCudaPipeline : public ::testing::TestWithParam<Backend> {
 };
 
 TEST_P(PeriodicCudaPipeline, ContactsAreTheOracleAtEveryStep) {
-  expectContactsAreTheOracle(GetParam(), {0.0f, -1.0f});  // every step, automatic
+  expectContactsAreTheOracle(GetParam(), {0.0f, -1.0f, 1.5f});  // every step, automatic, large (3 radii)
 }
 
 TEST_P(PeriodicCudaPipeline, HardCasesAtTheBoundaries) { expectHardCasesAtTheBoundaries(GetParam()); }

@@ -233,6 +233,12 @@ PeriodReach periodReach(const World& world, float skin);
 /// when it is long enough or the axis is not periodic.
 std::string periodTooShort(const PeriodicParams& periodic, int axis, const PeriodReach& reach);
 
+/// Throws tumble::Error with periodTooShort()'s phrase when a periodic axis of `world` is too
+/// short for its bodies with the run's skin (effectiveSkin(world): the skin may be another than
+/// the scene's, --skin). What a pipeline checks first in load(), so that a refused world changes
+/// nothing of the pipeline.
+void requirePeriodsFit(const World& world);
+
 /// Why a wall is not invariant under the periodic translations of a scene, as a phrase; empty
 /// when it is. A plane must contain each periodic axis (its normal's component along it is 0;
 /// a box's faces across a periodic axis must be open); a revolved wall must be a cylinder whose

@@ -559,18 +559,20 @@ TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f grav
 }
 
 /// Stages 3–7 and the next step's stage 1 for body k, in one pass (both pipelines' step, one
-/// writer per body): its particles' forces in order (particleForce(); under the report's law
-/// without debug capture the body batch, bodyForces(), which gives the same bits), summed into
-/// its force and torque as they come (addToBody()), then finishBody(). The body's force and
-/// torque never leave the registers: no per-particle force is stored for a second pass.
-/// Returns the contacts its particles counted.
-template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
+/// writer per body): its particles' forces in order (particleForce(); with kBodyBatch, under the
+/// report's law without debug capture, the body batch, bodyForces(), which gives the same bits),
+/// summed into its force and torque as they come (addToBody()), then finishBody(). The body's
+/// force and torque never leave the registers: no per-particle force is stored for a second
+/// pass. Returns the contacts its particles counted. kBodyBatch: the CPU pipeline, whose lists
+/// have owners; the CUDA pipeline's have none, and the batch's buffers (about 3 KB a thread)
+/// would be reserved for nothing.
+template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh, bool kBodyBatch>
 TUMBLE_HD_INLINE std::uint32_t stepBody(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                         Vec3f gravity, float dt, RotationScheme scheme, std::uint32_t k, Drift* drift) {
   const BodyRow& self = v.bodies[k];
   Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
   std::uint32_t contacts = 0;
-  if constexpr (!kDebug && kLaw == ContactLaw::Report) {
+  if constexpr (kBodyBatch && !kDebug && kLaw == ContactLaw::Report) {
     contacts = bodyForces<kClumps, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
   } else {
     for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
