@@ -109,7 +109,7 @@ ctest_longest_first() {
 # The tests `tsan` runs (a ctest regex; TSAN_TESTS overrides it): every parallel stage of both
 # pipelines (detection, contact list, forces, integration, guard sums, checkpoints) with 1 to 4
 # threads, the CUDA pipeline's on the host backend (its forEach: one writer per element).
-tsan_tests='SameResultForAnyThreadCount|StepPairsMatchBruteForceOnTheBenchScene|PipelineContactSumsEqualThoseOfItsPairs|DeterminismTest|CheckpointTest|HaloPipelineTest|CudaHostBroadphase|GpuSmokeTest'
+tsan_tests='SameResultForAnyThreadCount|PeriodicCudaPipeline|StepPairsMatchBruteForceOnTheBenchScene|PipelineContactSumsEqualThoseOfItsPairs|DeterminismTest|CheckpointTest|HaloPipelineTest|CudaHostBroadphase|GpuSmokeTest'
 # The test programs that hold them: `tsan` builds only these.
 tsan_targets=(tumble_validation_tests tumble_gpu_tests tumble_mpi_tests)
 

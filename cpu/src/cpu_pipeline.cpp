@@ -468,10 +468,10 @@ class CpuPipeline final : public HaloPipeline {
       for (auto& d : m_dbg) tumble::detail::grow(d, 3 * std::size_t(m_world.numParticles()));
       tumble::detail::grow(m_dbgVel, 3 * std::size_t(m_world.numParticles()));
       tot = advanceAs<true>();
-      m_hasDebug = true;
     } else {
       tot = advanceAs<false>();
     }
+    m_hasDebug = m_debug;  // readDebug() reads the last step's capture, or refuses
     m_cur = 1 - m_cur;
     m_bodies.swap(m_bodiesNext);
     decideList(tot.drift, m_time + m_world.params.dt);

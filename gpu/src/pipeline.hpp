@@ -22,10 +22,12 @@
 // - Host synchronisation: none between the steps of a batch (up to kMaxBatch = 64 steps of one
 //   step() call): each step's skin test runs on the device (DecideFn) and, where it asks for a
 //   rebuild, the batch's later steps do nothing; the host reads the batch's outcome (the steps
-//   taken, their read-backs) once at its end and rebuilds before the next step. With moving walls
-//   each step copies its walls and mesh poses (computed on the host for the whole batch) to the
-//   device before its kernel. At a rebuild: the broadphase's read-backs (bounds, record and entry
-//   totals), the lists' totals and the kept histories' total.
+//   taken, their read-backs) once at its end and rebuilds before the next step. A batch lasts
+//   about as long as the list did before (m_batch), so that few skipped steps are launched. With
+//   moving walls, their walls and mesh poses for every step of the batch are computed on the
+//   host and copied in one copy before it; each step's view points at its own. At a rebuild: the
+//   broadphase's read-backs (bounds, record and entry totals), the lists' totals and the kept
+//   histories' total.
 // - Host memory handed to a copy stays as it is until the stream has reached the copy (members,
 //   or locals that outlive a synchronize()): the host backend checks it (host_exec.hpp).
 #pragma once
@@ -475,10 +477,13 @@ class CudaPipeline final : public HaloPipeline {
     const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // copies from the locals below
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
     requirePeriodsFit(world);  // before any state changes
+    LocalFrame frame;
+    World local = localWorld(world, &frame);  // far from the origin: integrate in a local frame
     m_loaded = false;
     m_steps = 0;  // the previous world's contacts are no longer read, whatever follows
     m_hasDebug = false;
-    m_world = localWorld(world, &m_frame);  // far from the origin: integrate in a local frame
+    m_world = std::move(local);
+    m_frame = frame;
     const World& w = m_world;
     const std::uint32_t n = w.numParticles(), nb = w.numBodies();
     const Stream& s = m_ctx;
@@ -545,8 +550,10 @@ class CudaPipeline final : public HaloPipeline {
     // Moving meshes: their poses at each step's start (setWallMotion()), and their motion in the
     // skin test (MeshMotionBound).
     m_meshMotion = MeshMotionBound(w.params, mesh, m_planesNow, w.maxRadius, m_skin);
-    m_meshPosesNow.assign(m_meshMotion.any() ? m_planesNow.size() : 0, MeshPose{});
-    m_meshPoses.grow(m_meshPosesNow.size());
+    m_numPoses = m_meshMotion.any() ? static_cast<std::uint32_t>(m_planesNow.size()) : 0u;
+    m_wallsAt = m_planes.data();  // until a batch of moving walls points at its own
+    m_posesAt = nullptr;
+    m_batch = 8;
     m_needRebuild = true;
     m_pulls = w.params.pulls.active & ~w.params.periodic.conflictingPulls();
     m_time = w.time;
@@ -558,7 +565,7 @@ class CudaPipeline final : public HaloPipeline {
   void step(std::uint64_t n) override {
     const exec::AbandonOnUnwind<Stream> unwind(m_ctx);  // read-backs into stepBatch's locals
     if (!m_loaded) throw Error("step() before load()");
-    while (n > 0) n -= stepBatch(static_cast<std::uint32_t>(std::min<std::uint64_t>(n, kMaxBatch)));
+    while (n > 0) n -= stepBatch(static_cast<std::uint32_t>(std::min<std::uint64_t>(n, m_batch)));
   }
 
   void readState(BodyState& out) const override {
@@ -915,7 +922,7 @@ class CudaPipeline final : public HaloPipeline {
                     m_world.materialPairs.empty() ? nullptr : m_hertz.data(),
                     m_hasMaterial ? m_material.data() : nullptr,
                     static_cast<std::uint32_t>(m_world.params.materials.size()),
-                    m_planes.data(),
+                    m_wallsAt,
                     m_numPlanes,
                     m_numPlanes > 1 ? m_planeDamping.data() : nullptr,  // planes 1.. (plane 0's is in the own rows)
                     m_world.planeHertz.empty() ? nullptr : m_planeHertz.data(),
@@ -940,7 +947,7 @@ class CudaPipeline final : public HaloPipeline {
     m_batchTimes.resize(count + 1);
     m_batchTimes[0] = m_time;
     for (std::uint32_t k = 0; k < count; ++k) m_batchTimes[k + 1] = m_batchTimes[k] + p.dt;
-    const std::size_t planes = m_planesNow.size(), poses = m_meshPosesNow.size();
+    const std::size_t planes = m_planesNow.size(), poses = m_numPoses;
     if (m_wallsMove) {
       m_batchWalls.resize(count * planes);
       m_batchPoses.resize(count * poses);
@@ -950,8 +957,13 @@ class CudaPipeline final : public HaloPipeline {
         std::copy(now.begin(), now.end(), m_batchWalls.begin() + std::ptrdiff_t(k * planes));
       }
     }
-    // The walls at the first step's start, before a rebuild reads them.
-    if (m_wallsMove) copyWalls(0);
+    // One copy for the batch; each step reads its own walls and poses (at the first step's
+    // start, before a rebuild reads them).
+    if (m_wallsMove) {
+      m_batchWallsDev.upload(m_batchWalls, s);
+      m_batchPosesDev.upload(m_batchPoses, s);
+      setWallsOfStep(0);
+    }
     if (m_needRebuild) {
       rebuild();
     } else {
@@ -974,7 +986,7 @@ class CudaPipeline final : public HaloPipeline {
       dbg.v = m_dbgVel.grow(3 * std::size_t(n));
     }
     for (std::uint32_t k = 0; k < count; ++k) {
-      if (m_wallsMove && k > 0) copyWalls(k);
+      if (m_wallsMove) setWallsOfStep(k);
       const StepView v = stepView();
       m_debug ? launchStep<true>(v, fp, dbg, rb + k, stop) : launchStep<false>(v, fp, dbg, rb + k, stop);
       Exec::forEach(s, 1, DecideFn{rb, m_meshClosure.data(), k, m_skinLimit, hasMesh(), stop}, "decide");
@@ -996,7 +1008,10 @@ class CudaPipeline final : public HaloPipeline {
     }
     const StepReadback& h = m_readbackHost[taken - 1];
     m_needRebuild = stopped != 0;
-    if (m_debug) m_hasDebug = true;
+    // The next batch about as long as the list lasted (its steps after a rebuild are skipped, but
+    // launched): the bits do not depend on it.
+    m_batch = stopped != 0 ? std::max(1u, taken) : std::min(2 * m_batch, kMaxBatch);
+    m_hasDebug = m_debug;  // readDebug() reads the last step's capture, or refuses
     m_steps += taken;
     m_time = m_batchTimes[taken];
     m_stats.steps += taken;
@@ -1004,11 +1019,11 @@ class CudaPipeline final : public HaloPipeline {
     return taken;
   }
 
-  // The walls and meshes' poses at the start of step k of the batch, copied to the device.
-  void copyWalls(std::uint32_t k) {
-    const std::size_t planes = m_planesNow.size(), poses = m_meshPosesNow.size();
-    Exec::copyToDevice(m_ctx, m_planes.data(), &m_batchWalls[k * planes], planes);
-    if (poses > 0) Exec::copyToDevice(m_ctx, m_meshPoses.data(), &m_batchPoses[k * poses], poses);
+  // The walls and meshes' poses at the start of step k of the batch, as the step views (and,
+  // after the batch, the reads of its last step: meshContacts()) see them.
+  void setWallsOfStep(std::uint32_t k) {
+    m_wallsAt = m_batchWallsDev.data() + std::size_t(k) * m_planesNow.size();
+    m_posesAt = m_numPoses == 0 ? nullptr : m_batchPosesDev.data() + std::size_t(k) * m_numPoses;
   }
 
   // `count` steps' read-backs on the device, reset (no drift, no contacts).
@@ -1047,7 +1062,7 @@ class CudaPipeline final : public HaloPipeline {
   void launchStep(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg, StepReadback* rb,
                   const std::uint32_t* stop) {
     if (m_periodic.axes != 0) return launchStepLaw<kDebug, true, false>(v, fp, dbg, rb, stop);
-    m_meshPosesNow.empty() ? launchStepLaw<kDebug, false, false>(v, fp, dbg, rb, stop)
+    m_numPoses == 0 ? launchStepLaw<kDebug, false, false>(v, fp, dbg, rb, stop)
                            : launchStepLaw<kDebug, false, true>(v, fp, dbg, rb, stop);
   }
   template <bool kDebug, bool kPeriodic, bool kPosed>
@@ -1137,7 +1152,7 @@ class CudaPipeline final : public HaloPipeline {
     }
     if (m_history) restoreHistory();
     if (hasMesh()) {
-      m_meshPosesNow.empty() ? buildMeshList<false>() : buildMeshList<true>();
+      m_numPoses == 0 ? buildMeshList<false>() : buildMeshList<true>();
       restoreMeshHistory();
     }
     m_listBuilt = true;
@@ -1170,9 +1185,9 @@ class CudaPipeline final : public HaloPipeline {
   // The meshes as the kernels see them, posed where some move (the poses of the step's start).
   MeshView meshView() const {
     MeshView v = meshViewOf(m_mesh);
-    if (!m_meshPosesNow.empty() && v.numTriangles > 0) {
-      v.poses = m_meshPoses.data();
-      v.numPoses = static_cast<std::uint32_t>(m_meshPosesNow.size());
+    if (m_numPoses > 0 && v.numTriangles > 0) {
+      v.poses = m_posesAt;
+      v.numPoses = m_numPoses;
     }
     return v;
   }
@@ -1358,8 +1373,7 @@ class CudaPipeline final : public HaloPipeline {
   Buffer<std::uint32_t> m_meshOffsets, m_meshTri;
   Buffer<Vec3f> m_meshHist;
   std::uint32_t m_numMeshCand = 0;
-  std::vector<MeshPose> m_meshPosesNow;
-  Buffer<MeshPose> m_meshPoses;
+  std::uint32_t m_numPoses = 0;  // mesh poses per step: one per plane where a mesh moves, else none
   MeshMotionBound m_meshMotion;
   double m_rebuildTime = 0.0;  // the time of the last rebuild (the meshes' motion since)
   // readRows()'s scratch (a read-out allocates nothing once they have grown; the reads of a
@@ -1387,8 +1401,13 @@ class CudaPipeline final : public HaloPipeline {
   Buffer<std::uint32_t> m_stop;
   Buffer<double> m_meshClosure;
   std::vector<double> m_batchTimes, m_batchMeshes;
-  std::vector<Wall> m_batchWalls;
+  std::vector<Wall> m_batchWalls;  // moving walls: each step's walls and mesh poses, step-major
   std::vector<MeshPose> m_batchPoses;
+  Buffer<Wall> m_batchWallsDev;
+  Buffer<MeshPose> m_batchPosesDev;
+  const Wall* m_wallsAt = nullptr;        // the walls the next (or last) step reads
+  const MeshPose* m_posesAt = nullptr;    // its mesh poses (moving meshes only)
+  std::uint32_t m_batch = 8;  // the next batch's length: halved to the steps a rebuild allowed, doubled after a full one
   Broadphase<Exec> m_bp;
   PeriodicBox m_periodic;          // kernelPeriodic(); axes = 0: none
   float m_periodicGrowth = 0.0f;   // what the detection grows the radii by beyond skin/2 (periodicGrowth())

@@ -351,14 +351,15 @@ TEST_P(CudaEqualsCpu, ScenesAsTheyAreStepByStep) {
 // The bench scenes (clumps of the peers' benchmark, as bench-16k above): bench-128k step by
 // step for 1000 steps (the debug capture aside: 128 000 particles' forces per step), and
 // bench-960k's state after 1000 steps, taken in one call each (the CUDA pipeline's batches),
-// with its pair list; under the sanitizers (10 to 50 times slower) 100 steps of bench-960k.
+// with its pair list (its clumps touch from about step 400). Under the sanitizers (10 to 50
+// times slower) 200 and 20 steps: the code paths, not the collisions.
 TEST_P(CudaEqualsCpu, BenchScenes) {
-  expectEqual(sceneWorld("scenes/bench-128k.toml"), 1000, "bench-128k", nullptr, /*debug=*/false);
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-  constexpr std::uint64_t kSteps = 100;
+  constexpr std::uint64_t kSteps128k = 200, kSteps = 20;
 #else
-  constexpr std::uint64_t kSteps = 1000;
+  constexpr std::uint64_t kSteps128k = 1000, kSteps = 1000;
 #endif
+  expectEqual(sceneWorld("scenes/bench-128k.toml"), kSteps128k, "bench-128k", nullptr, /*debug=*/false);
   const World w = sceneWorld("scenes/bench-960k.toml");
   auto cpu = makePipeline(Backend::Cpu);
   auto cuda = makePipeline(GetParam());
@@ -374,7 +375,9 @@ TEST_P(CudaEqualsCpu, BenchScenes) {
                   << d->describe();
   const std::vector<Pair> pairs = cpu->pairs();
   EXPECT_EQ(cuda->pairs(), pairs) << "bench-960k";
-  EXPECT_GT(pairs.size(), 100000u) << "bench-960k: its clumps must touch";
+  if (kSteps == 1000) {
+    EXPECT_GT(pairs.size(), 100000u) << "bench-960k: its clumps must touch";
+  }
   std::printf("bench-960k: %llu steps, %zu contacts at the end\n", static_cast<unsigned long long>(kSteps),
               pairs.size());
 }
@@ -453,6 +456,12 @@ TEST_P(CudaEqualsCpu, BatchesOfStepsEqualSingleSteps) {
     EXPECT_EQ(batched->pairs(), cpu->pairs()) << what;
     EXPECT_EQ(batched->stats().numPairs, cpu->stats().numPairs) << what;
     EXPECT_GT(batched->stats().numRebuilds, 2u) << what << ": rebuilds inside the batches";
+    // Spheres: both pipelines test the skin particle by particle (the CPU per body for clumps),
+    // so the CPU's rebuilds are the device's skin test's too (one that misjudges the walls'
+    // motion since the rebuild rebuilds at other steps, its state still the CPU's).
+    if (!w.hasClumps) {
+      EXPECT_EQ(batched->stats().numRebuilds, cpu->stats().numRebuilds) << what;
+    }
     std::printf("%s: %llu rebuilds in 1000 steps\n", what, static_cast<unsigned long long>(batched->stats().numRebuilds));
   }
 }

@@ -367,7 +367,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     m_mpi.counts.exchangeSeconds += since(t0);
     ++m_steps;
     m_time += m_global.params.dt;
-    if (m_debug) m_hasDebug = true;
+    m_hasDebug = m_debug;  // readDebug() reads the last step's capture, or refuses
     m_numPairs = all.contacts / 2;
     m_needRedistribute = !listStillValid(all.drift, m_haloLimit);
   }
