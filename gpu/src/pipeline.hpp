@@ -1019,8 +1019,9 @@ class CudaPipeline final : public HaloPipeline {
     return taken;
   }
 
-  // The walls and meshes' poses at the start of step k of the batch, as the step views (and,
-  // after the batch, the reads of its last step: meshContacts()) see them.
+  // The walls and meshes' poses at the start of step k of the batch, as the step views see them.
+  // After step() they are the last step's (what meshContacts() reads): its last batch ran to its
+  // end, since one stopped early is followed by another.
   void setWallsOfStep(std::uint32_t k) {
     m_wallsAt = m_batchWallsDev.data() + std::size_t(k) * m_planesNow.size();
     m_posesAt = m_numPoses == 0 ? nullptr : m_batchPosesDev.data() + std::size_t(k) * m_numPoses;

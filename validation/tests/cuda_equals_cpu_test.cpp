@@ -454,6 +454,7 @@ TEST_P(CudaEqualsCpu, BatchesOfStepsEqualSingleSteps) {
     EXPECT_EQ(batched->stepCount(), cpu->stepCount()) << what;
     EXPECT_EQ(batched->time(), cpu->time()) << what;
     EXPECT_EQ(batched->pairs(), cpu->pairs()) << what;
+    EXPECT_EQ(batched->meshContacts(), cpu->meshContacts()) << what << ": at the last step's poses";
     EXPECT_EQ(batched->stats().numPairs, cpu->stats().numPairs) << what;
     EXPECT_GT(batched->stats().numRebuilds, 2u) << what << ": rebuilds inside the batches";
     // Spheres: both pipelines test the skin particle by particle (the CPU per body for clumps),
