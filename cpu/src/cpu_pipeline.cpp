@@ -401,13 +401,10 @@ class CpuPipeline final : public HaloPipeline {
                   bodyDrift<false>(view, m_bodies[i], m_bodyStatic[i].reach, m_bodyRef[i], &acc);
                 continue;
               }
-              const PosRow& a = m_buildPos[i];
-              if (m_periodic.axes != 0) {
-                const Vec3f dx = periodicDifference(m_periodic, Vec3f{pos[i].x, pos[i].y, pos[i].z}, Vec3f{a.x, a.y, a.z});
-                addDisplacement(acc, dx.x, dx.y, dx.z);
-              } else {
-                addDisplacement(acc, pos[i].x - a.x, pos[i].y - a.y, pos[i].z - a.z);
-              }
+              if (m_periodic.axes != 0)
+                addParticleDisplacement<true>(acc, pos[i], m_buildPos[i], m_periodic);
+              else
+                addParticleDisplacement<false>(acc, pos[i], m_buildPos[i], m_periodic);
             }
             return acc;
           },
@@ -640,13 +637,7 @@ class CpuPipeline final : public HaloPipeline {
         tbb::blocked_range<std::uint32_t>(0, n, kGrain), noDrift(),
         [&](const auto& rg, Drift d) {
           for (std::uint32_t i = rg.begin(); i != rg.end(); ++i) {
-            const PosRow& a = m_rebuildPos[i];
-            if constexpr (kPeriodic) {
-              const Vec3f dx = periodicDifference(m_periodic, Vec3f{pos[i].x, pos[i].y, pos[i].z}, Vec3f{a.x, a.y, a.z});
-              addDisplacement(d, dx.x, dx.y, dx.z);
-            } else {
-              addDisplacement(d, pos[i].x - a.x, pos[i].y - a.y, pos[i].z - a.z);
-            }
+            addParticleDisplacement<kPeriodic>(d, pos[i], m_rebuildPos[i], m_periodic);
             if (!m_perBody) m_buildPos[i] = pos[i];
           }
           return d;

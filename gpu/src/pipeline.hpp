@@ -222,10 +222,11 @@ struct ParticleDriftFn {
   PeriodicBox box;
   StepReadback* rb;
   TUMBLE_HD void operator()(std::uint32_t i) const {
-    const Vec3f dx = periodicDifference(box, Vec3f{pos[i].x, pos[i].y, pos[i].z},
-                                        Vec3f{buildPos[i].x, buildPos[i].y, buildPos[i].z});
     Drift d = noDrift();
-    addDisplacement(d, dx.x, dx.y, dx.z);
+    if (box.axes != 0)
+      addParticleDisplacement<true>(d, pos[i], buildPos[i], box);
+    else
+      addParticleDisplacement<false>(d, pos[i], buildPos[i], box);
     mergeDriftInto(rb, d);
   }
 };
@@ -263,9 +264,18 @@ TUMBLE_HD_INLINE Drift driftOf(const StepReadback& h) {
   return drift;
 }
 
-// After step s of a batch (one element): the skin test of CudaPipeline::decideRebuild on the
-// device. Where the list is no longer valid, *stop = s + 1: the batch's later steps do nothing
-// and the host rebuilds before the next.
+// The skin test (as CpuPipeline::decideList, without a near list): whether the list must be
+// rebuilt after a step whose particles drifted by d since the rebuild; walls: there are mesh
+// walls (the closure on a static wall too, wallClosureOf()); meshes: the moving meshes' closure
+// since the rebuild up to the next step's start.
+TUMBLE_HD_INLINE bool rebuildDue(const Drift& d, bool walls, double meshes, float limit) {
+  const float closure = walls ? wallClosureOf(d) : closureOf(d);
+  return !(double(closure) + meshes < double(limit));
+}
+
+// After step s of a batch (one element): rebuildDue() on the device. Where the list is no
+// longer valid, *stop = s + 1: the batch's later steps do nothing and the host rebuilds before
+// the next.
 struct DecideFn {
   const StepReadback* rb;
   const double* meshes;  // per step of the batch, the moving meshes' closure since the rebuild
@@ -274,10 +284,7 @@ struct DecideFn {
   bool walls;  // mesh walls: the closure on a static wall too (wallClosureOf())
   std::uint32_t* stop;
   TUMBLE_HD void operator()(std::uint32_t) const {
-    if (*stop != 0) return;
-    const Drift d = driftOf(rb[s]);
-    const float closure = walls ? wallClosureOf(d) : closureOf(d);
-    if (!(double(closure) + meshes[s] < double(limit))) *stop = s + 1;
+    if (*stop == 0 && rebuildDue(driftOf(rb[s]), walls, meshes[s], limit)) *stop = s + 1;
   }
 };
 
@@ -537,7 +544,6 @@ class CudaPipeline final : public HaloPipeline {
     m_buildPos.grow(n);
     m_touching.grow(n);
     m_candOffsets.grow(std::size_t(n) + 1);
-    m_readback.grow(1);
     m_cur = 0;  // before the positions: a reload after an odd number of steps writes m_pos[0] too
     m_clumps ? launchState<true>() : launchState<false>();  // readLocalPositions() before the first step
     s.synchronize();
@@ -550,7 +556,7 @@ class CudaPipeline final : public HaloPipeline {
     // Moving meshes: their poses at each step's start (setWallMotion()), and their motion in the
     // skin test (MeshMotionBound).
     m_meshMotion = MeshMotionBound(w.params, mesh, m_planesNow, w.maxRadius, m_skin);
-    m_numPoses = m_meshMotion.any() ? static_cast<std::uint32_t>(m_planesNow.size()) : 0u;
+    m_numPoses = m_meshMotion.any() ? m_numPlanes : 0u;
     m_wallsAt = m_planes.data();  // until a batch of moving walls points at its own
     m_posesAt = nullptr;
     m_batch = 8;
@@ -716,7 +722,8 @@ class CudaPipeline final : public HaloPipeline {
     StepReadback h{};
     Exec::copyToHost(s, &h, rb, 1);
     s.synchronize();
-    decideRebuild(driftOf(h), m_time);  // the step just taken has advanced m_time
+    // The step just taken has advanced m_time: the next step's start.
+    m_needRebuild = rebuildDue(driftOf(h), hasMesh(), meshClosureUntil(m_time), m_skinLimit);
   }
 
   std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const override {
@@ -947,7 +954,7 @@ class CudaPipeline final : public HaloPipeline {
     m_batchTimes.resize(count + 1);
     m_batchTimes[0] = m_time;
     for (std::uint32_t k = 0; k < count; ++k) m_batchTimes[k + 1] = m_batchTimes[k] + p.dt;
-    const std::size_t planes = m_planesNow.size(), poses = m_numPoses;
+    const std::size_t planes = m_numPlanes, poses = m_numPoses;
     if (m_wallsMove) {
       m_batchWalls.resize(count * planes);
       m_batchPoses.resize(count * poses);
@@ -970,9 +977,8 @@ class CudaPipeline final : public HaloPipeline {
       for (Phase ph : {Phase::Reorder, Phase::State, Phase::Axis, Phase::Keys, Phase::Sort, Phase::Sweep, Phase::List})
         m_timer.mark(ph, s);  // no rebuild this step: the phases take no time
     }
-    m_batchMeshes.assign(count, 0.0);
-    if (m_meshMotion.any())
-      for (std::uint32_t k = 0; k < count; ++k) m_batchMeshes[k] = m_meshMotion.closure(m_rebuildTime, m_batchTimes[k + 1]);
+    m_batchMeshes.resize(count);
+    for (std::uint32_t k = 0; k < count; ++k) m_batchMeshes[k] = meshClosureUntil(m_batchTimes[k + 1]);
     m_meshClosure.upload(m_batchMeshes, s);
     StepReadback* rb = clearReadbacks(count);
     std::uint32_t* stop = m_stop.grow(1);
@@ -1023,7 +1029,7 @@ class CudaPipeline final : public HaloPipeline {
   // After step() they are the last step's (what meshContacts() reads): its last batch ran to its
   // end, since one stopped early is followed by another.
   void setWallsOfStep(std::uint32_t k) {
-    m_wallsAt = m_batchWallsDev.data() + std::size_t(k) * m_planesNow.size();
+    m_wallsAt = m_batchWallsDev.data() + std::size_t(k) * m_numPlanes;
     m_posesAt = m_numPoses == 0 ? nullptr : m_batchPosesDev.data() + std::size_t(k) * m_numPoses;
   }
 
@@ -1040,13 +1046,9 @@ class CudaPipeline final : public HaloPipeline {
     return m_readback.data();
   }
 
-  // As CpuPipeline::decideList (no near list): with mesh walls the closure on a static wall too
-  // (wallClosureOf()), and the moving meshes' motion since the rebuild up to the next step's
-  // start (`next`).
-  void decideRebuild(const Drift& drift, double next) {
-    const float closure = hasMesh() ? wallClosureOf(drift) : closureOf(drift);
-    const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, next) : 0.0;
-    m_needRebuild = !(double(closure) + meshes < double(m_skinLimit));
+  // The moving meshes' closure since the rebuild up to time `next` (rebuildDue()); 0 without.
+  double meshClosureUntil(double next) const {
+    return m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, next) : 0.0;
   }
 
   // The internal index of each body by scene index (the hooks of a domain decomposition).
@@ -1321,9 +1323,9 @@ class CudaPipeline final : public HaloPipeline {
   LocalFrame m_frame;
   bool m_loaded = false;
   bool m_clumps = false;
-  std::vector<Wall> m_planesNow;  // the planes at this step's start (kernelWalls, setWallMotion)
+  std::vector<Wall> m_planesNow;  // the planes (kernelWalls); with moving walls, setWallMotion's scratch
   std::uint32_t m_numPlanes = 0;  // the ground, then the walls
-  bool m_wallsMove = false;       // some wall's surface moves: m_planes is copied before each step
+  bool m_wallsMove = false;       // some wall's surface moves: each step reads its own (stepBatch())
   std::size_t m_numSprings = 0;   // plane springs m_tx, m_ty: numPlanes × n, plane-major (or none)
   ContactLaw m_law = ContactLaw::Report;
   bool m_history = false;      // the law keeps a tangential history per contact

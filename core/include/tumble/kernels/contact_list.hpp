@@ -289,6 +289,19 @@ TUMBLE_HD_INLINE void addDisplacement(Drift& d, float dx, float dy, float dz) {
   }
 }
 
+/// Adds the displacement of a particle from its reference ref (the skin test's: the positions at
+/// the last rebuild or refresh) to x; kPeriodic: the minimum image in `box`, so that a body's
+/// wrap does not count as motion.
+template <bool kPeriodic>
+TUMBLE_HD_INLINE void addParticleDisplacement(Drift& d, const PosRow& x, const PosRow& ref, const PeriodicBox& box) {
+  if constexpr (kPeriodic) {
+    const Vec3f dx = periodicDifference(box, Vec3f{x.x, x.y, x.z}, Vec3f{ref.x, ref.y, ref.z});
+    addDisplacement(d, dx.x, dx.y, dx.z);
+  } else {
+    addDisplacement(d, x.x - ref.x, x.y - ref.y, x.z - ref.z);
+  }
+}
+
 /// Adds the displacements of a body's particles as a box about its centre's, d ± e per axis
 /// (bodyDrift()): |Δx| ≤ |d| + e, each component within [d_a − e, d_a + e], rounded outwards. A
 /// NaN makes both criteria fail, as in addDisplacement().

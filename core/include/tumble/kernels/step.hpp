@@ -86,14 +86,7 @@ TUMBLE_HD_INLINE void bodyParticles(const BodyRow& b, const OwnRow* own, const f
     const Vec3f x = kClumps ? particlePosition(b.x, R, own[i].u) : b.x;
     const PosRow p{x.x, x.y, x.z, radius[i]};
     outPos[i] = p;
-    if constexpr (kPeriodic) {
-      if (buildPos) {
-        const Vec3f d = periodicDifference(box, x, Vec3f{buildPos[i].x, buildPos[i].y, buildPos[i].z});
-        addDisplacement(*drift, d.x, d.y, d.z);
-      }
-    } else {
-      if (buildPos) addDisplacement(*drift, p.x - buildPos[i].x, p.y - buildPos[i].y, p.z - buildPos[i].z);
-    }
+    if (buildPos) addParticleDisplacement<kPeriodic>(*drift, p, buildPos[i], box);
   }
 }
 
