@@ -230,22 +230,24 @@ World Pouring::withBodies(std::size_t first, const std::vector<Vec3f>& placed, c
   return out;
 }
 
+bool Pouring::enter(Pipeline& pipeline, World& world, StepStats* stats) const {
+  if (nextBatch(pipeline.stepCount(), world.numBodies()) != pipeline.stepCount()) return false;
+  std::optional<World> grown = pour(world, pipeline);
+  if (!grown) return false;
+  if (stats) stats->add(pipeline.stats());  // load() starts the pipeline's counters afresh
+  const std::uint32_t pulls = pipeline.pulls();      // and the pulls from the scene's
+  world = std::move(*grown);
+  pipeline.load(world);
+  pipeline.setPulls(pulls);
+  return true;
+}
+
 bool Pouring::step(Pipeline& pipeline, World& world, std::uint64_t n, StepStats* stats) const {
   bool grew = false;
   const std::uint64_t end = pipeline.stepCount() + n;
   while (pipeline.stepCount() < end) {
-    const std::uint64_t done = pipeline.stepCount();
-    if (nextBatch(done, world.numBodies()) == done) {
-      if (std::optional<World> grown = pour(world, pipeline)) {
-        if (stats) stats->add(pipeline.stats());  // load() starts the pipeline's counters afresh
-        const std::uint32_t pulls = pipeline.pulls();      // and the pulls from the scene's
-        world = std::move(*grown);
-        pipeline.load(world);
-        pipeline.setPulls(pulls);
-        grew = true;
-      }
-    }
-    pipeline.step(std::min(end, nextBatch(done + 1, world.numBodies())) - done);
+    grew = enter(pipeline, world, stats) || grew;
+    pipeline.step(std::min(end, nextBatch(pipeline.stepCount() + 1, world.numBodies())) - pipeline.stepCount());
   }
   return grew;
 }

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -17,15 +18,14 @@
 #include <string>
 #include <vector>
 
-#include "tumble/checkpoint.hpp"
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
-#include "tumble/pour.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/recording.hpp"
+#include "tumble/run.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/thermo.hpp"
 #include "tumble/world.hpp"
@@ -36,7 +36,6 @@ using namespace tumble;
 namespace {
 
 constexpr std::uint64_t kMaxStepsPerCall = 1000000000000000ull;  // as tumble run --steps
-constexpr std::uint64_t kStepsBetweenSignalChecks = 100;           // as tumble run: Ctrl-C within 100 steps
 
 // A path argument: a str or any os.PathLike (pathlib.Path).
 std::string pathOf(const py::object& p) { return py::str(py::module_::import("os").attr("fspath")(p)); }
@@ -96,38 +95,38 @@ py::dict thermoDict(const ThermoSample& s) {
   return d;
 }
 
-// One run: the world it was loaded with, its pipeline, the guard that measures it (and, unless
-// guard=False, stops it with tumble.SimulationError), and the optional outputs.
+// The module's part of a run (tumble/run.hpp): the GIL let go around the steps, Ctrl-C between
+// stretches of them.
+class PythonHooks : public RunHooks {
+ public:
+  bool stopRequested() override {
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // KeyboardInterrupt
+    return false;
+  }
+  void stepping(const std::function<void()>& steps) override {
+    py::gil_scoped_release release;
+    steps();
+  }
+};
+
+// One run (tumble::Run): the world it was loaded with, its pipeline, the guard that measures it
+// (and, unless guard=False, stops it with tumble.SimulationError), and the optional outputs.
 class Simulation {
  public:
   Simulation(const Scene& scene, const std::string& pipeline, int threads, const py::object& resume, bool guard,
              std::uint64_t guardEvery)
-      : m_pouring(scene), m_world(m_pouring.worldWith(m_pouring.initialBodies())), m_guarding(guard),
-        m_guardEvery(guardEvery) {
+      : m_run(scene, resume.is_none() ? std::string{} : pathOf(resume)) {
     if (guardEvery < 1) throw Error("guard_every must be at least 1");
-    const std::string dtWarning =
-        timeStepWarning(m_pouring.any() ? m_pouring.worldWith(m_pouring.finalBodies()) : m_world);
-    if (!resume.is_none()) {
-      const std::string from = pathOf(resume);
-      const Checkpoint ck = Checkpoint::read(from);
-      try {
-        // A run that pours resumes the world of the bodies that had entered by then.
-        if (m_pouring.any() && ck.state.size() > m_world.numBodies() && ck.state.size() <= m_pouring.finalBodies())
-          m_world = m_pouring.worldWith(ck.state.size());
-        m_world = ck.resume(m_world, &m_warning);
-      } catch (const InputError&) {
-        throw;
-      } catch (const Error& e) {
-        throw Error(from + ": cannot resume " + scene.name + ": " + e.what());
-      }
-    }
     PipelineOptions po;
     po.threads = threads;
-    m_pipeline = makePipeline(backendFromString(pipeline), po);
-    m_pipeline->load(m_world);
-    m_guard.emplace(m_world, *m_pipeline);
-    if (m_warning.empty()) m_warning = m_guard->initialWarning();
-    if (!dtWarning.empty()) m_warning = dtWarning + (m_warning.empty() ? "" : "; " + m_warning);
+    RunChecks checks;
+    checks.stop = guard;
+    checks.every = guardEvery;
+    m_run.load(makePipeline(backendFromString(pipeline), po), checks, &m_hooks);
+    m_warning = m_run.resumeWarning();
+    if (m_warning.empty()) m_warning = m_run.guard()->initialWarning();
+    const std::string& dt = m_run.timeStepWarning();
+    if (!dt.empty()) m_warning = dt + (m_warning.empty() ? "" : "; " + m_warning);
   }
 
   // Steps n times. Frames, thermo rows and the guard's checks fall on multiples of their intervals
@@ -136,170 +135,118 @@ class Simulation {
   void step(std::uint64_t n) {
     const auto lock = exclusive();
     if (n > kMaxStepsPerCall) throw Error("step: n = " + std::to_string(n) + " is more than 10^15 steps");
-    const std::uint64_t end = m_pipeline->stepCount() + n;
-    while (m_pipeline->stepCount() < end) {
-      std::uint64_t done = m_pipeline->stepCount();
-      std::uint64_t chunk = std::min(end - done, kStepsBetweenSignalChecks);
-      if (m_rec) chunk = std::min(chunk, m_perFrame - done % m_perFrame);
-      if (m_thermo) chunk = std::min(chunk, m_thermoEvery - done % m_thermoEvery);
-      if (m_guarding) chunk = std::min(chunk, m_guardEvery - done % m_guardEvery);
-      bool grew = false;
-      {
-        py::gil_scoped_release release;
-        grew = m_pouring.step(*m_pipeline, m_world, chunk, &m_stats);  // [[pour]] bodies enter
-      }
-      if (grew) m_guard.emplace(m_world, *m_pipeline);  // its energy budget starts afresh with them
-      done += chunk;
-      const bool frameDue = m_rec && done % m_perFrame == 0;
-      const bool thermoDue = m_thermo && done % m_thermoEvery == 0;
-      if (frameDue || thermoDue || (m_guarding && done % m_guardEvery == 0)) {
-        const auto trip = m_guard->check(*m_pipeline);
-        if (thermoDue) m_thermo->write(m_guard->sample());
-        if (trip && m_guarding) throw SimulationError(trip->message);
-      } else if (m_guarding && done == end) {
-        RunGuard probe(*m_guard);
-        if (const auto trip = probe.check(*m_pipeline)) throw SimulationError(trip->message);
-      }
-      if (frameDue) writeFrame();
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C between chunks
-    }
+    m_run.advance(n);
   }
 
   py::dict bodies() const {
     const auto lock = exclusive();
     BodyState s;
-    m_pipeline->readState(s);
+    m_run.pipeline().readState(s);
     py::dict d;
     d["x"] = columns({&s.px, &s.py, &s.pz});
     d["v"] = columns({&s.vx, &s.vy, &s.vz});
     d["q"] = columns({&s.qw, &s.qx, &s.qy, &s.qz});
     d["l"] = columns({&s.lx, &s.ly, &s.lz});
-    d["mass"] = array1(m_world.bodyMass);
+    d["mass"] = array1(m_run.world().bodyMass);
     return d;
   }
 
   py::dict particles() const {
     const auto lock = exclusive();
     BodyState s;
-    m_pipeline->readState(s);
-    const std::size_t n = m_world.numParticles();
+    m_run.pipeline().readState(s);
+    const World& world = m_run.world();
+    const std::size_t n = world.numParticles();
     py::array_t<float> x({static_cast<py::ssize_t>(n), py::ssize_t{3}});
     float* out = x.mutable_data();
     for (std::size_t i = 0; i < n; ++i) {  // x = X + R(Q) u, the pipelines' own expression
-      const std::uint32_t b = m_world.body[i];
+      const std::uint32_t b = world.body[i];
       const Vec3f p = particlePosition(Vec3f{s.px[b], s.py[b], s.pz[b]},
                                        rotationMatrix(Quatf{s.qw[b], s.qx[b], s.qy[b], s.qz[b]}),
-                                       Vec3f{m_world.ux[i], m_world.uy[i], m_world.uz[i]});
+                                       Vec3f{world.ux[i], world.uy[i], world.uz[i]});
       out[3 * i] = p.x;
       out[3 * i + 1] = p.y;
       out[3 * i + 2] = p.z;
     }
     py::dict d;
     d["x"] = x;
-    d["radius"] = array1(m_world.radius);
-    d["body"] = array1(m_world.body);
-    d["mass"] = array1(m_world.mass);
-    d["elasticity"] = array1(m_world.elasticity);
+    d["radius"] = array1(world.radius);
+    d["body"] = array1(world.body);
+    d["mass"] = array1(world.mass);
+    d["elasticity"] = array1(world.elasticity);
     return d;
   }
 
   py::array_t<std::uint32_t> contacts() const {
     const auto lock = exclusive();
-    return pairArray(m_pipeline->pairs());
+    return pairArray(m_run.pipeline().pairs());
   }
 
   // The quantities now, measured on a copy of the guard (the run's own checks stay where they fall).
   py::dict thermo() const {
     const auto lock = exclusive();
-    return thermoDict(sampleNow());
+    return thermoDict(m_run.sampleNow());
   }
 
-  void checkpoint(const py::object& path) const {
+  void checkpoint(const py::object& path) {
     const auto lock = exclusive();
     const std::string p = pathOf(path);
     refuseOpenOutput(p, "checkpoint");
-    Checkpoint::of(m_world, *m_pipeline).write(p);
+    m_run.writeCheckpoint(p);
   }
 
   void record(const py::object& pathArg, std::optional<int> perFrame, bool debug) {
     const auto lock = exclusive();
-    const std::string path = pathOf(pathArg);
-    const int stepsPerFrame = perFrame.value_or(m_world.params.stepsPerFrame);
-    if (stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
-    if (m_thermo && sameFile(path, m_thermo->path()))
-      throw Error("record: " + path + " is the time series' file (write_thermo): name another file");
-    // The new writer first: when it cannot be opened, the recording under way goes on. With pours
-    // its table holds every body that may enter, each frame those present.
-    auto rec = std::make_unique<RecordingWriter>(
-        path, m_pouring.any() ? m_pouring.worldWith(m_pouring.finalBodies()) : m_world, debug, stepsPerFrame, 60.0f,
-        m_pouring.any());
-    closeRecordingLocked();
-    m_rec = std::move(rec);
-    m_perFrame = static_cast<std::uint64_t>(stepsPerFrame);
-    m_debug = debug;
-    m_pipeline->setDebugCapture(debug);
-    if (!debug) writeFrame();  // the state now (a debug recording starts after a step)
+    RecordSettings rs;
+    rs.path = pathOf(pathArg);
+    rs.stepsPerFrame = perFrame.value_or(m_run.world().params.stepsPerFrame);
+    rs.debug = debug;
+    if (rs.stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
+    if (m_run.thermoOn() && sameFile(rs.path, m_run.thermo()->path()))
+      throw Error("record: " + rs.path + " is the time series' file (write_thermo): name another file");
+    m_run.record(rs);  // when the new file cannot be opened, the recording under way goes on
   }
 
   void closeRecording() {
     const auto lock = exclusive();
-    closeRecordingLocked();
-  }
-
-  void closeRecordingLocked() {
-    if (!m_rec) return;
-    std::unique_ptr<RecordingWriter> rec = std::move(m_rec);
-    m_pipeline->setDebugCapture(false);
-    rec->close();
+    m_run.closeRecording();
   }
 
   void writeThermo(const py::object& pathArg, std::optional<std::uint64_t> everyArg) {
     const auto lock = exclusive();
     const std::string path = pathOf(pathArg);
-    const std::uint64_t every = everyArg.value_or(m_world.params.thermoEvery);
+    const std::uint64_t every = everyArg.value_or(m_run.world().params.thermoEvery);
     if (every < 1) throw Error("every must be at least 1");
-    if (m_rec && sameFile(path, m_rec->path()))
+    if (m_run.recordingOn() && sameFile(path, m_run.recording()->path()))
       throw Error("write_thermo: " + path + " is the recording's file (record): name another file");
-    auto thermo = std::make_unique<ThermoWriter>(path);  // first: a failure keeps the series under way
-    closeThermoLocked();
-    m_thermo = std::move(thermo);
-    m_thermoEvery = every;
-    m_thermo->write(sampleNow());
+    m_run.writeThermo(path, every);  // a failure keeps the series under way
   }
 
   void closeThermo() {
     const auto lock = exclusive();
-    closeThermoLocked();
-  }
-
-  void closeThermoLocked() {
-    if (!m_thermo) return;
-    std::unique_ptr<ThermoWriter> t = std::move(m_thermo);
-    t->close();
+    m_run.closeThermo();
   }
 
   void close() {
     const auto lock = exclusive();
-    closeRecordingLocked();
-    closeThermoLocked();
+    m_run.closeOutputs();
   }
 
-  std::uint64_t stepCount() const { return m_pipeline->stepCount(); }
-  double time() const { return m_pipeline->time(); }
-  std::uint32_t pulls() const { return m_pipeline->pulls(); }
+  std::uint64_t stepCount() const { return m_run.pipeline().stepCount(); }
+  double time() const { return m_run.pipeline().time(); }
+  std::uint32_t pulls() const { return m_run.pipeline().pulls(); }
   void setPulls(std::uint32_t mask) {
     const auto lock = exclusive();
     if (mask & ~std::uint32_t{kPullX | kPullY | kPullSwirl})
       throw Error("pulls: unknown bits in " + std::to_string(mask) + " (PULL_X = 1, PULL_Y = 2, PULL_SWIRL = 4)");
-    m_pipeline->setPulls(mask);
+    m_run.pipeline().setPulls(mask);
   }
-  std::uint32_t numBodies() const { return m_world.numBodies(); }
-  std::uint32_t numParticles() const { return m_world.numParticles(); }
+  std::uint32_t numBodies() const { return m_run.world().numBodies(); }
+  std::uint32_t numParticles() const { return m_run.world().numParticles(); }
   const std::string& warning() const { return m_warning; }
-  std::string pipelineName() const { return toString(m_pipeline->backend()); }
+  std::string pipelineName() const { return toString(m_run.pipeline().backend()); }
   py::dict stats() const {
-    StepStats st = m_stats;  // before the last pour's load()
-    st.add(m_pipeline->stats());
+    const StepStats st = m_run.stats();
     py::dict d;
     d["steps"] = st.steps;
     d["rebuilds"] = st.numRebuilds;
@@ -321,44 +268,16 @@ class Simulation {
     return lock;
   }
 
-  ThermoSample sampleNow() const {
-    if (m_guard->sample().step == m_pipeline->stepCount()) return m_guard->sample();  // checked at this step
-    RunGuard probe(*m_guard);
-    probe.check(*m_pipeline);
-    return probe.sample();
-  }
-
   void refuseOpenOutput(const std::string& path, const char* what) const {
-    if ((m_rec && sameFile(path, m_rec->path())) || (m_thermo && sameFile(path, m_thermo->path())))
+    if ((m_run.recordingOn() && sameFile(path, m_run.recording()->path())) ||
+        (m_run.thermoOn() && sameFile(path, m_run.thermo()->path())))
       throw Error(std::string(what) + ": " + path + " is a file this Simulation is writing (record, write_thermo)");
   }
 
-  void writeFrame() {
-    BodyState s;
-    m_pipeline->readState(s);
-    if (m_debug) {
-      ParticleDebug dbg;
-      m_pipeline->readDebug(dbg);
-      m_rec->writeFrame(m_pipeline->stepCount(), m_pipeline->time(), m_pipeline->pulls(), s, &dbg);
-    } else {
-      m_rec->writeFrame(m_pipeline->stepCount(), m_pipeline->time(), m_pipeline->pulls(), s);
-    }
-  }
-
   mutable std::mutex m_busy;
-  Pouring m_pouring;
-  World m_world;
-  StepStats m_stats;  // the pipeline's counters before the last pour's load()
-  std::unique_ptr<Pipeline> m_pipeline;
-  std::optional<RunGuard> m_guard;
-  bool m_guarding;
-  std::uint64_t m_guardEvery;
+  PythonHooks m_hooks;
+  Run m_run;
   std::string m_warning;
-  std::unique_ptr<RecordingWriter> m_rec;
-  std::uint64_t m_perFrame = 10;
-  bool m_debug = false;
-  std::unique_ptr<ThermoWriter> m_thermo;
-  std::uint64_t m_thermoEvery = 100;
 };
 
 }  // namespace

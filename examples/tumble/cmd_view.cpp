@@ -17,9 +17,8 @@
 
 #include <chrono>
 
-#include "tumble/guard.hpp"
-#include "tumble/pour.hpp"
 #include "tumble/recording.hpp"
+#include "tumble/run.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/viewer/controls.hpp"
 #include "tumble/viewer/draw_data.hpp"
@@ -65,19 +64,21 @@ void view(const ViewOptions& o) {
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
   const Scene scene = readSceneFile(o.scene, o.sets);
-  const Pouring pouring(scene);  // bodies that enter during the run ([[pour]]): the world grows
-  World world = pouring.worldWith(pouring.initialBodies());
-  if (const std::string warn = timeStepWarning(pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world);
-      !warn.empty())
-    std::fprintf(stderr, "tumble view: warning: %s: %s\n", o.scene.c_str(), warn.c_str());
+  Run run(scene);  // bodies that enter during the run ([[pour]]): its world grows
+  if (!run.timeStepWarning().empty())
+    std::fprintf(stderr, "tumble view: warning: %s: %s\n", o.scene.c_str(), run.timeStepWarning().c_str());
+  const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
   PipelineOptions po;
   po.threads = o.threads;
-  auto pipeline = makePipeline(backendFromString(o.pipeline), po);
-  pipeline->load(world);
+  // Guards (docs/model.md#guards), checked after every frame's steps, before anything is drawn
+  // or recorded from them. A trip stops the simulation; the window stays open with the message.
+  RunChecks checks;
+  checks.every = perFrame;
+  run.load(makePipeline(backendFromString(o.pipeline), po), checks);
+  Pipeline& pipeline = run.pipeline();
+  const World& world = run.world();
   const bool debug = o.debug || scene.recordDebug;
-  pipeline->setDebugCapture(debug);
   const std::uint32_t basePulls = scene.pulls.active;  // the scene's `on` pulls stay on; keys add
-  const std::uint64_t perFrame = static_cast<std::uint64_t>(std::max(1, scene.stepsPerFrame));
   // Not the scene's [output] file: a live session must not overwrite what `tumble run` wrote.
   const std::string recordPath = o.record.empty() ? "view.bin" : o.record;
 
@@ -99,8 +100,7 @@ void view(const ViewOptions& o) {
   });
 
   BodyState state;
-  ParticleDebug dbg;
-  pipeline->readState(state);
+  pipeline.readState(state);
   DrawData d;
   d.groundEnabled = world.params.ground.enabled;
   d.groundHeight = world.params.ground.height;
@@ -114,19 +114,13 @@ void view(const ViewOptions& o) {
   d.colors = particleColors(table, controls.colorMode());
   color = controls.colorMode();
 
-  // Guards (docs/model.md#guards), checked after every frame's steps, before anything is drawn
-  // or recorded from them. A trip stops the simulation; the window stays open with the message.
-  std::optional<RunGuard> guard;
-  guard.emplace(world, *pipeline);
   std::string stopped;
-
-  std::unique_ptr<RecordingWriter> rec;
   int recordings = 0;
-  std::uint64_t steps = 0, frame = 0;
+  std::uint64_t frame = 0;
   std::size_t nextEvent = 0;
   bool quit = false;
   // Per-phase times per step, refreshed every half second from Pipeline::stats().
-  StepStats lastStats = pipeline->stats();
+  StepStats lastStats = pipeline.stats();
   double phaseMs[kNumPhases] = {}, stepMs = 0.0, fpsShown = 0.0;
   double lastStatsTime = window.time(), lastFrameTime = window.time();
   std::uint64_t framesSinceStats = 0;
@@ -140,53 +134,38 @@ void view(const ViewOptions& o) {
     const double dt = frameSeconds(!script.empty(), now, lastFrameTime);
 
     const std::uint32_t pulls = pullMaskFromKeys(kb) | basePulls;
-    pipeline->setPulls(pulls);
+    pipeline.setPulls(pulls);
     const CameraMotion cm = cameraMotionFromKeys(kb);
     if (cm.any()) cam.move(cm.forward, cm.right, cm.up, cm.turn, static_cast<float>(dt));
 
-    if (controls.recording() && !rec && stopped.empty()) {
-      // With pours the recording's table holds every body that may enter, each frame those present.
-      rec = std::make_unique<RecordingWriter>(numbered(recordPath, ++recordings),
-                                              pouring.any() ? pouring.worldWith(pouring.finalBodies()) : world, debug,
-                                              static_cast<int>(perFrame), 60.0f, pouring.any());
-      if (!debug) {
-        pipeline->readState(state);
-        rec->writeFrame(steps, pipeline->time(), pulls, state);
-      }
-    } else if (!controls.recording() && rec) {
-      rec->close();
+    if (controls.recording() && !run.recordingOn() && stopped.empty()) {
+      RecordSettings rs;
+      rs.path = numbered(recordPath, ++recordings);
+      rs.stepsPerFrame = static_cast<int>(perFrame);
+      rs.debug = debug;
+      run.record(rs);  // the state now as its first frame (a debug recording's follows a step)
+    } else if (!controls.recording() && run.recordingOn()) {
+      run.closeRecording();
       std::fprintf(stderr, "tumble view: recorded %llu frames to %s\n",
-                   static_cast<unsigned long long>(rec->numFrames()), rec->path().c_str());
-      rec.reset();
+                   static_cast<unsigned long long>(run.recording()->numFrames()), run.recording()->path().c_str());
     }
 
     if (!quit && stopped.empty() && (!controls.paused() || controls.takeStep())) {
       try {
-        if (pouring.step(*pipeline, world, perFrame, nullptr)) {  // bodies entered: draw and guard them
+        if (run.advance(perFrame).entered) {  // bodies entered: draw them
           table = ParticleTable::from(world);
           d.colors = particleColors(table, color);
-          guard.emplace(world, *pipeline);
           lastStats = StepStats{};  // the pipeline's counters started afresh
         }
-        if (const auto trip = guard->check(*pipeline)) stopped = trip->message;
+        pipeline.readState(state);
       } catch (const SimulationError& e) {
-        stopped = e.what();
-      }
-      if (stopped.empty()) {
-        steps += perFrame;
-        pipeline->readState(state);
-        if (rec) {
-          if (debug) pipeline->readDebug(dbg);
-          rec->writeFrame(steps, pipeline->time(), pulls, state, debug ? &dbg : nullptr);
-        }
-      } else {
         // The last good state stays on screen; nothing from the bad one is recorded.
+        stopped = e.what();
         std::fprintf(stderr, "tumble view: stopped: %s\n", stopped.c_str());
-        if (rec) {
-          rec->close();
+        if (run.recordingOn()) {
+          run.closeRecording();
           std::fprintf(stderr, "tumble view: kept %llu frames in %s\n",
-                       static_cast<unsigned long long>(rec->numFrames()), rec->path().c_str());
-          rec.reset();
+                       static_cast<unsigned long long>(run.recording()->numFrames()), run.recording()->path().c_str());
           controls.setRecording(false);
         }
       }
@@ -199,7 +178,7 @@ void view(const ViewOptions& o) {
     particleSpheres(table, state.px.data(), state.py.data(), state.pz.data(), state.qw.data(), state.qx.data(),
                     state.qy.data(), state.qz.data(), d.spheres);
     d.pulls = pulls;
-    d.time = pipeline->time();
+    d.time = pipeline.time();
     d.wallsShown = controls.wallsShown();
     int fw = 0, fh = 0;
     window.framebufferSize(fw, fh);
@@ -208,7 +187,7 @@ void view(const ViewOptions& o) {
 
     ++framesSinceStats;
     if (now - lastStatsTime >= 0.5) {
-      const StepStats& st = pipeline->stats();
+      const StepStats& st = pipeline.stats();
       const double n = double(st.steps - lastStats.steps);
       stepMs = 0.0;
       for (int p = 0; p < kNumPhases; ++p) {
@@ -225,9 +204,9 @@ void view(const ViewOptions& o) {
     ImGui::SetNextWindowBgAlpha(0.6f);
     ImGui::Begin("tumble view", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
     ImGui::Text("%s: %u particles, %u bodies", scene.name.c_str(), world.numParticles(), world.numBodies());
-    ImGui::Text("pipeline %s, %llu steps per frame", toString(pipeline->backend()),
+    ImGui::Text("pipeline %s, %llu steps per frame", toString(pipeline.backend()),
                 static_cast<unsigned long long>(perFrame));
-    ImGui::Text("t = %.4f s (step %llu)%s", pipeline->time(), static_cast<unsigned long long>(steps),
+    ImGui::Text("t = %.4f s (step %llu)%s", pipeline.time(), static_cast<unsigned long long>(pipeline.stepCount()),
                 controls.paused() ? "  PAUSED" : "");
     ImGui::Text("%.1f frames/s, %.3f ms per step", fpsShown, stepMs);
     if (ImGui::BeginTable("phases", 2)) {
@@ -250,7 +229,8 @@ void view(const ViewOptions& o) {
     if (!walls.empty()) ImGui::Text("%zu walls %s (V)", walls.size(), controls.wallsShown() ? "shown" : "hidden");
     bool recOn = controls.recording();
     if (ImGui::Checkbox("record (C)", &recOn)) controls.setRecording(recOn);
-    if (rec) ImGui::Text("%s: %llu frames", rec->path().c_str(), static_cast<unsigned long long>(rec->numFrames()));
+    if (const RecordingWriter* rec = run.recording(); rec && run.recordingOn())
+      ImGui::Text("%s: %llu frames", rec->path().c_str(), static_cast<unsigned long long>(rec->numFrames()));
     bool pausedBox = controls.paused();
     if (ImGui::Checkbox("pause (P)", &pausedBox)) controls.setPaused(pausedBox);
     ImGui::End();
@@ -258,15 +238,15 @@ void view(const ViewOptions& o) {
     window.endFrame();
     ++frame;
   }
-  if (rec) {
-    rec->close();
-    std::fprintf(stderr, "tumble view: recorded %llu frames to %s\n", static_cast<unsigned long long>(rec->numFrames()),
-                 rec->path().c_str());
+  if (run.recordingOn()) {
+    run.closeRecording();
+    std::fprintf(stderr, "tumble view: recorded %llu frames to %s\n",
+                 static_cast<unsigned long long>(run.recording()->numFrames()), run.recording()->path().c_str());
   }
   const double wall = window.time();
   std::printf("tumble view: %llu frames, %llu steps, t = %.4f s, pulls %s, %.1f frames/s\n",
-              static_cast<unsigned long long>(frame), static_cast<unsigned long long>(steps), pipeline->time(),
-              pullsToString(pipeline->pulls()).c_str(), wall > 0 ? double(frame) / wall : 0.0);
+              static_cast<unsigned long long>(frame), static_cast<unsigned long long>(pipeline.stepCount()),
+              pipeline.time(), pullsToString(pipeline.pulls()).c_str(), wall > 0 ? double(frame) / wall : 0.0);
   if (!stopped.empty()) throw Exit{kExitDiverged};
 }
 #endif

@@ -40,6 +40,8 @@ class Pouring {
   Pouring(const Pouring&) = delete;
   Pouring& operator=(const Pouring&) = delete;
 
+  /// The scene as read.
+  const Scene& scene() const { return m_scene; }
   /// Whether the scene pours anything.
   bool any() const { return !m_scene.pourBodies.empty(); }
   /// Bodies at the start of the run, before any pour.
@@ -58,10 +60,14 @@ class Pouring {
   /// state and returns the world to load() to go on with them (the pipeline's state, bit for bit,
   /// and the new bodies); nothing when none entered. `world` is the world the pipeline runs.
   std::optional<World> pour(const World& world, const Pipeline& pipeline) const;
-  /// Steps `pipeline`, which runs `world`, n steps: at each batch step, before stepping it, the
-  /// bodies due enter (pour(); `world` grows and the pipeline is loaded with it, keeping its
-  /// pulls; `stats` (may be null) gains the counters it had). Returns whether the world grew. The drivers step with
-  /// this; a run resumed at a batch step pours there first, as the run it continues did.
+  /// At a batch step (nextBatch() is the pipeline's stepCount()): the bodies due enter (pour();
+  /// `world` grows and the pipeline is loaded with it, keeping its pulls; `stats` (may be null)
+  /// gains the counters it had). Returns whether the world grew; does nothing at any other step.
+  bool enter(Pipeline& pipeline, World& world, StepStats* stats) const;
+  /// Steps `pipeline`, which runs `world`, n steps, the bodies due entering (enter()) at each
+  /// batch step before it is stepped. Returns whether the world grew. A run resumed at a batch
+  /// step pours there first, as the run it continues did. (Run::advance() does the same with
+  /// enter() and stretches that end before each batch step.)
   bool step(Pipeline& pipeline, World& world, std::uint64_t n, StepStats* stats) const;
 
  private:

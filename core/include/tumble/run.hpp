@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: MIT
+/// @file run.hpp
+/// A run, written once (docs/architecture.md#the-run-driver): the world that grows with its
+/// pours, the pipeline that steps it, the guard that checks it and the outputs it writes (the
+/// recording, the time series, checkpoints, the state file). Run::advance() decides which step
+/// does what: frames, time-series rows, guard checks, checkpoints and pour batches fall on
+/// multiples of their intervals counted from the start of the run (a resumed run continues the
+/// count), however the steps are split into calls. `tumble run` (also under mpirun), `tumble
+/// view` and the Python `Simulation` drive their runs with it; what is theirs (options, messages,
+/// the window, signals, the GIL) comes in through RunHooks.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "tumble/guard.hpp"
+#include "tumble/pipeline.hpp"
+#include "tumble/pour.hpp"
+#include "tumble/recording.hpp"
+#include "tumble/scene.hpp"
+#include "tumble/thermo.hpp"
+#include "tumble/world.hpp"
+
+namespace tumble {
+
+/// Steps between two calls of RunHooks::stopRequested(): Ctrl-C stops a run within this many.
+inline constexpr std::uint64_t kStepsBetweenStops = 100;
+
+/// What a front end adds to a run. The defaults are those of one process that prints nothing
+/// and cannot be stopped: the Python module, a test. `tumble run` under mpirun agrees every
+/// write and stop among the ranks here (rank 0 alone writes).
+class RunHooks {
+ public:
+  virtual ~RunHooks() = default;
+  /// Before every stretch of at most kStepsBetweenStops steps: whether to stop now (a signal).
+  /// May throw instead (Python's KeyboardInterrupt). Under MPI the same answer on every rank.
+  virtual bool stopRequested() { return false; }
+  /// Runs a stretch of steps (Python lets go of the GIL around it).
+  virtual void stepping(const std::function<void()>& steps) { steps(); }
+  /// After every stretch: the step reached (a progress line).
+  virtual void progress(std::uint64_t /*step*/) {}
+  /// Whether this process writes the outputs (under MPI rank 0 alone; the others hold no file).
+  virtual bool writes() const { return true; }
+  /// Runs `write` where writes(), so that its failure ends every process with its message.
+  virtual void write(const std::function<void()>& write) { write(); }
+  /// After a write in the loop failed with tumble::Error: whether to give it up, the run then
+  /// stopping as interrupted without it (tumble run: a stop was asked and nobody reads the pipe).
+  virtual bool mayGiveUpWrite() { return false; }
+  /// Whether any process says yes (under MPI, agreed by every rank).
+  virtual bool any(bool yes) { return yes; }
+};
+
+/// How the run checks its state (docs/model.md#guards).
+struct RunChecks {
+  /// A trip stops the run (tumble::SimulationError from advance()).
+  bool stop = true;
+  /// Steps between two checks when nothing else is due (frames, rows and checkpoints are
+  /// checked too).
+  std::uint64_t every = kDefaultGuardEvery;
+  /// Measure even when not stopping: the guard's quantities feed the time series and
+  /// Run::sampleNow(). Without either, no guard is made.
+  bool measure = true;
+};
+
+/// A recording of the run (docs/recording.md).
+struct RecordSettings {
+  std::string path;
+  int stepsPerFrame = 10;
+  bool debug = false;             ///< velocities, the five forces and the contacts in every frame
+  std::uint64_t lastStep = std::numeric_limits<std::uint64_t>::max();  ///< no frame after it
+  /// A resumed run continues the recording at `path` (RecordingWriter::continueAt), which must
+  /// end with the last frame due by the checkpoint's step.
+  bool continues = false;
+};
+
+/// What Run::advance() did.
+struct Advanced {
+  std::uint64_t steps = 0;   ///< steps taken
+  bool stopped = false;      ///< ended early: RunHooks::stopRequested(), or a write given up
+  bool frameGivenUp = false; ///< the write of a frame was given up (RunHooks::giveUpWrite)
+  bool rowGivenUp = false;   ///< the write of a time-series row was given up
+  bool entered = false;      ///< bodies of a [[pour]] entered: world() has grown
+};
+
+class Run {
+ public:
+  /// The world a run of `scene` starts from: the bodies present at the start (tumble/pour.hpp),
+  /// or, resumed from the checkpoint at `resume` (not empty), those that had entered by then, in
+  /// the checkpoint's state. Throws tumble::InputError for an unreadable checkpoint and
+  /// tumble::Error naming both files when it does not belong to the scene.
+  /// `sceneName`: what the messages call the scene (its file; default its name).
+  explicit Run(const Scene& scene, const std::string& resume = {}, const std::string& sceneName = {});
+  ~Run();
+  Run(const Run&) = delete;
+  Run& operator=(const Run&) = delete;
+
+  /// Loads `pipeline` with the world and starts the guard (when `checks` asks for one). `hooks`
+  /// (null: the defaults) must outlive the run. Collective under MPI.
+  void load(std::unique_ptr<Pipeline> pipeline, const RunChecks& checks = {}, RunHooks* hooks = nullptr);
+
+  /// The step at which the run ends (tumble run's --steps), if it has one: the state there is
+  /// checked and gets a time-series row whatever the intervals, and no checkpoint is written
+  /// there by the interval (the caller writes the last one).
+  void setEndStep(std::uint64_t step) { m_endStep = step; }
+
+  /// Steps n steps, or fewer when stopped. Throws tumble::SimulationError when a guard trips
+  /// (the row of that step written, nothing else from its state) or the pipeline finds a
+  /// non-finite state; the outputs then stay open with what they hold (close them, or call
+  /// closeOutputs()). The state at the end of the call is checked on a copy of the guard, which
+  /// changes none of the run's own checks.
+  Advanced advance(std::uint64_t n);
+
+  /// Starts a recording (the one under way is finished once the new file is open): with pours,
+  /// its table holds every body that may enter. Writes the state now as its first frame, unless
+  /// debug (debug frames follow a step) or a continued recording already has frames.
+  void record(const RecordSettings& settings);
+  /// Finishes the recording, if any (idempotent).
+  void closeRecording();
+  /// Writes the time series (docs/thermo.md) to `path`: a row now and every `every` steps.
+  void writeThermo(const std::string& path, std::uint64_t every);
+  void closeThermo();
+  /// Finishes both; the guard's trip, a signal and the end of a run all call this.
+  void closeOutputs();
+  /// Writes a checkpoint to `path` every `every` steps (0: never) from here on.
+  void checkpointEvery(const std::string& path, std::uint64_t every);
+  /// Writes a checkpoint of the state now to `path` (collective; the writer writes).
+  void writeCheckpoint(const std::string& path);
+  /// Writes the body state now as CSV (tumble run --state-out: x, v, q in the shape frame, l,
+  /// and the periods crossed when periodic), nine significant digits: an exact float round trip.
+  void writeState(const std::string& path);
+
+  /// The quantities now, measured on a copy of the guard (the run's own checks stay where they
+  /// fall). Requires a guard (RunChecks::stop or measure).
+  ThermoSample sampleNow() const;
+
+  const Scene& scene() const { return m_pouring->scene(); }
+  const Pouring& pouring() const { return *m_pouring; }
+  const World& world() const { return m_world; }
+  Pipeline& pipeline() { return *m_pipeline; }
+  const Pipeline& pipeline() const { return *m_pipeline; }
+  /// The guard, when there is one (null otherwise).
+  const RunGuard* guard() const { return m_guard ? &*m_guard : nullptr; }
+  /// The world that names every body the run may have: with pours, all of them.
+  World finalWorld() const;
+  /// The recording and the time series under way, on the process that writes (null otherwise).
+  const RecordingWriter* recording() const { return m_rec.get(); }
+  const ThermoWriter* thermo() const { return m_thermo.get(); }
+  /// Whether a recording or a time series is under way (on every process).
+  bool recordingOn() const { return m_recOn; }
+  bool thermoOn() const { return m_thermoOn; }
+  /// Steps per frame of the recording (of the last one started).
+  std::uint64_t stepsPerFrame() const { return static_cast<std::uint64_t>(m_recSettings.stepsPerFrame); }
+  /// Warnings about the start: a time step beyond the stability limit of a contact (of every body
+  /// the run will have) and what resuming found; the guard's initial one (bodies pressed into
+  /// each other) once loaded. Empty when there is nothing to say.
+  const std::string& timeStepWarning() const { return m_dtWarning; }
+  const std::string& resumeWarning() const { return m_resumeWarning; }
+  /// The pipeline's counters over the whole run (also those before a pour's load()).
+  StepStats stats() const;
+
+ private:
+  bool writeOrGiveUp(const std::function<void()>& write);
+  void writeFrame();
+
+  std::unique_ptr<const Pouring> m_pouring;
+  World m_world;
+  std::unique_ptr<Pipeline> m_pipeline;
+  RunHooks m_ownHooks;
+  RunHooks* m_hooks = &m_ownHooks;
+  std::optional<RunGuard> m_guard;
+  RunChecks m_checks;
+  std::optional<std::uint64_t> m_endStep;
+  std::uint64_t m_checkedAt = std::numeric_limits<std::uint64_t>::max();
+  StepStats m_statsBefore;  ///< the pipeline's counters before the last pour's load()
+  std::string m_dtWarning, m_resumeWarning;
+  // The recording: m_recOn on every process, the writer on the one that writes.
+  bool m_recOn = false;
+  RecordSettings m_recSettings;
+  std::unique_ptr<RecordingWriter> m_rec;
+  BodyState m_state;
+  ParticleDebug m_debug;
+  // The time series.
+  bool m_thermoOn = false;
+  std::uint64_t m_thermoEvery = 100;
+  std::unique_ptr<ThermoWriter> m_thermo;
+  // Checkpoints every m_checkpointEvery steps.
+  std::string m_checkpointPath;
+  std::uint64_t m_checkpointEvery = 0;
+};
+
+}  // namespace tumble

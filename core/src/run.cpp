@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: MIT
+// The run driver (tumble/run.hpp): the schedule of a run's steps and what each one writes.
+#include "tumble/run.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "tumble/checkpoint.hpp"
+#include "tumble/error.hpp"
+#include "tumble/output_file.hpp"
+
+namespace tumble {
+
+Run::Run(const Scene& scene, const std::string& resume, const std::string& sceneName)
+    : m_pouring(std::make_unique<const Pouring>(scene)), m_world(m_pouring->worldWith(m_pouring->initialBodies())) {
+  const Pouring& pouring = *m_pouring;
+  // Of every body the run will have: the pours' too.
+  m_dtWarning = tumble::timeStepWarning(pouring.any() ? pouring.worldWith(pouring.finalBodies()) : m_world);
+  if (resume.empty()) return;
+  const Checkpoint ck = Checkpoint::read(resume);
+  try {
+    // A run that pours resumes the world of the bodies that had entered by then.
+    if (pouring.any() && ck.state.size() > m_world.numBodies() && ck.state.size() <= pouring.finalBodies())
+      m_world = pouring.worldWith(ck.state.size());
+    m_world = ck.resume(m_world, &m_resumeWarning);
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    throw Error(resume + ": cannot resume " + (sceneName.empty() ? scene.name : sceneName) + ": " + e.what());
+  }
+}
+
+Run::~Run() = default;
+
+void Run::load(std::unique_ptr<Pipeline> pipeline, const RunChecks& checks, RunHooks* hooks) {
+  if (checks.every < 1) throw Error("the guard's interval must be at least 1 step");
+  m_checks = checks;
+  if (hooks) m_hooks = hooks;
+  m_pipeline = std::move(pipeline);
+  m_pipeline->load(m_world);
+  if (checks.stop || checks.measure) m_guard.emplace(m_world, *m_pipeline);
+  m_checkedAt = m_pipeline->stepCount();
+}
+
+World Run::finalWorld() const {
+  return m_pouring->any() ? m_pouring->worldWith(m_pouring->finalBodies()) : m_world;
+}
+
+StepStats Run::stats() const {
+  StepStats st = m_statsBefore;
+  st.add(m_pipeline->stats());
+  return st;
+}
+
+ThermoSample Run::sampleNow() const {
+  if (!m_guard) throw Error("this run measures nothing (no guard: RunChecks::stop and measure are off)");
+  if (m_guard->sample().step == m_pipeline->stepCount()) return m_guard->sample();  // checked at this step
+  RunGuard probe(*m_guard);
+  probe.check(*m_pipeline);
+  return probe.sample();
+}
+
+bool Run::writeOrGiveUp(const std::function<void()>& write) {
+  bool givenUp = false;
+  m_hooks->write([&] {
+    try {
+      write();
+    } catch (const Error&) {
+      if (!m_hooks->mayGiveUpWrite()) throw;
+      givenUp = true;
+    }
+  });
+  return m_hooks->any(givenUp);
+}
+
+Advanced Run::advance(std::uint64_t n) {
+  Pipeline& pipeline = *m_pipeline;
+  const std::uint64_t start = pipeline.stepCount();
+  const std::uint64_t end = start + n;
+  const bool guarding = m_checks.stop;
+  const std::uint64_t perFrame = stepsPerFrame();
+  Advanced a;
+  std::uint64_t done = start;
+  while (done < end) {
+    if (m_hooks->stopRequested()) {
+      a.stopped = true;
+      break;
+    }
+    std::uint64_t chunk = std::min(end - done, kStepsBetweenStops);
+    if (m_recOn && done < m_recSettings.lastStep) chunk = std::min(chunk, perFrame - done % perFrame);
+    if (guarding) chunk = std::min(chunk, m_checks.every - done % m_checks.every);
+    if (m_thermoOn) chunk = std::min(chunk, m_thermoEvery - done % m_thermoEvery);
+    if (m_checkpointEvery) chunk = std::min(chunk, m_checkpointEvery - done % m_checkpointEvery);
+    if (m_endStep && done < *m_endStep) chunk = std::min(chunk, *m_endStep - done);
+    chunk = std::min(chunk, m_pouring->nextBatch(done + 1, m_world.numBodies()) - done);
+    // Bodies of a [[pour]] enter at its batch steps, after the frame, checks and checkpoint of
+    // the state before them; the guard then starts its energy budget afresh from the state they
+    // entered (at that step, whatever the calls).
+    bool entered = false;
+    m_hooks->stepping([&] { entered = m_pouring->enter(pipeline, m_world, &m_statsBefore); });
+    if (entered) {
+      a.entered = true;
+      if (m_guard) m_guard.emplace(m_world, pipeline);
+    }
+    m_hooks->stepping([&] { pipeline.step(chunk); });
+    done += chunk;
+    a.steps = done - start;
+    const bool atEnd = m_endStep && done == *m_endStep;
+    const bool frameDue = m_recOn && done <= m_recSettings.lastStep && done % perFrame == 0;
+    const bool checkpointDue = m_checkpointEvery && done % m_checkpointEvery == 0 && !atEnd;
+    const bool rowDue = m_thermoOn && (done % m_thermoEvery == 0 || atEnd);
+    if (rowDue || (guarding && (frameDue || checkpointDue || done % m_checks.every == 0 || atEnd))) {
+      const auto trip = m_guard->check(pipeline);
+      if (rowDue && writeOrGiveUp([&] { m_thermo->write(m_guard->sample()); })) {
+        a.rowGivenUp = a.stopped = true;
+        break;
+      }
+      if (trip && guarding) throw SimulationError(trip->message);
+      m_checkedAt = done;
+    }
+    if (frameDue) {
+      pipeline.readState(m_state);
+      const bool debug = m_recSettings.debug;
+      if (debug) pipeline.readDebug(m_debug);
+      if (writeOrGiveUp([&] {
+            m_rec->writeFrame(done, pipeline.time(), pipeline.pulls(), m_state, debug ? &m_debug : nullptr);
+          })) {
+        a.frameGivenUp = a.stopped = true;
+        break;
+      }
+      if (done + perFrame > m_recSettings.lastStep) closeRecording();  // the last frame: the file is complete
+    }
+    if (checkpointDue) writeCheckpoint(m_checkpointPath);
+    m_hooks->progress(done);
+  }
+  // The state handed back is checked, on a copy of the guard: the run's own checks stay where
+  // they fall, however the steps are split into calls.
+  if (guarding && a.steps > 0 && m_checkedAt != done) {
+    RunGuard probe(*m_guard);
+    if (const auto trip = probe.check(pipeline)) throw SimulationError(trip->message);
+  }
+  return a;
+}
+
+namespace {
+
+// The continuity of a recording continued by a resumed run: its frames must reach the last
+// frame due at or before the checkpoint's step.
+void checkContinues(const RecordingWriter& rec, std::uint64_t start, const RecordSettings& s) {
+  const std::uint64_t perFrame = static_cast<std::uint64_t>(s.stepsPerFrame);
+  const std::uint64_t due = (std::min(start, s.lastStep) / perFrame) * perFrame;  // the last frame due by now
+  const bool any = !(s.debug && due == 0);  // a debug recording has no step-0 frame
+  if (any ? rec.lastStep() != due : rec.numFrames() != 0)
+    throw Error("recording '" + rec.path() + "' ends at step " + std::to_string(rec.lastStep()) +
+                " but the checkpoint is at step " + std::to_string(start) +
+                ": it does not continue there; record the resumed run to another file");
+}
+
+}  // namespace
+
+void Run::record(const RecordSettings& s) {
+  if (s.stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
+  const std::uint64_t step = m_pipeline->stepCount();
+  std::unique_ptr<RecordingWriter> rec;
+  m_hooks->write([&] {
+    // With pours the recording's table holds every body that may enter, each frame those present.
+    const bool grows = m_pouring->any();
+    const World grown = grows ? finalWorld() : World{};
+    const World& table = grows ? grown : m_world;
+    if (s.continues && step > 0) {
+      rec = RecordingWriter::continueAt(s.path, table, s.debug, s.stepsPerFrame, step, 60.0f, grows);
+      if (rec->numFrames() > 0) checkContinues(*rec, step, s);
+    } else {
+      rec = std::make_unique<RecordingWriter>(s.path, table, s.debug, s.stepsPerFrame, 60.0f, grows);
+    }
+  });
+  closeRecording();  // the new file is open: the one under way ends
+  m_rec = std::move(rec);
+  m_recSettings = s;
+  m_recOn = true;
+  m_pipeline->setDebugCapture(s.debug);
+  // The first frame: the state now (debug frames start after a step).
+  m_pipeline->readState(m_state);
+  m_hooks->write([&] {
+    if (m_rec->numFrames() == 0 && !s.debug) m_rec->writeFrame(step, m_pipeline->time(), m_pipeline->pulls(), m_state);
+  });
+}
+
+void Run::closeRecording() {
+  if (!m_recOn) return;
+  m_recOn = false;
+  m_pipeline->setDebugCapture(false);
+  m_hooks->write([&] { m_rec->close(); });
+}
+
+void Run::writeThermo(const std::string& path, std::uint64_t every) {
+  if (every < 1) throw Error("the time series' interval must be at least 1 step");
+  const ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
+  std::unique_ptr<ThermoWriter> thermo;
+  m_hooks->write([&] { thermo = std::make_unique<ThermoWriter>(path); });  // first: a failure keeps the one under way
+  closeThermo();
+  m_thermo = std::move(thermo);
+  m_thermoEvery = every;
+  m_thermoOn = true;
+  m_hooks->write([&] { m_thermo->write(now); });
+}
+
+void Run::closeThermo() {
+  if (!m_thermoOn) return;
+  m_thermoOn = false;
+  m_hooks->write([&] { m_thermo->close(); });
+}
+
+void Run::closeOutputs() {
+  closeRecording();
+  closeThermo();
+}
+
+void Run::checkpointEvery(const std::string& path, std::uint64_t every) {
+  if (every > 0 && path.empty()) throw Error("checkpoints every " + std::to_string(every) + " steps need a file");
+  m_checkpointPath = path;
+  m_checkpointEvery = every;
+}
+
+void Run::writeCheckpoint(const std::string& path) {
+  const Checkpoint ck = Checkpoint::of(m_world, *m_pipeline);  // collective under MPI
+  m_hooks->write([&] { ck.write(path); });
+}
+
+void Run::writeState(const std::string& path) {
+  m_pipeline->readState(m_state);
+  m_hooks->write([&] {
+    const BodyState& s = m_state;
+    OutputFile out(path);  // atomically: a failure leaves `path` as it was
+    std::FILE* f = out.file();
+    // With periodic boundaries, the periods each centre has crossed (BodyState::imageX, imageY).
+    std::fprintf(f, "body,x,y,z,vx,vy,vz,qw,qx,qy,qz,lx,ly,lz%s%s\n", s.imageX.empty() ? "" : ",image_x",
+                 s.imageY.empty() ? "" : ",image_y");
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      const Quatf q = shapeOrientation(m_world, s, k);  // the scene file's shape frame
+      // %.9g: nine significant digits read back to the same float bits.
+      std::fprintf(f, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", k, s.px[k], s.py[k],
+                   s.pz[k], s.vx[k], s.vy[k], s.vz[k], q.w, q.x, q.y, q.z, s.lx[k], s.ly[k], s.lz[k]);
+      if (!s.imageX.empty()) std::fprintf(f, ",%d", static_cast<int>(s.imageX[k]));
+      if (!s.imageY.empty()) std::fprintf(f, ",%d", static_cast<int>(s.imageY[k]));
+      std::fputc('\n', f);
+    }
+    if (std::ferror(f)) throw Error("cannot write " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
+    out.commit();
+  });
+}
+
+}  // namespace tumble
