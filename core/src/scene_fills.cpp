@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT
+// The TOML scene reader's [[fill]] and [[pour]] tables and what they share (shapes, count,
+// region, scale, motion, seed): SceneParser members (scene_reader.hpp).
+#include "scene_reader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "placement.hpp"
+#include "tumble/fill.hpp"
+#include "tumble/random.hpp"
+#include "tumble/world.hpp"
+
+namespace tumble::scene_reader {
+
+/// What [[fill]] and [[pour]] share: the shapes and their odds, the count, the region, the
+/// scale, the motion, the seed and the attempts (`kind` "fill" or "pour", `k` its index).
+FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std::string& kind, std::size_t k) {
+  FillDef f;
+  f.where = r.where() + " (" + m_file + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
+  f.shapes = shapesOf(r, scene);
+  if (const toml::node* w = r.find("weights")) {
+    const toml::array& a = r.array(*w, "weights", "of one number > 0 per shape, e.g. weights = [3, 1]");
+    if (a.size() != f.shapes.size())
+      r.fail(sourceOf(*w), "weights has " + std::to_string(a.size()) + " entries for " +
+                               std::to_string(f.shapes.size()) + " shapes; give one per shape");
+    for (const toml::node& el : a) f.weights.push_back(r.number(el, "each weight", Rule::Positive));
+  } else {
+    f.weights.assign(f.shapes.size(), 1.0);
+  }
+  const toml::node& countNode = r.require("count", "the number of bodies, e.g. count = 500");
+  f.count = static_cast<std::uint64_t>(r.integer(countNode, "count", 1));
+  std::size_t minSpheres = std::numeric_limits<std::size_t>::max();
+  for (std::uint32_t s : f.shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
+  if (f.count > kMaxParticles) r.fail(sourceOf(countNode), "count asks for more than 2^31 bodies");
+  checkBodyBudget(r, countNode, scene, f.count, minSpheres, scene.pourBodies.size());
+  const toml::node& regionNode =
+      r.require("region", "where to put them: region = \"box\", \"cylinder\" or \"mesh\"");
+  const std::string region = r.string(regionNode, "region");
+  static const std::pair<const char*, const char*> kKeysOf[] = {
+      {"box", "min max"}, {"cylinder", "point axis radius"}, {"mesh", "wall"}};
+  const auto* entry = std::find_if(std::begin(kKeysOf), std::end(kKeysOf),
+                                   [&](const auto& e) { return region == e.first; });
+  if (entry == std::end(kKeysOf))
+    r.fail(sourceOf(regionNode), "unknown region \"" + region + "\" (\"box\", \"cylinder\" or \"mesh\")");
+  for (const char* key : {"min", "max", "point", "axis", "radius", "wall"}) {
+    const std::string keys = std::string(" ") + entry->second + " ";
+    if (const toml::node* e = r.find(key); e != nullptr && keys.find(std::string(" ") + key + " ") == std::string::npos)
+      r.fail(sourceOf(*e), std::string(key) + " is not a key of region = \"" + region + "\" (its keys: " +
+                               entry->second + ")");
+  }
+  FillRegion& g = f.region;
+  if (region == "mesh") {  // the inside of a closed mesh wall: [[wall]] #k
+    g.kind = FillRegion::Kind::Mesh;
+    const toml::node& wn = r.require("wall", "the number of the [[wall]] table of a closed mesh, e.g. wall = 1");
+    const std::int64_t k = r.integer(wn, "wall", 1);
+    if (std::size_t(k) > m_wallOfTable.size() || scene.walls[m_wallOfTable[std::size_t(k) - 1]].shape != WallDef::Shape::Mesh)
+      r.fail(sourceOf(wn), "wall = " + std::to_string(k) + " names no [[wall]] of type = \"mesh\" (the scene has " +
+                               std::to_string(m_wallOfTable.size()) + " [[wall]] tables; count them from 1)");
+    g.wall = m_wallOfTable[std::size_t(k) - 1];
+  } else if (region == "box") {
+    g.kind = FillRegion::Kind::Box;
+    g.min = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
+    const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
+    g.max = r.vec3(hiNode, "max", Rule::Any);
+    if (!(g.min.x < g.max.x && g.min.y < g.max.y && g.min.z < g.max.z))
+      r.fail(sourceOf(hiNode), "max must exceed min on every axis");
+  } else {
+    g.kind = FillRegion::Kind::Cylinder;
+    g.point = r.vec3(r.require("point", "the axis's start in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
+    const toml::node& an = r.require("axis", "from point to the far end in m, e.g. axis = [0, 0, 1]");
+    g.axis = r.vec3(an, "axis", Rule::Any);
+    const double len =
+        std::sqrt(double(g.axis.x) * g.axis.x + double(g.axis.y) * g.axis.y + double(g.axis.z) * g.axis.z);
+    if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(an), "axis must be a non-zero, finite vector");
+    g.radius = r.single(r.require("radius", "the radius in m, e.g. radius = 0.5"), "radius", Rule::Positive);
+  }
+  if (const toml::node* sn = r.find("scale")) {
+    if (sn->is_array()) {
+      const toml::array& sa = r.array(*sn, "scale", "of 2 numbers [min, max]");
+      if (sa.size() != 2)
+        r.fail(sourceOf(*sn), "scale must be a number or an array of 2 numbers [min, max] (got " +
+                                  std::to_string(sa.size()) + " elements)");
+      f.scaleMin = r.single(*sa.get(0), "scale[0]", Rule::Positive);
+      f.scaleMax = r.single(*sa.get(1), "scale[1]", Rule::Positive);
+      if (!(f.scaleMin <= f.scaleMax)) r.fail(sourceOf(*sn), "scale = [min, max] needs min <= max");
+    } else {
+      f.scaleMin = f.scaleMax = r.single(*sn, "scale", Rule::Positive);
+    }
+  }
+  f.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
+  f.velocityJitter = r.single("velocity_jitter", 0.0f, Rule::NonNegative);
+  for (float v : {f.velocity.x, f.velocity.y, f.velocity.z})
+    if (!(std::fabs(double(v)) + double(f.velocityJitter) <= double(std::numeric_limits<float>::max())))
+      r.fail(r.header(), "velocity with velocity_jitter reaches beyond single-precision range");
+  f.randomOrientation = r.boolean("random_orientation", true);
+  f.spin = r.single("spin", 0.0f, Rule::NonNegative);
+  for (std::uint32_t s : f.shapes) {
+    ShapeDef big = scene.shapes[s];
+    for (SphereDef& sp : big.spheres) sp.offset = f.scaleMax * sp.offset, sp.radius *= f.scaleMax;
+    if (const std::string why = angularVelocityOutOfRange(big, f.spin); !why.empty())
+      r.fail(sourceOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
+  }
+  // Each fill and each pour its own generator: the scene's seed (or its own) and its index.
+  const std::uint64_t stream = (kind == "fill" ? std::uint64_t{1} : std::uint64_t{2}) << 32;
+  f.seed = groupSeed(static_cast<std::uint64_t>(r.integer("seed", static_cast<std::int64_t>(m_seed & INT64_MAX), 0)),
+                     stream + k);
+  f.attempts = static_cast<std::uint64_t>(r.integer("attempts", kind == "fill" ? 1000 : 100, 1));
+  return f;
+}
+
+/// [[fill]]: bodies packed at random in a box or a cylinder, after every [[body]] and
+/// [[group]], in file order (tumble/fill.hpp).
+void SceneParser::readFills(Scene& scene) {
+  const toml::node* n = m_root.get("fill");
+  if (n == nullptr) return;
+  const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'fill'", "[[fill]]");
+  for (std::size_t k = 0; k < tables.size(); ++k) {
+    const TableReader r(m_file, *tables[k], "[[fill]] #" + std::to_string(k + 1),
+                        {"shape", "shapes", "weights", "count", "region", "min", "max", "point", "axis", "radius",
+                         "wall", "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
+                         "attempts"});
+    const FillDef f = readPlacement(r, scene, "fill", k);
+    const std::size_t before = scene.bodies.size();
+    try {
+      fillScene(scene, f);
+    } catch (const Error& e) {
+      r.fail(r.header(), std::string(e.what()).substr(f.where.size() + 2));
+    }
+    std::uint64_t particles = 0;
+    for (std::size_t b = before; b < scene.bodies.size(); ++b) particles += scene.shapes[scene.bodies[b].shape].spheres.size();
+    addParticles(r, r.header(), particles);
+  }
+}
+
+/// [[pour]]: bodies that enter during the run (tumble/pour.hpp); their shapes, orientations
+/// and velocities drawn now, in the order they are due.
+void SceneParser::readPours(Scene& scene) {
+  const toml::node* n = m_root.get("pour");
+  if (n == nullptr) return;
+  const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'pour'", "[[pour]]");
+  for (std::size_t k = 0; k < tables.size(); ++k) {
+    const TableReader r(m_file, *tables[k], "[[pour]] #" + std::to_string(k + 1),
+                        {"shape", "shapes", "weights", "count", "region", "min", "max", "point", "axis", "radius",
+                         "wall", "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
+                         "attempts", "rate", "start", "interval"});
+    const FillDef f = readPlacement(r, scene, "pour", k);
+    PourDef p;
+    p.region = f.region;
+    p.count = f.count;
+    p.seed = f.seed;
+    p.attempts = f.attempts;
+    p.where = f.where;
+    p.rate = r.number(r.require("rate", "bodies per second, e.g. rate = 200"), "rate", Rule::Positive);
+    p.start = r.number("start", 0.0, Rule::NonNegative);
+    p.interval = r.number("interval", 100.0 * double(scene.dt), Rule::Positive);
+    const std::uint32_t pour = static_cast<std::uint32_t>(scene.pours.size());
+    scene.pours.push_back(p);
+    std::map<std::pair<std::uint32_t, float>, std::uint32_t> scaled;
+    Rng rng(f.seed);
+    std::uint64_t particles = 0;
+    for (std::uint64_t i = 0; i < f.count; ++i) {
+      PourBody b;
+      b.pour = pour;
+      b.index = i;
+      b.time = p.start + double(i) / p.rate;
+      try {
+        b.body.shape = detail::drawShape(scene, rng, f.shapes, f.weights, f.scaleMin, f.scaleMax, scaled, f.where);
+      } catch (const Error& e) {
+        r.fail(r.header(), std::string(e.what()).substr(f.where.size() + 2));
+      }
+      const float o1 = rng.uniform(), o2 = rng.uniform(), o3 = rng.uniform();
+      if (f.randomOrientation) b.body.orientation = randomRotation(o1, o2, o3);
+      detail::drawMotion(rng, f.velocity, f.velocityJitter, f.spin, &b.body);
+      particles += scene.shapes[b.body.shape].spheres.size();
+      scene.pourBodies.push_back(b);
+    }
+    addParticles(r, r.header(), particles);
+  }
+  // The order they enter: by the time each is due, then by pour, then by index.
+  std::stable_sort(scene.pourBodies.begin(), scene.pourBodies.end(), [](const PourBody& a, const PourBody& b) {
+    return a.time != b.time ? a.time < b.time : a.pour < b.pour;
+  });
+}
+
+}  // namespace tumble::scene_reader
