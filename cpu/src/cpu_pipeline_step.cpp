@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+// One step of the CPU pipeline: the decision between rebuild, refresh and neither, and the
+// per-body pass (forces, integration, next rows, skin test) instantiated per law and option.
+#include "cpu_pipeline_impl.hpp"
+
+namespace tumble::cpu::impl {
+
+// After a step's skin test (the drift of every particle since the reference of the list the
+// step read): whether the next step rebuilds the candidate list or refreshes the near list.
+// `next` is the time the next step starts at: moving meshes add their motion since the
+// rebuild up to it.
+void CpuPipeline::decideList(const Drift& drift, double next) {
+  const float closure = closureFor(drift);
+  const double meshes = m_meshMotion.any() ? m_meshMotion.closure(m_rebuildTime, next) : 0.0;
+  m_needRebuild = !(m_closed + double(closure) + meshes < double(m_fullLimit));
+  // The near list holds sphere pairs only: their closure is enough for it (closureOf(), which
+  // a common motion does not use up, where the walls' bound is 2 max |dx|).
+  const float pairClosure = m_hasMesh ? closureOf(drift) : closure;
+  m_needRefresh = m_nearSkin > 0.0f && !(pairClosure < m_nearLimit);
+  m_lastClosure = closure;
+}
+
+void CpuPipeline::stepOnce() {
+  double* sec = m_stats.seconds;
+  if (m_wallsMove)
+    setWallMotion(m_planes, m_world.params, m_time, m_meshPoses.empty() ? nullptr : m_meshPoses.data());
+  if (m_needRebuild)
+    rebuild();
+  else if (m_needRefresh)
+    refreshNear();
+
+  const auto t0 = Clock::now();
+  StepTotals tot;
+  if (m_debug) {
+    for (auto& d : m_dbg) tumble::detail::grow(d, 3 * std::size_t(m_world.numParticles()));
+    tumble::detail::grow(m_dbgVel, 3 * std::size_t(m_world.numParticles()));
+    tot = advanceAs<true>();
+  } else {
+    tot = advanceAs<false>();
+  }
+  m_hasDebug = m_debug;  // readDebug() reads the last step's capture, or refuses
+  m_cur = 1 - m_cur;
+  m_bodies.swap(m_bodiesNext);
+  decideList(tot.drift, m_time + m_world.params.dt);
+  sec[int(Phase::Forces)] += since(t0);
+
+  ++m_steps;
+  m_time += m_world.params.dt;
+  ++m_stats.steps;
+  m_stats.numPairs = tot.contacts / 2;  // each contact is seen from both sides
+}
+
+// advance() instantiated for the scene's law, bodies, periodic boundaries and moving meshes
+// (a periodic scene has no mesh).
+template <bool kDebug>
+StepTotals CpuPipeline::advanceAs() {
+  if (m_periodic.axes != 0) return advanceLaw<kDebug, true, false>();
+  return m_meshPoses.empty() ? advanceLaw<kDebug, false, false>() : advanceLaw<kDebug, false, true>();
+}
+
+template <bool kDebug, bool kPeriodic, bool kPosedMesh>
+StepTotals CpuPipeline::advanceLaw() {
+  switch (m_law) {
+    case ContactLaw::HookeHistory: return advance<kDebug, true, ContactLaw::HookeHistory, kPeriodic, kPosedMesh>();
+    case ContactLaw::HertzMindlin: return advance<kDebug, true, ContactLaw::HertzMindlin, kPeriodic, kPosedMesh>();
+    default:
+      return m_clumps ? advance<kDebug, true, ContactLaw::Report, kPeriodic, kPosedMesh>()
+                      : advance<kDebug, false, ContactLaw::Report, kPeriodic, kPosedMesh>();
+  }
+}
+
+// Stages 3–7 and the next step's stage 1, one pass over the bodies (see the design notes).
+template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
+StepTotals CpuPipeline::advance() {
+  const StepView v = stepView();
+  const ForceParams fp = makeForceParams(m_world.params, m_pulls);
+  DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr};
+  if constexpr (kDebug) {
+    for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].data();
+    dbg.v = m_dbgVel.data();
+  }
+  const float dt = m_world.params.dt;
+  const Vec3f g = m_world.params.gravity;
+  const RotationScheme scheme = m_world.params.integrator.rotation;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::uint32_t>(0, v.numBodies, kBodyGrain), StepTotals{},
+      [&](const auto& rg, StepTotals acc) {
+        for (std::uint32_t k = rg.begin(); k != rg.end(); ++k)
+          acc.contacts +=
+              stepBody<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh, true>(v, fp, dbg, g, dt, scheme, k, &acc.drift);
+        return acc;
+      },
+      [](StepTotals x, const StepTotals& y) {
+        mergeDrift(x.drift, y.drift);
+        x.contacts += y.contacts;
+        return x;
+      });
+}
+
+StepView CpuPipeline::stepView() {
+  const int c = m_cur;
+  return StepView{m_bodies.data(),
+                  m_bodiesNext.data(),
+                  m_bodyStatic.data(),
+                  static_cast<std::uint32_t>(m_bodies.size()),
+                  m_pos[c].data(),
+                  m_pos[1 - c].data(),
+                  m_own.data(),
+                  m_radius.data(),
+                  m_mass.data(),
+                  m_bodyOf.data(),
+                  m_orig.data(),
+                  GroundSpringView{m_gtx.data(), m_gty.data()},
+                  m_perBody ? nullptr : m_buildPos.data(),  // the skin test per particle, or per body (bodyRef)
+                  contactListView(),
+                  m_touching.data(),
+                  m_world.numParticles(),
+                  m_history ? m_hist.data() : nullptr,
+                  m_world.params.contact.rotatesSpheres(),
+                  m_world.materialPairs.empty() ? nullptr : m_world.materialPairs.data(),
+                  m_material.empty() ? nullptr : m_material.data(),
+                  static_cast<std::uint32_t>(m_world.params.materials.size()),
+                  m_planes.data(),
+                  static_cast<std::uint32_t>(m_planes.size()),
+                  m_planeDamping.empty() ? nullptr : m_planeDamping.data(),
+                  m_planeHertz.empty() ? nullptr : m_planeHertz.data(),
+                  m_periodic,
+                  m_mesh.view(m_meshPoses),
+                  MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_meshHist.data()},
+                  m_perBody ? m_bodyRef.data() : nullptr,
+                  m_owner.empty() ? nullptr : m_owner.data()};
+}
+
+}  // namespace tumble::cpu::impl
