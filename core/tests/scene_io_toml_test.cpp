@@ -1,0 +1,200 @@
+// SPDX-License-Identifier: MIT
+// Tests of the TOML scene reader: what toml++ must not see (deep dotted keys, non-ASCII
+// outside strings) and the command line's --set overrides.
+#include "scene_io_test_util.hpp"
+
+using namespace scene_io_test;
+
+// toml++ 3.3.0 parses a dotted key by recursion and overflowed the stack (SIGSEGV) on a key or
+// header of 40 000 parts: refused before it parses, with the line; 63 parts still reach it (and
+// its own message), and dots in values, strings and comments do not count.
+TEST(SceneIo, DeepDottedKeysAreRefusedBeforeTomlParsesThem) {
+  std::string deep;
+  for (int k = 0; k < 40000; ++k) deep += "x.";
+  // (Strings built by +=: GCC 12 warns falsely, -Wrestrict, on some chains of +.)
+  std::string key = deep, header = "z = 1\n[";
+  key += "y = 1\n";
+  header += deep;
+  header += "y]\n";
+  expectError(withExtra(key), 12, {"dotted key or table header of more than 64 parts"});
+  expectError(withExtra(header), 13, {"more than 64 parts"});
+  // Below the bound, in comments and strings, and in values: toml++ and the reader decide (here
+  // an unknown key of [[body]]), not the bound.
+  std::string parts63, dotty = "# ";
+  for (int k = 0; k < 63; ++k) parts63 += "x.";
+  parts63 += "y = 1\n";
+  dotty += deep;
+  dotty += "\nnote = \"";
+  dotty += deep;
+  dotty += "\"\n";
+  for (int k = 0; k < 100; ++k) {
+    dotty += 'v';
+    dotty += std::to_string(k);
+    dotty += " = [1.5, 2.5, 3.5]\n";
+  }
+  for (const std::string& extra : {parts63, dotty}) {
+    try {
+      (void)tumble::parseScene(withExtra(extra), "test.toml");
+      ADD_FAILURE() << "an unknown key was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find("parts"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A [[fill]] region of radius 1e28 m (found by the scene fuzzer): the placement's cell indices
+// went beyond 2^63 (undefined, UBSan in the sanitizer build); they are clamped, and the fill
+// places its bodies.
+TEST(SceneIo, AFillRegionBeyondTheCellIndexRangePlacesItsBodies) {
+  const std::string text = join({"[scene]", "dt = 1e-4", "steps = 1", "seed = 3", "[[shape]]", "name = \"small\"",
+                                 "[[shape.sphere]]", "radius = 0.01", "mass = 0.01", "[[fill]]", "shapes = [\"small\"]",
+                                 "count = 87", "region = \"cylinder\"", "point = [0, 0, 0]", "axis = [0, 0, 0.5]",
+                                 "radius = 9999999999999999999999999990.1"});
+  const tumble::Scene s = tumble::parseScene(text, "test.toml");
+  ASSERT_EQ(s.bodies.size(), 87u);
+  for (const tumble::BodyDef& b : s.bodies) EXPECT_TRUE(std::isfinite(b.position.x) && std::isfinite(b.position.y));
+}
+
+// toml++ 3.3.0 has undefined behaviour for some non-ASCII code points where it expects
+// whitespace ("Ñ", found by UBSan): they are refused, with the line, before it parses; in
+// strings (all four kinds) and comments they are fine.
+TEST(SceneIo, NonAsciiOutsideStringsIsRefusedWithTheLine) {
+  expectError(withExtra("# note\nfoo =\xc3\x91 1\n"), 13, {"non-ASCII character outside a string or comment"});
+  expectError(withExtra("x = '''a\n\xc3\x91'''\ny = 1 \xc3\x91\n"), 14, {"non-ASCII"});
+  const std::string ok = withExtra("# comentario: a\xc3\xb1o\n");
+  EXPECT_NO_THROW((void)tumble::parseScene(ok, "test.toml"));
+  std::vector<std::string> ls = baseLines();
+  ls.at(4) = "name = \"\xc3\xb1" "and\xc3\xba \\\" \xc3\x91\"";   // the shape's name, with an escaped quote
+  ls.at(9) = "shape = '\xc3\xb1" "and\xc3\xba \" \xc3\x91'";        // a literal string naming it
+  EXPECT_EQ(tumble::parseScene(join(ls), "test.toml").shapes.at(0).name, "\xc3\xb1" "and\xc3\xba \" \xc3\x91");
+}
+
+TEST(SceneIo, AsciiCheckFollowsTomlStrings) {
+  // A byte-order mark is skipped (as toml++ does).
+  EXPECT_NO_THROW((void)tumble::parseScene("\xEF\xBB\xBF" + join(baseLines()), "test.toml"));
+  // A multi-line string may end in one or two quotes before its closing three: the scan must not
+  // close it early and take the rest of the line for string content.
+  expectError(withExtra("x = \"\"\"a\"\"\"\" \xc3\x91\n"), 12, {"non-ASCII"});
+  // A line-ending backslash in a multi-line basic string still counts its line.
+  expectError(withExtra("x = \"\"\"a \\\nb\"\"\"\ny = \xc3\x91\n"), 14, {"non-ASCII"});
+}
+
+// ---------------------------------------------------------------------------------------
+// --set overrides (docs/scenes.md, "Overriding keys on the command line").
+
+TEST(SceneOverrides, ChangeTheParsedValues) {
+  const std::string file = withExtra("[ground]\nfriction = 0.9\n[output]\nrecord = \"a.bin\"\n");
+  const Scene s = withSets(file, {"ground.friction=0.3", "scene.gravity=[0, 0, -9.8]", "output.record=\"x.bin\"",
+                                  "output.debug=true", "integrator.rotation='splitting'", " scene.steps = 20"});
+  EXPECT_EQ(s.ground.friction, 0.3f);
+  EXPECT_EQ(s.gravity.x, 0.0f);
+  EXPECT_EQ(s.gravity.z, -9.8f);
+  EXPECT_EQ(s.recordFile, "x.bin");
+  EXPECT_TRUE(s.recordDebug);
+  EXPECT_EQ(s.integrator.rotation, tumble::RotationScheme::Splitting);
+  EXPECT_EQ(s.steps, 20u);
+  EXPECT_TRUE(s.ground.enabled);
+  EXPECT_EQ(s.dt, 1e-4f) << "keys not set keep the file's values";
+  // Tables the file lacks are added ([ground]'s presence turns the ground on, as in a file).
+  const Scene t = withSets(join(baseLines()), {"contact.damping=2", "pulls.on=[\"x\"]", "ground.height=-1"});
+  EXPECT_EQ(t.contact.damping, 2.0f);
+  EXPECT_EQ(t.contact.stiffness, 2.0e4f);
+  EXPECT_EQ(t.pulls.active, static_cast<std::uint32_t>(tumble::kPullX));
+  EXPECT_TRUE(t.ground.enabled);
+  EXPECT_EQ(t.ground.height, -1.0f);
+  // The last of a key wins; an integer is a number, as in a file.
+  EXPECT_EQ(withSets(file, {"ground.friction=0.3", "ground.friction=1"}).ground.friction, 1.0f);
+  EXPECT_EQ(withSets(file, {"ground.enabled=false"}).ground.enabled, false);
+}
+
+TEST(SceneOverrides, SameSceneAsTheFileEditedTheSameWay) {
+  const std::string group = "[[group]]\nshape = \"ball\"\ncount = [3, 3, 2]\nspacing = 2\njitter = 0.3\n"
+                            "random_orientation = true\n";
+  const Scene set = withSets(withExtra(group), {"scene.seed=7"});
+  std::vector<std::string> ls = baseLines();
+  ls.insert(ls.begin() + 1, "seed = 7");
+  const Scene file = tumble::parseScene(join(ls) + group, "test.toml");
+  EXPECT_TRUE(sameBits(set, file));
+  EXPECT_FALSE(sameBits(set, tumble::parseScene(withExtra(group), "test.toml"))) << "the seed changes the groups";
+  // No overrides: the scene of the file alone.
+  EXPECT_TRUE(sameBits(tumble::readSceneFile(scenePath("molecules.toml"), {}),
+                       tumble::readSceneFile(scenePath("molecules.toml"))));
+}
+
+TEST(SceneOverrides, ErrorsNameTheOriginAndNoLine) {
+  const std::string base = join(baseLines());
+  expectSetError(base, {"ground.friction=-1"}, "ground.friction=-1", {"[ground]: friction must be >= 0 (got -1)"});
+  expectSetError(base, {"ground.frictoin=0.3"}, "ground.frictoin=0.3",
+                 {"[ground]: unknown key 'frictoin'; allowed keys: enabled, height, stiffness, friction"});
+  expectSetError(base, {"scene.steps=1.5"}, "scene.steps=1.5", {"[scene]: steps must be an integer (got 1.5)"});
+  expectSetError(base, {"scene.gravity=[0, 0]"}, "scene.gravity=[0, 0]", {"gravity must be an array of 3 numbers"});
+  expectSetError(base, {"pulls.on=[\"z\"]"}, "pulls.on=[\"z\"]", {"unknown pull \"z\""});
+  // A table made by --set: its problems name the override that made it.
+  std::vector<std::string> noScene = baseLines();
+  noScene.erase(noScene.begin(), noScene.begin() + 3);
+  expectSetError(join(noScene), {"scene.dt=1e-3"}, "scene.dt=1e-3", {"[scene]: missing required key 'steps'"});
+  // The override that is wrong is named, not the first one.
+  expectSetError(base, {"ground.friction=0.3", "contact.shear=-2"}, "contact.shear=-2", {"shear must be >= 0"});
+}
+
+TEST(SceneOverrides, OnlyTheSingleTablesCanBeSet) {
+  const std::string base = join(baseLines());
+  expectSetError(base, {"grund.friction=1"}, "grund.friction=1",
+                 {"unknown section 'grund'", "--set can change the keys of [scene], [contact], [ground], [pulls], "
+                  "[broadphase], [integrator], [output]"});
+  expectSetError(base, {"shape.name=\"x\""}, "shape.name=\"x\"", {"[[shape]] entries cannot be set", "[scene]"});
+  expectSetError(base, {"body.position=[0, 0, 2]"}, "body.position=[0, 0, 2]", {"[[body]] entries cannot be set"});
+  expectSetError(base, {"group.count=[1, 1, 1]"}, "group.count=[1, 1, 1]", {"[[group]] entries cannot be set"});
+}
+
+TEST(SceneOverrides, MalformedOrNotTomlIsRefused) {
+  const std::string base = join(baseLines());
+  for (const char* spec : {"foo", "=1", "a.b.c=1", "ground=1", "ground.=1", ".friction=1", "ground.friction",
+                           "ground.\"friction\"=1", "ground.fri ction=1"}) {
+    expectSetError(base, {spec}, spec, {"expected SECTION.KEY=VALUE", "--set ground.friction=0.3"});
+  }
+  expectSetError(base, {"output.record=x.bin"}, "output.record=x.bin",
+                 {"TOML syntax error", "a string needs quotes, e.g. --set output.record='\"run.bin\"'"});
+  expectSetError(base, {"ground.friction="}, "ground.friction=", {"TOML syntax error", "a string needs quotes"});
+  try {
+    (void)withSets(base, {"scene.gravity=[0, 0"});
+    ADD_FAILURE() << "no error for an unclosed array";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "command line, --set scene.gravity=[0, 0");
+    EXPECT_NE(std::string(e.what()).find("TOML syntax error"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("needs quotes"), std::string::npos) << "not a bare word: " << e.what();
+  }
+  expectSetError(base, {"ground.friction=1\nheight = 2"}, "ground.friction=1\nheight = 2",
+                 {"VALUE must be one TOML value"});
+  expectSetError(base, {"ground.friction=1\n[scene]"}, "ground.friction=1\n[scene]", {"VALUE must be one TOML value"});
+  // Non-ASCII outside a string is refused as in a file; in a string it is fine.
+  expectSetError(base, {"scene.name=\xc3\x91"}, "scene.name=\xc3\x91", {"non-ASCII character outside a string"});
+  EXPECT_EQ(withSets(base, {"scene.name=\"a\xc3\xb1o\""}).name, "a\xc3\xb1o");
+}
+
+TEST(SceneOverrides, FileErrorsStayTheFiles) {
+  // A problem in the file is reported at its line, overrides or not.
+  expectError(withLine(7, "radius = -1"), 7, {"radius must be > 0"});
+  try {
+    (void)withSets(withLine(7, "radius = -1"), {"ground.friction=0.3"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "test.toml");
+    EXPECT_EQ(e.line(), 7);
+  }
+  try {
+    (void)withSets("ground = 3\n" + join(baseLines()), {"ground.friction=0.3"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "test.toml");
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_NE(std::string(e.what()).find("'ground' must be a table"), std::string::npos) << e.what();
+  }
+  // A malformed override is reported before the file is read (here: a missing file).
+  try {
+    (void)tumble::readSceneFile("/nonexistent/scene.toml", {"foo"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "command line, --set foo");
+  }
+}
