@@ -10,6 +10,7 @@
 #include "tumble/random.hpp"
 #include "tumble/validation/brute_force.hpp"
 #include "tumble/validation/scenes.hpp"
+#include "tumble/factory.hpp"
 
 namespace {
 

@@ -13,6 +13,7 @@
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/validation/scenes.hpp"
+#include "tumble/factory.hpp"
 
 namespace {
 

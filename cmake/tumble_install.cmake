@@ -30,7 +30,7 @@ install(TARGETS ${_tumble_targets} EXPORT tumbleTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/include/ ${PROJECT_SOURCE_DIR}/cpu/include/
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/include/ ${PROJECT_SOURCE_DIR}/core/factory/include/ ${PROJECT_SOURCE_DIR}/cpu/include/
                   ${PROJECT_SOURCE_DIR}/cpu/primitives/include/ ${PROJECT_BINARY_DIR}/generated/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.hpp")
 # The CUDA pipeline's headers: host_pipeline.hpp always (cuda-host), cuda_pipeline.hpp with the

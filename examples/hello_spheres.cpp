@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/random.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/world.hpp"

@@ -6,6 +6,7 @@
 #include "tumble/config.hpp"
 #include "tumble/cpu/cpu_pipeline.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/gpu/host_pipeline.hpp"
 #if TUMBLE_HAS_CUDA

@@ -13,22 +13,27 @@
 
 namespace tumble {
 
-Run::Run(const Scene& scene, const std::string& resume, const std::string& sceneName)
+Run::Run(const Scene& scene)
     : m_pouring(std::make_unique<const Pouring>(scene)), m_world(m_pouring->worldWith(m_pouring->initialBodies())) {
-  const Pouring& pouring = *m_pouring;
   // Of every body the run will have: the pours' too.
+  const Pouring& pouring = *m_pouring;
   m_dtWarning = tumble::timeStepWarning(pouring.any() ? pouring.worldWith(pouring.finalBodies()) : m_world);
-  if (resume.empty()) return;
-  const Checkpoint ck = Checkpoint::read(resume);
+}
+
+void Run::resume(const std::string& path, const std::string& sceneName) {
+  if (m_pipeline) throw Error("resume: the run is loaded already (resume before load)");
+  const Pouring& pouring = *m_pouring;
+  const Checkpoint ck = Checkpoint::read(path);
   try {
     // A run that pours resumes the world of the bodies that had entered by then.
-    if (pouring.any() && ck.state.size() > m_world.numBodies() && ck.state.size() <= pouring.finalBodies())
-      m_world = pouring.worldWith(ck.state.size());
-    m_world = ck.resume(m_world, &m_resumeWarning);
+    World world = pouring.worldWith(pouring.initialBodies());
+    if (pouring.any() && ck.state.size() > world.numBodies() && ck.state.size() <= pouring.finalBodies())
+      world = pouring.worldWith(ck.state.size());
+    m_world = ck.resume(world, &m_resumeWarning);
   } catch (const InputError&) {
     throw;
   } catch (const Error& e) {
-    throw Error(resume + ": cannot resume " + (sceneName.empty() ? scene.name : sceneName) + ": " + e.what());
+    throw Error(path + ": cannot resume " + (sceneName.empty() ? pouring.scene().name : sceneName) + ": " + e.what());
   }
 }
 
@@ -88,13 +93,6 @@ Advanced Run::advance(std::uint64_t n) {
       a.stopped = true;
       break;
     }
-    std::uint64_t chunk = std::min(end - done, kStepsBetweenStops);
-    if (m_recOn && done < m_recSettings.lastStep) chunk = std::min(chunk, perFrame - done % perFrame);
-    if (guarding) chunk = std::min(chunk, m_checks.every - done % m_checks.every);
-    if (m_thermoOn) chunk = std::min(chunk, m_thermoEvery - done % m_thermoEvery);
-    if (m_checkpointEvery) chunk = std::min(chunk, m_checkpointEvery - done % m_checkpointEvery);
-    if (m_endStep && done < *m_endStep) chunk = std::min(chunk, *m_endStep - done);
-    chunk = std::min(chunk, m_pouring->nextBatch(done + 1, m_world.numBodies()) - done);
     // Bodies of a [[pour]] enter at its batch steps, after the frame, checks and checkpoint of
     // the state before them; the guard then starts its energy budget afresh from the state they
     // entered (at that step, whatever the calls).
@@ -104,6 +102,15 @@ Advanced Run::advance(std::uint64_t n) {
       a.entered = true;
       if (m_guard) m_guard.emplace(m_world, pipeline);
     }
+    // The stretch ends where the next thing is due: a frame, a check, a row, a checkpoint, the
+    // end of the run or the next pour batch.
+    std::uint64_t chunk = std::min(end - done, kStepsBetweenStops);
+    if (m_recOn && done < m_recSettings.lastStep) chunk = std::min(chunk, perFrame - done % perFrame);
+    if (guarding) chunk = std::min(chunk, m_checks.every - done % m_checks.every);
+    if (m_thermoOn) chunk = std::min(chunk, m_thermoEvery - done % m_thermoEvery);
+    if (m_checkpointEvery) chunk = std::min(chunk, m_checkpointEvery - done % m_checkpointEvery);
+    if (m_endStep && done < *m_endStep) chunk = std::min(chunk, *m_endStep - done);
+    chunk = std::min(chunk, m_pouring->nextBatch(done + 1, m_world.numBodies()) - done);
     m_hooks->stepping([&] { pipeline.step(chunk); });
     done += chunk;
     a.steps = done - start;

@@ -20,6 +20,7 @@
 
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
@@ -115,8 +116,9 @@ class Simulation {
  public:
   Simulation(const Scene& scene, const std::string& pipeline, int threads, const py::object& resume, bool guard,
              std::uint64_t guardEvery)
-      : m_run(scene, resume.is_none() ? std::string{} : pathOf(resume)) {
+      : m_run(scene) {
     if (guardEvery < 1) throw Error("guard_every must be at least 1");
+    if (!resume.is_none()) m_run.resume(pathOf(resume));
     PipelineOptions po;
     po.threads = threads;
     RunChecks checks;

@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "tumble/particle_csv.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 
 namespace tumble::cli {

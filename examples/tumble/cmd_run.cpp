@@ -103,10 +103,11 @@ Start prepare(RunOptions& o) {
                   {"--state-out", o.stateOut}, {"scene", o.scene}});
   refuseSameFile({{"--resume", o.resume}, {"--record", o.record}, {"--thermo", o.thermo}, {"--state-out", o.stateOut}});
 
-  auto run = std::make_unique<Run>(scene, o.resume, o.scene);
+  auto run = std::make_unique<Run>(scene);
   if (!run->timeStepWarning().empty() && prints)
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), run->timeStepWarning().c_str());
   if (!o.resume.empty()) {
+    run->resume(o.resume, o.scene);
     if (!run->resumeWarning().empty() && prints)
       std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.resume.c_str(), run->resumeWarning().c_str());
     const std::uint64_t at = run->world().step;
@@ -187,6 +188,9 @@ void run(RunOptions o) {
   // Guards (docs/model.md#guards): checked every --guard-every steps and before every frame and
   // checkpoint. The time series (docs/thermo.md) is what the guard measures, so with --no-guard
   // and --thermo the guard still measures, every thermoEvery steps, and never stops the run.
+  // SIGINT / SIGTERM from here on stop the run like a guard trip (stop_signal.hpp): the loop ends
+  // after the steps under way, the recording is finished, a --checkpoint written.
+  const StopOnSignal stopOnSignal(/*restart=*/true);
   RunChecks checks;
   checks.stop = !o.noGuard;
   checks.every = o.guardEvery.value_or(kDefaultGuardEvery);
@@ -206,9 +210,6 @@ void run(RunOptions o) {
                    static_cast<unsigned long long>(start), world.time, o.resume.c_str());
   }
 
-  // SIGINT / SIGTERM from here on stop the run like a guard trip (stop_signal.hpp): the loop ends
-  // after the steps under way, the recording is finished, a --checkpoint written.
-  const StopOnSignal stopOnSignal(/*restart=*/true);
   const std::uint64_t recSteps = o.recordSteps ? std::min<std::uint64_t>(*o.recordSteps, scene.steps) : scene.steps;
   if (!o.record.empty() && start < recSteps) {
     RecordSettings rs;

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"  // kMaxThreads, with or without the viewer
 
 #if TUMBLE_HAS_VIEWER

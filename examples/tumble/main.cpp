@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/mpi/session.hpp"
 #include "tumble/output_file.hpp"
 #include "tumble/pipeline.hpp"

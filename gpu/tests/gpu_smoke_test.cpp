@@ -14,6 +14,7 @@
 
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/kernels/overlap.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/random.hpp"
 #include "tumble/world.hpp"
 

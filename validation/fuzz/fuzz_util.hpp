@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "tumble/pipeline.hpp"
+#include "tumble/factory.hpp"
 
 namespace tumble::fuzz {
 

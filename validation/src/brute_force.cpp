@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "tumble/validation/brute_force.hpp"
+#include "tumble/factory.hpp"
 
 #include <tbb/parallel_for.h>
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "tumble/validation/compare.hpp"
+#include "tumble/factory.hpp"
 
 #include <algorithm>
 #include <array>

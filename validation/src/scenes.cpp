@@ -9,6 +9,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/pour.hpp"
 #include "tumble/random.hpp"

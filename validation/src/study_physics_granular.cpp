@@ -2,6 +2,7 @@
 // The validation study's granular cases: the angle of repose of the heap scenes and the
 // Beverloo discharge rate of a hopper.
 #include "study_physics_common.hpp"
+#include "tumble/factory.hpp"
 
 namespace tumble::validation::study::physics {
 

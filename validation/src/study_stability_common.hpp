@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene.hpp"

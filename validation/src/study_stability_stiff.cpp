@@ -2,6 +2,7 @@
 // The validation study's stiff contacts at the stability limit, with the run-time guard: the
 // scheme's spectral radius, the amplification and the guard's trips (docs/validation.md).
 #include "study_stability_common.hpp"
+#include "tumble/factory.hpp"
 
 namespace tumble::validation::study::stability {
 

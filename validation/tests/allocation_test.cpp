@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "tumble/recording.hpp"
+#include "tumble/factory.hpp"
 
 #include "tumble/validation/scenes.hpp"
 

@@ -11,6 +11,7 @@
 
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/kernels/cell_key.hpp"
 #include "tumble/random.hpp"
 #include "tumble/sweep_frame.hpp"

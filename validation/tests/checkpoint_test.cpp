@@ -13,6 +13,7 @@
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"

@@ -10,6 +10,7 @@
 
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/brute_force.hpp"

@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "tumble/config.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pour.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"

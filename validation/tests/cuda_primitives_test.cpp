@@ -17,6 +17,7 @@
 #include "gpu/src/cub_primitives.cuh"
 #include "tumble/cpu/radix_sort.hpp"
 #include "tumble/cpu/scan.hpp"
+#include "tumble/factory.hpp"
 #include "tumble_test/cuda_gate.hpp"
 
 using namespace tumble;

@@ -7,6 +7,7 @@
 
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/scenes.hpp"
 

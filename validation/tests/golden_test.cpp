@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "tumble/config.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/scenes.hpp"
 #include "tumble_test/cuda_gate.hpp"

@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/validation/scenes.hpp"

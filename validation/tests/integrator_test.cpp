@@ -11,6 +11,7 @@
 
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/kernels/integrate.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/world.hpp"
 

@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "tumble/checkpoint.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/mesh.hpp"
 #include "tumble/mesh.hpp"

@@ -23,6 +23,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/pour.hpp"

@@ -17,6 +17,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"

@@ -10,6 +10,7 @@
 
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/validation/scenes.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/world.hpp"
 
 using namespace tumble;

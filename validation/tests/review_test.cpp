@@ -9,6 +9,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pour.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"

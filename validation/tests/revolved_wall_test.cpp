@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "tumble/checkpoint.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/wall.hpp"
 #include "tumble/math.hpp"

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tumble/pipeline.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/run.hpp"
 #include "tumble/scene_io.hpp"
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tumble/guard.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/thermo.hpp"

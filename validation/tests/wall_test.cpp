@@ -14,6 +14,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/math.hpp"
 #include "tumble/validation/compare.hpp"

@@ -27,8 +27,6 @@ enum class Backend { Cpu, Cuda, CudaHost };
 const char* toString(Backend b);
 /// Parses "cpu" / "cuda" / "cuda-host"; throws tumble::Error otherwise.
 Backend backendFromString(const std::string& s);
-/// Backends compiled into this build: cpu, cuda (with the CUDA module), cuda-host.
-std::vector<Backend> compiledBackends();
 /// Whether b runs the CUDA pipeline's code (Cuda or CudaHost).
 inline bool isCudaPipeline(Backend b) { return b == Backend::Cuda || b == Backend::CudaHost; }
 
@@ -41,11 +39,8 @@ struct CudaStatus {
   CudaState state;
   std::string message;  ///< one line; names the driver and runtime versions when the module is built
 };
-CudaStatus cudaStatus();
-/// cudaStatus().state == CudaState::Ready.
-bool cudaAvailable();
-/// Throws tumble::Error saying why when backend `b` cannot run here (for CUDA: cudaStatus()).
-void requireBackend(Backend b);
+// cudaStatus(), makePipeline() and the rest of what needs every backend of this build:
+// tumble/factory.hpp (tumble::pipelines).
 /// Throws tumble::Error with s.message unless s.state is Ready.
 void requireReady(const CudaStatus& s);
 /// TUMBLE_REQUIRE_CUDA=1 in the environment: tests of the CUDA pipeline fail instead of skipping
@@ -217,10 +212,5 @@ class HaloPipeline : public Pipeline {
   /// from its particle's side (a contact between two of them counts twice); 0 before the first step.
   virtual std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const = 0;
 };
-
-/// Creates a pipeline. Throws tumble::Error when the backend is not compiled in or has no device.
-std::unique_ptr<Pipeline> makePipeline(Backend backend, const PipelineOptions& options = {});
-/// The same pipeline behind the HaloPipeline interface (what each rank of the MPI pipeline runs).
-std::unique_ptr<HaloPipeline> makeHaloPipeline(Backend backend, const PipelineOptions& options = {});
 
 }  // namespace tumble

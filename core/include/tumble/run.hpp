@@ -87,15 +87,17 @@ struct Advanced {
 
 class Run {
  public:
-  /// The world a run of `scene` starts from: the bodies present at the start (tumble/pour.hpp),
-  /// or, resumed from the checkpoint at `resume` (not empty), those that had entered by then, in
-  /// the checkpoint's state. Throws tumble::InputError for an unreadable checkpoint and
-  /// tumble::Error naming both files when it does not belong to the scene.
-  /// `sceneName`: what the messages call the scene (its file; default its name).
-  explicit Run(const Scene& scene, const std::string& resume = {}, const std::string& sceneName = {});
+  /// A run of `scene` from its start: the bodies present then (tumble/pour.hpp).
+  explicit Run(const Scene& scene);
   ~Run();
   Run(const Run&) = delete;
   Run& operator=(const Run&) = delete;
+
+  /// Before load(): the run goes on from the checkpoint at `path`, with the bodies that had
+  /// entered by then, in its state. Throws tumble::InputError for an unreadable checkpoint and
+  /// tumble::Error naming both when it does not belong to the scene (`sceneName`: what the
+  /// message calls the scene, its file; default its name).
+  void resume(const std::string& path, const std::string& sceneName = {});
 
   /// Loads `pipeline` with the world and starts the guard (when `checks` asks for one). `hooks`
   /// (null: the defaults) must outlive the run. Collective under MPI.

@@ -52,6 +52,7 @@
 
 #include "agree.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
 #include "tumble/kernels/integrate.hpp"

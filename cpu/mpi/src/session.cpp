@@ -8,6 +8,7 @@
 
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/mpi/mpi_pipeline.hpp"
 #if TUMBLE_HAS_MPI
 #include <mpi.h>

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 
 /// In a test body or SetUp(): returns from it after GTEST_SKIP() or FAIL() unless CUDA is ready.
