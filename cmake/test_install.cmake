@@ -9,7 +9,7 @@ execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix} R
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cmake --install failed (${rc})")
 endif()
-foreach(f bin/tumble include/tumble/pipeline.hpp include/tumble/config.hpp include/tumble/cpu/cpu_pipeline.hpp
+foreach(f bin/tumble include/tumble/pipeline.hpp include/tumble/factory.hpp include/tumble/run.hpp include/tumble/config.hpp include/tumble/cpu/cpu_pipeline.hpp
           share/tumble/scenes/molecules.toml)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")
