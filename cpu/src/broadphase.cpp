@@ -17,7 +17,7 @@
 //   pair is found exactly once. The other side's view comes from a transpose: a stable radix
 //   sort of (other particle, owner) by other particle. Both halves have a fixed order and
 //   need no atomics.
-#include "broadphase.hpp"
+#include "tumble/cpu/broadphase.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -18,7 +18,7 @@
 #include <cfloat>
 #include <string>
 
-#include "broadphase.hpp"
+#include "tumble/cpu/broadphase.hpp"
 #include "grow.hpp"
 #include "periodic_images.hpp"
 #include "tumble/cpu/radix_sort.hpp"

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_util.hpp"
+#include "tumble_test/arrays.hpp"
 
 #include <cstdint>
 #include <numeric>

@@ -151,7 +151,7 @@ class MpiPipelineImpl final : public MpiPipeline {
   void load(const World& world) override {
     if (world.numParticles() == 0) throw Error("cannot load an empty world");
     if (world.params.periodic.any())
-      throw Error("periodic boundaries ([periodic]) under mpirun: not yet (docs/mpi.md#limits); run without mpirun");
+      throw NotSupported("periodic boundaries ([periodic]) under mpirun: not yet (docs/mpi.md#limits); run without mpirun");
     LocalFrame frame;
     World lw = localWorld(world, &frame);  // the state in the run's frame; checks the sizes
     m_global = world;  // its state stays: what a divergence message's advice reads

@@ -13,8 +13,8 @@
 #include <random>
 #include <vector>
 
-#include "cpu/tests/test_util.hpp"      // sameArray, testSizes
-#include "gpu/src/cub_primitives.cuh"
+#include "tumble_test/arrays.hpp"  // sameArray, testSizes
+#include "cub_primitives.cuh"
 #include "tumble/cpu/radix_sort.hpp"
 #include "tumble/cpu/scan.hpp"
 #include "tumble/factory.hpp"

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
-// CPU broadphase: sweep and prune along the PCA axis with 2-D subdivision (SPEC §3).
-// Internal to tumble::cpu.
+// CPU broadphase: sweep and prune along the PCA axis with 2-D subdivision (SPEC §3). The CPU
+// pipeline's detection stage (namespace detail: no stable API), in the public headers so that
+// the CUDA broadphase's tests (gpu/tests/cuda_host_broadphase_test.cpp) compare with it array by
+// array without reaching into cpu/src.
 #pragma once
 #include <cstdint>
 #include <vector>

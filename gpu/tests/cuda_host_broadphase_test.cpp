@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "cpu/src/broadphase.hpp"  // the CPU broadphase, the reference
-#include "gpu/src/broadphase.hpp"  // the CUDA pipeline's, over the execution layer
-#include "gpu/src/exec/host_exec.hpp"
+#include "tumble/cpu/broadphase.hpp"  // the CPU broadphase, the reference
+#include "broadphase.hpp"  // the CUDA pipeline's (gpu/src), over the execution layer
+#include "exec/host_exec.hpp"
 #include "tumble/validation/scenes.hpp"
 
 using namespace tumble;
