@@ -45,9 +45,11 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/gpu/include/ DESTINATION ${CMAKE_INSTALL
 if(TARGET tumble)
   install(TARGETS tumble RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
+# The scenes with the files they name (the meshes) and the scripts that wrote those.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes DESTINATION ${CMAKE_INSTALL_DATADIR}/tumble
-        FILES_MATCHING PATTERN "*.toml")
-install(FILES ${PROJECT_SOURCE_DIR}/examples/hello_spheres.cpp DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)
+        FILES_MATCHING PATTERN "*.toml" PATTERN "*.stl" PATTERN "*.obj" PATTERN "*.py")
+install(FILES ${PROJECT_SOURCE_DIR}/examples/hello_spheres.cpp ${PROJECT_SOURCE_DIR}/examples/run_scene.cpp
+        DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)
 
 set(_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/tumble)
 install(EXPORT tumbleTargets NAMESPACE tumble:: DESTINATION ${_cmake_dir})
