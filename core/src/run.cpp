@@ -10,6 +10,7 @@
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
 #include "tumble/output_file.hpp"
+#include "tumble/scene_io.hpp"
 
 namespace tumble {
 
@@ -169,6 +170,7 @@ void checkContinues(const RecordingWriter& rec, std::uint64_t start, const Recor
 
 void Run::record(const RecordSettings& s) {
   if (s.stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
+  refuseSceneInput(scene(), s.path, "the recording");
   const std::uint64_t step = m_pipeline->stepCount();
   std::unique_ptr<RecordingWriter> rec;
   m_hooks->write([&] {
@@ -204,6 +206,7 @@ void Run::closeRecording() {
 
 void Run::writeThermo(const std::string& path, std::uint64_t every) {
   if (every < 1) throw Error("the time series' interval must be at least 1 step");
+  refuseSceneInput(scene(), path, "the time series");
   const ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
   std::unique_ptr<ThermoWriter> thermo;
   m_hooks->write([&] { thermo = std::make_unique<ThermoWriter>(path); });  // first: a failure keeps the one under way
@@ -227,16 +230,19 @@ void Run::closeOutputs() {
 
 void Run::checkpointEvery(const std::string& path, std::uint64_t every) {
   if (every > 0 && path.empty()) throw Error("checkpoints every " + std::to_string(every) + " steps need a file");
+  refuseSceneInput(scene(), path, "the checkpoint");
   m_checkpointPath = path;
   m_checkpointEvery = every;
 }
 
 void Run::writeCheckpoint(const std::string& path) {
+  refuseSceneInput(scene(), path, "the checkpoint");
   const Checkpoint ck = Checkpoint::of(m_world, *m_pipeline);  // collective under MPI
   m_hooks->write([&] { ck.write(path); });
 }
 
 void Run::writeState(const std::string& path) {
+  refuseSceneInput(scene(), path, "the state file");
   m_pipeline->readState(m_state);
   m_hooks->write([&] {
     const BodyState& s = m_state;

@@ -34,6 +34,7 @@
 #include "binary_io.hpp"
 #include "scene_reader.hpp"
 #include "tumble/error.hpp"
+#include "tumble/output_file.hpp"
 
 namespace tumble::scene_reader {
 
@@ -275,6 +276,18 @@ Scene parseScene(std::string_view text, const std::string& sourceName, const std
 Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides) {
   std::vector<Override> parsed = parseOverrides(overrides);  // mistakes on the command line first
   return parseWith(detail::readWholeFile(path), path, parsed);
+}
+
+void refuseSceneInput(const Scene& scene, const std::string& path, const std::string& what) {
+  if (path.empty()) return;
+  auto refuse = [&](const std::string& input, const std::string& as) {
+    if (!input.empty() && sameFile(path, input))
+      throw Error(what + " " + path + " is " + input + ", " + as +
+                  ": writing it would destroy an input of the run; name another file");
+  };
+  refuse(scene.sourceFile, "the scene file");
+  for (const WallDef& w : scene.walls)
+    if (w.shape == WallDef::Shape::Mesh) refuse(w.meshFile, "the mesh of " + w.where);
 }
 
 }  // namespace tumble

@@ -187,6 +187,7 @@ void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
     r.fail(sourceOf(fn), e.problem() + " (file = \"" + file + "\", looked for at " + resolved +
                              "); a relative file is found from the scene file's folder");
   }
+  wall->meshFile = resolved;
   if (const toml::node* sn = r.find("scale")) {
     if (sn->is_array()) {
       wall->scale = r.vec3(*sn, "scale", Rule::Positive);

@@ -18,7 +18,7 @@ TEST(SceneFiles, EveryFileParses) {
     SCOPED_TRACE(entry.path().string());
     ++numFiles;
     const Scene s = tumble::readSceneFile(entry.path().string());
-    EXPECT_FALSE(s.bodies.empty());
+    EXPECT_FALSE(s.bodies.empty() && s.pourBodies.empty()) << "bodies at the start, or poured (scenes/pour.toml)";
     EXPECT_GT(s.dt, 0.0f);
     EXPECT_GE(s.steps, 1u);
     EXPECT_TRUE(s.ground.enabled || !s.walls.empty()) << "something to land on";

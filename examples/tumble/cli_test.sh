@@ -364,6 +364,14 @@ printf 'v -1 -1 0\nv 2 -1 0\nv 2 2 0\nf 1 2 2\n' > bad.obj
 sed 's/floor.obj/bad.obj/' meshed.toml > badmesh.toml
 expect_status "a degenerate mesh triangle" 2 "$bin" run badmesh.toml -q
 expect_msg "a degenerate mesh triangle" "bad.obj:4: triangle 1 is degenerate: its corners 2 and 3 are the same point .* \(the mesh of \[\[wall\]\] #1 \(badmesh.toml:[0-9]+\)\)"
+# An output named as the mesh the scene reads is refused before anything is written (the mesh
+# would be replaced by the output, and the next run would fail).
+cp floor.obj floor0.obj
+for opt in --state-out --record --thermo --checkpoint; do
+  expect_status "$opt over the scene's mesh" 2 "$bin" run meshed.toml --steps 5 $opt ./floor.obj
+  expect_msg "$opt over the scene's mesh" "^tumble: $opt ./floor.obj is floor.obj, the mesh of \[\[wall\]\] #1 \(meshed.toml:[0-9]+\): writing it would destroy an input"
+done
+cmp -s floor.obj floor0.obj && ok "the mesh is untouched" || bad "floor.obj changed"
 sed 's/floor.obj/nowhere.stl/' meshed.toml > nomesh.toml
 expect_status "a missing mesh file" 2 "$bin" run nomesh.toml -q
 expect_msg "a missing mesh file" "nomesh.toml:[0-9]+: \[\[wall\]\] #1: cannot open the mesh file: No such file or directory \(file = \"nowhere.stl\""

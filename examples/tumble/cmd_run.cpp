@@ -102,6 +102,9 @@ Start prepare(RunOptions& o) {
   refuseSameFile({{"--record", o.record}, {"--thermo", o.thermo}, {"--checkpoint", o.checkpoint},
                   {"--state-out", o.stateOut}, {"scene", o.scene}});
   refuseSameFile({{"--resume", o.resume}, {"--record", o.record}, {"--thermo", o.thermo}, {"--state-out", o.stateOut}});
+  for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"--record", o.record},
+                                     {"--thermo", o.thermo}, {"--checkpoint", o.checkpoint}, {"--state-out", o.stateOut}})
+    refuseSceneInput(scene, path, option);  // a mesh the scene reads, before anything is written
 
   auto run = std::make_unique<Run>(scene);
   if (!run->timeStepWarning().empty() && prints)

@@ -65,6 +65,8 @@ void view(const ViewOptions& o) {
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
   const Scene scene = readSceneFile(o.scene, o.sets);
+  refuseSceneInput(scene, o.record, "--record");
+  refuseSceneInput(scene, o.screenshot, "--screenshot");
   Run run(scene);  // bodies that enter during the run ([[pour]]): its world grows
   if (!run.timeStepWarning().empty())
     std::fprintf(stderr, "tumble view: warning: %s: %s\n", o.scene.c_str(), run.timeStepWarning().c_str());

@@ -6,14 +6,16 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "tumble/pipeline.hpp"
+#include "tumble/error.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/pipeline.hpp"
 #include "tumble/run.hpp"
 #include "tumble/scene_io.hpp"
 
@@ -146,4 +148,34 @@ TEST(RunTest, TheTimeSeriesDoesNotDependOnTheRecordingWithoutGuard) {
   EXPECT_TRUE(recorded.thermo == plain.thermo);
   const Outputs guarded = runIn({400}, 400, true, true, f, "guarded");
   EXPECT_FALSE(guarded.thermo == plain.thermo) << "the guard's checks at every frame sample the swirl's work more often";
+}
+
+// No output of a run is written over a file the scene reads (issue 34, item 2): its own file or
+// a mesh's. The run refuses before anything is written, whoever asks (the CLI checks first too).
+TEST(RunTest, OutputsAreNeverWrittenOverTheScenesInputs) {
+  const Files f;
+  const std::string mesh = "v -1 -1 0\nv 2 -1 0\nv 2 2 0\nv -1 2 0\nf 1 2 3 4\n";
+  std::ofstream(f("floor.obj")) << mesh;
+  std::ofstream(f("meshed.toml")) << "[scene]\ndt = 1e-4\nsteps = 10\n[[wall]]\ntype = \"mesh\"\nfile = \"floor.obj\"\n"
+                                     "[[shape]]\nname = \"ball\"\n[[shape.sphere]]\nradius = 0.1\nmass = 1.0\n"
+                                     "[[body]]\nshape = \"ball\"\nposition = [0.5, 0.5, 0.3]\n";
+  const Scene scene = readSceneFile(f("meshed.toml"));
+  tumble::Run run(scene);  // (inside a TEST, plain Run is gtest's Test::Run)
+  run.load(makePipeline(Backend::Cpu));
+  run.advance(5);
+  RecordSettings rs;
+  rs.path = f("floor.obj");
+  EXPECT_THROW(run.record(rs), Error);
+  EXPECT_THROW(run.writeThermo(f("floor.obj"), 10), Error);
+  EXPECT_THROW(run.writeCheckpoint(f("floor.obj")), Error);
+  EXPECT_THROW(run.checkpointEvery(f("meshed.toml"), 10), Error);
+  try {
+    run.writeState(f("./floor.obj"));
+    ADD_FAILURE() << "the state file replaced the mesh";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the mesh of [[wall]] #1"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(slurp(f("floor.obj")), mesh);
+  run.writeState(f("state.csv"));  // any other file is written
+  EXPECT_GT(slurp(f("state.csv")).size(), 0u);
 }

@@ -132,6 +132,7 @@ struct WallDef {
   /// (per axis, > 0) and the orientation applied after it (a unit quaternion, or any non-zero
   /// one: normalised in double)
   std::shared_ptr<const TriangleMesh> mesh;
+  std::string meshFile;  ///< mesh: the file it was read from (as opened); empty when made in code
   Vec3f scale{1.0f, 1.0f, 1.0f};
   Quatf orientation{1.0f, 0.0f, 0.0f, 0.0f};
   bool moves() const {

@@ -25,6 +25,10 @@ namespace tumble {
 /// reported before the file is read.
 Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides = {});
 
+/// Throws tumble::Error when `path` is a file the scene read (its own file, a mesh's): an output
+/// written there would destroy an input. `what` names the output in the message ("--state-out").
+void refuseSceneInput(const Scene& scene, const std::string& path, const std::string& what);
+
 /// Same as readSceneFile() on text already in memory; `sourceName` is used in messages.
 Scene parseScene(std::string_view text, const std::string& sourceName,
                  const std::vector<std::string>& overrides = {});
