@@ -6,11 +6,11 @@
 
 #include <cstdlib>
 
+#include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/random.hpp"
 #include "tumble/validation/brute_force.hpp"
 #include "tumble/validation/scenes.hpp"
-#include "tumble/factory.hpp"
 
 namespace {
 

@@ -10,10 +10,10 @@
 #include <map>
 #include <memory>
 
+#include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/validation/scenes.hpp"
-#include "tumble/factory.hpp"
 
 namespace {
 

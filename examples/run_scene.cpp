@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// run_scene: a scene file run from C++ as `tumble run` runs it (docs/cpp.md), with the run driver
-// tumble::Run: the scene's pours enter, the guard checks the state, and the outputs asked for are
-// written at the same steps. Prints the kinetic energy ten times along the way.
+// run_scene: a scene file run from C++ with the run driver tumble::Run (docs/cpp.md): the scene's
+// pours enter, the guard checks the state, and the outputs named on the command line are written
+// at the steps tumble run writes them (not the scene's own [output] files, not --debug-record).
+// Prints the kinetic energy ten times along the way.
 //   run_scene SCENE.toml [--steps N] [--pipeline cpu|cuda|cuda-host] [--record FILE] [--thermo FILE.csv]
 #include <cstdio>
 #include <cstdlib>
@@ -20,7 +21,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool hasValue = i + 1 < argc;
-    if (a == "--steps" && hasValue) steps = std::atoll(argv[++i]);
+    if (a == "--steps" && hasValue) {
+      char* end = nullptr;
+      steps = std::strtoll(argv[++i], &end, 10);
+      if (*end != '\0' || steps < 1) {
+        std::fprintf(stderr, "run_scene: --steps %s: expected a whole number of steps >= 1\n", argv[i]);
+        return 2;
+      }
+    }
     else if (a == "--pipeline" && hasValue) pipeline = argv[++i];
     else if (a == "--record" && hasValue) record = argv[++i];
     else if (a == "--thermo" && hasValue) thermo = argv[++i];

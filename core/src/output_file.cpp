@@ -100,6 +100,20 @@ bool writeFully(std::FILE* file, const void* data, std::size_t size) {
   return true;
 }
 
+Appended appendWhole(const OutputFile& out, const void* data, std::size_t size, std::uint64_t& complete, int& error) {
+  std::FILE* file = out.file();
+  if (writeFully(file, data, size) && std::fflush(file) == 0) {
+    complete += size;
+    return Appended::Whole;
+  }
+  error = errno != 0 ? errno : EIO;
+  std::clearerr(file);  // unbuffered: nothing of the record is left to be written later
+  if (out.direct() || ::ftruncate(::fileno(file), static_cast<off_t>(complete)) != 0 ||
+      std::fseek(file, static_cast<long>(complete), SEEK_SET) != 0)
+    return Appended::Torn;
+  return Appended::CutBack;
+}
+
 OutputFile::OutputFile(const std::string& path) : m_path(path) {
   if (const int fd = namedDescriptor(path); fd >= 0) {
     m_direct = m_descriptor = true;

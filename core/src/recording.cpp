@@ -748,17 +748,15 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
   // complete frame, and close() still finishes it.
   // A signal that interrupts the write (a pipe nobody reads) restarts it, unless a stop was
   // requested (writeFully, output_file.hpp).
-  if (!writeFully(m_file, m_buffer.data(), m_buffer.size()) || std::fflush(m_file) != 0) {
-    const std::string why = errnoText(errno != 0 ? errno : EIO);
-    std::clearerr(m_file);  // unbuffered: nothing of the frame is left to be written later
-    if (::ftruncate(::fileno(m_file), static_cast<off_t>(m_complete)) != 0 ||
-        std::fseek(m_file, static_cast<long>(m_complete), SEEK_SET) != 0)
-      m_failed = true;
+  int error = 0;
+  if (const Appended a = appendWhole(*m_out, m_buffer.data(), m_buffer.size(), m_complete, error);
+      a != Appended::Whole) {
+    const std::string why = errnoText(error);
+    m_failed = a == Appended::Torn;
     throw Error(m_failed ? "cannot write frame to recording file '" + m_partPath + "': " + why
                          : "cannot write frame to recording '" + m_path + "': " + why + "; it keeps the " +
                                std::to_string(m_numFrames) + " complete frames written before");
   }
-  m_complete += m_buffer.size();
   ++m_numFrames;
   m_lastStep = step;
 }

@@ -26,6 +26,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -281,7 +282,8 @@ Scene readSceneFile(const std::string& path, const std::vector<std::string>& ove
 void refuseSceneInput(const Scene& scene, const std::string& path, const std::string& what) {
   if (path.empty()) return;
   auto refuse = [&](const std::string& input, const std::string& as) {
-    if (!input.empty() && sameFile(path, input))
+    std::error_code ec;  // (a scene parsed from text names a file it never read: only files there count)
+    if (!input.empty() && std::filesystem::exists(input, ec) && sameFile(path, input))
       throw Error(what + " " + path + " is " + input + ", " + as +
                   ": writing it would destroy an input of the run; name another file");
   };

@@ -19,16 +19,18 @@ const char* thermoHeader() {
 }
 
 ThermoWriter::ThermoWriter(const std::string& path) : m_path(path), m_out(std::make_unique<OutputFile>(path)) {
+  std::setvbuf(m_out->file(), nullptr, _IONBF, 0);  // each row is one write; a failed one leaves nothing buffered
   std::string h = thermoHeader();
   h += '\n';
-  if (!writeFully(m_out->file(), h.data(), h.size()) || std::fflush(m_out->file()) != 0)
-    throw Error("cannot write " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
+  int error = 0;
+  if (appendWhole(*m_out, h.data(), h.size(), m_complete, error) != Appended::Whole)
+    throw Error("cannot write " + path + ": " + std::strerror(error));
 }
 
 ThermoWriter::~ThermoWriter() {
   if (!m_out) return;
   try {
-    m_out->commit();
+    close();
   } catch (const Error&) {  // the rows stay in the temporary; nothing better to do here
   }
 }
@@ -57,14 +59,25 @@ void ThermoWriter::write(const ThermoSample& s) {
     line += buf;
   }
   line += '\n';
-  if (!writeFully(m_out->file(), line.data(), line.size()) || std::fflush(m_out->file()) != 0)
-    throw Error("cannot write " + m_out->path() + ": " + std::strerror(errno != 0 ? errno : EIO));
+  if (m_torn) throw Error("cannot write " + m_out->writingTo() + ": an earlier row could not be cut off");
+  // A row that cannot be written whole (a full disk) is cut off again: the file keeps its whole
+  // rows, and close() still puts it in place.
+  int error = 0;
+  if (const Appended a = appendWhole(*m_out, line.data(), line.size(), m_complete, error); a != Appended::Whole) {
+    m_torn = a == Appended::Torn;
+    throw Error("cannot write " + (m_torn ? m_out->writingTo() : m_path) + ": " + std::strerror(error) +
+                (m_torn ? "" : "; it keeps the " + std::to_string(m_rows) + " whole rows written before"));
+  }
   ++m_rows;
 }
 
 void ThermoWriter::close() {
   if (!m_out) return;
   std::unique_ptr<OutputFile> out = std::move(m_out);
+  if (m_torn) {  // a torn row is left where the error said, never renamed into place
+    out->keep();
+    return;
+  }
   out->commit();
 }
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "tumble/pipeline.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/pipeline.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/scenes.hpp"
 

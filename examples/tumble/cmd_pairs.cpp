@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "tumble/particle_csv.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/particle_csv.hpp"
 #include "tumble/pipeline.hpp"
 
 namespace tumble::cli {

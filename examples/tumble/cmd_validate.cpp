@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "tumble/pipeline.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/pipeline.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"

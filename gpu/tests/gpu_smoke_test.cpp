@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "tumble_test/cuda_gate.hpp"
-#include "tumble/kernels/overlap.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/kernels/overlap.hpp"
 #include "tumble/random.hpp"
 #include "tumble/world.hpp"
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <unistd.h>
 
-#include "tumble/pipeline.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/pipeline.hpp"
 
 namespace tumble::fuzz {
 

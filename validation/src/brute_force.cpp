@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "tumble/validation/brute_force.hpp"
-#include "tumble/factory.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -10,6 +9,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "tumble/factory.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/kernels/periodic.hpp"

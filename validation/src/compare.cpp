@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "tumble/validation/compare.hpp"
-#include "tumble/factory.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,6 +9,7 @@
 #include <iterator>
 #include <memory>
 
+#include "tumble/factory.hpp"
 #include "tumble/random.hpp"
 #include "tumble/validation/brute_force.hpp"
 #include "tumble/validation/scenes.hpp"

@@ -12,8 +12,8 @@
 
 #include <unistd.h>
 
-#include "tumble/recording.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/recording.hpp"
 
 #include "tumble/validation/scenes.hpp"
 

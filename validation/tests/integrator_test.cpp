@@ -10,8 +10,8 @@
 #include <cstdio>
 
 #include "tumble_test/cuda_gate.hpp"
-#include "tumble/kernels/integrate.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/kernels/integrate.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/world.hpp"
 

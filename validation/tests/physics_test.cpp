@@ -9,8 +9,8 @@
 #include <cstdio>
 
 #include "tumble_test/cuda_gate.hpp"
-#include "tumble/validation/scenes.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/validation/scenes.hpp"
 #include "tumble/world.hpp"
 
 using namespace tumble;

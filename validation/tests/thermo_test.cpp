@@ -3,13 +3,23 @@
 // computed here from the state, conservation laws of free motion, and the same bits for any
 // thread count.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 #include <vector>
 
-#include "tumble/guard.hpp"
+#include "tumble/error.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/thermo.hpp"
@@ -146,4 +156,90 @@ TEST(Thermo, SameBitsForAnyThreadCount) {
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << "sample " << c;
   }
   EXPECT_NE(runs[0].back().pullWork, 0.0);  // the swirl did work
+}
+
+// A full disk (here a file size limit, which fails writes the same way) in the middle of a row:
+// the torn row is cut off again, and the finished file holds the header and every whole row,
+// as a recording keeps its whole frames (issue 34, item 6).
+TEST(Thermo, ARowThatCannotBeWrittenIsCutOff) {
+  char tmpl[] = "/tmp/tumble_thermo_test.XXXXXX";
+  ASSERT_NE(mkdtemp(tmpl), nullptr);
+  const std::string dir = tmpl, path = dir + "/t.csv";
+  ThermoSample s;
+  s.finite = true;
+  s.kineticTranslation = 1.25;
+  s.time = 0.5;
+  struct rlimit old {};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);  // EFBIG instead of the signal
+  std::string what;
+  {
+    ThermoWriter w(path);
+    w.write(s);
+    s.step = 10;
+    w.write(s);
+    std::uintmax_t written = 0;  // the temporary's size: the header and two rows
+    for (const auto& e : std::filesystem::directory_iterator(dir)) written = std::filesystem::file_size(e.path());
+    struct rlimit small = old;
+    small.rlim_cur = written + 20;  // the next row stops after 20 bytes
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    s.step = 20;
+    try {
+      w.write(s);
+    } catch (const Error& e) {
+      what = e.what();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, oldHandler);
+    EXPECT_NE(what.find("t.csv: File too large; it keeps the 2 whole rows written before"), std::string::npos) << what;
+    EXPECT_EQ(w.rows(), 2u);
+    w.close();
+  }
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> lines;
+  while (std::getline(in, line)) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 3u) << "the header and the two whole rows";
+  for (const std::string& l : lines) EXPECT_EQ(std::count(l.begin(), l.end(), ','), long(kThermoColumns - 1)) << l;
+  EXPECT_EQ(lines[2].rfind("10,", 0), 0u) << lines[2];
+  std::filesystem::remove_all(dir);
+}
+
+// Through a descriptor the process was given (`--thermo /dev/stdout >> runs.csv`), the file holds
+// what others wrote before: a row that fails is never cut back there (it would cut their bytes).
+TEST(Thermo, AFailedRowThroughADescriptorCutsNothing) {
+  char tmpl[] = "/tmp/tumble_thermo_test.XXXXXX";
+  ASSERT_NE(mkdtemp(tmpl), nullptr);
+  const std::string dir = tmpl, path = dir + "/runs.csv";
+  const std::string before(4000, 'P');  // an earlier run's lines
+  std::ofstream(path) << before;
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND);
+  ASSERT_GE(fd, 0);
+  struct rlimit old {};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
+  std::string what;
+  {
+    ThermoWriter w("/dev/fd/" + std::to_string(fd));
+    ThermoSample s;
+    s.finite = true;
+    struct rlimit small = old;
+    small.rlim_cur = std::filesystem::file_size(path) + 100;  // the next row stops within it
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    try {
+      for (int k = 0; k < 10; ++k) w.write(s);
+    } catch (const Error& e) {
+      what = e.what();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, oldHandler);
+    EXPECT_NE(what.find("File too large"), std::string::npos) << what;
+    EXPECT_EQ(what.find("keeps"), std::string::npos) << "nothing was cut back: " << what;
+  }
+  ::close(fd);
+  std::ifstream in(path, std::ios::binary);
+  const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_GT(all.size(), before.size());
+  EXPECT_EQ(all.compare(0, before.size(), before), 0) << "the earlier bytes are all there";
+  std::filesystem::remove_all(dir);
 }

@@ -16,6 +16,7 @@
 ///   is untouched; abandon() (or the destructor) removes the temporary.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -37,6 +38,18 @@ bool writeStopRequested() noexcept;
 /// (EINTR) unless writeStopRequested(). Returns false on an error, errno telling which (EINTR
 /// once a stop was requested).
 bool writeFully(std::FILE* file, const void* data, std::size_t size);
+
+/// What appendWhole() did.
+enum class Appended { Whole, CutBack, Torn };
+/// Appends one record of a file made of records (a recording's frames, a time series' rows) to
+/// `out`'s file, which must be unbuffered (setvbuf _IONBF), and flushes it: Whole, and `complete`
+/// (the bytes of the whole records) grows by `size`; or, when the write fails (a full disk), the
+/// temporary is cut back to `complete` bytes and CutBack says it keeps every whole record; Torn
+/// when even that failed, or when `out` writes to its target directly (OutputFile::direct(): a
+/// descriptor's file may hold what others wrote, and is never cut). `error` receives errno of
+/// the failed write.
+class OutputFile;
+Appended appendWhole(const OutputFile& out, const void* data, std::size_t size, std::uint64_t& complete, int& error);
 
 /// Whether `path` names a descriptor of this process (/dev/stdout, /dev/stderr, /dev/fd/N,
 /// /proc/self/fd/N), which OutputFile writes through.
@@ -64,6 +77,9 @@ class OutputFile {
   /// Written through a descriptor the process already had (/dev/stdout, /dev/fd/N, …): its
   /// offset is shared with whoever opened it, so the writer must not seek.
   bool throughDescriptor() const { return m_descriptor; }
+  /// Written to the target itself, with no temporary (a device, a FIFO, a descriptor): what is
+  /// there is not the writer's alone, so it must not be cut back (appendWhole).
+  bool direct() const { return m_direct; }
   /// Closes and renames into place (or just closes a direct target). Throws tumble::Error with
   /// the reason (the temporary is removed then).
   void commit();

@@ -53,6 +53,8 @@ class ThermoWriter {
   std::string m_path;
   std::unique_ptr<OutputFile> m_out;
   std::uint64_t m_rows = 0;
+  std::uint64_t m_complete = 0;  ///< bytes of the header and the whole rows
+  bool m_torn = false;           ///< a failed row could not be cut off again
 };
 
 /// The CSV header line, without the newline: kThermoColumns names.

@@ -7,8 +7,8 @@
 
 #include <numeric>
 
-#include "tumble/scene_io.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/scene_io.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"
 #include "tumble_test/cuda_gate.hpp"
