@@ -40,6 +40,15 @@ void Run::resume(const std::string& path, const std::string& sceneName) {
 
 Run::~Run() = default;
 
+namespace {
+
+// What needs the pipeline, before load() gave it one: a programming error, said as one.
+void requireLoaded(const std::unique_ptr<Pipeline>& pipeline, const char* what) {
+  if (!pipeline) throw Error(std::string("Run::") + what + " before Run::load(): load the run's pipeline first");
+}
+
+}  // namespace
+
 void Run::load(std::unique_ptr<Pipeline> pipeline, const RunChecks& checks, RunHooks* hooks) {
   if (checks.every < 1) throw Error("the guard's interval must be at least 1 step");
   m_checks = checks;
@@ -55,12 +64,14 @@ World Run::finalWorld() const {
 }
 
 StepStats Run::stats() const {
+  requireLoaded(m_pipeline, "stats()");
   StepStats st = m_statsBefore;
   st.add(m_pipeline->stats());
   return st;
 }
 
 ThermoSample Run::sampleNow() const {
+  requireLoaded(m_pipeline, "sampleNow()");
   if (!m_guard) throw Error("this run measures nothing (no guard: RunChecks::stop and measure are off)");
   if (m_guard->sample().step == m_pipeline->stepCount()) return m_guard->sample();  // checked at this step
   RunGuard probe(*m_guard);
@@ -82,6 +93,7 @@ bool Run::writeOrGiveUp(const std::function<void()>& write) {
 }
 
 Advanced Run::advance(std::uint64_t n) {
+  requireLoaded(m_pipeline, "advance()");
   Pipeline& pipeline = *m_pipeline;
   const std::uint64_t start = pipeline.stepCount();
   const std::uint64_t end = start + n;
@@ -169,6 +181,7 @@ void checkContinues(const RecordingWriter& rec, std::uint64_t start, const Recor
 }  // namespace
 
 void Run::record(const RecordSettings& s) {
+  requireLoaded(m_pipeline, "record()");
   if (s.stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
   refuseSceneInput(scene(), s.path, "the recording");
   const std::uint64_t step = m_pipeline->stepCount();
@@ -205,6 +218,7 @@ void Run::closeRecording() {
 }
 
 void Run::writeThermo(const std::string& path, std::uint64_t every) {
+  requireLoaded(m_pipeline, "writeThermo()");
   if (every < 1) throw Error("the time series' interval must be at least 1 step");
   refuseSceneInput(scene(), path, "the time series");
   const ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
@@ -236,12 +250,14 @@ void Run::checkpointEvery(const std::string& path, std::uint64_t every) {
 }
 
 void Run::writeCheckpoint(const std::string& path) {
+  requireLoaded(m_pipeline, "writeCheckpoint()");
   refuseSceneInput(scene(), path, "the checkpoint");
   const Checkpoint ck = Checkpoint::of(m_world, *m_pipeline);  // collective under MPI
   m_hooks->write([&] { ck.write(path); });
 }
 
 void Run::writeState(const std::string& path) {
+  requireLoaded(m_pipeline, "writeState()");
   refuseSceneInput(scene(), path, "the state file");
   m_pipeline->readState(m_state);
   m_hooks->write([&] {

@@ -161,6 +161,8 @@ TEST(RunTest, OutputsAreNeverWrittenOverTheScenesInputs) {
                                      "[[body]]\nshape = \"ball\"\nposition = [0.5, 0.5, 0.3]\n";
   const Scene scene = readSceneFile(f("meshed.toml"));
   tumble::Run run(scene);  // (inside a TEST, plain Run is gtest's Test::Run)
+  EXPECT_THROW(run.advance(1), Error) << "before load(): said, not a null pipeline";
+  EXPECT_THROW(run.writeState(f("state.csv")), Error);
   run.load(makePipeline(Backend::Cpu));
   run.advance(5);
   RecordSettings rs;
