@@ -291,6 +291,12 @@ expect_status "run --set, the last wins" 0 "$bin" run small.toml --set scene.dt=
 cmp -s last.csv edited.csv && ok "the last --set of a key wins" || bad "the last --set of a key did not win"
 expect_status "run --set scene.steps and --steps" 0 "$bin" run small.toml --set scene.steps=10 --steps 50 --state-out steps.csv -q
 cmp -s steps.csv plain.csv && ok "--steps wins over --set scene.steps" || bad "--set scene.steps won over --steps"
+# A misspelt option is refused with the nearest the command has (issue 35, item 12).
+expect_status "a misspelt option" 2 "$bin" run small.toml --stesp 5 --recrod=x.bin
+expect_msg "a misspelt option" "^tumble run: unknown option --stesp; did you mean --steps\?"
+expect_msg "a misspelt option=value" "^tumble run: unknown option --recrod; did you mean --record\?"
+expect_status "an option far from any" 2 "$bin" view small.toml --zzzzzz
+grep -q "did you mean" err.txt && bad "a suggestion for --zzzzzz: $(cat err.txt)" || ok "no suggestion far from every option"
 expect_status "run --set bad value" 2 "$bin" run small.toml --set ground.friction=-1 --state-out badset.csv
 expect_msg "run --set bad value" "^tumble: command line, --set ground.friction=-1: \[ground\]: friction must be >= 0 \(got -1\)$"
 [ -e badset.csv ] && bad "a bad --set wrote badset.csv" || ok "a bad --set writes nothing"

@@ -2,9 +2,11 @@
 // tumble: simulate rigid bodies made of spheres, find contact pairs, benchmark the pipelines,
 // and show, play back or render the animation.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "tumble/config.hpp"
@@ -83,6 +85,45 @@ std::string subcommandOf(int argc, char** argv) {
   return "";
 }
 
+// Levenshtein distance of two short strings.
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// After "The following arguments were not expected": for each argument that looks like an option
+// the subcommand does not have (--stesp), the nearest it has (--steps), when one is close.
+void suggestOptions(const CLI::App& app, int argc, char** argv) {
+  const std::vector<CLI::App*> subs = app.get_subcommands();
+  const CLI::App& sub = subs.empty() ? app : *subs.front();
+  std::vector<std::string> names;
+  for (const CLI::Option* opt : sub.get_options())
+    for (const std::string& n : opt->get_lnames()) names.push_back("--" + n);
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = std::string(argv[a]).substr(0, std::string(argv[a]).find('='));
+    if (arg.rfind("--", 0) != 0 || std::find(names.begin(), names.end(), arg) != names.end()) continue;
+    std::string best;
+    std::size_t bestDistance = 3;  // at most two edits away, and less than half the name
+    for (const std::string& n : names)
+      if (const std::size_t d = editDistance(arg, n); d < bestDistance && 2 * d < n.size()) {
+        best = n;
+        bestDistance = d;
+      }
+    if (!best.empty()) std::fprintf(stderr, "tumble %s: unknown option %s; did you mean %s?\n", sub.get_name().c_str(),
+                                    arg.c_str(), best.c_str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -131,6 +172,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int rc = prints ? app.exit(e) : e.get_exit_code();
+    if (prints && dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) suggestOptions(app, argc, argv);
     return rc == 0 ? 0 : tumble::cli::kExitBadInput;
   } catch (const tumble::cli::Exit& e) {
     return e.status;
