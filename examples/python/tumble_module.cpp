@@ -203,7 +203,6 @@ class Simulation {
     rs.path = pathOf(pathArg);
     rs.stepsPerFrame = perFrame.value_or(m_run.world().params.stepsPerFrame);
     rs.debug = debug;
-    if (rs.stepsPerFrame < 1) throw Error("steps_per_frame must be at least 1");
     if (m_run.thermoOn() && sameFile(rs.path, m_run.thermo()->path()))
       throw Error("record: " + rs.path + " is the time series' file (write_thermo): name another file");
     m_run.record(rs);  // when the new file cannot be opened, the recording under way goes on

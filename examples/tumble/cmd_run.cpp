@@ -133,7 +133,6 @@ class CliHooks : public RunHooks {
     m_t0 = m_lastPrint = std::chrono::steady_clock::now();
   }
   bool stopRequested() override { return m_ranks.maxOf(g_stopSignal) != 0; }  // a signal any rank saw
-  bool writes() const override { return m_ranks.writes(); }
   void write(const std::function<void()>& write) override {
     m_ranks.together([&] {
       if (m_ranks.writes()) write();

@@ -42,9 +42,8 @@ class RunHooks {
   virtual void stepping(const std::function<void()>& steps) { steps(); }
   /// After every stretch: the step reached (a progress line).
   virtual void progress(std::uint64_t /*step*/) {}
-  /// Whether this process writes the outputs (under MPI rank 0 alone; the others hold no file).
-  virtual bool writes() const { return true; }
-  /// Runs `write` where writes(), so that its failure ends every process with its message.
+  /// Runs `write` on the process that writes the outputs (under MPI rank 0 alone; the others
+  /// hold no file), so that its failure ends every process with its message.
   virtual void write(const std::function<void()>& write) { write(); }
   /// After a write in the loop failed with tumble::Error: whether to give it up, the run then
   /// stopping as interrupted without it (tumble run: a stop was asked and nobody reads the pipe).
