@@ -30,6 +30,41 @@ execute_process(COMMAND ${EXPECTED} OUTPUT_VARIABLE want)
 if(NOT rc EQUAL 0 OR NOT got STREQUAL want)
   message(FATAL_ERROR "hello_spheres built against the package printed\n  ${got}the build's own printed\n  ${want}")
 endif()
+# A CPU program built against the package links no CUDA (issue 35, item 5): neither the CUDA
+# runtime nor the module, and asking it for the cuda backend says how to get it.
+file(STRINGS ${out}/hello_spheres cuda_strings REGEX "cudaGetDeviceCount|libcudart|tumble_cuda_module")
+if(cuda_strings)
+  message(FATAL_ERROR "hello_spheres, linked with tumble::tumble alone, holds CUDA: ${cuda_strings}")
+endif()
+execute_process(COMMAND ${out}/hello_spheres --backend=cuda RESULT_VARIABLE rc ERROR_VARIABLE why OUTPUT_QUIET)
+if(HAS_CUDA)
+  set(want "not linked with tumble's CUDA module \\(link tumble::cuda: find_package\\(tumble COMPONENTS cuda\\)")
+else()
+  set(want "this build of tumble has no CUDA pipeline")
+endif()
+if(rc EQUAL 0 OR NOT why MATCHES "${want}")
+  message(FATAL_ERROR "hello_spheres --backend=cuda without tumble::cuda (status ${rc}) said: ${why}(expected: ${want})")
+endif()
+# With COMPONENTS cuda: the package built with CUDA gives tumble::cuda, whose program has the
+# backend (here "no device" at most: it asks the CUDA runtime); one built without is not found.
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE}/examples/installed -B ${out}-cuda -G ${GENERATOR}
+                        -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix} -DWITH_CUDA=ON
+                RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+if(HAS_CUDA)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "configuring examples/installed with COMPONENTS cuda failed:\n${log}")
+  endif()
+  execute_process(COMMAND ${CMAKE_COMMAND} --build ${out}-cuda --target hello_spheres RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "building hello_spheres with tumble::cuda failed:\n${log}")
+  endif()
+  execute_process(COMMAND ${out}-cuda/hello_spheres --backend=cuda RESULT_VARIABLE rc ERROR_VARIABLE why OUTPUT_VARIABLE ran)
+  if(why MATCHES "not linked with" OR NOT (rc EQUAL 0 OR why MATCHES "CUDA"))
+    message(FATAL_ERROR "hello_spheres with tumble::cuda has no cuda backend (status ${rc}): ${ran}${why}")
+  endif()
+elseif(rc EQUAL 0 OR NOT log MATCHES "built without its CUDA module")
+  message(FATAL_ERROR "COMPONENTS cuda of a package without CUDA (status ${rc}) said:\n${log}")
+endif()
 # run_scene (docs/cpp.md), built against the package, runs the installed scene of pours alone:
 # its bodies enter (the run driver, tumble::Run).
 execute_process(COMMAND ${out}/run_scene ${prefix}/share/tumble/scenes/pour.toml --steps 1000

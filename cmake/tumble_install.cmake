@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: MIT
 # `cmake --install BUILD [--prefix DIR]` (README "Installing"): the headers, the libraries, the
 # `tumble` command, the scenes and a CMake package, so that another project writes
-#   find_package(tumble REQUIRED)
-#   target_link_libraries(app PRIVATE tumble::tumble)   # tumble::cuda too when it was built
+#   find_package(tumble REQUIRED)                        # COMPONENTS cuda for the CUDA pipeline
+#   target_link_libraries(app PRIVATE tumble::tumble)   # and tumble::cuda: no CUDA without it
 # The validation harness (brute force, comparisons, the study) is not installed: it is the
 # `tumble validate` command's own library.
 include(CMakePackageConfigHelpers)
 
-# tumble::tumble: the library as one target (core + CPU pipeline, and the CUDA module when built).
+# tumble::tumble: the library as one target (core, CPU pipeline, cuda-host, the factory); the CUDA
+# module is tumble::cuda, linked on request (core/factory/CMakeLists.txt).
 add_library(tumble_all INTERFACE)
 target_link_libraries(tumble_all INTERFACE tumble_core tumble_cpu tumble_pipelines)
 set_target_properties(tumble_all PROPERTIES EXPORT_NAME tumble)
@@ -34,7 +35,7 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/include/ ${PROJECT_SOURCE_DIR}/core
                   ${PROJECT_SOURCE_DIR}/cpu/primitives/include/ ${PROJECT_BINARY_DIR}/generated/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.hpp")
 # The CUDA pipeline's headers: host_pipeline.hpp always (cuda-host), cuda_pipeline.hpp with the
-# CUDA module only (it declares what only that module defines).
+# CUDA module only (it declares what only that module defines; the factory, compiled here, refers to it weakly).
 if(TARGET tumble_gpu)
   set(_tumble_gpu_headers PATTERN "*.hpp")
 else()
@@ -66,7 +67,7 @@ if(TUMBLE_BUILD_TESTS AND TUMBLE_BUILD_EXAMPLES)
   add_test(NAME install_package
            COMMAND ${CMAKE_COMMAND} -DBUILD=${PROJECT_BINARY_DIR} -DSOURCE=${PROJECT_SOURCE_DIR}
                    -DGENERATOR=${CMAKE_GENERATOR} -DCXX=${CMAKE_CXX_COMPILER}
-                   -DEXPECTED=$<TARGET_FILE:hello_spheres>
+                   -DEXPECTED=$<TARGET_FILE:hello_spheres> -DHAS_CUDA=${TUMBLE_HAS_CUDA}
                    "-DPYTHON=$<$<TARGET_EXISTS:tumble_python>:${TUMBLE_PYTHON_FOR_TESTS}>"
                    -DPYTHON_DIR=${TUMBLE_PYTHON_INSTALL_DIR} -P ${PROJECT_SOURCE_DIR}/cmake/test_install.cmake)
   set_tests_properties(install_package PROPERTIES LABELS examples TIMEOUT 600)

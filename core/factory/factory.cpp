@@ -8,24 +8,30 @@
 #include "tumble/error.hpp"
 #include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
-#include "tumble/gpu/host_pipeline.hpp"
-#if TUMBLE_HAS_CUDA
 #include "tumble/gpu/cuda_pipeline.hpp"
-#endif
+#include "tumble/gpu/host_pipeline.hpp"
+
+// The CUDA module, when the program links it (tumble::cuda): a weak reference, null otherwise, so
+// that linking this factory pulls in neither the module nor the CUDA runtime.
+extern "C" const tumble::gpu::CudaModule* tumble_cuda_module() __attribute__((weak));
 
 namespace tumble {
+namespace {
+
+const gpu::CudaModule* cudaModule() { return tumble_cuda_module != nullptr ? tumble_cuda_module() : nullptr; }
+
+}  // namespace
 
 std::vector<Backend> compiledBackends() {
-#if TUMBLE_HAS_CUDA
-  return {Backend::Cpu, Backend::Cuda, Backend::CudaHost};
-#else
+  if (cudaModule() != nullptr) return {Backend::Cpu, Backend::Cuda, Backend::CudaHost};
   return {Backend::Cpu, Backend::CudaHost};
-#endif
 }
 
 CudaStatus cudaStatus() {
+  if (const gpu::CudaModule* m = cudaModule()) return m->status();
 #if TUMBLE_HAS_CUDA
-  return gpu::deviceStatus();
+  return {CudaState::NoDevice, "this program was not linked with tumble's CUDA module (link tumble::cuda: "
+                               "find_package(tumble COMPONENTS cuda), docs/cpp.md)"};
 #else
   return {CudaState::NoDevice, "this build of tumble has no CUDA pipeline (rebuild with a CUDA compiler, "
                                "TUMBLE_ENABLE_CUDA=ON)"};
@@ -48,12 +54,9 @@ std::unique_ptr<HaloPipeline> makeHaloPipeline(Backend backend, const PipelineOp
                 std::to_string(kMaxThreads));
   if (backend == Backend::Cpu) return cpu::makeCpuHaloPipeline(options);
   if (backend == Backend::CudaHost) return gpu::makeCudaHostPipeline(options);
-#if TUMBLE_HAS_CUDA
-  return gpu::makeCudaPipeline(options);  // requireReady(deviceStatus()) first
-#else
+  if (const gpu::CudaModule* m = cudaModule()) return m->make(options);  // requireReady(deviceStatus()) first
   requireBackend(backend);  // throws: no CUDA module
   return nullptr;
-#endif
 }
 
 }  // namespace tumble

@@ -66,3 +66,8 @@ std::unique_ptr<HaloPipeline> makeCudaPipeline(const PipelineOptions& options) {
 }
 
 }  // namespace tumble::gpu
+
+extern "C" const tumble::gpu::CudaModule* tumble_cuda_module() {
+  static const tumble::gpu::CudaModule module{&tumble::gpu::makeCudaPipeline, &tumble::gpu::deviceStatus};
+  return &module;
+}

@@ -37,5 +37,17 @@ std::unique_ptr<HaloPipeline> makeCudaPipeline(const PipelineOptions& options = 
 /// throws; do not call it from a static initialiser (test discovery runs binaries at build time).
 CudaStatus deviceStatus() noexcept;
 
+/// The CUDA module as the pipeline factory (tumble/factory.hpp) finds it: its two entry points.
+struct CudaModule {
+  std::unique_ptr<HaloPipeline> (*make)(const PipelineOptions&);
+  CudaStatus (*status)() noexcept;
+};
+
 }  // namespace gpu
 }  // namespace tumble
+
+/// Defined by the CUDA module (tumble::cuda) alone. The factory refers to it weakly, so a program
+/// links the module, and with it the CUDA runtime, only when it links tumble::cuda (whose link
+/// options ask the linker for this symbol): a CPU program built against the package
+/// (find_package(tumble) without COMPONENTS cuda) needs no CUDA to start (docs/cpp.md).
+extern "C" const tumble::gpu::CudaModule* tumble_cuda_module();
