@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/memory.hpp"
 
 namespace tumble::detail {
 
@@ -43,25 +44,58 @@ inline std::string hex32(std::uint32_t v) {
   return s;
 }
 
-/// The bytes of the file at `path` (a scene, a particle list, a mesh): InputError(path, 0,
+/// How much of a text or mesh file a reader takes (readWholeFile()).
+struct FileLimit {
+  const char* name;         ///< "a scene file", for the messages
+  std::uint64_t maxBytes;   ///< larger files are refused, saying this limit
+  std::uint64_t memoryPerByte;  ///< what reading holds per byte of the file (the bytes and what they become)
+  const char* instead;      ///< what to do with a larger input
+};
+
+/// The readers' limits. A scene's tables are read into toml++'s tree (about 30 bytes of it per byte
+/// of text, measured); a mesh holds its welded vertices, triangles, their lines, the check of
+/// repeated triangles and then the kernels' copy, about 9 bytes per byte of a binary STL (450 per
+/// triangle: a 2-million-triangle STL of 100 MB took 0.9 GB); a particle list about 3.
+inline constexpr FileLimit kSceneFileLimit{"a scene file", std::uint64_t{256} << 20, 30,
+                                           "list many bodies with [[group]], [[fill]] or [[pour]] tables instead of one "
+                                           "[[body]] table each (docs/scenes.md)"};
+inline constexpr FileLimit kMeshFileLimit{"a mesh file", std::uint64_t{1} << 30, 9,
+                                          "simplify the mesh (a wall needs its shape, not its scan: meshlab, "
+                                          "blender's decimate) or split it into several [[wall]]s"};
+inline constexpr FileLimit kParticleFileLimit{"a particle file", std::uint64_t{16} << 30, 3, "split the particle list"};
+
+/// The bytes of the regular file at `path` (a scene, a particle list, a mesh): InputError(path, 0,
 /// "cannot open[ WHAT]: reason") when it cannot be opened (a folder included), "cannot read…"
-/// when reading fails.
-inline std::string readWholeFile(const std::string& path, const std::string& what = "") {
+/// when reading fails; refused before a byte is read when it is not a regular file (a device
+/// such as /dev/zero, a FIFO: their size is unknown), when it is larger than `limit.maxBytes`,
+/// and when `limit.memoryPerByte` times its size would not fit in memory (memoryShortfall()).
+inline std::string readWholeFile(const std::string& path, const std::string& what, const FileLimit& limit) {
   const std::string of = what.empty() ? std::string() : " " + what;
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, 0, "cannot open" + of + ": " + errnoText(EISDIR));
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);  // before opening: a FIFO would block
+  if (std::filesystem::is_directory(st)) throw InputError(path, 0, "cannot open" + of + ": " + errnoText(EISDIR));
+  if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+    throw InputError(path, 0, std::string("not a regular file (a device, a FIFO or a socket): give ") + limit.name +
+                                  " as a file; its size must be known before it is read");
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     const int err = errno;
     throw InputError(path, 0, "cannot open" + of + ": " + errnoText(err));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
+  const std::uint64_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path, 0, "cannot read" + of + ": " + ec.message());
+  if (size > limit.maxBytes)
+    throw InputError(path, 0, bytesText(size) + ", more than the " + bytesText(limit.maxBytes) + " tumble reads as " +
+                                  limit.name + "; " + limit.instead);
+  if (const std::string why = memoryShortfall(size * limit.memoryPerByte); !why.empty())
+    throw InputError(path, 0, std::string("reading ") + limit.name + " of " + bytesText(size) + " needs " + why);
+  std::string bytes(size, '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (in.bad() || static_cast<std::uint64_t>(in.gcount()) != size) {
     const int err = errno;
-    throw InputError(path, 0, "cannot read" + of + ": " + errnoText(err));
+    throw InputError(path, 0, "cannot read" + of + ": " + (in.bad() ? errnoText(err) : "the file changed while it was read"));
   }
-  return text.str();
+  return bytes;
 }
 
 // ---- encoding ------------------------------------------------------------------------------

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 #include "binary_io.hpp"
 #include "tumble/error.hpp"
@@ -65,6 +66,9 @@ std::vector<const std::vector<float>*> bodyColumns(const BodyState& s) {
 std::vector<std::vector<float>*> bodyColumns(BodyState& s) {
   return {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz};
 }
+// How far from 1 a stored orientation's length may be: float roundings of a normalised
+// quaternion are a few 1e-7.
+constexpr double kUnitQuaternionTolerance = 1e-4;
 const char* const kColumnNames[13] = {"px", "py", "pz", "vx", "vy", "vz", "qw",
                                       "qx", "qy", "qz", "lx", "ly", "lz"};
 
@@ -346,6 +350,24 @@ Checkpoint Checkpoint::read(const std::string& path) {
   Decoder sd(in, buf, stateAt);
   auto cols = bodyColumns(c.state);
   for (int k = 0; k < 13; ++k) sd.finiteColumn(*cols[k], static_cast<std::size_t>(nb), kColumnNames[k]);
+  // Values a run can have, as the scene reader checks them: positions in the world (the frame's
+  // origin plus the local one) within single precision, and unit orientations (the pipelines
+  // keep them to a few float roundings; a crafted zero or huge one is refused).
+  const auto entry = [&](int column, std::uint64_t body) { return stateAt + 4 * (std::uint64_t(column) * nb + body); };
+  const double frameAxis[3] = {c.frame.x, c.frame.y, c.frame.z};
+  for (std::uint64_t b = 0; b < nb; ++b) {
+    for (int a = 0; a < 3; ++a) {
+      const double x = frameAxis[a] + double((*cols[a])[b]);
+      if (!(std::fabs(x) <= double(std::numeric_limits<float>::max())))
+        in.fail(entry(a, b), "body " + std::to_string(b) + "'s position " + "xyz"[a] + " (the frame origin's " +
+                                 std::to_string(frameAxis[a]) + " plus " + kColumnNames[a] + ") is beyond single precision");
+    }
+    const double w = c.state.qw[b], x = c.state.qx[b], y = c.state.qy[b], z = c.state.qz[b];
+    const double length = std::sqrt(w * w + x * x + y * y + z * z);
+    if (!(std::fabs(length - 1.0) <= kUnitQuaternionTolerance))
+      in.fail(entry(6, b), "body " + std::to_string(b) + "'s orientation is not a unit quaternion (its length is " +
+                               std::to_string(length) + ")");
+  }
   sd.finiteColumn(c.state.groundSpringX, static_cast<std::size_t>(np), "groundSpringX");
   sd.finiteColumn(c.state.groundSpringY, static_cast<std::size_t>(np), "groundSpringY");
   readHistories(sd, in, static_cast<std::size_t>(nc), &ContactHistory::i, &ContactHistory::j, true, "contact history",

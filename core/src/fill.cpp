@@ -241,7 +241,7 @@ std::uint32_t drawShape(Scene& scene, Rng& rng, const std::vector<std::uint32_t>
       s.radius *= factor;
       s.mass *= m;
     }
-    if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres()); !why.empty())
+    if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres(), scene.gravity); !why.empty())
       throw Error(where + ": shape '" + sh.name + "': " + why);
     scene.shapes.push_back(sh);
   }

@@ -299,6 +299,39 @@ void parseObj(std::string_view text, TriangleMesh& m) {
   }
 }
 
+/// A triangle listed twice (the same three welded corners, in any order) would double the wall's
+/// spring where a sphere touches it: refused at the later copy, naming the first.
+void refuseRepeatedTriangles(const TriangleMesh& m) {
+  struct Key {
+    std::array<std::uint32_t, 3> corners;
+    std::uint32_t triangle;
+  };
+  const std::size_t n = m.numTriangles();
+  std::vector<Key> keys(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    std::array<std::uint32_t, 3> c{m.triangles[3 * t], m.triangles[3 * t + 1], m.triangles[3 * t + 2]};
+    std::sort(c.begin(), c.end());
+    keys[t] = Key{c, static_cast<std::uint32_t>(t)};
+  }
+  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+    return a.corners != b.corners ? a.corners < b.corners : a.triangle < b.triangle;
+  });
+  std::size_t later = n, first = n;  // the earliest copy in the file, and what it repeats
+  for (std::size_t k = 1; k < n; ++k)
+    if (keys[k].corners == keys[k - 1].corners && keys[k].triangle < later) {
+      std::size_t f = k - 1;
+      while (f > 0 && keys[f - 1].corners == keys[k].corners) --f;
+      later = keys[k].triangle;
+      first = keys[f].triangle;
+    }
+  if (later == n) return;
+  throw InputError(m.file, m.binary ? 0L : static_cast<long>(m.source[later]),
+                   (m.binary ? "byte " + std::to_string(m.source[later]) + ": " : std::string()) + "triangle " +
+                       std::to_string(later + 1) + " repeats triangle " + std::to_string(first + 1) + " (" +
+                       m.where(first) + "): the same three corners; a triangle listed twice doubles the wall's "
+                       "spring where a sphere touches it: remove the copy");
+}
+
 }  // namespace
 
 std::string TriangleMesh::where(std::size_t t) const {
@@ -328,10 +361,13 @@ TriangleMesh parseMesh(std::string_view bytes, const std::string& name) {
   }
   if (m.numTriangles() == 0)
     throw InputError(name, 0, "the mesh has no triangles (an empty solid, or vertices without faces); a mesh wall needs at least one");
+  refuseRepeatedTriangles(m);
   return m;
 }
 
-TriangleMesh readMeshFile(const std::string& path) { return parseMesh(detail::readWholeFile(path, "the mesh file"), path); }
+TriangleMesh readMeshFile(const std::string& path) {
+  return parseMesh(detail::readWholeFile(path, "the mesh file", detail::kMeshFileLimit), path);
+}
 
 std::vector<Vec3f> meshWallVertices(const WallDef& wall, const LocalFrame& f) {
   if (!wall.mesh) throw Error(wall.where + ": not a mesh wall");

@@ -85,7 +85,7 @@ ParticleCloud parseParticleCsv(std::string_view text, const std::string& path) {
 }
 
 ParticleCloud readParticleCsv(const std::string& path) {
-  return parseParticleCsv(detail::readWholeFile(path), path);
+  return parseParticleCsv(detail::readWholeFile(path, "", detail::kParticleFileLimit), path);
 }
 
 }  // namespace tumble

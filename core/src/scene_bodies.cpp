@@ -53,7 +53,7 @@ void SceneParser::readShapes(Scene& scene) {
           sr.fail(sr.header(), why);  // sr names the shape and the sphere
       shape.spheres.push_back(sd);
     }
-    if (const std::string why = shapeOutOfRange(shape, scene.contact.rotatesSpheres()); !why.empty()) r.fail(r.header(), where + ": " + why);
+    if (const std::string why = shapeOutOfRange(shape, scene.contact.rotatesSpheres(), scene.gravity); !why.empty()) r.fail(r.header(), where + ": " + why);
     m_shapeIndex.emplace(shape.name, static_cast<std::uint32_t>(scene.shapes.size()));
     scene.shapes.push_back(std::move(shape));
   }

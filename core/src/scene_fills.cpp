@@ -110,6 +110,12 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
   f.seed = groupSeed(static_cast<std::uint64_t>(r.integer("seed", static_cast<std::int64_t>(m_seed & INT64_MAX), 0)),
                      stream + k);
   f.attempts = static_cast<std::uint64_t>(r.integer("attempts", kind == "fill" ? 1000 : 100, 1));
+  // Each draw tests the body against its neighbours: a bound keeps a full region from holding
+  // the load (a [[fill]]) or every batch (a [[pour]]) for hours.
+  if (f.attempts > kMaxPlacementAttempts)
+    r.fail(sourceOf(*r.find("attempts")), "attempts must be <= " + std::to_string(kMaxPlacementAttempts) + " (got " +
+                                              std::to_string(f.attempts) +
+                                              "): draws per body; a region that needs more is too full (docs/scenes.md)");
   return f;
 }
 

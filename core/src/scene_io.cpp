@@ -276,7 +276,7 @@ Scene parseScene(std::string_view text, const std::string& sourceName, const std
 
 Scene readSceneFile(const std::string& path, const std::vector<std::string>& overrides) {
   std::vector<Override> parsed = parseOverrides(overrides);  // mistakes on the command line first
-  return parseWith(detail::readWholeFile(path), path, parsed);
+  return parseWith(detail::readWholeFile(path, "", detail::kSceneFileLimit), path, parsed);
 }
 
 void refuseSceneInput(const Scene& scene, const std::string& path, const std::string& what) {

@@ -182,7 +182,7 @@ void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
   const std::string resolved = path.lexically_normal().string();
   std::string bytes;
   try {
-    bytes = detail::readWholeFile(resolved, "the mesh file");
+    bytes = detail::readWholeFile(resolved, "the mesh file", detail::kMeshFileLimit);
   } catch (const InputError& e) {
     r.fail(sourceOf(fn), e.problem() + " (file = \"" + file + "\", looked for at " + resolved +
                              "); a relative file is found from the scene file's folder");

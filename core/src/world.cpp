@@ -197,6 +197,8 @@ void checkPeriodic(const World& w, const Scene& scene, bool placement) {
   for (int a = 0; a < 2; ++a)
     if (p.on[a] && !(p.lo[a] < p.hi[a] && std::isfinite(p.lo[a]) && std::isfinite(p.hi[a])))
       throw Error(std::string("periodic ") + "xy"[a] + ": the box [lo, hi) needs finite lo < hi");
+    else if (const std::string why = p.on[a] ? periodicBoxRange(p.lo[a], p.hi[a]) : std::string(); !why.empty())
+      throw Error(std::string("periodic ") + "xy"[a] + ": " + why);
   for (std::size_t k = 0; placement && k < scene.bodies.size(); ++k)
     if (const std::string why = outsidePeriodicBox(p, scene.bodies[k].position); !why.empty())
       throw Error("body " + std::to_string(k) + ": " + why);
@@ -260,7 +262,7 @@ World World::fromScene(const Scene& scene, bool checkPlacement) {
       p.mass += sp.mass;
       p.com += sp.mass * Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z);
     }
-    if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres()); !why.empty()) throw Error("shape '" + sh.name + "': " + why);
+    if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres(), scene.gravity); !why.empty()) throw Error("shape '" + sh.name + "': " + why);
     p.com /= p.mass;
     for (const auto& sp : sh.spheres) {
       const Eigen::Vector3d u = Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com;

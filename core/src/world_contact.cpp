@@ -27,9 +27,12 @@ std::string materialOutOfRange(const MaterialDef& m) {
   // Y* and G* of the material against itself and against a rigid ground (the largest it can meet).
   for (const HertzPair& p : {materialPair(m, &m), materialPair(m, nullptr)}) {
     if (!(std::isfinite(p.ystar) && std::isfinite(p.gstar) && p.ystar > 0.0f && p.gstar > 0.0f)) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "its youngs_modulus %g gives an effective modulus beyond single precision; use "
-                    "a smaller one", double(m.youngsModulus));
+      // Too large overflows Y* = E / (1 − ν²)...; too small rounds it to 0 in single precision.
+      const bool tooSmall = std::isfinite(p.ystar) && std::isfinite(p.gstar);
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "its youngs_modulus %g gives an effective modulus %s single precision; use %s",
+                    double(m.youngsModulus), tooSmall ? "too small for" : "beyond",
+                    tooSmall ? "a larger one (real materials: 1e5 to 1e12 Pa)" : "a smaller one");
       return buf;
     }
   }

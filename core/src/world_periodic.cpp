@@ -131,6 +131,11 @@ std::string periodicWallProblem(const WallDef& wall, const PeriodicParams& p) {
   return buf;
 }
 
+std::string periodicBoxRange(float lo, float hi) {
+  if (std::isfinite(hi - lo)) return {};
+  return "its length hi - lo is beyond single precision (about 3.4e38 m at most); give a shorter box";
+}
+
 std::string outsidePeriodicBox(const PeriodicParams& p, Vec3f x) {
   const float c[2] = {x.x, x.y};
   for (int a = 0; a < 2; ++a)

@@ -60,7 +60,7 @@ std::string angularVelocityOutOfRange(const ShapeDef& shape, double omega) {
   return buf;
 }
 
-std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate) {
+std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate, Vec3f gravity) {
   if (shape.spheres.empty()) return {};
   constexpr double kMax = std::numeric_limits<float>::max();
   double com[3];
@@ -72,6 +72,13 @@ std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate) {
   }
   if (!(1.0 / m <= kMax)) {
     std::snprintf(buf, sizeof buf, "the spheres' total mass %.3g kg is too small for single precision (1/m overflows)", m);
+    return buf;
+  }
+  // Its weight is a force of the first step: beyond single precision it is infinite there.
+  const double g = std::sqrt(double(gravity.x) * gravity.x + double(gravity.y) * gravity.y + double(gravity.z) * gravity.z);
+  if (!(m * g <= kMax)) {
+    std::snprintf(buf, sizeof buf, "its weight m |g| = %.3g N is beyond single precision (at most %.3g); use a smaller mass",
+                  m * g, kMax);
     return buf;
   }
   // The largest moment of inertia is at most Σ m (0.4 r² + |u|²); the smallest at least Σ 0.4 m r².

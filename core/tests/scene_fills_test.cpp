@@ -94,6 +94,12 @@ TEST(SceneIoErrors, Fills) {
   // Too full: 9 unit balls do not fit in a 2 m cube (one fits at most... a few).
   expectError(withExtra(f + "count = 9\nregion = \"box\"\nmin = [0, 0, 2]\nmax = [2, 2, 4]\nattempts = 200\n"), 12,
               {"placed", "of 9 bodies", "in 200 draws", "use a larger region"});
+  // A bound on the draws (issue 34, item 11): 2^63 - 1 held the load, and a pour's every batch, for ever.
+  expectError(withExtra(f + "count = 2\nregion = \"box\"\nmin = [0, 0, 2]\nmax = [9, 9, 9]\nattempts = 9223372036854775807\n"),
+              18, {"attempts must be <= 1000000 (got 9223372036854775807)"});
+  expectError(withExtra("[[pour]]\nshape = \"ball\"\ncount = 2\nrate = 10\nregion = \"box\"\nmin = [0, 0, 2]\n"
+                        "max = [9, 9, 9]\nattempts = 1000001\n"),
+              19, {"[[pour]] #1", "attempts must be <= 1000000"});
   // A region the ground cuts: no body can be placed below it.
   expectError(withExtra("[ground]\nheight = 10\n" + f + "count = 1\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [3, 3, 3]\n"),
               14, {"placed 0 of 1 bodies"});

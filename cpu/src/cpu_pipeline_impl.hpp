@@ -23,6 +23,7 @@
 #include "periodic_images.hpp"
 #include "tumble/cpu/radix_sort.hpp"
 #include "tumble/cpu/scan.hpp"
+#include "tumble/cpu/threads.hpp"
 #include "tumble/error.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/contact_list.hpp"
@@ -55,7 +56,9 @@ struct StepTotals {
 class CpuPipeline final : public HaloPipeline {
  public:
   explicit CpuPipeline(const PipelineOptions& o)
-      : m_arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic), m_reorder(o.reorder) {}
+      : m_allowThreads(allowThreads(o.threads)),
+        m_arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic),
+        m_reorder(o.reorder) {}
 
   Backend backend() const override { return Backend::Cpu; }
 
@@ -183,6 +186,7 @@ class CpuPipeline final : public HaloPipeline {
 
   StepView stepView();
 
+  std::unique_ptr<tbb::global_control> m_allowThreads;  // before the arena: --threads above the cores
   mutable tbb::task_arena m_arena;
   bool m_reorder = true;
   World m_world;  // in the integration frame; static tables in scene order

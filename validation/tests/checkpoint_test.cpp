@@ -303,3 +303,45 @@ TEST(Checkpoint, ADivergedStateIsNotWritten) {
   }
   std::remove(path.c_str());
 }
+
+// Crafted checkpoints with valid checksums (issue 34, item 9): values no run can have are refused
+// by read() as the scene reader refuses them, with the byte and the body: an origin of 1e300 ran
+// and wrote inf to --state-out, a zero orientation was accepted, one of length 2e30 stopped the
+// run at its first step.
+TEST(Checkpoint, ValuesNoRunCanHaveAreRefused) {
+  Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
+  s.bodies.resize(4);
+  const World w = World::fromScene(s);
+  auto p = makePipeline(Backend::Cpu);
+  p->load(w);
+  p->step(2);
+  const Checkpoint good = Checkpoint::of(w, *p);
+  const std::string path = tempPath("crafted.ck");
+  struct Craft {
+    const char* what;
+    void (*apply)(Checkpoint&);
+    const char* message;
+  };
+  const Craft crafts[] = {
+      {"origin 1e300", [](Checkpoint& c) { c.frame.x = 1e300; }, "body 0's position x (the frame origin's"},
+      {"origin beyond float", [](Checkpoint& c) { c.frame.z = 3.5e38; }, "is beyond single precision"},
+      {"zero orientation", [](Checkpoint& c) { c.state.qw[1] = c.state.qx[1] = c.state.qy[1] = c.state.qz[1] = 0.0f; },
+       "body 1's orientation is not a unit quaternion (its length is 0"},
+      {"huge orientation", [](Checkpoint& c) { c.state.qw[2] = 2e30f; }, "body 2's orientation is not a unit quaternion"},
+  };
+  for (const Craft& craft : crafts) {
+    Checkpoint bad = good;
+    craft.apply(bad);
+    bad.write(path);  // finite: written, with valid checksums
+    try {
+      (void)Checkpoint::read(path);
+      ADD_FAILURE() << craft.what << ": read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(craft.message), std::string::npos) << craft.what << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find("byte "), std::string::npos) << e.what();
+    }
+  }
+  good.write(path);
+  EXPECT_NO_THROW((void)Checkpoint::read(path)) << "the run's own checkpoint";
+  std::remove(path.c_str());
+}

@@ -17,6 +17,10 @@
 
 namespace tumble {
 
+/// The most draws of a position per body of a [[fill]] or a [[pour]] (`attempts`): a region that needs
+/// more is too full to pack at random, and a larger bound would let a typo hold the load for hours.
+inline constexpr std::uint64_t kMaxPlacementAttempts = 1000000;
+
 /// One `[[fill]]` table.
 struct FillDef {
   std::vector<std::uint32_t> shapes;  ///< indices into Scene::shapes
@@ -29,7 +33,7 @@ struct FillDef {
   bool randomOrientation = true;
   float spin = 0.0f;                  ///< rad/s about a uniformly random axis
   std::uint64_t seed = 0;
-  std::uint64_t attempts = 1000;      ///< draws of a position per body before giving up
+  std::uint64_t attempts = 1000;      ///< draws of a position per body before giving up (≤ kMaxPlacementAttempts)
   std::string where;                  ///< "[[fill]] #k (file:line)" for messages
 };
 

@@ -245,6 +245,10 @@ void requirePeriodsFit(const World& world);
 /// axis lies along the only periodic axis and reaches half a period beyond each end of the box.
 std::string periodicWallProblem(const WallDef& wall, const PeriodicParams& periodic);
 
+/// Why a periodic box [lo, hi) cannot be integrated, as a phrase: its length hi − lo (by which
+/// positions wrap) must be a finite single-precision number; empty when it is.
+std::string periodicBoxRange(float lo, float hi);
+
 /// Why a body centred at x lies outside the periodic box ([lo, hi) on each periodic axis), as a
 /// phrase; empty when inside or without periodic boundaries.
 std::string outsidePeriodicBox(const PeriodicParams& periodic, Vec3f x);
@@ -269,10 +273,10 @@ double shapeInertiaBound(const ShapeDef& shape);
 std::string angularVelocityOutOfRange(const ShapeDef& shape, double omega);
 
 /// Why a shape's derived values cannot be held in single precision (the total mass or its
-/// inverse, the moment of inertia or its inverse, the extent), as a phrase for a message; empty
+/// inverse, its weight under `gravity`, the moment of inertia or its inverse, the extent), as a phrase for a message; empty
 /// when they can. The scene reader reports it at the shape's line; World::fromScene throws it.
 /// spheresRotate: the scene's law turns single spheres (their inertia is then used too).
-std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate = false);
+std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate = false, Vec3f gravity = Vec3f{0, 0, 0});
 
 /// Orientation of body k's shape frame (as written in the scene file): q_k ⊗ bodyToShape[k]⁻¹.
 Quatf shapeOrientation(const World& world, const BodyState& state, std::size_t k);

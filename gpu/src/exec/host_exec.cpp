@@ -8,6 +8,8 @@
 #include <exception>
 #include <utility>
 
+#include "tumble/cpu/threads.hpp"
+
 namespace tumble::gpu::exec {
 namespace {
 
@@ -20,7 +22,8 @@ std::vector<const HostStream*>& registry() {
 
 }  // namespace
 
-HostStream::HostStream(int threads) : m_arena(threads > 0 ? threads : tbb::task_arena::automatic) {
+HostStream::HostStream(int threads)
+    : m_allowThreads(cpu::allowThreads(threads)), m_arena(threads > 0 ? threads : tbb::task_arena::automatic) {
   const char* env = std::getenv("TUMBLE_CUDA_SYNC");
   m_syncEach = env != nullptr && std::strcmp(env, "1") == 0;
   const std::lock_guard<std::mutex> lock(g_registryMutex);

@@ -24,6 +24,7 @@
 #pragma once
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -77,6 +78,7 @@ class HostStream {
  private:
   void drainLocked() const;
 
+  std::unique_ptr<tbb::global_control> m_allowThreads;  // before the arena: threads above the cores
   mutable tbb::task_arena m_arena;
   mutable std::mutex m_mutex;
   mutable std::vector<std::function<void()>> m_queue;
