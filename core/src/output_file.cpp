@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "tumble/output_file.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -114,7 +115,7 @@ Appended appendWhole(const OutputFile& out, const void* data, std::size_t size, 
   return Appended::CutBack;
 }
 
-OutputFile::OutputFile(const std::string& path) : m_path(path) {
+OutputFile::OutputFile(const std::string& path, Temporary temporary) : m_path(path) {
   if (const int fd = namedDescriptor(path); fd >= 0) {
     m_direct = m_descriptor = true;
     m_target = m_writing = path;
@@ -141,12 +142,30 @@ OutputFile::OutputFile(const std::string& path) : m_path(path) {
     if (m_file == nullptr) throw Error("cannot write " + path + ": " + std::strerror(errno));
     return;
   }
-  std::string name = m_target + ".part-XXXXXX";
-  std::vector<char> buf(name.begin(), name.end());
-  buf.push_back('\0');
-  const int fd = ::mkstemp(buf.data());
-  if (fd < 0) throw Error("cannot write " + path + ": " + std::strerror(errno) + " (creating a file next to " + m_target + ")");
-  m_writing = buf.data();
+  int fd = -1;
+  if (temporary == Temporary::Live) {
+    m_writing = m_target + ".part";
+    const unsigned mode = m_existed ? m_mode : 0666u;  // less the umask, as commit() gives it
+    fd = ::open(m_writing.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, static_cast<mode_t>(mode));
+    if (fd < 0 && errno == EEXIST)
+      throw Error("cannot write " + path + ": " + m_writing +
+                  " exists (another run is writing " + path + ", or one was stopped before it finished; "
+                  "remove " + m_writing + " if no run writes it)");
+    if (fd < 0) throw Error("cannot write " + path + ": " + std::strerror(errno) + " (creating " + m_writing + ")");
+    if (m_existed && ::fchmod(fd, static_cast<mode_t>(mode)) != 0) {  // the umask aside: the target's bits
+      const int e = errno;
+      ::close(fd);
+      std::remove(m_writing.c_str());
+      throw Error("cannot write " + path + ": " + std::strerror(e));
+    }
+  } else {
+    std::string name = m_target + ".part-XXXXXX";
+    std::vector<char> buf(name.begin(), name.end());
+    buf.push_back('\0');
+    fd = ::mkstemp(buf.data());
+    if (fd < 0) throw Error("cannot write " + path + ": " + std::strerror(errno) + " (creating a file next to " + m_target + ")");
+    m_writing = buf.data();
+  }
   m_file = ::fdopen(fd, "wb");
   if (m_file == nullptr) {
     const int e = errno;

@@ -110,10 +110,21 @@ Advanced Run::advance(std::uint64_t n) {
     // the state before them; the guard then starts its energy budget afresh from the state they
     // entered (at that step, whatever the calls).
     bool entered = false;
+    const bool batch = m_pouring->nextBatch(pipeline.stepCount(), m_world.numBodies()) == pipeline.stepCount();
     m_hooks->stepping([&] { entered = m_pouring->enter(pipeline, m_world, &m_statsBefore); });
     if (entered) {
       a.entered = true;
       if (m_guard) m_guard.emplace(m_world, pipeline);
+    }
+    if (batch) {
+      m_pourWaiting = m_pouring->waiting(m_world.numBodies(), pipeline.time());
+      if (m_pourWaiting > 0 && !m_toldBehind) {
+        m_toldBehind = true;
+        m_hooks->notice("step " + std::to_string(pipeline.stepCount()) + ": the [[pour]] fell behind: " +
+                        std::to_string(m_pourWaiting) + " bodies due by now found no place clear of the others "
+                        "and the walls in their region (each tried its pour's `attempts` places); they wait for the "
+                        "next batches (a larger region, a lower rate or more attempts keeps up)");
+      }
     }
     // The stretch ends where the next thing is due: a frame, a check, a row, a checkpoint, the
     // end of the run or the next pour batch.
@@ -223,7 +234,7 @@ void Run::writeThermo(const std::string& path, std::uint64_t every) {
   refuseSceneInput(scene(), path, "the time series");
   const ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
   std::unique_ptr<ThermoWriter> thermo;
-  m_hooks->write([&] { thermo = std::make_unique<ThermoWriter>(path); });  // first: a failure keeps the one under way
+  m_hooks->write([&] { thermo = std::make_unique<ThermoWriter>(path, scene().dt); });  // first: a failure keeps the one under way
   closeThermo();
   m_thermo = std::move(thermo);
   m_thermoEvery = every;

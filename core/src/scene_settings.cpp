@@ -30,21 +30,22 @@ void SceneParser::readScene(Scene& scene) {
 void SceneParser::readContact(Scene& scene) {
   const toml::table* t = sectionOf(m_file, m_root, "contact");
   if (t == nullptr) return;
-  const TableReader r(m_file, *t, "[contact]",
-                      {"law", "stiffness", "damping", "shear", "tangential_stiffness", "gamma_n", "gamma_t",
-                       "friction", "rolling_friction"});
-  ContactParams& c = scene.contact;
-  if (const toml::node* law = r.find("law")) {
-    const std::string name = r.string(*law, "law");
-    if (name == "report") c.law = ContactLaw::Report;
-    else if (name == "hooke-history") c.law = ContactLaw::HookeHistory;
-    else if (name == "hertz-mindlin") c.law = ContactLaw::HertzMindlin;
-    else r.fail(sourceOf(*law), "unknown law \"" + name + "\"; use \"report\", \"hooke-history\" or \"hertz-mindlin\"");
-  }
-  // Each law reads its own keys; another law's key is a mistake worth naming.
+  // Each law reads its own keys; another law's key is a mistake worth naming, and an unknown key is
+  // told the keys of the law the table chose (checked before the reader, whose message lists all).
   static const std::vector<std::string> kReportKeys = {"stiffness", "damping", "shear"};
   static const std::vector<std::string> kHookeKeys = {"stiffness", "tangential_stiffness", "gamma_n", "gamma_t",
                                                       "friction", "rolling_friction"};
+  ContactParams& c = scene.contact;
+  if (const toml::node* law = t->get("law")) {
+    const auto* name = law->as_string();
+    if (name == nullptr) throw errorAt(m_file, sourceOf(*law), "[contact]: law must be a string (got " + typeName(*law) + ")");
+    if (name->get() == "report") c.law = ContactLaw::Report;
+    else if (name->get() == "hooke-history") c.law = ContactLaw::HookeHistory;
+    else if (name->get() == "hertz-mindlin") c.law = ContactLaw::HertzMindlin;
+    else
+      throw errorAt(m_file, sourceOf(*law),
+                    "[contact]: unknown law \"" + name->get() + "\"; use \"report\", \"hooke-history\" or \"hertz-mindlin\"");
+  }
   const std::vector<std::string> none;
   const std::vector<std::string>& mine = c.law == ContactLaw::Report         ? kReportKeys
                                          : c.law == ContactLaw::HookeHistory ? kHookeKeys
@@ -55,15 +56,23 @@ void SceneParser::readContact(Scene& scene) {
     if (k == "law" || std::find(mine.begin(), mine.end(), k) != mine.end()) continue;
     const bool inReport = std::find(kReportKeys.begin(), kReportKeys.end(), k) != kReportKeys.end();
     const bool inHooke = std::find(kHookeKeys.begin(), kHookeKeys.end(), k) != kHookeKeys.end();
+    const std::string law = "law = \"" + std::string(toString(c.law)) + "\"";
+    if (!inReport && !inHooke) {
+      std::string allowed = "law";
+      for (const std::string& m : mine) allowed += ", " + m;
+      throw errorAt(m_file, sourceOf(key), "[contact]: unknown key '" + k + "'; allowed keys under " + law + ": " + allowed);
+    }
     std::string why = inHooke && inReport ? "it belongs to the report's law and to hooke-history"
                       : inHooke            ? "it belongs to law = \"hooke-history\""
-                      : inReport           ? "it belongs to the report's law"
-                                           : "";
+                                           : "it belongs to the report's law";
     if (c.law == ContactLaw::HookeHistory && inReport) why += "; hooke-history damps with gamma_n, gamma_t";
     if (c.law == ContactLaw::HertzMindlin)
       why += "; under hertz-mindlin every pair's parameters come from its spheres' [[material]] tables";
-    r.fail(sourceOf(key), k + " is not a parameter of law = \"" + toString(c.law) + "\" (" + why + "; docs/scenes.md)");
+    throw errorAt(m_file, sourceOf(key), "[contact]: " + k + " is not a parameter of " + law + " (" + why + "; docs/scenes.md)");
   }
+  const TableReader r(m_file, *t, "[contact]",
+                      {"law", "stiffness", "damping", "shear", "tangential_stiffness", "gamma_n", "gamma_t",
+                       "friction", "rolling_friction"});
   c.stiffness = r.single("stiffness", c.stiffness, Rule::Positive);
   c.damping = r.single("damping", c.damping, Rule::NonNegative);
   c.shear = r.single("shear", c.shear, Rule::NonNegative);
@@ -137,6 +146,10 @@ void SceneParser::readPeriodic(Scene& scene) {
     if (!(p.lo[a] < p.hi[a]))
       r.fail(sourceOf(*n), std::string(key) + " = [" + key + "0, " + key + "1] needs " + key + "1 > " + key + "0 (got [" +
                                fmt(p.lo[a]) + ", " + fmt(p.hi[a]) + "])");
+    // The integration wraps by the length and works about the centre (world.cpp): both must be
+    // single-precision numbers, which [-3.4e38, 3.4e38] is not (its length overflows).
+    if (const std::string why = periodicBoxRange(p.lo[a], p.hi[a]); !why.empty())
+      r.fail(sourceOf(*n), std::string(key) + ": " + why);
     p.on[a] = true;
     m_periodicAt[a] = sourceOf(*n);
   }

@@ -18,7 +18,29 @@ const char* thermoHeader() {
          "energy,pull_work,contacts,max_overlap,max_speed,px,py,pz,lx,ly,lz";
 }
 
-ThermoWriter::ThermoWriter(const std::string& path) : m_path(path), m_out(std::make_unique<OutputFile>(path)) {
+std::string formatTime(double time, float dt) {
+  char buf[48];
+  int decimals = -1;
+  for (int d = 0; d <= 12 && decimals < 0; ++d) {
+    const double scale = std::pow(10.0, d);
+    if (static_cast<float>(std::round(double(dt) * scale) / scale) == dt) decimals = d;
+  }
+  if (decimals < 0 || !std::isfinite(time) || std::fabs(time) >= 1e15) {
+    std::snprintf(buf, sizeof buf, "%.10g", time);
+    return buf;
+  }
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, time);
+  std::string s = buf;
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+ThermoWriter::ThermoWriter(const std::string& path, float dt)
+    : m_path(path), m_out(std::make_unique<OutputFile>(path, OutputFile::Temporary::Live)), m_dt(dt) {
   std::setvbuf(m_out->file(), nullptr, _IONBF, 0);  // each row is one write; a failed one leaves nothing buffered
   std::string h = thermoHeader();
   h += '\n';
@@ -50,10 +72,11 @@ void ThermoWriter::write(const ThermoSample& s) {
   std::string line;
   char buf[40];
   for (std::size_t c = 0; c < kThermoColumns; ++c) {
-    // The counts as integers; the rest with ten significant digits (%.10g), enough for
-    // differences of a part in 10^9.
+    // The counts as integers, the time at the step's precision; the rest with ten significant
+    // digits (%.10g), enough for differences of a part in 10^9.
     if (c == kThermoStepColumn) std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(s.step));
     else if (c == kThermoContactsColumn) std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(s.contacts));
+    else if (c == kThermoTimeColumn) std::snprintf(buf, sizeof buf, "%s", formatTime(s.time, m_dt).c_str());
     else std::snprintf(buf, sizeof buf, "%.10g", row[c]);
     if (c > 0) line += ',';
     line += buf;

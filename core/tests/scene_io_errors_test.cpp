@@ -53,6 +53,23 @@ TEST(SceneIoErrors, ContactLaws) {
   expectError(withExtra("[contact]\nlaw = \"hooke-history\"\nshear = 5\n"), 14,
               {"shear is not a parameter of law = \"hooke-history\"", "gamma_n, gamma_t"});
   expectError(withExtra("[contact]\ngamma_n = 5\n"), 13, {"gamma_n is not a parameter of law = \"report\""});
+  // An unknown key is told the keys of the law the table chose, not another law's (which the next
+  // message would refuse): hooke-history offers no damping or shear.
+  try {
+    (void)tumble::parseScene(withExtra("[contact]\nlaw = \"hooke-history\"\ndampin = 1\n"), "test.toml");
+    ADD_FAILURE() << "no error for an unknown [contact] key";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(e.line(), 14) << m;
+    EXPECT_NE(m.find("unknown key 'dampin'; allowed keys under law = \"hooke-history\": law, stiffness, "
+                     "tangential_stiffness, gamma_n, gamma_t, friction, rolling_friction"),
+              std::string::npos)
+        << m;
+    EXPECT_EQ(m.find("shear"), std::string::npos) << m;
+  }
+  expectError(withExtra("[contact]\nlaw = \"hertz-mindlin\"\nstifness = 1\n"), 14,
+              {"unknown key 'stifness'; allowed keys under law = \"hertz-mindlin\": law"});
+  expectError(withExtra("[contact]\nlaw = 3\n"), 13, {"[contact]: law must be a string (got an integer)"});
   expectError(withExtra("[ground]\nrolling_friction = 0.1\n"), 13, {"rolling_friction needs a contact law that turns spheres"});
   expectError(withExtra("[contact]\nlaw = \"hooke-history\"\nfriction = -1\n"), 14, {"friction"});
 }
@@ -132,12 +149,16 @@ TEST(SceneIoErrors, Materials) {
   expectError(withExtra(std::string(kHertz) + "[[material]]\nname = \"x\"\nyoungs_modulus = 3.3e38\npoisson_ratio = 0.45\n"
                         "restitution = 0.5\n"),
               14, {"youngs_modulus 3.3e+38 gives an effective modulus beyond single precision"});
+  // Too small is not "use a smaller one" (issue 34, item 12).
+  expectError(withExtra(std::string(kHertz) + "[[material]]\nname = \"x\"\nyoungs_modulus = 1e-45\npoisson_ratio = 0.45\n"
+                        "restitution = 0.5\n"),
+              14, {"gives an effective modulus too small for single precision; use a larger one"});
   // Under a law that turns spheres a single sphere's inertia is used, so it must fit a float.
-  std::string heavy = withLine(8, "mass = 1e38") + kHertz + kGlass;
-  heavy.replace(heavy.find("radius = 0.5"), 12, "radius = 100");  // I = 0.4 m r^2 = 4e41 kg m^2
+  std::string heavy = withLine(8, "mass = 1e37") + kHertz + kGlass;  // (1e38 kg weighs beyond a float)
+  heavy.replace(heavy.find("radius = 0.5"), 12, "radius = 1000");  // I = 0.4 m r^2 = 4e42 kg m^2
   expectError(heavy, 4, {"moment of inertia", "beyond single precision"});
-  std::string heavyReport = withLine(8, "mass = 1e38");
-  heavyReport.replace(heavyReport.find("radius = 0.5"), 12, "radius = 100");
+  std::string heavyReport = withLine(8, "mass = 1e37");
+  heavyReport.replace(heavyReport.find("radius = 0.5"), 12, "radius = 1000");
   EXPECT_NO_THROW(tumble::parseScene(heavyReport, "test.toml")) << "under the report's law a single sphere's inertia is never used";
   expectError(withExtra(std::string(kHertz) + "stiffness = 1e5\n" + kGlass), 14,
               {"stiffness is not a parameter of law = \"hertz-mindlin\"", "[[material]]"});
@@ -282,9 +303,10 @@ TEST(SceneIoErrors, GroundDampingBeyondSinglePrecision) {
   std::vector<std::string> ls = baseLines();
   ls[7] = "mass = 3e38";
   ls.insert(ls.begin() + 8, "elasticity = 1e-6");
+  ls.insert(ls.begin() + 3, "gravity = [0, 0, 0]");  // a 3e38 kg sphere's weight is beyond a float too
   ls.push_back("[ground]");
   ls.push_back("stiffness = 3e38");
-  expectError(join(ls), 6, {"[[shape.sphere]] #1: its ground damping", "beyond single precision"});
+  expectError(join(ls), 7, {"[[shape.sphere]] #1: its ground damping", "beyond single precision"});
   try {
     (void)tumble::parseScene(join(ls), "test.toml");
   } catch (const tumble::InputError& e) {  // the place is named once
@@ -340,3 +362,15 @@ TEST(SceneIoErrors, TooManyParticles) {
 }
 
 }  // namespace
+
+// Derived values that overflow are refused at load, at their line (issue 34, item 8): they were
+// found only by the run ("particle 0 has a non-finite position", or a guard advising a smaller dt).
+TEST(SceneIoErrors, OverflowsFoundOnlyByTheRunAreRefusedAtLoad) {
+  expectError(withExtra("[periodic]\nx = [-3.4e38, 3.4e38]\n"), 13,
+              {"[periodic]: x: its length hi - lo is beyond single precision"});
+  expectError(withLine(8, "mass = 1e38"), 4, {"its weight m |g| = 9.81e+38 N is beyond single precision"});
+  std::vector<std::string> weightless = baseLines();
+  weightless[7] = "mass = 1e38";
+  weightless[1] = "dt = 1e-4\ngravity = [0, 0, 0]";
+  EXPECT_NO_THROW((void)tumble::parseScene(join(weightless), "test.toml")) << "no gravity: no weight to overflow";
+}

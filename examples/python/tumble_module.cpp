@@ -108,6 +108,9 @@ class PythonHooks : public RunHooks {
     py::gil_scoped_release release;
     steps();
   }
+  void notice(const std::string& message) override {  // a RuntimeWarning (an error under -W error)
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, message.c_str(), 1) != 0) throw py::error_already_set();
+  }
 };
 
 // One run (tumble::Run): the world it was loaded with, its pipeline, the guard that measures it
@@ -243,6 +246,7 @@ class Simulation {
     m_run.pipeline().setPulls(mask);
   }
   std::uint32_t numBodies() const { return m_run.world().numBodies(); }
+  std::size_t bodiesToCome() const { return m_run.bodiesToCome(); }
   std::uint32_t numParticles() const { return m_run.world().numParticles(); }
   const std::string& warning() const { return m_warning; }
   std::string pipelineName() const { return toString(m_run.pipeline().backend()); }
@@ -321,12 +325,16 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("name", [](const Scene& s) { return s.name; })
       .def_property_readonly("dt", [](const Scene& s) { return s.dt; })
       .def_property_readonly("steps", [](const Scene& s) { return s.steps; })
-      .def_property_readonly("num_bodies", [](const Scene& s) { return s.bodies.size(); })
+      .def_property_readonly(
+          "num_bodies", [](const Scene& s) { return s.bodies.size() + s.pourBodies.size(); },
+          "Bodies of the run once its [[pour]]s are in (those at the start: num_bodies - pour_bodies)")
+      .def_property_readonly(
+          "pour_bodies", [](const Scene& s) { return s.pourBodies.size(); }, "Bodies its [[pour]]s bring in")
       .def("__repr__", [](const Scene& s) {
         char dt[32];
         std::snprintf(dt, sizeof dt, "%g", static_cast<double>(s.dt));
-        return "<tumble.Scene '" + s.name + "': " + std::to_string(s.bodies.size()) + " bodies, dt " + dt + " s, " +
-               std::to_string(s.steps) + " steps>";
+        return "<tumble.Scene '" + s.name + "': " + std::to_string(s.bodies.size() + s.pourBodies.size()) +
+               " bodies, dt " + dt + " s, " + std::to_string(s.steps) + " steps>";
       });
 
   py::class_<Simulation>(m, "Simulation", "A run of a scene on one pipeline (docs/python.md)")
@@ -357,6 +365,9 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("time", &Simulation::time, "Simulated time (s)")
       .def_property("pulls", &Simulation::pulls, &Simulation::setPulls, "PULL_X | PULL_Y | PULL_SWIRL bits on")
       .def_property_readonly("num_bodies", &Simulation::numBodies)
+      .def_property_readonly(
+          "bodies_to_come", &Simulation::bodiesToCome,
+          "Bodies of the [[pour]]s yet to enter (a pour that fell behind warns once: RuntimeWarning)")
       .def_property_readonly("num_particles", &Simulation::numParticles)
       .def_property_readonly("pipeline", &Simulation::pipelineName)
       .def_property_readonly("warning", &Simulation::warning, "A warning about the start (pressed bodies), or ''")

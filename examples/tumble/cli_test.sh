@@ -78,8 +78,24 @@ REC=20,rec.bin expect_status "run with REC" 0 "$bin" run small.toml --threads 2 
 [ "$(head -1 state.csv)" = "body,x,y,z,vx,vy,vz,qw,qx,qy,qz,lx,ly,lz" ] && ok "state header" || bad "state header"
 [ "$(wc -l < state.csv)" = "33" ] && ok "state rows" || bad "state rows: $(wc -l < state.csv)"
 grep -q "^sweep" out.txt && ok "phase table" || bad "no phase table in: $(cat out.txt)"
+# The integration is fused into the forces' pass: no row of zeros, a line that says so (issue 35, item 11).
+grep -q "^integrate" out.txt && bad "a row for the fused integration: $(grep ^integrate out.txt)" ||
+  ok "no integrate row of zeros"
+grep -q "^(forces includes the integration" out.txt && ok "the table says forces includes the integration" ||
+  bad "no word on the fused integration: $(cat out.txt)"
+# REC= takes the scene's steps_per_frame (issue 35, item 11): 20 steps of 5 per frame are 5 frames.
+{ cat small.toml; printf '[output]\nsteps_per_frame = 5\n'; } > spf.toml
+REC=20,spf.bin expect_status "REC with steps_per_frame 5" 0 "$bin" run spf.toml --steps 30
+grep -q "recorded 5 frames (up to step 20, 5 steps per frame) to spf.bin" err.txt && ok "REC uses the scene's steps_per_frame" ||
+  bad "REC with steps_per_frame 5: $(grep recorded err.txt)"
 "$bin" run small.toml --threads 1 --state-out state1.csv -q >/dev/null 2>&1
 cmp -s state.csv state1.csv && ok "state identical for 1 and 2 threads" || bad "state differs between thread counts"
+# More threads than cores are honoured, and -q stays quiet (issue 34, item 10): oneTBB warned and
+# ran as many as the cores.
+threads_over=$(( $(nproc) + 2 ))
+expect_status "run --threads $threads_over" 0 "$bin" run small.toml --threads "$threads_over" --state-out stateN.csv -q
+[ -s err.txt ] && bad "--threads $threads_over -q printed: $(cat err.txt)" || ok "--threads above the cores, -q: nothing printed"
+cmp -s state.csv stateN.csv && ok "state identical for $threads_over threads" || bad "state differs for $threads_over threads"
 
 sed 's/^dt = 1e-4/dt = 2e-2/' small.toml > bigdt.toml
 # Counts must be whole numbers in range: no wrap of "-1" or 2^64 to huge unsigned values, no
@@ -163,6 +179,9 @@ grep -q "validate: PASSED" out.txt && ok "validate passed" || bad "validate outp
 # What `--pipelines cpu,cuda` must do depends on the binary and the machine: ask the binary.
 expect_status "--version" 0 "$bin" --version
 grep -q "^pipelines: cpu" out.txt && ok "--version names the pipelines" || bad "--version: $(cat out.txt)"
+# Scripts read the first line alone (issue 35, item 11): `tumble X.Y.Z`, the rest after it.
+[[ "$(head -1 out.txt)" =~ ^tumble\ [0-9]+\.[0-9]+\.[0-9]+$ ]] && ok "--version's first line is tumble X.Y.Z" ||
+  bad "--version's first line: $(head -1 out.txt)"
 cuda_state=$(sed -n 's/^cuda: \([a-z ]*\):.*/\1/p' out.txt)
 case "$cuda_state" in
   ready)
@@ -310,6 +329,17 @@ for malformed in foo =1 a.b.c=1; do
   expect_status "run --set $malformed" 2 "$bin" run small.toml --set "$malformed"
   expect_msg "run --set $malformed" "command line, --set $malformed: expected SECTION.KEY=VALUE"
 done
+# docs/scenes.md's sample --set messages are what tumble prints, word for word (issue 35, item 11).
+doc_samples=0
+while IFS= read -r line; do
+  doc_samples=$((doc_samples+1))
+  override=${line#tumble: command line, --set }
+  override=${override%%: *}
+  "$bin" run small.toml --set "$override" >out.txt 2>err.txt
+  [ "$(cat err.txt)" = "$line" ] && ok "docs/scenes.md's message for --set $override" ||
+    bad "docs/scenes.md says '$line'; tumble says '$(cat err.txt)'"
+done < <(sed -n 's/^  \(tumble: command line, --set .*\)$/\1/p' "$src/docs/scenes.md")
+[ "$doc_samples" -ge 3 ] && ok "docs/scenes.md has $doc_samples --set samples" || bad "docs/scenes.md: $doc_samples --set samples found"
 expect_status "run --set before the scene" 0 "$bin" run --set scene.steps=5 small.toml -q
 expect_status "validate --set" 0 "$bin" validate --random 0 --steps 5 --scene small.toml --set 'scene.name="renamed"'
 grep -q "scene renamed, 5 steps" out.txt && ok "validate --set changes its scene" || bad "validate --set: $(grep Trajector out.txt)"
@@ -561,6 +591,63 @@ expect_status "resume with thermo" 0 "$bin" run small.toml --steps 50 --resume c
 # (Without the swirl pull its work is 0 in both, so the whole row of step 40 is the same.)
 [ "$(sed -n 4p th.csv)" = "$(sed -n 3p thr.csv)" ] && ok "resumed thermo row equals the straight run's" ||
   bad "resumed thermo row: $(sed -n 3p thr.csv) vs $(sed -n 4p th.csv)"
+[ "$(sed -n 3p th.csv | cut -d, -f2)" = "0.002" ] && ok "thermo times at the step's precision" ||
+  bad "thermo time of step 20 at dt 1e-4: $(sed -n 3p th.csv | cut -d, -f2)"
+# A batch run can be watched (issue 35, item 3): --progress prints whole lines into a log, and the
+# time series is readable in its live name FILE.part (tumble plot FILE plots it) until the run ends.
+expect_status "--progress with -q" 2 "$bin" run small.toml --progress -q
+expect_msg "--progress with -q" "excludes"
+expect_status "--progress=0" 2 "$bin" run small.toml --progress=0
+"$bin" run small.toml --steps 100000000 --progress=0.2 --thermo live.csv --thermo-every 50 >live.out 2>live.err &
+live_pid=$!
+for _ in $(seq 300); do [ "$(wc -l < live.csv.part 2>/dev/null || echo 0)" -ge 4 ] && break; sleep 0.1; done
+[ "$(wc -l < live.csv.part 2>/dev/null || echo 0)" -ge 4 ] && ok "the live time series has rows while the run goes" ||
+  bad "no rows in live.csv.part while the run goes: $(ls live.csv* 2>&1)"
+[ -e live.csv ] && bad "live.csv exists before the run ends" || ok "live.csv appears only at the end"
+if command -v gnuplot >/dev/null; then
+  expect_status "plot a time series being written" 0 "$bin" plot live.csv -o live.png
+  expect_msg "plot a time series being written" "live.png \(the [0-9]+ rows so far: a run is still writing live.csv, into live.csv.part\)"
+fi
+expect_status "a second run writing the same time series" 2 "$bin" run small.toml --thermo live.csv
+expect_msg "a second run writing the same time series" "live.csv.part exists \(another run is writing live.csv"
+for _ in $(seq 100); do grep -q "^tumble run: step [0-9]*/100000000 " live.err && break; sleep 0.1; done
+kill -TERM "$live_pid"; wait "$live_pid"; live_status=$?
+[ "$live_status" = 143 ] && ok "the watched run stopped by SIGTERM (143)" || bad "the watched run ended with $live_status"
+grep -q "^tumble run: step [0-9]*/100000000 (.*eta" live.err && ok "--progress writes whole lines when stderr is a file" ||
+  bad "--progress: no progress line in the log: $(head -c 300 live.err)"
+[ -s live.csv ] && [ ! -e live.csv.part ] && ok "the stopped run put its time series in place" ||
+  bad "after the stop: $(ls live.csv* 2>&1)"
+# A [[pour]] that falls behind says so, and counts its bodies (issue 35, item 8).
+cat > behind.toml <<'TOML'
+[scene]
+name = "behind"
+dt = 1e-4
+steps = 300
+[ground]
+height = 0.0
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+offset = [0.0, 0.0, 0.0]
+radius = 0.1
+mass = 1.0
+elasticity = 0.5
+[[pour]]
+shape = "ball"
+count = 40
+rate = 1e5
+attempts = 20
+region = "box"
+min = [0.0, 0.0, 0.5]
+max = [0.5, 0.5, 0.9]
+TOML
+expect_status "a pour that falls behind" 0 "$bin" run behind.toml
+expect_msg "a pour's bodies in the header" "^tumble run: behind — 1 bodies \(40 once the \[\[pour\]\]s are in\)"
+expect_msg "a pour that falls behind" "^tumble run: warning: step 100: the \[\[pour\]\] fell behind: [0-9]+ bodies due by now found no place"
+[ "$(grep -c "fell behind" err.txt)" = 1 ] && ok "the pour's falling behind is said once" || bad "said $(grep -c "fell behind" err.txt) times"
+grep -Eq "^pours: [0-9]+ of their 39 bodies entered; [0-9]+ bodies to come \([0-9]+ due, waiting for room\)$" out.txt &&
+  ok "the summary counts the bodies to come" || bad "summary: $(grep pours out.txt)"
+
 sed 's/dt = 1e-4/dt = 5e-2/' small.toml > unstable.toml
 expect_status "thermo kept at a guard trip" 3 "$bin" run unstable.toml --steps 400 --thermo thu.csv --thermo-every 10
 expect_msg "thermo kept at a guard trip" "kept [0-9]+ rows of the time series in thu.csv"

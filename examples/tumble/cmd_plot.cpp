@@ -2,6 +2,7 @@
 // `tumble plot FILE.csv`: draws a time series (`tumble run --thermo`, docs/thermo.md) with
 // gnuplot into a PNG. Default: three panels (the energies; the mechanical energy; the contacts
 // and the largest overlap); --columns draws the named columns in one panel.
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -51,17 +52,22 @@ struct Panel {
 };
 
 void plot(const PlotOptions& o) {
+  // A run still writing FILE has its rows in the live name FILE.part (docs/thermo.md): plotted
+  // while there is no FILE yet.
+  std::error_code ec;
+  const bool live = !std::filesystem::exists(o.file, ec) && std::filesystem::is_regular_file(o.file + ".part", ec);
+  const std::string data = live ? o.file + ".part" : o.file;
   std::size_t rows = 0;
-  const std::vector<std::string> header = headerOf(o.file, rows);
+  const std::vector<std::string> header = headerOf(data, rows);
   std::string list;
   for (const auto& c : header) list += (list.empty() ? "" : ", ") + c;
   auto need = [&](const std::string& c, const char* what) {
     for (const auto& h : header)
       if (h == c) return;
-    throw InputError(o.file, 1, std::string("no column '") + c + "' (" + what + "); the columns are: " + list);
+    throw InputError(data, 1, std::string("no column '") + c + "' (" + what + "); the columns are: " + list);
   };
   need(o.x, "--x");
-  if (rows == 0) throw InputError(o.file, 2, "no data rows after the header: nothing to draw");
+  if (rows == 0) throw InputError(data, 2, "no data rows after the header: nothing to draw");
   std::vector<Panel> panels;
   if (!o.columns.empty()) {
     panels.push_back(Panel{"", o.columns, {}, ""});
@@ -84,7 +90,7 @@ void plot(const PlotOptions& o) {
                                                ? o.file.substr(0, o.file.size() - 4) + ".png"
                                                : o.file + ".png")
                                         : o.out;
-  refuseSameFile({{"time series", o.file}, {"-o", out}});
+  refuseSameFile({{"time series", data}, {"-o", out}});
   OutputFile png(out);  // gnuplot writes the temporary; commit() renames it into place
   std::ostringstream gp;
   gp << "set terminal pngcairo size " << *width << "," << *height << " noenhanced font 'sans,10'\n"
@@ -102,7 +108,7 @@ void plot(const PlotOptions& o) {
     gp << "plot ";
     bool first = true;
     auto series = [&](const std::string& c, const char* axes) {
-      gp << (first ? "" : ", ") << gnuplotPath(o.file) << " using (column(" << gnuplotString(o.x) << ")):(column("
+      gp << (first ? "" : ", ") << gnuplotPath(data) << " using (column(" << gnuplotString(o.x) << ")):(column("
          << gnuplotString(c) << ")) axes " << axes << " with lines lw 1.5 title " << gnuplotString(c);
       first = false;
     };
@@ -129,9 +135,13 @@ void plot(const PlotOptions& o) {
   }
   std::remove(script.c_str());
   std::remove(log.c_str());
-  if (!status.empty()) throw Error("gnuplot failed (" + status + ") drawing " + o.file + ":\n" + why);
+  if (!status.empty()) throw Error("gnuplot failed (" + status + ") drawing " + data + ":\n" + why);
   png.commit();
-  std::fprintf(stderr, "tumble plot: %s\n", out.c_str());
+  if (live)
+    std::fprintf(stderr, "tumble plot: %s (the %zu rows so far: a run is still writing %s, into %s)\n", out.c_str(), rows,
+                 o.file.c_str(), data.c_str());
+  else
+    std::fprintf(stderr, "tumble plot: %s\n", out.c_str());
 }
 
 }  // namespace

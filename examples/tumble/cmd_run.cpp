@@ -36,6 +36,7 @@ struct RunOptions {
   std::optional<int> pcaEvery;
   std::optional<float> skin;
   bool quiet = false;
+  std::string progress;  ///< --progress[=SECONDS]: seconds between progress lines (empty: only the terminal's line)
   bool noGuard = false;
   std::optional<std::uint64_t> guardEvery;
   std::string checkpoint;
@@ -64,10 +65,16 @@ void printPhases(const StepStats& st, std::FILE* out) {
   const double total = st.totalSeconds();
   const double n = st.steps ? double(st.steps) : 1.0;
   std::fprintf(out, "%-10s %12s %12s %7s\n", "phase", "total ms", "ms/step", "share");
-  for (int p = 0; p < kNumPhases; ++p)
+  // Both pipelines integrate in the forces' pass (one pass per body): the integration has no time
+  // of its own to show, and a row of zeros would read as a phase that costs nothing.
+  const bool fused = st.seconds[static_cast<int>(Phase::Integrate)] == 0.0;
+  for (int p = 0; p < kNumPhases; ++p) {
+    if (fused && static_cast<Phase>(p) == Phase::Integrate) continue;
     std::fprintf(out, "%-10s %12.2f %12.4f %6.1f%%\n", toString(static_cast<Phase>(p)), 1e3 * st.seconds[p],
                  1e3 * st.seconds[p] / n, total > 0 ? 100.0 * st.seconds[p] / total : 0.0);
+  }
   std::fprintf(out, "%-10s %12.2f %12.4f %6.1f%%\n", "step", 1e3 * total, 1e3 * total / n, 100.0);
+  if (fused) std::fprintf(out, "(forces includes the integration: the pipeline integrates each body in the same pass)\n");
 }
 
 // What a run starts from: the scene with the command line's overrides and the run of it (its
@@ -121,11 +128,21 @@ Start prepare(RunOptions& o) {
   return Start{std::move(scene), std::move(run)};
 }
 
+// The [[pour]]s' bodies still to come, for the progress line and the summary: "" without pours.
+std::string toCome(const Run& run) {
+  if (!run.pouring().any()) return "";
+  std::string s = "  " + std::to_string(run.bodiesToCome()) + " bodies to come";
+  if (run.bodiesWaiting() > 0) s += " (" + std::to_string(run.bodiesWaiting()) + " due, waiting for room)";
+  return s;
+}
+
 // The command's part of a run (tumble/run.hpp): the ranks under mpirun, the stop signals and the
-// progress line.
+// progress: on a terminal one line redrawn in place; with --progress SECONDS a whole line every
+// SECONDS, for a log (nohup, a redirect, a cluster job).
 class CliHooks : public RunHooks {
  public:
-  CliHooks(const mpi::Session& ranks, bool tty) : m_ranks(ranks), m_tty(tty) {}
+  /// `tty`: redraw the line on stderr; `every` > 0: a line every `every` seconds instead.
+  CliHooks(const mpi::Session& ranks, bool tty, double every) : m_ranks(ranks), m_tty(tty), m_every(every) {}
   void begin(const Run& run, std::uint64_t start, std::uint64_t end) {
     m_run = &run;
     m_start = start;
@@ -142,9 +159,16 @@ class CliHooks : public RunHooks {
   // kWriteGraceSeconds); the run then stops as interrupted, without it.
   bool mayGiveUpWrite() override { return writeStopRequested() && g_stopSignal != 0; }
   bool any(bool yes) override { return m_ranks.maxOf(yes ? 1 : 0) != 0; }
+  void notice(const std::string& message) override {
+    if (!m_ranks.writes()) return;
+    std::fprintf(stderr, "%stumble run: warning: %s\n", redraws() ? "\n" : "", message.c_str());
+  }
   void progress(std::uint64_t done) override {
     const auto now = std::chrono::steady_clock::now();
-    if (!m_tty || !(now - m_lastPrint > std::chrono::milliseconds(200) || done == m_end)) return;
+    const bool lines = m_every > 0.0;
+    if (!m_tty && !lines) return;
+    const std::chrono::duration<double> gap = lines ? std::chrono::duration<double>(m_every) : std::chrono::milliseconds(200);
+    if (!(now - m_lastPrint >= gap || done == m_end)) return;
     m_lastPrint = now;
     const double el = std::chrono::duration<double>(now - m_t0).count();
     const double ran = double(done - m_start);
@@ -154,15 +178,20 @@ class CliHooks : public RunHooks {
     if (const RunGuard* g = m_run->guard(); g && g->sample().finite)
       std::snprintf(energy, sizeof energy, "  E %.4g J", g->sample().energy());
     const Pipeline& p = m_run->pipeline();
-    std::fprintf(stderr, "\r  step %llu/%llu (%5.1f%%)  t %.4g s%s  %llu contacts  %.3f ms/step  elapsed %.1f s  eta %.1f s   ",
-                 static_cast<unsigned long long>(done), static_cast<unsigned long long>(m_end),
-                 100.0 * double(done) / double(m_end), p.time(), energy,
-                 static_cast<unsigned long long>(p.stats().numPairs), 1e3 * el / ran, el, eta);
+    std::fprintf(stderr, "%sstep %llu/%llu (%5.1f%%)  t %.4g s%s  %llu contacts%s  %.3f ms/step  elapsed %.1f s  eta %.1f s%s",
+                 lines ? "tumble run: " : "\r  ", static_cast<unsigned long long>(done),
+                 static_cast<unsigned long long>(m_end), 100.0 * double(done) / double(m_end), p.time(), energy,
+                 static_cast<unsigned long long>(p.stats().numPairs), toCome(*m_run).c_str(), 1e3 * el / ran, el, eta,
+                 lines ? "\n" : "   ");
+    if (lines) std::fflush(stderr);
   }
+  /// Whether the terminal's line is drawn (and needs its newline at the end).
+  bool redraws() const { return m_tty && m_every <= 0.0; }
 
  private:
   const mpi::Session& m_ranks;
   bool m_tty;
+  double m_every;
   const Run* m_run = nullptr;
   std::uint64_t m_start = 0, m_end = 0;
   std::chrono::steady_clock::time_point m_t0, m_lastPrint;
@@ -184,7 +213,8 @@ void run(RunOptions o) {
   const std::uint64_t thermoEvery = o.thermoEvery.value_or(scene.thermoEvery);
   const std::uint64_t start = world.step;
   const bool tty = isatty(fileno(stderr)) && !o.quiet && writes;
-  CliHooks hooks(ranks, tty);
+  // (CLI11 reads a flag's value as an integer: the seconds come as text, checked by CLI::Range.)
+  CliHooks hooks(ranks, tty, writes && !o.progress.empty() ? std::stod(o.progress) : 0.0);
   PipelineOptions po;
   po.threads = o.threads;
   // Guards (docs/model.md#guards): checked every --guard-every steps and before every frame and
@@ -204,8 +234,12 @@ void run(RunOptions o) {
 
   if (!o.quiet && writes) {
     const std::string on = ranks.active() ? " on " + std::to_string(ranks.size()) + " MPI ranks" : "";
-    std::fprintf(stderr, "tumble run: %s — %u bodies, %u particles, %llu steps of %g s, pipeline %s%s\n",
-                 scene.name.c_str(), world.numBodies(), world.numParticles(),
+    const Pouring& pours = run.pouring();
+    const std::string bodies = pours.any() ? std::to_string(world.numBodies()) + " bodies (" +
+                                                 std::to_string(pours.finalBodies()) + " once the [[pour]]s are in)"
+                                           : std::to_string(world.numBodies()) + " bodies";
+    std::fprintf(stderr, "tumble run: %s — %s, %u particles, %llu steps of %g s, pipeline %s%s\n",
+                 scene.name.c_str(), bodies.c_str(), world.numParticles(),
                  static_cast<unsigned long long>(scene.steps), scene.dt, toString(pipeline.backend()), on.c_str());
     if (start > 0)
       std::fprintf(stderr, "tumble run: resuming at step %llu (t = %.9g s) from %s\n",
@@ -234,7 +268,7 @@ void run(RunOptions o) {
   try {
     ran = run.advance(scene.steps - start);
   } catch (const SimulationError&) {  // the same on every rank (the pipeline's or the guard's)
-    if (tty) std::fprintf(stderr, "\n");
+    if (hooks.redraws()) std::fprintf(stderr, "\n");
     run.closeOutputs();
     if (writes) {
       if (const RecordingWriter* r = run.recording())
@@ -246,7 +280,7 @@ void run(RunOptions o) {
     }
     throw;
   }
-  if (tty) std::fprintf(stderr, "\n");
+  if (hooks.redraws()) std::fprintf(stderr, "\n");
   const std::uint64_t done = start + ran.steps;
   if (ran.stopped) {  // stopped by a signal (any rank's)
     const int sig = ranks.maxOf(g_stopSignal);
@@ -291,9 +325,9 @@ void run(RunOptions o) {
   }
   run.closeThermo();
   if (const ThermoWriter* t = run.thermo(); t && !o.quiet)
-    std::fprintf(stderr, "time series: %llu rows (every %llu steps) written to %s (draw it: tumble plot %s)\n",
+    std::fprintf(stderr, "time series: %llu rows (every %llu steps) written to %s (draw it: %s plot %s)\n",
                  static_cast<unsigned long long>(t->rows()), static_cast<unsigned long long>(thermoEvery),
-                 t->path().c_str(), t->path().c_str());
+                 t->path().c_str(), invokedAs().c_str(), t->path().c_str());
   if (!o.checkpoint.empty()) {
     try {
       run.writeCheckpoint(o.checkpoint);
@@ -314,6 +348,11 @@ void run(RunOptions o) {
     std::printf("%s: %llu steps, %u particles, %llu contacts in the last step\n", scene.name.c_str(),
                 static_cast<unsigned long long>(st.steps), run.world().numParticles(),
                 static_cast<unsigned long long>(st.numPairs));
+    if (run.pouring().any()) {
+      const Pouring& pours = run.pouring();
+      std::printf("pours: %zu of their %zu bodies entered%s\n", run.world().numBodies() - pours.initialBodies(),
+                  pours.finalBodies() - pours.initialBodies(), run.bodiesToCome() > 0 ? (";" + toCome(run).substr(1)).c_str() : "");
+    }
     std::printf("candidate list: skin %g, %llu rebuilds (%.1f per 1000 steps), %llu near-list refreshes, "
                 "%llu candidate pairs; detection cell size %g (%llu cells)\n",
                 st.skin, static_cast<unsigned long long>(st.numRebuilds), st.rebuildsPer1000(),
@@ -367,7 +406,13 @@ void addRun(CLI::App& app) {
   c->add_option("--thermo-every", o->thermoEvery, "Steps between two rows of the time series (default: the scene's "
                 "[output] thermo_every, 100)")
       ->check(countIn(1, kMaxSteps));
-  c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
+  CLI::Option* quiet = c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
+  c->add_flag("--progress{30}", o->progress,
+              "A progress line every SECONDS (default 30) as a whole line on stderr, also when it is not a terminal "
+              "(a log under nohup, a redirect or a cluster job); without it the line is drawn on a terminal only")
+      ->type_name("[=SECONDS]")
+      ->check(CLI::Range(0.001, 1e6))
+      ->excludes(quiet);
   c->add_option("--guard-every", o->guardEvery,
                 "Check the guards (finite state, energy, overlaps) every N steps, and before every frame and "
                 "checkpoint (default: " + std::to_string(kDefaultGuardEvery) + ")")

@@ -174,7 +174,7 @@ TEST(Thermo, ARowThatCannotBeWrittenIsCutOff) {
   const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);  // EFBIG instead of the signal
   std::string what;
   {
-    ThermoWriter w(path);
+    ThermoWriter w(path, 1e-3f);
     w.write(s);
     s.step = 10;
     w.write(s);
@@ -220,7 +220,7 @@ TEST(Thermo, AFailedRowThroughADescriptorCutsNothing) {
   const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
   std::string what;
   {
-    ThermoWriter w("/dev/fd/" + std::to_string(fd));
+    ThermoWriter w("/dev/fd/" + std::to_string(fd), 1e-3f);
     ThermoSample s;
     s.finite = true;
     struct rlimit small = old;
@@ -241,5 +241,57 @@ TEST(Thermo, AFailedRowThroughADescriptorCutsNothing) {
   const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_GT(all.size(), before.size());
   EXPECT_EQ(all.compare(0, before.size(), before), 0) << "the earlier bytes are all there";
+  std::filesystem::remove_all(dir);
+}
+
+// Times at the step's precision (issue 35, item 11): 200 steps of 5e-5 s are 0.01 s, not the
+// binary sum 0.009999999747 that %.10g of the accumulated time printed.
+TEST(Thermo, TimesArePrintedAtTheStepsPrecision) {
+  double t = 0.0;
+  for (int k = 0; k < 200; ++k) t += double(5e-5f);
+  EXPECT_EQ(formatTime(t, 5e-5f), "0.01");
+  EXPECT_EQ(formatTime(0.0, 1e-4f), "0");
+  EXPECT_EQ(formatTime(1.5, 0.25f), "1.5");
+  EXPECT_EQ(formatTime(3.0 * double(1e-3f), 1e-3f), "0.003");
+  EXPECT_EQ(formatTime(1e6 + double(1e-4f), 1e-4f), "1000000.0001") << "a step far into a long run still shows";
+  EXPECT_EQ(formatTime(std::nan(""), 1e-4f), "nan");
+}
+
+// The time series can be followed while it is written (issue 35, item 3): its rows are in the
+// live name FILE.part, readable as FILE will be, until close() renames it; a second writer of the
+// same FILE is refused while the first's live file is there.
+TEST(Thermo, RowsCanBeReadInTheLiveFileWhileTheRunWrites) {
+  char tmpl[] = "/tmp/tumble_thermo_test.XXXXXX";
+  ASSERT_NE(mkdtemp(tmpl), nullptr);
+  const std::string dir = tmpl, path = dir + "/live.csv", live = path + ".part";
+  const mode_t oldMask = ::umask(022);
+  {
+    ThermoWriter w(path, 5e-5f);
+    ThermoSample s;
+    s.step = 100;
+    s.time = 100 * double(5e-5f);
+    w.write(s);
+    ASSERT_TRUE(std::filesystem::exists(live));
+    EXPECT_FALSE(std::filesystem::exists(path));
+    const auto perms = std::filesystem::status(live).permissions();
+    EXPECT_NE(perms & std::filesystem::perms::others_read, std::filesystem::perms::none) << "readable as the file will be";
+    std::ifstream in(live);
+    std::string header, row;
+    std::getline(in, header);
+    std::getline(in, row);
+    EXPECT_EQ(header, thermoHeader());
+    EXPECT_EQ(row.rfind("100,0.005,", 0), 0u) << row;
+    try {
+      ThermoWriter second(path, 5e-5f);
+      ADD_FAILURE() << "a second writer of " << path << " was not refused";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(live + " exists"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(std::filesystem::exists(live)) << "the refused writer left the first's rows alone";
+    w.close();
+  }
+  ::umask(oldMask);
+  EXPECT_TRUE(std::filesystem::exists(path));
+  EXPECT_FALSE(std::filesystem::exists(live));
   std::filesystem::remove_all(dir);
 }

@@ -62,9 +62,15 @@ bool sameFile(const std::string& a, const std::string& b);
 
 class OutputFile {
  public:
+  /// Where the bytes wait for commit(). Private: `TARGET.part-XXXXXX` (above). Live: the fixed,
+  /// documented name `TARGET.part`, readable as the target will be (a time series followed while
+  /// it is written: `tail -f`, `tumble plot`); created exclusively too (O_EXCL, O_NOFOLLOW), so a
+  /// second writer of the same target, or a live file a killed run left, is refused with a message
+  /// saying so and nothing else is touched.
+  enum class Temporary { Private, Live };
   /// Opens the temporary (or the non-regular target) for writing. Throws tumble::Error naming
   /// the path and the reason.
-  explicit OutputFile(const std::string& path);
+  explicit OutputFile(const std::string& path, Temporary temporary = Temporary::Private);
   ~OutputFile();  ///< abandon() unless committed or kept
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;

@@ -51,6 +51,10 @@ class Pouring {
   /// The first batch step at or after `step` while some body has yet to enter a world of
   /// `bodies` bodies; never (UINT64_MAX) once all have.
   std::uint64_t nextBatch(std::uint64_t step, std::size_t bodies) const;
+  /// Bodies due by time `t` (their pour's rate) that a world of `bodies` bodies does not hold
+  /// yet. Right after a batch (enter()), those that found no place in their region: the pour has
+  /// fallen behind.
+  std::size_t waiting(std::size_t bodies, double t) const { return dueBy(bodies - initialBodies(), t) - (bodies - initialBodies()); }
   /// The world of the scene with its first `bodies` bodies (the initial ones, then the pour's in
   /// order), the pour's where they are due to appear (the centre of their region): the world
   /// a checkpoint of such a run resumes (Checkpoint::resume() then sets the state), and, with

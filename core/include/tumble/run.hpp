@@ -50,6 +50,9 @@ class RunHooks {
   virtual bool mayGiveUpWrite() { return false; }
   /// Whether any process says yes (under MPI, agreed by every rank).
   virtual bool any(bool yes) { return yes; }
+  /// Something the user should know while the run goes on (a [[pour]] that fell behind), said
+  /// once; the same on every rank.
+  virtual void notice(const std::string& /*message*/) {}
 };
 
 /// How the run checks its state (docs/model.md#guards).
@@ -161,6 +164,10 @@ class Run {
   const std::string& resumeWarning() const { return m_resumeWarning; }
   /// The pipeline's counters over the whole run (also those before a pour's load()).
   StepStats stats() const;
+  /// Bodies of the [[pour]]s still to enter, and of those the ones due by now that found no
+  /// place at the last batch (the pour fell behind: RunHooks::notice said so the first time).
+  std::size_t bodiesToCome() const { return m_pouring->finalBodies() - m_world.numBodies(); }
+  std::size_t bodiesWaiting() const { return m_pourWaiting; }
 
  private:
   bool writeOrGiveUp(const std::function<void()>& write);
@@ -176,6 +183,8 @@ class Run {
   std::optional<std::uint64_t> m_endStep;
   std::uint64_t m_checkedAt = std::numeric_limits<std::uint64_t>::max();
   StepStats m_statsBefore;  ///< the pipeline's counters before the last pour's load()
+  std::size_t m_pourWaiting = 0;  ///< bodiesWaiting()
+  bool m_toldBehind = false;      ///< notice() said the pour fell behind
   std::string m_dtWarning, m_resumeWarning;
   // The recording: m_recOn on every process, the writer on the one that writes.
   bool m_recOn = false;

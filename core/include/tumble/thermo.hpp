@@ -34,13 +34,16 @@ struct ThermoSample {
   double energy() const { return kineticTranslation + kineticRotation + gravity + pullPotential + springs; }
 };
 
-/// Writes samples as CSV (header thermoHeader()), one line per sample, flushed at once so that
-/// the temporary (`FILE.part-XXXXXX` until close(): OutputFile) can be followed while the run goes.
+/// Writes samples as CSV (header thermoHeader()), one line per sample, flushed at once. Until
+/// close() the rows go to the live name `FILE.part` (readable, as the finished file will be:
+/// `tail -f FILE.part`, `tumble plot FILE`, which plots the live name while there is no FILE);
 /// close() renames it into place; the destructor does too, so an interrupted run keeps its rows.
-/// Thread safety: none.
+/// A second run writing the same FILE is refused while the first's `FILE.part` is there.
+/// Times are printed at the step's precision (formatTime). Thread safety: none.
 class ThermoWriter {
  public:
-  explicit ThermoWriter(const std::string& path);  ///< throws tumble::Error
+  /// `dt`: the time step, whose decimals the times are printed with. Throws tumble::Error.
+  ThermoWriter(const std::string& path, float dt);
   ~ThermoWriter();
   ThermoWriter(const ThermoWriter&) = delete;
   ThermoWriter& operator=(const ThermoWriter&) = delete;
@@ -55,13 +58,21 @@ class ThermoWriter {
   std::uint64_t m_rows = 0;
   std::uint64_t m_complete = 0;  ///< bytes of the header and the whole rows
   bool m_torn = false;           ///< a failed row could not be cut off again
+  float m_dt;
 };
+
+/// A simulated time as text at the precision the step allows: with the decimals of the shortest
+/// decimal that is `dt` in single precision (dt = 5e-05: 5 decimals, so 200 steps print 0.01,
+/// not their sum in binary, 0.009999999747), trailing zeros dropped; %.10g where dt needs more
+/// than 12 decimals.
+std::string formatTime(double time, float dt);
 
 /// The CSV header line, without the newline: kThermoColumns names.
 const char* thermoHeader();
 
 inline constexpr std::size_t kThermoColumns = 18;
 inline constexpr std::size_t kThermoStepColumn = 0, kThermoContactsColumn = 9;  ///< the two counts
+inline constexpr std::size_t kThermoTimeColumn = 1;
 
 /// A row's values in thermoHeader()'s order; NaN, except for the step and the time, when the
 /// state is not finite.

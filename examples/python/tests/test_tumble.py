@@ -6,6 +6,7 @@ import csv
 import os
 import subprocess
 import tomllib
+import warnings
 
 import numpy as np
 import pytest
@@ -199,12 +200,15 @@ def test_a_pour_grows_the_run_as_tumble_run_does(tmp_path):
         "pour": [{"shape": "ball", "count": 30, "rate": 1000, "start": 0.005, "interval": 0.001, "region": "box",
                   "min": [-0.3, -0.3, 0.5], "max": [0.9, 0.9, 1.1]}],
     }
-    sim = tumble.Simulation(tumble.scene_from_dict(tables))
-    assert sim.num_bodies == 1
+    scene = tumble.scene_from_dict(tables)
+    assert scene.num_bodies == 31 and scene.pour_bodies == 30, "the pour's bodies count (issue 35, item 8)"
+    sim = tumble.Simulation(scene)
+    assert sim.num_bodies == 1 and sim.bodies_to_come == 30
     sim.record(tmp_path / "py.bin")
     for n in (7, 93, 250, 250):
         sim.step(n)
     assert sim.num_bodies == 31 and sim.bodies()["x"].shape == (31, 3)
+    assert sim.bodies_to_come == 0
     path = tmp_path / "pour.toml"
     path.write_text(tumble.to_toml(tables))
     want = cli_state(tmp_path, str(path), "--steps", "600")
@@ -329,3 +333,23 @@ def test_warnings_and_names():
     assert "use dt <=" in sim.warning
     assert tumble.SimulationError.__module__ == "tumble"
     assert "dt 1e-07 s" in repr(tumble.Scene.load(MOLECULES, set=["scene.dt=1e-7"]))
+
+
+def test_a_pour_that_falls_behind_warns_once():
+    """A pour faster than its region takes bodies says so (issue 35, item 8): a RuntimeWarning
+    naming the bodies that wait, and bodies_to_come counts them."""
+    tables = {
+        "scene": {"name": "behind", "dt": 1e-4, "steps": 400},
+        "ground": {"height": 0.0},
+        "shape": [{"name": "ball", "sphere": [{"radius": 0.1, "mass": 1.0, "elasticity": 0.5}]}],
+        "pour": [{"shape": "ball", "count": 40, "rate": 1e5, "region": "box", "attempts": 20,
+                  "min": [0.0, 0.0, 0.5], "max": [0.5, 0.5, 0.9]}],
+    }
+    sim = tumble.Simulation(tumble.scene_from_dict(tables))
+    with pytest.warns(RuntimeWarning, match=r"the \[\[pour\]\] fell behind: \d+ bodies due by now found no place"):
+        sim.step(200)
+    assert 0 < sim.bodies_to_come < 40
+    assert sim.num_bodies + sim.bodies_to_come == 40
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sim.step(100)  # said once
