@@ -342,7 +342,7 @@ def test_a_pour_that_falls_behind_warns_once():
         "scene": {"name": "behind", "dt": 1e-4, "steps": 400},
         "ground": {"height": 0.0},
         "shape": [{"name": "ball", "sphere": [{"radius": 0.1, "mass": 1.0, "elasticity": 0.5}]}],
-        "pour": [{"shape": "ball", "count": 40, "rate": 1e5, "region": "box", "attempts": 20,
+        "pour": [{"shape": "ball", "count": 40, "rate": 1e5, "region": "box",
                   "min": [0.0, 0.0, 0.5], "max": [0.5, 0.5, 0.9]}],
     }
     sim = tumble.Simulation(tumble.scene_from_dict(tables))
