@@ -16,8 +16,12 @@ namespace tumble::scene_reader {
 std::string tableNames(bool arrays) {
   std::string out;
   for (std::string_view t : kSingleTables) out += (out.empty() ? "[" : ", [") + std::string(t) + "]";
-  if (arrays)
-    for (std::string_view t : kArrayTables) out += ", [[" + std::string(t) + "]]";
+  return arrays ? out + ", " + arrayTableNames() : out;
+}
+
+std::string arrayTableNames() {
+  std::string out;
+  for (std::string_view t : kArrayTables) out += (out.empty() ? "[[" : ", [[") + std::string(t) + "]]";
   return out;
 }
 

@@ -34,14 +34,18 @@ inline constexpr std::uint64_t kMaxParticles = std::uint64_t{1} << 31;
 /// direction 2), taken whether or not the option is used.
 inline constexpr int kDrawsPerBody = 12;
 
-/// The top-level tables: the single ones (which --set can address) and the arrays of tables.
+/// The top-level tables: the single ones (--set SECTION.KEY) and the arrays of tables (--set
+/// ARRAY[INDEX].KEY, ARRAY.NAME.KEY).
 inline constexpr std::array<std::string_view, 8> kSingleTables = {
     "scene", "contact", "ground", "pulls", "broadphase", "integrator", "output", "periodic"};
 inline constexpr std::array<std::string_view, 7> kArrayTables = {"material", "wall",  "shape", "body",
                                                                   "group",    "fill", "pour"};
 
-/// "[scene], [contact], …" (and ", [[shape]], [[body]], [[group]]" with `arrays`).
+/// "[scene], [contact], …" (and ", [[material]], [[wall]], …" with `arrays`).
 std::string tableNames(bool arrays);
+
+/// "[[material]], [[wall]], …".
+std::string arrayTableNames();
 
 template <std::size_t N>
 bool isOneOf(const std::array<std::string_view, N>& names, std::string_view name) {
@@ -289,7 +293,9 @@ std::string stemOf(const std::string& path);
 
 class SceneParser {
  public:
-  SceneParser(const toml::table& root, const std::string& file) : m_root(root), m_file(file) {}
+  /// `base`: the folder a relative mesh file is found from; empty: the scene file's folder.
+  SceneParser(const toml::table& root, const std::string& file, std::string base = {})
+      : m_root(root), m_file(file), m_base(std::move(base)) {}
 
   Scene run();
 
@@ -334,6 +340,7 @@ class SceneParser {
 
   const toml::table& m_root;
   const std::string& m_file;
+  std::string m_base;
   std::uint64_t m_seed = 1;
   std::uint64_t m_numParticles = 0;
   std::unordered_map<std::string, std::uint32_t> m_shapeIndex;

@@ -170,22 +170,26 @@ void SceneParser::readRevolvedWall(const TableReader& r, const std::string& type
 }
 
 // A triangle mesh (file, scale, position, orientation): the file is read here, relative to
-// the scene file's folder; its problems are reported at its own lines, naming the wall.
+// the scene file's folder (or the base folder given to parseScene); its problems are reported
+// at its own lines, naming the wall.
 void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
   wall->shape = WallDef::Shape::Mesh;
   const toml::node& fn = r.require("file", "the mesh's STL or OBJ file, relative to the scene file's folder, e.g. "
                                            "file = \"hopper.stl\"");
   const std::string file = r.string(fn, "file");
   if (file.empty()) r.fail(sourceOf(fn), "file must name an STL or OBJ file (got \"\")");
+  const std::filesystem::path folder =
+      m_base.empty() ? std::filesystem::path(m_file).parent_path() : std::filesystem::path(m_base);
   std::filesystem::path path(file);
-  if (path.is_relative()) path = std::filesystem::path(m_file).parent_path() / path;
+  if (path.is_relative()) path = folder / path;
   const std::string resolved = path.lexically_normal().string();
   std::string bytes;
   try {
     bytes = detail::readWholeFile(resolved, "the mesh file", detail::kMeshFileLimit);
   } catch (const InputError& e) {
     r.fail(sourceOf(fn), e.problem() + " (file = \"" + file + "\", looked for at " + resolved +
-                             "); a relative file is found from the scene file's folder");
+                             "); a relative file is found from " +
+                             (m_base.empty() ? std::string("the scene file's folder") : "the base folder " + m_base));
   }
   wall->meshFile = resolved;
   if (const toml::node* sn = r.find("scale")) {

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -341,6 +342,41 @@ TEST(MeshWallKeys, EveryError) {
   // A problem inside the mesh file: its file and line, and the wall that reads it.
   const std::string bad = writeFile("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
   expectSceneError(meshScene("file = \"bad.obj\"\n"), 3, {"index 3", "(the mesh of [[wall]] #1 ("}, bad);
+}
+
+// Text parsed with parseScene finds its relative mesh files from the base folder it is given
+// (issue 35, item 7: the Python module's scene_from_dict(base=...)), else from the folder of
+// its name: scenes/hopper-mesh.toml's text gives the file's scene with base = scenes/.
+TEST(MeshWallKeys, ParsedTextFindsItsMeshFromTheBaseFolder) {
+  const std::string scenes = std::string(TUMBLE_SOURCE_DIR) + "/scenes";
+  std::ifstream in(scenes + "/hopper-mesh.toml", std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_NE(text.find("file = \"hopper-mesh.stl\""), std::string::npos) << "the scene names its mesh relatively";
+  const Scene file = readSceneFile(scenes + "/hopper-mesh.toml");
+  const Scene parsed = parseScene(text, "<python>", {}, OverrideSource::CommandLine, scenes);
+  ASSERT_EQ(parsed.walls.size(), 1u);
+  EXPECT_EQ(parsed.walls[0].meshFile, file.walls.at(0).meshFile);
+  ASSERT_TRUE(parsed.walls[0].mesh && file.walls[0].mesh);
+  EXPECT_EQ(parsed.walls[0].mesh->vertices.size(), file.walls[0].mesh->vertices.size());
+  EXPECT_EQ(parsed.bodies.size(), file.bodies.size());
+  // Without a base: the folder of "<python>", the working directory, which has no such mesh.
+  try {
+    (void)parseScene(text, "<python>");
+    ADD_FAILURE() << "the mesh was found without a base";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "<python>");
+    EXPECT_NE(std::string(e.what()).find("from the scene file's folder"), std::string::npos) << e.what();
+  }
+  // A base without the mesh: the message names the base folder.
+  try {
+    (void)parseScene(text, "<python>", {}, OverrideSource::CommandLine, dir());
+    ADD_FAILURE() << "the mesh was found in " << dir();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("looked for at " + dir() + "/hopper-mesh.stl); a relative file is found "
+                                         "from the base folder " + dir()),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // A mesh wall built in code without its mesh is refused when the world is built.

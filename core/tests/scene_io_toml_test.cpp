@@ -137,21 +137,133 @@ TEST(SceneOverrides, ErrorsNameTheOriginAndNoLine) {
   expectSetError(base, {"ground.friction=0.3", "contact.shear=-2"}, "contact.shear=-2", {"shear must be >= 0"});
 }
 
-TEST(SceneOverrides, OnlyTheSingleTablesCanBeSet) {
+// Entries of arrays of tables (issue 35, item 7): ARRAY[INDEX].KEY (INDEX from 0) or
+// ARRAY.NAME.KEY (the entry whose `name` is NAME), nested arrays too.
+const std::string kTwoWalls = "[[wall]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\nfriction = 0.5\n"
+                              "[[wall]]\ntype = \"plane\"\npoint = [0, 0, 5]\nnormal = [0, 0, -1]\n";
+
+TEST(SceneOverrides, EntriesOfArraysByIndexAndName) {
+  const Scene s = withSets(withExtra(kTwoWalls), {"wall[1].friction=0.1", "wall[0].point=[0, 0, -1]",
+                                                  "shape.ball.sphere[0].radius=0.25", "shape[0].sphere[0].mass=2",
+                                                  "body[0].position=[0, 0, 2]"});
+  ASSERT_EQ(s.walls.size(), 2u);
+  EXPECT_EQ(s.walls[1].contact.friction, 0.1f);
+  EXPECT_EQ(s.walls[0].contact.friction, 0.5f) << "the other entry keeps the file's values";
+  EXPECT_EQ(s.walls[0].point.z, -1.0f);
+  EXPECT_EQ(s.shapes.at(0).spheres.at(0).radius, 0.25f);
+  EXPECT_EQ(s.shapes[0].spheres[0].mass, 2.0f);
+  EXPECT_EQ(s.bodies.at(0).position.z, 2.0f);
+  // The same scene as the file edited the same way (a group's lattice too).
+  const std::string group = "[[group]]\nshape = \"ball\"\ncount = [3, 3, 2]\nspacing = 2\njitter = 0.3\n"
+                            "random_orientation = true\n";
+  std::vector<std::string> ls = baseLines();
+  ls.at(6) = "radius = 0.25";
+  const std::string edited = join(ls) + "[[group]]\nshape = \"ball\"\ncount = [2, 2, 2]\nspacing = 2\njitter = 0.3\n"
+                                        "random_orientation = true\n";
+  const Scene set = withSets(withExtra(group), {"group[0].count=[2, 2, 2]", "shape.ball.sphere[0].radius=0.25"});
+  EXPECT_EQ(set.bodies.size(), 9u);
+  EXPECT_TRUE(sameBits(set, tumble::parseScene(edited, "test.toml")));
+  // [[material]] by name; a renamed entry is found by its new name; the last of a key wins.
+  const std::string mats = withLine(8, "material = \"glass\"") + kHertz + kGlass + kSteel;
+  const Scene m = withSets(mats, {"material.steel.friction=0.7", "material[0].restitution=0.5"});
+  EXPECT_EQ(m.materials.at(1).friction, 0.7f);
+  EXPECT_EQ(m.materials[0].restitution, 0.5f);
+  EXPECT_EQ(m.materials[0].friction, 0.3f);
+  const Scene r = withSets(mats, {"material.steel.name=\"iron\"", "material.iron.friction=0.2", "material.iron.friction=0.4"});
+  EXPECT_EQ(r.materials.at(1).name, "iron");
+  EXPECT_EQ(r.materials[1].friction, 0.4f);
+}
+
+TEST(SceneOverrides, EntriesAreCheckedAsTheFileIs) {
+  const std::string walls = withExtra(kTwoWalls);
+  expectSetError(walls, {"wall[0].friction=-1"}, "wall[0].friction=-1", {"[[wall]] #1: friction must be >= 0 (got -1)"});
+  expectSetError(walls, {"wall[1].frictoin=0.1"}, "wall[1].frictoin=0.1", {"[[wall]] #2: unknown key 'frictoin'"});
+  expectSetError(walls, {"wall[1].radius=1"}, "wall[1].radius=1", {"radius is not a key of type = \"plane\""});
+  expectSetError(join(baseLines()), {"shape.ball.sphere[0].radius=0"}, "shape.ball.sphere[0].radius=0",
+                 {"shape \"ball\", [[shape.sphere]] #1: radius must be > 0 (got 0)"});
+  const std::string mats = withLine(8, "material = \"glass\"") + kHertz + kGlass + kSteel;
+  expectSetError(mats, {"material.glass.poisson_ratio=0.5"}, "material.glass.poisson_ratio=0.5",
+                 {"[[material]] #1: poisson_ratio must be in [0, 0.5) (got 0.5)"});
+  // Entries the file lacks: named with the entries there are.
+  expectSetError(walls, {"wall[2].friction=0.1"}, "wall[2].friction=0.1",
+                 {"wall[2]: the scene has 2 [[wall]] tables, wall[0] and wall[1]"});
+  expectSetError(walls + kTwoWalls, {"wall[4].friction=0.1"}, "wall[4].friction=0.1",
+                 {"wall[4]: the scene has 4 [[wall]] tables, wall[0] to wall[3]"});
+  expectSetError(join(baseLines()), {"wall[0].friction=0.1"}, "wall[0].friction=0.1",
+                 {"wall: the scene has no [[wall]] tables"});
+  expectSetError(join(baseLines()), {"shape.ball.sphere[1].radius=1"}, "shape.ball.sphere[1].radius=1",
+                 {"shape.ball.sphere[1]: shape.ball has 1 [[shape.sphere]] table, shape.ball.sphere[0]"});
+  expectSetError(mats, {"material.glas.friction=0.1"}, "material.glas.friction=0.1",
+                 {"material.glas: no [[material]] is named \"glas\"; the names: \"glass\" (material[0]), "
+                  "\"steel\" (material[1])"});
+  expectSetError(walls, {"wall.left.friction=0.1"}, "wall.left.friction=0.1",
+                 {"wall.left: [[wall]] tables have no name; pick one by its index: the scene has 2 [[wall]] tables, "
+                  "wall[0] and wall[1]"});
+  expectSetError(walls, {"wall[0].point.x=1"}, "wall[0].point.x=1",
+                 {"wall[0].point is not an array of tables (it is an array): the path ends at the key"});
+  expectSetError(mats, {"material.glass=1"}, "material.glass=1", {"material is an array of tables, [[material]]: pick an entry by its index or its name"});
+  expectSetError(join(baseLines()), {"shape.name=\"x\""}, "shape.name=\"x\"",
+                 {"shape[INDEX].KEY=VALUE (INDEX from 0) or shape.NAME.KEY=VALUE"});
+  expectSetError(join(baseLines()), {"shape.ball.sphere.radius=1"}, "shape.ball.sphere.radius=1",
+                 {"shape.ball.sphere is an array of tables, [[shape.sphere]]: pick an entry by its index or its name"});
+  expectSetError(join(baseLines()), {"ground[0].friction=1"}, "ground[0].friction=1", {"[ground] is one table"});
+  expectSetError(walls, {"wall[0].normal[2]=1"}, "wall[0].normal[2]=1",
+                 {"normal[2]: the last part is the key, and --set sets its whole value: write normal=VALUE"});
+  expectSetError(walls, {"ground.friction[0]=1"}, "ground.friction[0]=1", {"friction[0]: the last part is the key"});
+  // A file whose 'wall' is not an array of tables: the file's own error, at its line.
+  try {
+    (void)withSets("wall = 3\n" + join(baseLines()), {"wall[0].friction=0.3"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "test.toml");
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_NE(std::string(e.what()).find("'wall' must be an array of tables"), std::string::npos) << e.what();
+  }
+}
+
+// The Python module's overrides (set=) name themselves as such, with Python examples.
+TEST(SceneOverrides, PythonOverridesSaySet) {
+  const std::string base = join(baseLines());
+  const auto python = [&](const std::string& spec) -> std::string {
+    try {
+      (void)tumble::parseScene(base, "test.toml", {spec}, tumble::OverrideSource::Python);
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "set=['" + spec + "']");
+      EXPECT_EQ(e.line(), 0);
+      return e.what();
+    }
+    ADD_FAILURE() << "no error for set=['" << spec << "']";
+    return {};
+  };
+  EXPECT_EQ(python("ground.friction=-1"), "set=['ground.friction=-1']: [ground]: friction must be >= 0 (got -1)");
+  const std::string malformed = python("foo");
+  EXPECT_NE(malformed.find("e.g. set=['ground.friction=0.3']"), std::string::npos) << malformed;
+  EXPECT_NE(malformed.find("set=['wall[0].friction=0.1'] or set=['material.glass.friction=0.3']"), std::string::npos)
+      << malformed;
+  EXPECT_EQ(malformed.find("--set"), std::string::npos) << malformed;
+  EXPECT_NE(python("output.record=x").find("a string needs quotes, e.g. set=['output.record=\"run.bin\"']"),
+            std::string::npos);
+  EXPECT_NE(python("grund.x=1").find("set= can change the keys of"), std::string::npos);
+  EXPECT_NE(python("wall[0].friction=1").find("wall: the scene has no [[wall]] tables"), std::string::npos);
+}
+
+TEST(SceneOverrides, UnknownTablesAreRefused) {
   const std::string base = join(baseLines());
   expectSetError(base, {"grund.friction=1"}, "grund.friction=1",
                  {"unknown section 'grund'", "--set can change the keys of [scene], [contact], [ground], [pulls], "
-                  "[broadphase], [integrator], [output]"});
-  expectSetError(base, {"shape.name=\"x\""}, "shape.name=\"x\"", {"[[shape]] entries cannot be set", "[scene]"});
-  expectSetError(base, {"body.position=[0, 0, 2]"}, "body.position=[0, 0, 2]", {"[[body]] entries cannot be set"});
-  expectSetError(base, {"group.count=[1, 1, 1]"}, "group.count=[1, 1, 1]", {"[[group]] entries cannot be set"});
+                  "[broadphase], [integrator], [output]", "and of the entries of [[material]], [[wall]], [[shape]]"});
+  expectSetError(base, {"a.b.c=1"}, "a.b.c=1", {"unknown section 'a'"});
 }
 
 TEST(SceneOverrides, MalformedOrNotTomlIsRefused) {
   const std::string base = join(baseLines());
-  for (const char* spec : {"foo", "=1", "a.b.c=1", "ground=1", "ground.=1", ".friction=1", "ground.friction",
-                           "ground.\"friction\"=1", "ground.fri ction=1"}) {
-    expectSetError(base, {spec}, spec, {"expected SECTION.KEY=VALUE", "--set ground.friction=0.3"});
+  for (const char* spec : {"foo", "=1", "ground.a.b=1", "ground=1", "ground.=1", ".friction=1", "ground.friction",
+                           "ground.\"friction\"=1", "ground.fri ction=1", "wall[0]=1", "wall[].friction=1",
+                           "wall[-1].friction=1", "wall[0.friction=1", "wall[0]x.friction=1", "wall[1][2].friction=1",
+                           "wall[99999999999999999999].friction=1"}) {
+    expectSetError(base, {spec}, spec,
+                   {"expected SECTION.KEY=VALUE", "--set ground.friction=0.3", "ARRAY[INDEX].KEY=VALUE (INDEX from 0)",
+                    "ARRAY.NAME.KEY=VALUE, e.g. --set 'wall[0].friction=0.1' or --set material.glass.friction=0.3"});
   }
   expectSetError(base, {"output.record=x.bin"}, "output.record=x.bin",
                  {"TOML syntax error", "a string needs quotes, e.g. --set output.record='\"run.bin\"'"});
