@@ -321,13 +321,31 @@ expect_msg "run --set bad value" "^tumble: command line, --set ground.friction=-
 [ -e badset.csv ] && bad "a bad --set wrote badset.csv" || ok "a bad --set writes nothing"
 expect_status "run --set unknown key" 2 "$bin" run small.toml --set ground.frictoin=0.3
 expect_msg "run --set unknown key" "command line, --set ground.frictoin=0.3: \[ground\]: unknown key 'frictoin'"
-expect_status "run --set a [[shape]] key" 2 "$bin" run small.toml --set shape.name='"x"'
-expect_msg "run --set a [[shape]] key" "\[\[shape\]\] entries cannot be set .*\[scene\], \[contact\]"
+# Entries of arrays of tables (issue 35, item 7): by index from 0 or by name, the same run as the
+# file edited the same way; an entry the file lacks, or a bad value, is refused naming the override.
+expect_status "run --set entries" 0 "$bin" run small.toml --set 'group[0].count=[2, 3, 2]' \
+  --set 'shape.ball.sphere[0].radius=0.08' --state-out entries.csv -q
+sed -e 's/^count = \[4, 4, 2\]/count = [2, 3, 2]/' -e 's/^radius = 0.1$/radius = 0.08/' small.toml > entries.toml
+"$bin" run entries.toml --state-out entries-edited.csv -q 2>/dev/null
+[ "$(wc -l < entries.csv)" = 13 ] && cmp -s entries.csv entries-edited.csv && ok "run --set of entries equals the edited file" \
+  || bad "run --set of entries: $(wc -l < entries.csv) lines, or not the edited file's"
+cp small.toml walls.toml
+printf '[[wall]]\ntype = "plane"\npoint = [-1, 0, 0]\nnormal = [1, 0, 0]\n' >> walls.toml
+printf '[[wall]]\ntype = "plane"\npoint = [2, 0, 0]\nnormal = [-1, 0, 0]\n' >> walls.toml
+expect_status "run --set past the last entry" 2 "$bin" run walls.toml --set 'wall[2].friction=0.1' --state-out badset.csv
+expect_msg "run --set past the last entry" \
+  "^tumble: command line, --set wall\[2\].friction=0.1: wall\[2\]: the scene has 2 \[\[wall\]\] tables, wall\[0\] and wall\[1\]$"
+[ -e badset.csv ] && bad "a --set past the last entry wrote badset.csv" || ok "a --set past the last entry writes nothing"
+expect_status "run --set an entry's bad value" 2 "$bin" run walls.toml --set 'wall[1].friction=-1'
+expect_msg "run --set an entry's bad value" \
+  "^tumble: command line, --set wall\[1\].friction=-1: \[\[wall\]\] #2: friction must be >= 0 \(got -1\)$"
+expect_status "run --set a [[shape]] without an entry" 2 "$bin" run small.toml --set shape.name='"x"'
+expect_msg "run --set a [[shape]] without an entry" "shape is an array of tables, \[\[shape\]\]: pick an entry by its index or its name"
 expect_status "run --set a bare word" 2 "$bin" run small.toml --set output.record=x.bin
 expect_msg "run --set a bare word" "command line, --set output.record=x.bin: TOML syntax error.*needs quotes"
-for malformed in foo =1 a.b.c=1; do
+for malformed in foo =1 ground.a.b=1 'wall[x].friction=1'; do
   expect_status "run --set $malformed" 2 "$bin" run small.toml --set "$malformed"
-  expect_msg "run --set $malformed" "command line, --set $malformed: expected SECTION.KEY=VALUE"
+  expect_msg "run --set $malformed" "command line, --set $(printf '%s' "$malformed" | sed 's/[][]/\\&/g'): expected SECTION.KEY=VALUE"
 done
 # docs/scenes.md's sample --set messages are what tumble prints, word for word (issue 35, item 11).
 doc_samples=0

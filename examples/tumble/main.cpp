@@ -62,8 +62,10 @@ CLI::Option* tumble::cli::addSetOption(CLI::App* command, std::vector<std::strin
   return command
       ->add_option("--set", sets,
                    "Override a scene key, SECTION.KEY=VALUE with VALUE in TOML (strings in quotes), e.g. --set "
-                   "ground.friction=0.3 --set output.record='\"r.bin\"'; repeatable, the last of a key wins; "
-                   "checked as the file is (docs/scenes.md)" + note)
+                   "ground.friction=0.3 --set output.record='\"r.bin\"'; a key of an entry of [[wall]], "
+                   "[[material]], [[group]] ... by its index from 0 or its name: --set 'wall[1].friction=0.1' "
+                   "--set material.glass.friction=0.3; repeatable, the last of a key wins; checked as the file is "
+                   "(docs/scenes.md)" + note)
       ->type_name("SECTION.KEY=VALUE")
       ->allow_extra_args(false);
 }
