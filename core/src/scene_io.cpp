@@ -183,16 +183,28 @@ toml::table parseToml(std::string_view text, const std::string& name) {
 #endif
 }
 
+/// A Python string literal of `s`, as repr() writes it: in single quotes, or in double quotes
+/// when it has single quotes and no double ones; backslashes and that quote escaped.
+std::string pythonString(std::string_view s) {
+  const char q = s.find('\'') != std::string_view::npos && s.find('"') == std::string_view::npos ? '"' : '\'';
+  std::string out(1, q);
+  for (const char c : s) {
+    if (c == q || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + q;
+}
+
 /// How the overrides' messages name them: tumble's --set ("command line, --set SPEC") or the
 /// Python module's set= ("set=['SPEC']"), and how their advice writes an example.
 struct Naming {
   OverrideSource source;
   std::string origin(const std::string& spec) const {
-    return source == OverrideSource::Python ? "set=['" + spec + "']" : "command line, --set " + spec;
+    return source == OverrideSource::Python ? "set=[" + pythonString(spec) + "]" : "command line, --set " + spec;
   }
   /// An example override: `shell` as a shell passes it to --set, `spec` the override itself.
   std::string eg(std::string_view shell, std::string_view spec) const {
-    return source == OverrideSource::Python ? "set=['" + std::string(spec) + "']" : "--set " + std::string(shell);
+    return source == OverrideSource::Python ? "set=[" + pythonString(spec) + "]" : "--set " + std::string(shell);
   }
   std::string option() const { return source == OverrideSource::Python ? "set=" : "--set"; }
 };

@@ -228,7 +228,7 @@ TEST(SceneOverrides, PythonOverridesSaySet) {
     try {
       (void)tumble::parseScene(base, "test.toml", {spec}, tumble::OverrideSource::Python);
     } catch (const InputError& e) {
-      EXPECT_EQ(e.file(), "set=['" + spec + "']");
+      EXPECT_EQ(e.file(), "set=['" + spec + "']") << "(specs without quotes or backslashes)";
       EXPECT_EQ(e.line(), 0);
       return e.what();
     }
@@ -245,6 +245,19 @@ TEST(SceneOverrides, PythonOverridesSaySet) {
             std::string::npos);
   EXPECT_NE(python("grund.x=1").find("set= can change the keys of"), std::string::npos);
   EXPECT_NE(python("wall[0].friction=1").find("wall: the scene has no [[wall]] tables"), std::string::npos);
+  // Quoted as Python's repr() quotes: in double quotes when single ones are in it, the quote and
+  // backslashes escaped.
+  const auto origin = [&](const std::string& spec) -> std::string {
+    try {
+      (void)tumble::parseScene(base, "test.toml", {spec}, tumble::OverrideSource::Python);
+    } catch (const InputError& e) {
+      return e.file();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(origin("scene.nam='a\\'"), "set=[\"scene.nam='a\\\\'\"]");
+  EXPECT_EQ(origin("scene.nam=\"'\""), "set=['scene.nam=\"\\'\"']");
+  EXPECT_EQ(origin("scene.name='x"), "set=[\"scene.name='x\"]");
 }
 
 TEST(SceneOverrides, UnknownTablesAreRefused) {
