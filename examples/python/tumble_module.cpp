@@ -312,16 +312,23 @@ PYBIND11_MODULE(_tumble, m) {
 
   py::class_<Scene>(m, "Scene", "A scene: bodies, shapes and parameters (docs/scenes.md)")
       .def_static(
-          "load", [](const py::object& path, const std::vector<std::string>& set) { return readSceneFile(pathOf(path), set); },
+          "load",
+          [](const py::object& path, const std::vector<std::string>& set) {
+            return readSceneFile(pathOf(path), set, OverrideSource::Python);
+          },
           py::arg("path"), py::arg("set") = std::vector<std::string>{},
-          "Reads a scene file; set: overrides 'SECTION.KEY=VALUE' as tumble run --set takes them")
+          "Reads a scene file; set: overrides as tumble run --set takes them, 'SECTION.KEY=VALUE', "
+          "'wall[1].friction=0.1' or 'material.glass.friction=0.3'")
       .def_static(
           "parse",
-          [](const std::string& text, const std::string& name, const std::vector<std::string>& set) {
-            return parseScene(text, name, set);
+          [](const std::string& text, const std::string& name, const std::vector<std::string>& set,
+             const py::object& base) {
+            return parseScene(text, name, set, OverrideSource::Python, base.is_none() ? std::string() : pathOf(base));
           },
           py::arg("text"), py::arg("name") = "<python>", py::arg("set") = std::vector<std::string>{},
-          "Parses a scene from TOML text; name: what error messages call it")
+          py::arg("base") = py::none(),
+          "Parses a scene from TOML text; name: what error messages call it; base: the folder relative mesh "
+          "files are found from (default: the folder of name, the working directory for '<python>')")
       .def_property_readonly("name", [](const Scene& s) { return s.name; })
       .def_property_readonly("dt", [](const Scene& s) { return s.dt; })
       .def_property_readonly("steps", [](const Scene& s) { return s.steps; })

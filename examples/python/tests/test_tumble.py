@@ -4,6 +4,7 @@
 Run by ctest (python_tests) with PYTHONPATH, TUMBLE_BIN and TUMBLE_SOURCE_DIR set."""
 import csv
 import os
+import pathlib
 import subprocess
 import tomllib
 import warnings
@@ -18,6 +19,7 @@ SRC = os.environ["TUMBLE_SOURCE_DIR"]
 MOLECULES = os.path.join(SRC, "scenes", "molecules.toml")
 SPHERES = os.path.join(SRC, "scenes", "spheres.toml")
 BOX = os.path.join(SRC, "scenes", "box.toml")
+HOPPER_MESH = os.path.join(SRC, "scenes", "hopper-mesh.toml")
 
 
 def cli_state(tmp_path, *args):
@@ -157,6 +159,51 @@ def test_scene_from_dict_equals_the_file(tmp_path):
     assert same_bits(a.bodies()["x"], b.bodies()["x"])
 
 
+def test_set_reaches_the_entries_of_arrays_of_tables():
+    """Issue 35, item 7: an entry by its index from 0 or its name, checked as the file is; the
+    messages say set=, not the command line."""
+    others = tumble.Scene.load(MOLECULES).num_bodies - 20 * 19 * 4  # the [[body]] tables; the group is 20 x 19 x 4
+    assert tumble.Scene.load(MOLECULES, set=["group[0].count=[2, 3, 1]"]).num_bodies == others + 6
+    with open(MOLECULES, "rb") as f:
+        tables = tomllib.load(f)
+    tables["shape"][0]["sphere"][1]["radius"] = 0.2
+    a = tumble.Simulation(tumble.Scene.load(MOLECULES, set=["shape.dimer.sphere[1].radius=0.2"]))
+    b = tumble.Simulation(tumble.scene_from_dict(tables))
+    a.step(30)
+    b.step(30)
+    assert same_bits(a.bodies()["x"], b.bodies()["x"])
+    for spec, message in [
+            ("group[1].count=[1, 1, 1]", r"group\[1\]: the scene has 1 \[\[group\]\] table, group\[0\]$"),
+            ("shape.dimer.sphere[0].radius=-1", r'shape "dimer", \[\[shape.sphere\]\] #1: radius must be > 0'),
+            ("shape.dimr.name=1", r'shape.dimr: no \[\[shape\]\] is named "dimr"; the names: "dimer" \(shape\[0\]\), '),
+            ("foo", r"expected SECTION.KEY=VALUE.*e.g. set=\['ground.friction=0.3'\]")]:
+        with pytest.raises(tumble.InputError, match=r"^set=\['" + spec.replace("[", r"\[").replace("]", r"\]") +
+                           r"'\]: " + message) as e:
+            tumble.Scene.load(MOLECULES, set=[spec])
+        assert "command line" not in str(e.value) and "--set" not in str(e.value)
+    with pytest.raises(tumble.InputError, match=r"""^set=\["scene.name='x"\]: TOML syntax error"""):
+        tumble.Scene.load(MOLECULES, set=["scene.name='x"])  # quoted as repr() quotes it
+
+def test_scene_from_dict_finds_meshes_from_base(tmp_path, monkeypatch):
+    """Issue 35, item 7: the tables of a scene with a relative mesh file load from Python with
+    base= the scene's folder, and run as the file does."""
+    with open(HOPPER_MESH, "rb") as f:
+        tables = tomllib.load(f)
+    assert tables["wall"][0]["file"] == "hopper-mesh.stl"
+    monkeypatch.chdir(tmp_path)  # no mesh here
+    with pytest.raises(tumble.InputError, match=r"cannot open the mesh file.*looked for at hopper-mesh.stl"):
+        tumble.scene_from_dict(tables)
+    with pytest.raises(tumble.InputError, match=r"a relative file is found from the base folder " + str(tmp_path)):
+        tumble.scene_from_dict(tables, base=tmp_path)
+    for base in (os.path.join(SRC, "scenes"), pathlib.Path(SRC) / "scenes"):
+        a = tumble.Simulation(tumble.scene_from_dict(tables, base=base, set=["wall[0].friction=0.4"]))
+        b = tumble.Simulation(tumble.Scene.load(HOPPER_MESH, set=["wall[0].friction=0.4"]))
+        assert a.num_bodies == b.num_bodies == 400
+        a.step(20)
+        b.step(20)
+        assert same_bits(a.bodies()["x"], b.bodies()["x"])
+
+
 def test_a_small_scene_built_in_python():
     scene = tumble.scene_from_dict({
         "scene": {"name": "drop", "dt": 1e-4, "steps": 2000},
@@ -225,7 +272,7 @@ def test_errors_name_the_file_and_line(tmp_path):
     bad.write_text('[scene]\nname = "x"\ndt = -1\n')
     with pytest.raises(tumble.InputError, match=r"bad.toml:3"):
         tumble.Scene.load(str(bad))
-    with pytest.raises(tumble.InputError, match=r"command line, --set ground.friction=-1"):
+    with pytest.raises(tumble.InputError, match=r"^set=\['ground.friction=-1'\]: \[ground\]: friction must be >= 0"):
         tumble.Scene.load(MOLECULES, set=["ground.friction=-1"])
     with pytest.raises(tumble.InputError, match=r"<python>:"):
         tumble.scene_from_dict({"scene": {"name": "x", "bogus": 1}})

@@ -91,7 +91,9 @@ def to_toml(scene):
     return "\n".join(lines).lstrip("\n") + "\n"
 
 
-def scene_from_dict(scene, name="<python>", set=()):
+def scene_from_dict(scene, name="<python>", set=(), base=None):
     """A Scene from dicts and lists laid out as a scene file (docs/scenes.md), checked as the file
-    is: errors name `name` and the line of the generated TOML (to_toml(scene) shows it)."""
-    return Scene.parse(to_toml(scene), name, [set] if isinstance(set, str) else list(set))
+    is: errors name `name` and the line of the generated TOML (to_toml(scene) shows it). `set`
+    takes the overrides of Scene.load; `base` is the folder a relative mesh file is found from
+    (the scene file's folder, for the tables of a file; default: the working directory)."""
+    return Scene.parse(to_toml(scene), name, [set] if isinstance(set, str) else list(set), base)
