@@ -347,13 +347,51 @@ for malformed in foo =1 ground.a.b=1 'wall[x].friction=1'; do
   expect_status "run --set $malformed" 2 "$bin" run small.toml --set "$malformed"
   expect_msg "run --set $malformed" "command line, --set $(printf '%s' "$malformed" | sed 's/[][]/\\&/g'): expected SECTION.KEY=VALUE"
 done
-# docs/scenes.md's sample --set messages are what tumble prints, word for word (issue 35, item 11).
+# docs/scenes.md's sample --set messages are what tumble prints, word for word (issue 35, item 11),
+# on the scene the docs name: two [[wall]]s and the materials glass and steel.
+cat > samples.toml <<'TOML'
+[scene]
+name = "samples"
+dt = 1e-5
+steps = 1
+[contact]
+law = "hertz-mindlin"
+[[material]]
+name = "glass"
+density = 2500
+youngs_modulus = 5e7
+poisson_ratio = 0.25
+restitution = 0.3
+[[material]]
+name = "steel"
+density = 7800
+youngs_modulus = 2e8
+poisson_ratio = 0.3
+restitution = 0.5
+[[wall]]
+type = "plane"
+point = [-1, 0, 0]
+normal = [1, 0, 0]
+[[wall]]
+type = "plane"
+point = [1, 0, 0]
+normal = [-1, 0, 0]
+[[shape]]
+name = "ball"
+[[shape.sphere]]
+radius = 0.05
+material = "glass"
+[[body]]
+shape = "ball"
+position = [0, 0, 0.5]
+TOML
+expect_status "the docs' sample scene runs" 0 "$bin" run samples.toml -q
 doc_samples=0
 while IFS= read -r line; do
   doc_samples=$((doc_samples+1))
   override=${line#tumble: command line, --set }
   override=${override%%: *}
-  "$bin" run small.toml --set "$override" >out.txt 2>err.txt
+  "$bin" run samples.toml --set "$override" >out.txt 2>err.txt
   [ "$(cat err.txt)" = "$line" ] && ok "docs/scenes.md's message for --set $override" ||
     bad "docs/scenes.md says '$line'; tumble says '$(cat err.txt)'"
 done < <(sed -n 's/^  \(tumble: command line, --set .*\)$/\1/p' "$src/docs/scenes.md")
