@@ -285,6 +285,84 @@ class Simulation {
   std::string m_warning;
 };
 
+// A recording read one frame at a time (RecordingReader): the particle table once, each frame
+// as NumPy arrays when asked, so that a long recording costs one frame of memory.
+class RecordingFile {
+ public:
+  explicit RecordingFile(const py::object& path) : m_reader(std::make_unique<RecordingReader>(pathOf(path))) {}
+
+  std::size_t size() const { return reader().numFrames(); }
+  const RecordingInfo& info() const { return reader().info(); }
+
+  // Frame k (negative: from the end) as a dict of arrays; IndexError beyond the frames.
+  py::dict frame(std::int64_t index) {
+    const std::int64_t n = static_cast<std::int64_t>(size());
+    const std::int64_t k = index < 0 ? index + n : index;
+    if (k < 0 || k >= n)
+      throw py::index_error("frame " + std::to_string(index) + " of a recording of " + std::to_string(n) + " frames");
+    RecordingReader& r = reader();
+    r.readFrame(static_cast<std::size_t>(k), m_frame);
+    const RecordedFrame& f = m_frame;
+    const Recording& table = r.header();
+    const std::size_t np = table.particlesOf(f.numBodies());
+    py::array_t<float> x({static_cast<py::ssize_t>(np), py::ssize_t{3}});
+    float* out = x.mutable_data();
+    for (std::size_t i = 0; i < np; ++i) {  // x = X + R(Q) u, as Simulation.particles()
+      const std::uint32_t b = table.body[i];
+      const Vec3f p = particlePosition(Vec3f{f.px[b], f.py[b], f.pz[b]},
+                                       rotationMatrix(Quatf{f.qw[b], f.qx[b], f.qy[b], f.qz[b]}),
+                                       Vec3f{table.ux[i], table.uy[i], table.uz[i]});
+      out[3 * i] = p.x;
+      out[3 * i + 1] = p.y;
+      out[3 * i + 2] = p.z;
+    }
+    py::dict d;
+    d["step"] = f.step;
+    d["time"] = f.time;
+    d["pulls"] = f.pulls;
+    d["x"] = columns({&f.px, &f.py, &f.pz});
+    d["q"] = columns({&f.qw, &f.qx, &f.qy, &f.qz});
+    d["particles"] = x;
+    if (info().debug) {
+      d["v"] = triples(f.debug.v);
+      py::dict forces;
+      for (int c = 0; c < 5; ++c) forces[kDebugForceNames[c]] = triples(f.debug.force[c]);
+      d["forces"] = forces;
+      d["contacts"] = pairArray(f.debug.contacts);
+    }
+    return d;
+  }
+
+  // The particle table: radius, mass, elasticity, body (N,) and the offsets u (N,3).
+  py::dict table() const {
+    const Recording& t = reader().header();
+    py::dict d;
+    d["radius"] = array1(t.radius);
+    d["mass"] = array1(t.mass);
+    d["elasticity"] = array1(t.elasticity);
+    d["body"] = array1(t.body);
+    d["u"] = columns({&t.ux, &t.uy, &t.uz});
+    return d;
+  }
+
+  void close() { m_reader.reset(); }
+
+ private:
+  // 3 floats per row as an (n, 3) array.
+  static py::array_t<float> triples(const std::vector<float>& v) {
+    py::array_t<float> a({static_cast<py::ssize_t>(v.size() / 3), py::ssize_t{3}});
+    std::copy(v.begin(), v.end(), a.mutable_data());
+    return a;
+  }
+  RecordingReader& reader() const {
+    if (!m_reader) throw Error("this Recording is closed");
+    return *m_reader;
+  }
+
+  std::unique_ptr<RecordingReader> m_reader;
+  RecordedFrame m_frame;  // reused: readFrame() keeps its storage
+};
+
 }  // namespace
 
 PYBIND11_MODULE(_tumble, m) {
@@ -379,6 +457,37 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("pipeline", &Simulation::pipelineName)
       .def_property_readonly("warning", &Simulation::warning, "A warning about the start (pressed bodies), or ''")
       .def("stats", &Simulation::stats, "Detection counters and the time spent stepping");
+
+  py::class_<RecordingFile>(m, "Recording", "A recording read frame by frame (docs/python.md#recordings)")
+      .def(py::init<const py::object&>(), py::arg("path"))
+      .def("__len__", &RecordingFile::size)
+      .def("__getitem__", &RecordingFile::frame, py::arg("k"),
+           "Frame k as a dict: step, time, pulls, x (B,3), q (B,4), particles (N,3); a debug recording's also v, "
+           "forces, contacts")
+      .def("table", &RecordingFile::table, "The particle table: radius, mass, elasticity, body (N,), u (N,3)")
+      .def("close", &RecordingFile::close)
+      .def("__enter__", [](RecordingFile& r) -> RecordingFile& { return r; }, py::return_value_policy::reference)
+      .def("__exit__", [](RecordingFile& r, py::args) { r.close(); })
+      .def_property_readonly("version", [](const RecordingFile& r) { return r.info().version; })
+      .def_property_readonly("num_particles", [](const RecordingFile& r) { return r.info().numParticles; })
+      .def_property_readonly("num_bodies", [](const RecordingFile& r) { return r.info().numBodies; })
+      .def_property_readonly("steps_per_frame", [](const RecordingFile& r) { return r.info().stepsPerFrame; })
+      .def_property_readonly("dt", [](const RecordingFile& r) { return r.info().dt; })
+      .def_property_readonly("fps", [](const RecordingFile& r) { return r.info().fps; })
+      .def_property_readonly("debug", [](const RecordingFile& r) { return r.info().debug; })
+      .def_property_readonly("grows", [](const RecordingFile& r) { return r.info().grows; })
+      .def_property_readonly("ground",
+                             [](const RecordingFile& r) -> py::object {
+                               if (!r.info().groundEnabled) return py::none();
+                               return py::float_(r.info().groundHeight);
+                             },
+                             "The ground's height, or None without a ground")
+      .def_property_readonly("gravity",
+                             [](const RecordingFile& r) {
+                               const Vec3f g = r.info().gravity;
+                               return py::make_tuple(g.x, g.y, g.z);
+                             })
+      .def_property_readonly("scene_name", [](const RecordingFile& r) { return r.info().sceneName; });
 
   m.def(
       "find_pairs",

@@ -4,20 +4,23 @@
     import tumble
     scene = tumble.Scene.load("scenes/molecules.toml", set=["ground.friction=0.3"])
     with tumble.Simulation(scene, threads=2) as sim:
+        sim.record("run.bin")             # a frame every steps_per_frame steps
         sim.step(1000)
         print(sim.time, sim.thermo()["energy"], len(sim.contacts()))
         x = sim.particles()["x"]          # (N, 3) NumPy array
+    for frame in tumble.Recording("run.bin"):   # a recording, frame by frame
+        print(frame["step"], frame["x"].shape)
 
 A scene can also be built from Python objects: scene_from_dict({...}) takes the tables of a
 scene file as dicts and lists (the layout of docs/scenes.md) and checks them as the file is.
 """
-from ._tumble import (PULL_SWIRL, PULL_X, PULL_Y, Error, InputError, Scene, Simulation, SimulationError,
-                      __version__, find_pairs)
+from ._tumble import (PULL_SWIRL, PULL_X, PULL_Y, Error, InputError, Recording, Scene, Simulation,
+                      SimulationError, __version__, find_pairs)
 
 for _e in (Error, InputError, SimulationError):
     _e.__module__ = "tumble"
 
-__all__ = ["Scene", "Simulation", "find_pairs", "scene_from_dict", "to_toml", "Error", "InputError",
+__all__ = ["Scene", "Simulation", "Recording", "find_pairs", "scene_from_dict", "to_toml", "Error", "InputError",
            "SimulationError", "PULL_X", "PULL_Y", "PULL_SWIRL", "__version__"]
 
 

@@ -1,0 +1,74 @@
+# SPDX-License-Identifier: MIT
+"""tumble.Recording against the run that wrote the recording: every frame holds the bodies and
+particles that Simulation handed out at that step, bit for bit."""
+import os
+
+import numpy as np
+import pytest
+
+import tumble
+
+SRC = os.environ["TUMBLE_SOURCE_DIR"]
+MOLECULES = os.path.join(SRC, "scenes", "molecules.toml")
+SPHERES = os.path.join(SRC, "scenes", "spheres.toml")
+
+
+def same_bits(a, b):
+    return a.shape == b.shape and a.dtype == b.dtype and np.array_equal(a.view(np.uint32), b.view(np.uint32))
+
+
+def test_frames_are_the_states_of_the_run(tmp_path):
+    sim = tumble.Simulation(tumble.Scene.load(MOLECULES))
+    sim.record(tmp_path / "r.bin", steps_per_frame=10)
+    seen = [(sim.step_count, sim.time, sim.bodies(), sim.particles())]
+    for _ in range(6):
+        sim.step(10)
+        seen.append((sim.step_count, sim.time, sim.bodies(), sim.particles()))
+    sim.close()
+    with tumble.Recording(tmp_path / "r.bin") as rec:
+        assert len(rec) == 7 and rec.steps_per_frame == 10 and not rec.debug and rec.version == 2
+        assert rec.num_bodies == sim.num_bodies and rec.num_particles == sim.num_particles
+        assert rec.scene_name == "molecules" and rec.dt == pytest.approx(tumble.Scene.load(MOLECULES).dt)
+        assert rec.ground is not None and rec.gravity[2] < 0
+        table = rec.table()
+        assert same_bits(table["radius"], seen[0][3]["radius"]) and np.array_equal(table["body"], seen[0][3]["body"])
+        frames = list(rec)  # iteration stops at the last frame
+        assert len(frames) == 7
+        for (step, time, bodies, particles), f in zip(seen, frames):
+            assert f["step"] == step and f["time"] == time
+            assert same_bits(f["x"], bodies["x"]) and same_bits(f["q"], bodies["q"])
+            assert same_bits(f["particles"], particles["x"])  # the same x = X + R(Q) u
+        assert rec[-1]["step"] == 60
+        with pytest.raises(IndexError, match="frame 7 of a recording of 7 frames"):
+            rec[7]
+    with pytest.raises(tumble.Error, match="closed"):
+        rec[0]
+
+
+def test_a_debug_recording_has_velocities_forces_and_contacts(tmp_path):
+    sim = tumble.Simulation(tumble.Scene.load(SPHERES))
+    sim.step(290)  # the spheres touch by now
+    sim.record(tmp_path / "d.bin", steps_per_frame=5, debug=True)
+    contacts = []
+    for _ in range(4):
+        sim.step(5)
+        contacts.append(sim.contacts())
+    sim.close()
+    rec = tumble.Recording(str(tmp_path / "d.bin"))
+    assert rec.debug and len(rec) == 4  # no step-0 frame: forces exist once a step has run
+    n = sim.num_particles
+    for f, c in zip(rec, contacts):
+        assert f["v"].shape == (n, 3)
+        assert sorted(f["forces"]) == sorted(["repulsion", "damping", "shear", "ground", "friction"])
+        assert all(v.shape == (n, 3) for v in f["forces"].values())
+        assert f["step"] > 290 and len(c) > 0 and np.array_equal(f["contacts"], c)
+        assert np.abs(f["forces"]["repulsion"]).max() > 0
+
+
+def test_bad_files_raise_input_errors(tmp_path):
+    with pytest.raises(tumble.InputError, match="nope.bin"):
+        tumble.Recording(tmp_path / "nope.bin")
+    bad = tmp_path / "bad.bin"
+    bad.write_bytes(b"not a recording at all, not at all")
+    with pytest.raises(tumble.InputError, match="bad.bin"):
+        tumble.Recording(bad)
