@@ -96,6 +96,13 @@ py::dict thermoDict(const ThermoSample& s) {
   return d;
 }
 
+// Body k's angular velocity Ω = R I0⁻¹ Rᵀ L, as the pipelines compute it (0 for a body that
+// does not rotate: a single sphere under the report's law).
+Vec3f angularVelocityOf(const World& world, const BodyState& s, std::size_t k) {
+  if (!world.bodyRotates(k)) return Vec3f{0.0f, 0.0f, 0.0f};
+  return angularVelocity(Quatf{s.qw[k], s.qx[k], s.qy[k], s.qz[k]}, world.invInertia[k], Vec3f{s.lx[k], s.ly[k], s.lz[k]});
+}
+
 // The module's part of a run (tumble/run.hpp): the GIL let go around the steps, Ctrl-C between
 // stretches of them.
 class PythonHooks : public RunHooks {
@@ -152,7 +159,17 @@ class Simulation {
     d["v"] = columns({&s.vx, &s.vy, &s.vz});
     d["q"] = columns({&s.qw, &s.qx, &s.qy, &s.qz});
     d["l"] = columns({&s.lx, &s.ly, &s.lz});
-    d["mass"] = array1(m_run.world().bodyMass);
+    const World& world = m_run.world();
+    std::vector<float> wx(s.size()), wy(s.size()), wz(s.size());
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      const Vec3f w = angularVelocityOf(world, s, k);
+      wx[k] = w.x, wy[k] = w.y, wz[k] = w.z;
+    }
+    d["omega"] = columns({&wx, &wy, &wz});
+    d["mass"] = array1(world.bodyMass);
+    std::vector<std::uint32_t> shape(s.size());
+    for (std::size_t k = 0; k < s.size(); ++k) shape[k] = m_run.pouring().shapeOf(k);
+    d["shape"] = array1(shape);
     return d;
   }
 
@@ -163,18 +180,25 @@ class Simulation {
     const World& world = m_run.world();
     const std::size_t n = world.numParticles();
     py::array_t<float> x({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+    py::array_t<float> v({static_cast<py::ssize_t>(n), py::ssize_t{3}});
     float* out = x.mutable_data();
-    for (std::size_t i = 0; i < n; ++i) {  // x = X + R(Q) u, the pipelines' own expression
-      const std::uint32_t b = world.body[i];
-      const Vec3f p = particlePosition(Vec3f{s.px[b], s.py[b], s.pz[b]},
-                                       rotationMatrix(Quatf{s.qw[b], s.qx[b], s.qy[b], s.qz[b]}),
-                                       Vec3f{world.ux[i], world.uy[i], world.uz[i]});
-      out[3 * i] = p.x;
-      out[3 * i + 1] = p.y;
-      out[3 * i + 2] = p.z;
+    float* vout = v.mutable_data();
+    for (std::uint32_t b = 0; b < world.numBodies(); ++b) {
+      const Mat3f R = rotationMatrix(Quatf{s.qw[b], s.qx[b], s.qy[b], s.qz[b]});
+      const Vec3f X{s.px[b], s.py[b], s.pz[b]}, V{s.vx[b], s.vy[b], s.vz[b]};
+      const Vec3f omega = angularVelocityOf(world, s, b);
+      for (std::uint32_t i = world.first[b], e = i + world.numParticlesOf[b]; i < e; ++i) {
+        // x = X + R(Q) u and v = V + Ω × R(Q) u, the pipelines' own expressions
+        const Vec3f u{world.ux[i], world.uy[i], world.uz[i]};
+        const Vec3f p = particlePosition(X, R, u);
+        const Vec3f pv = pointVelocity(V, omega, mul(R, u));
+        out[3 * i] = p.x, out[3 * i + 1] = p.y, out[3 * i + 2] = p.z;
+        vout[3 * i] = pv.x, vout[3 * i + 1] = pv.y, vout[3 * i + 2] = pv.z;
+      }
     }
     py::dict d;
     d["x"] = x;
+    d["v"] = v;
     d["radius"] = array1(world.radius);
     d["body"] = array1(world.body);
     d["mass"] = array1(world.mass);
@@ -244,6 +268,11 @@ class Simulation {
     if (mask & ~std::uint32_t{kPullX | kPullY | kPullSwirl})
       throw Error("pulls: unknown bits in " + std::to_string(mask) + " (PULL_X = 1, PULL_Y = 2, PULL_SWIRL = 4)");
     m_run.pipeline().setPulls(mask);
+  }
+  std::vector<std::string> shapeNames() const {
+    std::vector<std::string> names;
+    for (const ShapeDef& sh : m_run.scene().shapes) names.push_back(sh.name);
+    return names;
   }
   std::uint32_t numBodies() const { return m_run.world().numBodies(); }
   std::size_t bodiesToCome() const { return m_run.bodiesToCome(); }
@@ -428,9 +457,11 @@ PYBIND11_MODULE(_tumble, m) {
            py::arg("guard") = true, py::arg("guard_every") = kDefaultGuardEvery)
       .def("step", &Simulation::step, py::arg("n") = 1,
            "Advances n steps (raises tumble.SimulationError when a guard trips, unless guard=False)")
-      .def("bodies", &Simulation::bodies, "Body state: x (B,3), v (B,3), q (B,4) w,x,y,z, l (B,3), mass (B,)")
+      .def("bodies", &Simulation::bodies,
+           "Body state: x (B,3), v (B,3), q (B,4) w,x,y,z, l (B,3), omega (B,3), mass (B,), shape (B,) index into "
+           "shape_names")
       .def("particles", &Simulation::particles,
-           "Particles: x (N,3) world positions, radius, body, mass, elasticity (N,)")
+           "Particles: x (N,3) world positions, v (N,3) velocities, radius, body, mass, elasticity (N,)")
       .def("contacts", &Simulation::contacts, "The touching pairs (i, j), i < j, of the last step: (C,2) uint32")
       .def("thermo", &Simulation::thermo, "The time-series quantities now (docs/thermo.md) as a dict")
       .def("checkpoint", &Simulation::checkpoint, py::arg("path"), "Writes a checkpoint (resume with resume=path)")
@@ -449,6 +480,9 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("step_count", &Simulation::stepCount, "Steps since the start of the run")
       .def_property_readonly("time", &Simulation::time, "Simulated time (s)")
       .def_property("pulls", &Simulation::pulls, &Simulation::setPulls, "PULL_X | PULL_Y | PULL_SWIRL bits on")
+      .def_property_readonly("shape_names", &Simulation::shapeNames,
+                             "The scene's shapes by index (bodies()['shape']); a scaled one of a [[fill]] or "
+                             "[[pour]] is named 'NAME x FACTOR'")
       .def_property_readonly("num_bodies", &Simulation::numBodies)
       .def_property_readonly(
           "bodies_to_come", &Simulation::bodiesToCome,

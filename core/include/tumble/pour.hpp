@@ -48,6 +48,11 @@ class Pouring {
   std::size_t initialBodies() const { return m_scene.bodies.size(); }
   /// Bodies once every pour is done.
   std::size_t finalBodies() const { return m_scene.bodies.size() + m_scene.pourBodies.size(); }
+  /// The shape (index into scene().shapes) of body k (< finalBodies()) of the run's worlds: the
+  /// scene's bodies first, then the pours' in the order they enter.
+  std::uint32_t shapeOf(std::size_t k) const {
+    return k < m_scene.bodies.size() ? m_scene.bodies[k].shape : m_scene.pourBodies[k - m_scene.bodies.size()].body.shape;
+  }
   /// The first batch step at or after `step` while some body has yet to enter a world of
   /// `bodies` bodies; never (UINT64_MAX) once all have.
   std::uint64_t nextBatch(std::uint64_t step, std::size_t bodies) const;
