@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
 #include "tumble/scene_io.hpp"
 
@@ -57,6 +59,87 @@ void Run::load(std::unique_ptr<Pipeline> pipeline, const RunChecks& checks, RunH
   m_pipeline->load(m_world);
   if (checks.stop || checks.measure) m_guard.emplace(m_world, *m_pipeline);
   m_checkedAt = m_pipeline->stepCount();
+}
+
+void Run::reload(World world) {
+  const std::uint32_t pulls = m_pipeline->pulls();  // load() starts from the scene's
+  const StepStats before = m_pipeline->stats();     // and its counters afresh
+  m_pipeline->load(world);
+  m_pipeline->setPulls(pulls);
+  m_statsBefore.add(before);
+  m_world = std::move(world);
+  if (m_guard) m_guard.emplace(m_world, *m_pipeline);
+}
+
+namespace {
+
+bool finite3(Vec3f a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+
+// The world to load() to go on from the pipeline's state now: `tables` (the run's bodies and
+// particles) with that state, as the pipeline integrates it, its step, time and frame.
+World continuing(World tables, const Pipeline& pipeline) {
+  pipeline.readLocalState(tables.state);
+  tables.frame = pipeline.frame();
+  tables.step = pipeline.stepCount();
+  tables.time = pipeline.time();
+  return tables;
+}
+
+}  // namespace
+
+void Run::setBodies(const BodyChanges& c) {
+  requireLoaded(m_pipeline, "setBodies()");
+  const std::size_t n = c.bodies.size(), nb = m_world.numBodies();
+  const std::pair<const char*, std::size_t> columns[] = {{"x", c.x.size()}, {"v", c.v.size()}, {"q", c.q.size()},
+                                                         {"l", c.l.size()}, {"omega", c.omega.size()}};
+  for (const auto& [name, size] : columns)
+    if (size != 0 && size != n)
+      throw Error(std::string("setBodies: ") + name + " has " + std::to_string(size) + " rows for " +
+                  std::to_string(n) + " bodies");
+  if (!c.l.empty() && !c.omega.empty()) throw Error("setBodies: give l or omega, not both");
+  std::vector<bool> seen(nb, false);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t b = c.bodies[k];
+    const std::string what = "setBodies: body " + std::to_string(b);
+    if (b >= nb) throw Error(what + " is beyond the " + std::to_string(nb) + " bodies of the run");
+    if (seen[b]) throw Error(what + " is named twice");
+    seen[b] = true;
+    if ((!c.x.empty() && !finite3(c.x[k])) || (!c.v.empty() && !finite3(c.v[k])) ||
+        (!c.l.empty() && !finite3(c.l[k])) || (!c.omega.empty() && !finite3(c.omega[k])))
+      throw Error(what + ": a value is not finite");
+    if (!c.q.empty()) {
+      const Quatf q = c.q[k];
+      const double norm = std::sqrt(double(q.w) * q.w + double(q.x) * q.x + double(q.y) * q.y + double(q.z) * q.z);
+      if (!(std::fabs(norm - 1.0) <= 1e-4))
+        throw Error(what + ": q is not a unit quaternion (|q| = " + std::to_string(norm) + "); normalise it");
+    }
+    const Vec3f* turn = !c.l.empty() ? &c.l[k] : !c.omega.empty() ? &c.omega[k] : nullptr;
+    if (turn && !m_world.bodyRotates(b) && (turn->x != 0.0f || turn->y != 0.0f || turn->z != 0.0f))
+      throw Error(what + " does not rotate (a single sphere under the report's law): its l and omega stay 0");
+    if (!c.x.empty())
+      if (const std::string why = outsidePeriodicBox(m_world.params.periodic, c.x[k]); !why.empty())
+        throw Error(what + ": " + why);
+  }
+  World world = continuing(m_world, *m_pipeline);
+  BodyState& s = world.state;
+  const LocalFrame f = world.frame.value_or(LocalFrame{});
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t b = c.bodies[k];
+    if (!c.x.empty()) {  // into the run's frame, as toLocal() moves a scene's bodies
+      s.px[b] = f.active() ? static_cast<float>(double(c.x[k].x) - f.x) : c.x[k].x;
+      s.py[b] = f.active() ? static_cast<float>(double(c.x[k].y) - f.y) : c.x[k].y;
+      s.pz[b] = f.active() ? static_cast<float>(double(c.x[k].z) - f.z) : c.x[k].z;
+    }
+    if (!c.v.empty()) s.vx[b] = c.v[k].x, s.vy[b] = c.v[k].y, s.vz[b] = c.v[k].z;
+    if (!c.q.empty()) s.qw[b] = c.q[k].w, s.qx[b] = c.q[k].x, s.qy[b] = c.q[k].y, s.qz[b] = c.q[k].z;
+    if (!c.l.empty()) s.lx[b] = c.l[k].x, s.ly[b] = c.l[k].y, s.lz[b] = c.l[k].z;
+    if (!c.omega.empty()) {  // L = R I0 Rᵀ Ω with the body's Q (the new one when given)
+      const Mat3f R = rotationMatrix(Quatf{s.qw[b], s.qx[b], s.qy[b], s.qz[b]});
+      const Vec3f L = mul(R, mul(world.inertia[b], mulTransposed(R, c.omega[k])));
+      s.lx[b] = L.x, s.ly[b] = L.y, s.lz[b] = L.z;
+    }
+  }
+  reload(std::move(world));
 }
 
 World Run::finalWorld() const {

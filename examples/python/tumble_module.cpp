@@ -16,6 +16,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tumble/config.hpp"
@@ -77,6 +78,48 @@ std::vector<float> floatColumn(const py::array_t<float, py::array::c_style | py:
   if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != n)
     throw InputError("find_pairs", 0, std::string(what) + ": expected " + std::to_string(n) + " values in one dimension");
   return {a.data(), a.data() + n};
+}
+
+// Rows of k floats (an (n, k) array-like, or None: no rows) as T{...} values.
+template <class T, int K>
+std::vector<T> rowsOf(const py::object& a, std::size_t n, const char* what) {
+  if (a.is_none()) return {};
+  const auto arr = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+  if (!arr || arr.ndim() != 2 || static_cast<std::size_t>(arr.shape(0)) != n || arr.shape(1) != K) {
+    PyErr_Clear();
+    throw Error(std::string("set_bodies: ") + what + " must have shape (" + std::to_string(n) + ", " +
+                std::to_string(K) + "): a row per body named");
+  }
+  std::vector<T> out(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const float* r = arr.data() + K * k;
+    if constexpr (K == 3) out[k] = T{r[0], r[1], r[2]};
+    else out[k] = T{r[0], r[1], r[2], r[3]};
+  }
+  return out;
+}
+
+// Body indices: None (every body, 0..n-1) or a 1-D array-like of whole numbers.
+std::vector<std::uint32_t> bodyIndices(const py::object& a, std::uint32_t numBodies) {
+  std::vector<std::uint32_t> out;
+  if (a.is_none()) {
+    for (std::uint32_t b = 0; b < numBodies; ++b) out.push_back(b);
+    return out;
+  }
+  const py::array arr = py::array::ensure(a);
+  if (!arr || arr.ndim() != 1 || (arr.size() > 0 && arr.dtype().kind() != 'i' && arr.dtype().kind() != 'u')) {
+    PyErr_Clear();
+    throw Error("set_bodies: bodies must be a list or 1-D array of body indices (whole numbers)");
+  }
+  const auto ids = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
+  for (py::ssize_t k = 0; k < arr.size(); ++k) {
+    const std::int64_t b = ids.data()[k];
+    if (b < 0 || b >= std::int64_t{numBodies})
+      throw Error("set_bodies: body " + std::to_string(b) + " is not one of the " + std::to_string(numBodies) +
+                  " bodies (0 to " + std::to_string(std::int64_t{numBodies} - 1) + ")");
+    out.push_back(static_cast<std::uint32_t>(b));
+  }
+  return out;
 }
 
 // The time-series row as {column: value}, the columns of the CSV file (docs/thermo.md).
@@ -258,6 +301,21 @@ class Simulation {
   void close() {
     const auto lock = exclusive();
     m_run.closeOutputs();
+  }
+
+  void setBodies(const py::object& bodies, const py::object& x, const py::object& v, const py::object& q,
+                 const py::object& l, const py::object& omega) {
+    const auto lock = exclusive();
+    BodyChanges c;
+    c.bodies = bodyIndices(bodies, m_run.world().numBodies());
+    const std::size_t n = c.bodies.size();
+    c.x = rowsOf<Vec3f, 3>(x, n, "x");
+    c.v = rowsOf<Vec3f, 3>(v, n, "v");
+    c.q = rowsOf<Quatf, 4>(q, n, "q");
+    c.l = rowsOf<Vec3f, 3>(l, n, "l");
+    c.omega = rowsOf<Vec3f, 3>(omega, n, "omega");
+    m_run.setBodies(c);
+    m_warning = m_run.guard() ? m_run.guard()->initialWarning() : std::string();
   }
 
   std::uint64_t stepCount() const { return m_run.pipeline().stepCount(); }
@@ -462,6 +520,11 @@ PYBIND11_MODULE(_tumble, m) {
            "shape_names")
       .def("particles", &Simulation::particles,
            "Particles: x (N,3) world positions, v (N,3) velocities, radius, body, mass, elasticity (N,)")
+      .def("set_bodies", &Simulation::setBodies, py::arg("bodies") = py::none(), py::arg("x") = py::none(),
+           py::arg("v") = py::none(), py::arg("q") = py::none(), py::arg("l") = py::none(),
+           py::arg("omega") = py::none(),
+           "Between steps: sets the centre x, velocity v, orientation q, angular momentum l or angular velocity "
+           "omega of the bodies named (default: all), a row each; the next step goes on from there")
       .def("contacts", &Simulation::contacts, "The touching pairs (i, j), i < j, of the last step: (C,2) uint32")
       .def("thermo", &Simulation::thermo, "The time-series quantities now (docs/thermo.md) as a dict")
       .def("checkpoint", &Simulation::checkpoint, py::arg("path"), "Writes a checkpoint (resume with resume=path)")

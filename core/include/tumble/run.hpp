@@ -15,6 +15,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "tumble/guard.hpp"
 #include "tumble/pipeline.hpp"
@@ -78,6 +80,18 @@ struct RecordSettings {
   bool continues = false;
 };
 
+/// A change of some bodies' motion between steps (Run::setBodies()): for each of `bodies` (scene
+/// indices) the quantities whose column is given, k-th entry for bodies[k]; an empty column leaves
+/// that quantity as it is. At most one of `l` and `omega`.
+struct BodyChanges {
+  std::vector<std::uint32_t> bodies;
+  std::vector<Vec3f> x;      ///< centre of mass X, world frame
+  std::vector<Vec3f> v;      ///< V
+  std::vector<Quatf> q;      ///< orientation Q, as BodyState::q (the body frame's), a unit quaternion
+  std::vector<Vec3f> l;      ///< angular momentum L, world frame
+  std::vector<Vec3f> omega;  ///< angular velocity Ω, world frame: L = R I0 Rᵀ Ω with the new Q
+};
+
 /// What Run::advance() did.
 struct Advanced {
   std::uint64_t steps = 0;   ///< steps taken
@@ -136,6 +150,18 @@ class Run {
   /// and the periods crossed when periodic), nine significant digits: an exact float round trip.
   void writeState(const std::string& path);
 
+  /// Between steps: overwrites the motion of some bodies and goes on from there as a run resumed
+  /// from a checkpoint of that state would: the pipeline is loaded again with its state as it
+  /// integrates it (its frame, the contact history, the step, the time and the pulls kept) and the
+  /// changes, and the guard starts afresh from it (its energy budget; the time series' pull_work
+  /// counts from here). The outputs, the schedule and the pours carry on. Throws tumble::Error,
+  /// changing nothing, for a body index beyond the bodies or named twice, a column of another length, a
+  /// non-finite value, both l and omega, a Q that is not a unit quaternion (within 1e-4), a
+  /// turn of a body that does not rotate (a single sphere under the report's law) or a centre
+  /// outside the periodic box. Overlaps are not refused: guard()->initialWarning() names the
+  /// deepest. Positions are rounded to float in the run's frame (exact near the origin).
+  void setBodies(const BodyChanges& changes);
+
   /// The quantities now, measured on a copy of the guard (the run's own checks stay where they
   /// fall). Requires a guard (RunChecks::stop or measure).
   ThermoSample sampleNow() const;
@@ -172,6 +198,9 @@ class Run {
  private:
   bool writeOrGiveUp(const std::function<void()>& write);
   void writeFrame();
+  /// Loads the pipeline again with `world` (its state, step, time and frame those the run goes on
+  /// from), keeping the pulls, and starts the guard afresh.
+  void reload(World world);
 
   std::unique_ptr<const Pouring> m_pouring;
   World m_world;
