@@ -61,6 +61,12 @@ void Run::load(std::unique_ptr<Pipeline> pipeline, const RunChecks& checks, RunH
   m_checkedAt = m_pipeline->stepCount();
 }
 
+void Run::captureForces(bool on) {
+  requireLoaded(m_pipeline, "captureForces()");
+  m_captureForces = on;
+  m_pipeline->setDebugCapture(on || (m_recOn && m_recSettings.debug));
+}
+
 void Run::reload(World world) {
   const std::uint32_t pulls = m_pipeline->pulls();  // load() starts from the scene's
   const StepStats before = m_pipeline->stats();     // and its counters afresh
@@ -296,7 +302,7 @@ void Run::record(const RecordSettings& s) {
   m_rec = std::move(rec);
   m_recSettings = s;
   m_recOn = true;
-  m_pipeline->setDebugCapture(s.debug);
+  m_pipeline->setDebugCapture(s.debug || m_captureForces);
   // The first frame: the state now (debug frames start after a step).
   m_pipeline->readState(m_state);
   m_hooks->write([&] {
@@ -307,7 +313,7 @@ void Run::record(const RecordSettings& s) {
 void Run::closeRecording() {
   if (!m_recOn) return;
   m_recOn = false;
-  m_pipeline->setDebugCapture(false);
+  m_pipeline->setDebugCapture(m_captureForces);
   m_hooks->write([&] { m_rec->close(); });
 }
 

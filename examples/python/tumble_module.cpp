@@ -318,6 +318,34 @@ class Simulation {
     m_warning = m_run.guard() ? m_run.guard()->initialWarning() : std::string();
   }
 
+  bool captureForces() const { return m_run.capturingForces(); }
+  void setCaptureForces(bool on) {
+    const auto lock = exclusive();
+    m_run.captureForces(on);
+  }
+
+  // The five forces of the last step per particle (Pipeline::readDebug).
+  py::dict forces() const {
+    const auto lock = exclusive();
+    if (!m_run.capturingForces())
+      throw Error("forces(): set capture_forces = True first; the steps after that keep their forces");
+    ParticleDebug dbg;
+    try {
+      m_run.pipeline().readDebug(dbg);
+    } catch (const Error&) {
+      throw Error("forces(): no step has run since capture_forces was set (or since set_bodies or set_parameters); "
+                  "step first");
+    }
+    py::dict d;
+    const std::size_t n = m_run.world().numParticles();
+    for (int c = 0; c < 5; ++c) {
+      py::array_t<float> a({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+      std::copy(dbg.force[c].begin(), dbg.force[c].end(), a.mutable_data());
+      d[kDebugForceNames[c]] = a;
+    }
+    return d;
+  }
+
   std::uint64_t stepCount() const { return m_run.pipeline().stepCount(); }
   double time() const { return m_run.pipeline().time(); }
   std::uint32_t pulls() const { return m_run.pipeline().pulls(); }
@@ -525,6 +553,10 @@ PYBIND11_MODULE(_tumble, m) {
            py::arg("omega") = py::none(),
            "Between steps: sets the centre x, velocity v, orientation q, angular momentum l or angular velocity "
            "omega of the bodies named (default: all), a row each; the next step goes on from there")
+      .def_property("capture_forces", &Simulation::captureForces, &Simulation::setCaptureForces,
+                    "Keep the forces of each step for forces() (off by default; changes no result)")
+      .def("forces", &Simulation::forces,
+           "The forces of the last step on each particle: repulsion, damping, shear, ground, friction (N,3) each")
       .def("contacts", &Simulation::contacts, "The touching pairs (i, j), i < j, of the last step: (C,2) uint32")
       .def("thermo", &Simulation::thermo, "The time-series quantities now (docs/thermo.md) as a dict")
       .def("checkpoint", &Simulation::checkpoint, py::arg("path"), "Writes a checkpoint (resume with resume=path)")

@@ -162,6 +162,11 @@ class Run {
   /// deepest. Positions are rounded to float in the run's frame (exact near the origin).
   void setBodies(const BodyChanges& changes);
 
+  /// Keeps the five forces of every step per particle (Pipeline::setDebugCapture) for
+  /// Pipeline::readDebug(), with or without a debug recording. Off by default; changes no bit.
+  void captureForces(bool on);
+  bool capturingForces() const { return m_captureForces; }
+
   /// The quantities now, measured on a copy of the guard (the run's own checks stay where they
   /// fall). Requires a guard (RunChecks::stop or measure).
   ThermoSample sampleNow() const;
@@ -221,6 +226,7 @@ class Run {
   std::unique_ptr<RecordingWriter> m_rec;
   BodyState m_state;
   ParticleDebug m_debug;
+  bool m_captureForces = false;
   // The time series.
   bool m_thermoOn = false;
   std::uint64_t m_thermoEvery = 100;

@@ -171,3 +171,40 @@ def test_pulls_set_between_steps():
     on.step(1)
     late.step(1)
     assert not same_bits(on.bodies()["v"], late.bodies()["v"])
+
+
+# --- forces ------------------------------------------------------------------------------------------
+
+def test_forces_of_a_resting_ball_and_of_contacts():
+    sim = tumble.Simulation(balls(positions=[[0.0, 0.0, 0.1]]))
+    with pytest.raises(tumble.Error, match="capture_forces = True"):
+        sim.forces()
+    sim.capture_forces = True
+    with pytest.raises(tumble.Error, match="step first"):
+        sim.forces()
+    sim.step(5000)  # settled on the ground
+    f = sim.forces()
+    assert sorted(f) == sorted(["repulsion", "damping", "shear", "ground", "friction"])
+    assert f["ground"][0, 2] == pytest.approx(9.81, rel=1e-3)  # carries m g, m = 1 kg
+    assert np.abs(f["repulsion"]).max() == 0.0
+
+    spheres = tumble.Simulation(tumble.Scene.load(SPHERES))
+    spheres.capture_forces = True
+    spheres.step(300)
+    f = spheres.forces()
+    contact = f["repulsion"].astype(np.float64) + f["damping"] + f["shear"]
+    assert np.abs(contact).max() > 1.0
+    assert np.abs(contact.sum(axis=0)).max() < 1e-3 * np.abs(contact).sum()  # action = reaction
+
+
+def test_capturing_forces_changes_no_bit_and_survives_a_plain_recording(tmp_path):
+    a, b = tumble.Simulation(tumble.Scene.load(SPHERES)), tumble.Simulation(tumble.Scene.load(SPHERES))
+    a.capture_forces = True
+    a.record(tmp_path / "plain.bin")  # a recording without forces keeps the capture on
+    a.step(200)
+    b.step(200)
+    assert same_state(a, b)
+    assert a.forces()["ground"].shape == (a.num_particles, 3)
+    a.close_recording()
+    a.step(1)
+    assert a.capture_forces and a.forces()["ground"].shape == (a.num_particles, 3)
