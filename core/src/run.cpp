@@ -148,6 +148,121 @@ void Run::setBodies(const BodyChanges& c) {
   reload(std::move(world));
 }
 
+namespace {
+
+enum class Range { Positive, NonNegative, Poisson, Restitution };
+
+// A contact parameter that may change during a run: its key in the scene file and its place.
+struct Changeable {
+  std::string key;
+  Range range;
+  float* to;
+};
+
+// The contact parameters of `s` that a run may change: those that set the contact forces alone
+// (World::fromScene() derives the dampings and the material pairs from them again).
+std::vector<Changeable> changeable(Scene& s) {
+  ContactParams& c = s.contact;
+  GroundParams& g = s.ground;
+  std::vector<Changeable> out;
+  switch (c.law) {
+    case ContactLaw::Report:
+      out = {{"contact.stiffness", Range::Positive, &c.stiffness},
+             {"contact.damping", Range::NonNegative, &c.damping},
+             {"contact.shear", Range::NonNegative, &c.shear}};
+      break;
+    case ContactLaw::HookeHistory:
+      out = {{"contact.stiffness", Range::Positive, &c.stiffness},
+             {"contact.tangential_stiffness", Range::NonNegative, &c.tangentialStiffness},
+             {"contact.gamma_n", Range::NonNegative, &c.gammaN},
+             {"contact.gamma_t", Range::NonNegative, &c.gammaT},
+             {"contact.friction", Range::NonNegative, &c.friction},
+             {"contact.rolling_friction", Range::NonNegative, &c.rollingFriction}};
+      break;
+    case ContactLaw::HertzMindlin:
+      for (MaterialDef& m : s.materials) {
+        const std::string at = "material." + m.name + ".";
+        out.push_back({at + "youngs_modulus", Range::Positive, &m.youngsModulus});
+        out.push_back({at + "poisson_ratio", Range::Poisson, &m.poissonRatio});
+        out.push_back({at + "restitution", Range::Restitution, &m.restitution});
+        out.push_back({at + "friction", Range::NonNegative, &m.friction});
+        out.push_back({at + "rolling_friction", Range::NonNegative, &m.rollingFriction});
+      }
+      break;
+  }
+  if (!g.enabled) return out;
+  if (c.usesMaterials()) {  // the ground's friction replaces the mixed one, as in the file
+    out.push_back({"ground.friction", Range::NonNegative, &g.frictionOverride});
+    out.push_back({"ground.rolling_friction", Range::NonNegative, &g.rollingFriction});
+    return out;
+  }
+  out.push_back({"ground.stiffness", Range::Positive, &g.stiffness});
+  out.push_back({"ground.friction", Range::NonNegative, &g.friction});
+  out.push_back({"ground.tangential_stiffness", Range::NonNegative, &g.tangentialStiffness});
+  if (c.rotatesSpheres()) out.push_back({"ground.rolling_friction", Range::NonNegative, &g.rollingFriction});
+  return out;
+}
+
+// Why `key` cannot change during a run: the reason for the keys one may try, else a list of those
+// that can.
+std::string cannotChange(const std::string& key, const Scene& s, const std::vector<Changeable>& can) {
+  auto ends = [&](const char* tail) {
+    const std::size_t n = std::strlen(tail);
+    return key.size() > n && key.compare(key.size() - n, n, tail) == 0;
+  };
+  std::string why;
+  if (key == "contact.law")
+    why = "the law cannot change during a run (which bodies rotate and the contacts' history depend on it)";
+  else if (key == "ground.enabled" || key == "ground.height" || key == "ground.material")
+    why = "the ground's place and material cannot change during a run";
+  else if (key.rfind("material.", 0) == 0 && ends(".density"))
+    why = "a density sets the masses, which cannot change during a run";
+  else if (key.rfind("wall", 0) == 0)
+    why = "the walls' contact parameters cannot change during a run";
+  else if (key == "scene.dt")
+    why = "dt cannot change during a run (its steps and time are counted in it)";
+  else
+    why = "not a contact parameter that can change during a run";
+  std::string list;
+  for (const Changeable& c : can) list += (list.empty() ? "" : ", ") + c.key;
+  return key + ": " + why + "; under law = \"" + toString(s.contact.law) + "\" these can: " +
+         (list.empty() ? std::string("none") : list);
+}
+
+}  // namespace
+
+void Run::setParameters(const std::vector<std::pair<std::string, double>>& changes) {
+  requireLoaded(m_pipeline, "setParameters()");
+  Scene s = scene();
+  const std::vector<Changeable> can = changeable(s);
+  for (const auto& [key, value] : changes) {
+    const auto it = std::find_if(can.begin(), can.end(), [&](const Changeable& c) { return c.key == key; });
+    if (it == can.end()) throw Error("setParameters: " + cannotChange(key, s, can));
+    const float v = static_cast<float>(value);
+    const bool ok = std::isfinite(v) && (it->range == Range::Positive      ? v > 0.0f
+                                         : it->range == Range::NonNegative ? v >= 0.0f
+                                         : it->range == Range::Poisson     ? v >= 0.0f && v < 0.5f
+                                                                           : v > 0.0f && v <= 1.0f);
+    if (!ok)
+      throw Error("setParameters: " + key + " = " + std::to_string(value) + ": must be " +
+                  (it->range == Range::Positive      ? "a finite number > 0"
+                   : it->range == Range::NonNegative ? "a finite number >= 0"
+                   : it->range == Range::Poisson     ? "in [0, 0.5)"
+                                                     : "in (0, 1]"));
+    *it->to = v;
+  }
+  auto pouring = std::make_unique<const Pouring>(s);
+  World tables;
+  try {
+    tables = pouring->worldWith(m_world.numBodies());  // the dampings and material pairs again, checked
+  } catch (const Error& e) {
+    throw Error(std::string("setParameters: ") + e.what());
+  }
+  reload(continuing(std::move(tables), *m_pipeline));
+  m_pouring = std::move(pouring);
+  m_dtWarning = tumble::timeStepWarning(m_pouring->any() ? finalWorld() : m_world);
+}
+
 World Run::finalWorld() const {
   return m_pouring->any() ? m_pouring->worldWith(m_pouring->finalBodies()) : m_world;
 }

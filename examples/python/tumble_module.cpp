@@ -12,6 +12,7 @@
 #include <functional>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -318,6 +319,14 @@ class Simulation {
     m_warning = m_run.guard() ? m_run.guard()->initialWarning() : std::string();
   }
 
+  void setParameters(const std::map<std::string, double>& changes) {
+    const auto lock = exclusive();
+    m_run.setParameters({changes.begin(), changes.end()});
+    m_warning = m_run.timeStepWarning();
+    const std::string pressed = m_run.guard() ? m_run.guard()->initialWarning() : std::string();
+    if (!pressed.empty()) m_warning += (m_warning.empty() ? "" : "; ") + pressed;
+  }
+
   bool captureForces() const { return m_run.capturingForces(); }
   void setCaptureForces(bool on) {
     const auto lock = exclusive();
@@ -553,6 +562,9 @@ PYBIND11_MODULE(_tumble, m) {
            py::arg("omega") = py::none(),
            "Between steps: sets the centre x, velocity v, orientation q, angular momentum l or angular velocity "
            "omega of the bodies named (default: all), a row each; the next step goes on from there")
+      .def("set_parameters", &Simulation::setParameters, py::arg("changes"),
+           "Between steps: changes contact parameters, {'ground.friction': 0.3, ...} (the scene file's keys); "
+           "what cannot change raises tumble.Error naming it")
       .def_property("capture_forces", &Simulation::captureForces, &Simulation::setCaptureForces,
                     "Keep the forces of each step for forces() (off by default; changes no result)")
       .def("forces", &Simulation::forces,

@@ -162,6 +162,15 @@ class Run {
   /// deepest. Positions are rounded to float in the run's frame (exact near the origin).
   void setBodies(const BodyChanges& changes);
 
+  /// Between steps: changes contact parameters, given as the scene file's keys ("ground.friction",
+  /// "contact.stiffness", "material.NAME.restitution"; docs/python.md lists those of each law),
+  /// and goes on as setBodies() does (the state kept bit for bit, the guard afresh). Each value is
+  /// checked as the scene file's is, and the world's tables are rebuilt from the changed scene
+  /// (World::fromScene()'s checks); timeStepWarning() is then that of the new parameters. What
+  /// cannot change during a run (the law, the ground's place, masses, the walls, dt, …) throws
+  /// tumble::Error naming the key and saying why, changing nothing.
+  void setParameters(const std::vector<std::pair<std::string, double>>& changes);
+
   /// Keeps the five forces of every step per particle (Pipeline::setDebugCapture) for
   /// Pipeline::readDebug(), with or without a debug recording. Off by default; changes no bit.
   void captureForces(bool on);

@@ -208,3 +208,55 @@ def test_capturing_forces_changes_no_bit_and_survives_a_plain_recording(tmp_path
     a.close_recording()
     a.step(1)
     assert a.capture_forces and a.forces()["ground"].shape == (a.num_particles, 3)
+
+
+# --- contact parameters -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("path, sets, changes", [
+    (SPHERES, [], {"ground.friction": 0.1, "contact.damping": 5.0}),
+    (HERTZ, ["scene.steps=300"], {"material.glass.youngs_modulus": 4e7, "material.glass.friction": 0.3,
+                                  "ground.friction": 0.2}),
+])
+@pytest.mark.parametrize("pipeline", ["cpu", "cuda-host"])
+def test_parameters_changed_between_steps_are_a_resumed_run_with_them(tmp_path, path, sets, changes, pipeline):
+    """A change at step 100 goes on exactly as a run of the changed scene resumed from a checkpoint
+    of step 100 (the documented warning about other parameters aside)."""
+    scene = tumble.Scene.load(path, set=sets)
+    changed = tumble.Scene.load(path, set=sets + [f"{k}={v}" for k, v in changes.items() if not k.startswith("material")])
+    sim = tumble.Simulation(scene, pipeline)
+    sim.step(100)
+    sim.checkpoint(tmp_path / "c.ck")
+    sim.set_parameters(changes)
+    sim.step(100)
+    if any(k.startswith("material") for k in changes):  # [[material]] tables take no --set: edit the text
+        text = open(path).read().replace("youngs_modulus = 5.0e7", "youngs_modulus = 4e7")
+        text = text.replace("friction = 0.5           # Coulomb", "friction = 0.3           # Coulomb")
+        changed = tumble.Scene.parse(text, "heap-hertz.toml", sets + ["ground.friction=0.2"])
+    resumed = tumble.Simulation(changed, pipeline, resume=tmp_path / "c.ck")
+    assert "differ" in resumed.warning
+    resumed.step(100)
+    assert same_state(sim, resumed)
+    plain = tumble.Simulation(scene, pipeline)
+    plain.step(200)
+    assert not same_state(sim, plain)
+
+
+def test_what_cannot_change_is_named():
+    sim = tumble.Simulation(tumble.Scene.load(SPHERES))
+    sim.step(10)
+    ref = tumble.Simulation(tumble.Scene.load(SPHERES))
+    ref.step(10)
+    for changes, message in [
+        ({"contact.law": 1.0}, "contact.law: the law cannot change during a run"),
+        ({"ground.height": 1.0}, "ground.height: the ground's place"),
+        ({"scene.dt": 1e-4}, "scene.dt: dt cannot change"),
+        ({"contact.friction": 0.3}, r"contact.friction: not a contact parameter .* these can: contact.stiffness, "
+                                    r"contact.damping, contact.shear, ground.stiffness"),
+        ({"ground.friction": -1.0}, "ground.friction = -1.* must be a finite number >= 0"),
+        ({"ground.friction": 0.2, "contact.stiffness": 0.0}, "contact.stiffness = 0.* > 0"),
+    ]:
+        with pytest.raises(tumble.Error, match=message):
+            sim.set_parameters(changes)
+    sim.step(100)
+    ref.step(100)
+    assert same_state(sim, ref)  # nothing changed, not even ground.friction of the refused pair
