@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -16,6 +17,8 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "tumble/error.hpp"
 #include "tumble/recording.hpp"
@@ -132,6 +135,113 @@ TEST(Label, TextAndLegendAreDrawnWhereAsked) {
   EXPECT_GT(light[0] + light[1] + light[2], 600) << "the ramp starts cream";
   EXPECT_LT(dark[1], 40) << "and ends dark red";
   EXPECT_GT(dark[0], dark[2] + 80);
+}
+
+// An image of one grey.
+Image greyImage(int w, int h, std::uint8_t v = 100) {
+  Image img;
+  img.width = w;
+  img.height = h;
+  img.rgb.assign(3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h), v);
+  return img;
+}
+bool isWhite(const Image& img, int x, int y) {
+  const std::uint8_t* p = img.at(x, y);
+  return p[0] == 255 && p[1] == 255 && p[2] == 255;
+}
+
+// Measured, not asked: every place where `text` stands whole in `img` as drawLabel draws it
+// alone (each white pixel of the text white, every other pixel of its box not white), as boxes.
+// A text drawn over another is found nowhere.
+std::vector<PixelBox> findText(const Image& img, const std::string& text, int scale) {
+  const PixelBox box = labelBox(0, 0, text, scale);
+  Image t = greyImage(box.w, box.h, 0);
+  drawLabel(t, 0, 0, text, scale);
+  std::vector<std::pair<int, int>> white, other;
+  for (int y = 0; y < box.h; ++y)
+    for (int x = 0; x < box.w; ++x) (isWhite(t, x, y) ? white : other).emplace_back(x, y);
+  std::vector<PixelBox> found;
+  for (int y = 0; y + box.h <= img.height; ++y)
+    for (int x = 0; x + box.w <= img.width; ++x) {
+      const auto all = [&](const std::vector<std::pair<int, int>>& px, bool w) {
+        for (const auto& [dx, dy] : px)
+          if (isWhite(img, x + dx, y + dy) != w) return false;
+        return true;
+      };
+      if (all(white, true) && all(other, false)) found.push_back({x, y, box.w, box.h});
+    }
+  return found;
+}
+
+// Issue 35 item 2: "0.0105" and "0.0181" were drawn over each other ("0.01050181") in a ramp 60
+// font pixels wide. Each text is looked for in the drawn image; it must stand whole exactly once,
+// clear of the others and of the ramp, inside the image.
+TEST(Label, LegendTextsNeverOverlap) {
+  struct Case {
+    int w, h;
+    float lo, hi;
+    const char* name;
+  };
+  for (const Case& c : {Case{1280, 720, 0.0105f, 0.0181f, "mass kg"}, Case{320, 240, 0.0105f, 0.0181f, "mass kg"},
+                        Case{160, 120, 0.0105f, 0.0181f, "mass kg"}, Case{320, 240, 0.2f, 0.6f, "elasticity"},
+                        Case{320, 240, 1.5e-7f, 2.5e12f, "speed m/s"}, Case{160, 120, -123.456f, 98765.4f, "height m"},
+                        Case{100, 120, -1.5e-7f, 2.5e12f, "speed m/s"}, Case{320, 240, 0.01049f, 0.01051f, "mass kg"}}) {
+    SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) + " " + c.name);
+    Image img = greyImage(c.w, c.h);
+    const int scale = labelScale(c.h);
+    const LegendLayout l = drawLegend(img, ColorMode::Mass, c.lo, c.hi, c.name, scale);
+    const auto [lo, hi] = legendValues(c.lo, c.hi);
+    EXPECT_NE(lo, hi) << "two values apart print apart";
+    std::vector<PixelBox> found;
+    for (const std::string& text : {lo, hi, std::string(c.name)}) {
+      const std::vector<PixelBox> at = findText(img, text, scale);
+      ASSERT_EQ(at.size(), 1u) << "'" << text << "' stands whole once";
+      found.push_back(at[0]);
+    }
+    // The ramp as drawn: the pixels whose channels differ (the texts, their shadows, the frame and
+    // the background are grey).
+    PixelBox bar{c.w, c.h, 0, 0};
+    int right = -1, bottom = -1;
+    for (int y = 0; y < c.h; ++y)
+      for (int x = 0; x < c.w; ++x) {
+        const std::uint8_t* p = img.at(x, y);
+        if (p[0] == p[1] && p[1] == p[2]) continue;
+        bar.x = std::min(bar.x, x), bar.y = std::min(bar.y, y), right = std::max(right, x), bottom = std::max(bottom, y);
+      }
+    bar.w = right + 1 - bar.x, bar.h = bottom + 1 - bar.y;
+    EXPECT_EQ(bar.x, l.bar.x);
+    EXPECT_EQ(bar.w, l.bar.w);
+    EXPECT_GE(bar.w, 60 * scale);
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      EXPECT_FALSE(found[i].overlaps(bar)) << i;
+      EXPECT_GE(found[i].x, 0);
+      EXPECT_LE(found[i].x + found[i].w, c.w);
+      EXPECT_LE(found[i].y + found[i].h, c.h);
+      EXPECT_GT(found[i].y, bar.y + bar.h) << "under the ramp";
+      for (std::size_t j = i + 1; j < found.size(); ++j) EXPECT_FALSE(found[i].overlaps(found[j])) << i << " " << j;
+    }
+    EXPECT_EQ(found[0].x, bar.x) << "the smallest under the ramp's left end";
+    EXPECT_EQ(found[1].x + found[1].w, bar.x + bar.w) << "the largest under its right end";
+    EXPECT_TRUE(found[1].y > found[0].y || found[1].x >= found[0].x + found[0].w + 6 * scale)
+        << "at least a character apart side by side";
+    EXPECT_EQ(found[0].x, l.lo.x);
+    EXPECT_EQ(found[1].y, l.hi.y);
+    EXPECT_EQ(found[2].y, l.name.y);
+  }
+}
+
+// Issue 35 item 2: "kg" read "k9": the 'g' stood in rows 1 to 6 like a digit. Lower-case letters
+// without an ascender start at row 2.
+TEST(Label, LowerCaseLettersWithoutAscendersStartAtTheThirdRow) {
+  for (const char c : std::string("acegmnopqrsuvwxyz")) {
+    Image img = greyImage(6, 8, 0);
+    drawLabel(img, 0, 0, std::string(1, c), 1);
+    int top = 0, body = 0;
+    for (int y = 0; y < 7; ++y)
+      for (int x = 0; x < 5; ++x) (y < 2 ? top : body) += isWhite(img, x, y);
+    EXPECT_EQ(top, 0) << c;
+    EXPECT_GT(body, 4) << c;
+  }
 }
 
 TEST(Controls, SpacePlaysAndLLoops) {
@@ -839,6 +949,29 @@ TEST_F(Cli, RenderColourModesAndPulls) {
   const Px g0 = groundPixel(plain), g1 = groundPixel(pulled);
   EXPECT_LT(std::abs(g0.r - g0.g), 20) << g0;
   EXPECT_GT(g1.r, g1.g + 40) << "x pull: red ground " << g1;
+}
+
+// Issue 35 item 2, end to end: masses 0.0105 and 0.0181 kg (the granular scenes') are printed
+// apart under the legend of `render --color mass`, at the default size too.
+TEST_F(Cli, RenderMassLegendPrintsBothValuesApart) {
+  write("grains.toml", "[scene]\nname = \"grains\"\ndt = 1e-4\nsteps = 20\n[ground]\nheight = 0.0\n" +
+                           sphereShapeToml("small", "0.01", "0.0105", "0.5") +
+                           sphereShapeToml("large", "0.012", "0.0181", "0.5") +
+                           groupToml("small", "[3, 3, 1]", "0.03", "[0.0, 0.0, 0.02]") +
+                           groupToml("large", "[3, 3, 1]", "0.03", "[0.0, 0.0, 0.05]"));
+  ASSERT_EQ(run("run grains.toml --record grains.bin -q").status, 0) << slurp(path("err.txt"));
+  for (const std::string size : {"320x240", "1280x720"}) {
+    ASSERT_EQ(run("render grains.bin --still -1 -o legend.ppm --color mass --size " + size).status, 0)
+        << slurp(path("err.txt"));
+    const Image img = readPpm(path("legend.ppm"));
+    const int scale = labelScale(img.height);
+    const std::vector<PixelBox> lo = findText(img, "0.0105", scale), hi = findText(img, "0.0181", scale),
+                                name = findText(img, "mass kg", scale);
+    ASSERT_EQ(lo.size(), 1u) << size;
+    ASSERT_EQ(hi.size(), 1u) << size;
+    ASSERT_EQ(name.size(), 1u) << size;
+    EXPECT_FALSE(lo[0].overlaps(hi[0])) << size;
+  }
 }
 
 // A box of walls around the lattice is recorded and drawn; --no-walls draws exactly the image of
