@@ -830,6 +830,15 @@ else
   [ -s chute.png ] && ok "chute.png rendered" || bad "no chute.png"
   expect_status "render a still of a pour" 0 render_ pour.bin -o pour.png --still -1 --size 160x120 -q
   expect_status "render --camera orbit" 2 render_ ex.bin --still 1 -o x.png --camera orbit
+  # An image is PNG or PPM: another extension is refused, not written as PPM bytes (issue 35, item 9).
+  expect_status "render --still -o x.jpg" 2 render_ ex.bin --still 1 -o x.jpg
+  expect_msg "render --still -o x.jpg" "^tumble: -o x.jpg: an image is written as PNG \(a name ending in .png\) or binary PPM \(.ppm\)"
+  [ ! -e x.jpg ] && ok "no x.jpg written" || bad "x.jpg written"
+  expect_status "play --screenshot x.jpg" 2 "$bin" play ex.bin --screenshot x.jpg
+  expect_msg "play --screenshot x.jpg" "^tumble: --screenshot x.jpg: an image is written as PNG"
+  expect_status "render --still -o X.PNG" 0 render_ ex.bin --still 1 -o X.PNG --size 64x48 -q
+  [ "$(head -c 4 X.PNG | tail -c 3)" = PNG ] && ok "X.PNG is a PNG" || bad "X.PNG is not a PNG"
+  expect_status "render --still -o /dev/null" 0 render_ ex.bin --still 1 -o /dev/null --size 64x48 -q
   [ ! -e x.png ] && ok "refused renders wrote nothing" || bad "a refused render wrote x.png"
   # Walls (docs/animation.md#walls): drawn by default, left out with --no-walls.
   "$bin" run boxed.toml --steps 30 --record boxed.bin -q

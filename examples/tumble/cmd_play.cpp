@@ -40,6 +40,7 @@ void play(const PlayOptions& o) {
   int w = 0, h = 0;
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
+  if (!o.screenshot.empty()) checkImageName(o.screenshot, "--screenshot");
   // RecordingReader names the file, the byte offset and the problem for a corrupt or
   // truncated file; main() prints it and ends with status 2. Frames are read as they are shown.
   RecordingReader reader(o.file);

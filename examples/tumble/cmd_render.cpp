@@ -260,6 +260,7 @@ void render(const RenderOptions& o) {
   // Decide everything about the output before any expensive work.
   std::string muxer, codec;
   const bool pngs = !o.still && !o.out.empty() && o.out.back() == '/';  // a PNG sequence into a folder
+  if (o.still) checkImageName(o.out, "-o");
   if (!o.still && !pngs) {
     if (endsWith(o.out, ".mp4")) muxer = "mp4", codec = "libx264";
     else if (endsWith(o.out, ".mkv")) muxer = "matroska", codec = "libx264";

@@ -64,6 +64,7 @@ void view(const ViewOptions& o) {
   int w = 0, h = 0;
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
+  if (!o.screenshot.empty()) checkImageName(o.screenshot, "--screenshot");
   const Scene scene = readSceneFile(o.scene, o.sets);
   refuseSceneInput(scene, o.record, "--record");
   refuseSceneInput(scene, o.screenshot, "--screenshot");

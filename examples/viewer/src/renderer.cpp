@@ -28,10 +28,12 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <utility>
@@ -674,9 +676,26 @@ Image readPixels(int w, int h) {
   return img;
 }
 
+std::optional<ImageFormat> imageFormatOf(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".png") return ImageFormat::Png;
+  if (ext == ".ppm") return ImageFormat::Ppm;
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (!ec && (std::filesystem::is_character_file(st) || std::filesystem::is_fifo(st))) return ImageFormat::Ppm;
+  return std::nullopt;
+}
+
+void checkImageName(const std::string& path, const std::string& option) {
+  if (!imageFormatOf(path))
+    throw Error(option + " " + path + ": an image is written as PNG (a name ending in .png) or binary PPM (.ppm); "
+                "this name asks for another format (convert afterwards, e.g. ffmpeg -i x.png x.jpg)");
+}
+
 void writeImage(const std::string& path, const Image& img) {
-  const bool png = path.size() >= 4 && (path.compare(path.size() - 4, 4, ".png") == 0 ||
-                                         path.compare(path.size() - 4, 4, ".PNG") == 0);
+  checkImageName(path, "image");
+  const bool png = imageFormatOf(path) == ImageFormat::Png;
   OutputFile out(path);  // a temporary renamed into place; abandoned if this throws
   if (png) {
     png_image pi;

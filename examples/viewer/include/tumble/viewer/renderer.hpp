@@ -7,6 +7,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,8 +59,18 @@ std::string glErrorName(unsigned error);
 /// top row comes first.
 Image readPixels(int w, int h);
 
-/// Writes an image as PNG (name ending in .png) or binary PPM (anything else), through
-/// a temporary renamed into place (tumble/output_file.hpp), so no half-written file is left.
+/// The image formats writeImage writes.
+enum class ImageFormat { Png, Ppm };
+/// The format writeImage writes to `path`: PNG for a name ending in .png, binary PPM for one
+/// ending in .ppm (either case), PPM for a device or a FIFO (/dev/stdout, whatever its name);
+/// none for any other name (x.jpg: no JPEG writer is linked).
+std::optional<ImageFormat> imageFormatOf(const std::string& path);
+/// Throws tumble::Error when writeImage would refuse `path`, naming `option` (e.g. "-o"), the
+/// path and the formats it writes; called before any work, so a bad name costs nothing.
+void checkImageName(const std::string& path, const std::string& option);
+
+/// Writes an image as PNG or binary PPM (imageFormatOf; any other name is refused), through a
+/// temporary renamed into place (tumble/output_file.hpp), so no half-written file is left.
 /// Throws tumble::Error.
 void writeImage(const std::string& path, const Image& img);
 /// Reads a binary PPM (P6, maxval 255) as written by writeImage; throws tumble::Error.
