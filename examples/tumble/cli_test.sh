@@ -818,8 +818,24 @@ else
   render_ ex.bin --still 1 -o pathed.png --size 320x240 --no-label --camera-path same.csv -q
   cmp -s opts.png pathed.png && ok "a camera path sets the camera the options set" || bad "the path's camera differs"
   printf '0,,,,,,50\n' > far.csv
+  printf '0, 1, 0, 0.2, 30, 20, 3\n' > full.csv
   render_ ex.bin --still 1 -o far.png --size 320x240 --no-label --camera-path far.csv -q
   ! cmp -s far.png nolab.png && ok "a path's distance moves the camera" || bad "the path's distance changed nothing"
+  # Frame ranges (issue 35, item 9): --from and --to (included, negative from the end); frame 1 of
+  # a range is drawn as the still of frame 1 (the camera fixed by a path).
+  expect_status "render --from 1 --to 2" 0 render_ ex.bin -o rng/ --size 64x48 --from 1 --to 2 --no-label --camera-path full.csv
+  [ "$(ls rng | wc -l)" = 2 ] && ok "--from 1 --to 2: 2 images" || bad "rng: $(ls rng)"
+  expect_msg "render --from 1 --to 2" "2 frames to rng/"
+  render_ ex.bin --still 1 -o s1.png --size 64x48 --no-label --camera-path full.csv -q
+  cmp -s rng/frame_000000.png s1.png && ok "the range starts at frame 1" || bad "rng/frame_000000.png is not frame 1"
+  expect_status "render --from -3" 0 render_ ex.bin -o last3/ --size 64x48 --from -3 -q
+  [ "$(ls last3 | wc -l)" = 3 ] && ok "--from -3: the last 3 frames" || bad "last3: $(ls last3)"
+  expect_status "render --from 3 --to 1" 2 render_ ex.bin -o bad/ --from 3 --to 1
+  expect_msg "render --from 3 --to 1" "^tumble: --from 3 --to 1: frame 3 comes after frame 1 of ex.bin"
+  expect_status "render --to 9" 2 render_ ex.bin -o bad/ --to 9
+  expect_msg "render --to 9" "^tumble: --to 9: ex.bin has frames 0 to 3"
+  [ ! -e bad ] && ok "a refused range writes nothing" || bad "a refused range made bad/"
+  expect_status "render --still with --from" 2 render_ ex.bin --still 1 --from 1 -o x.png
   expect_status "render --camera follow" 0 render_ ex.bin -o fol/ --size 64x48 --camera follow --camera-path same.csv -q
   [ "$(ls fol | wc -l)" = 4 ] && ok "--camera follow: 4 images" || bad "fol: $(ls fol)"
   printf '0,1\n0,2\n' > back.csv

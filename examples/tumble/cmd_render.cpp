@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -65,6 +66,7 @@ struct RenderOptions {
   std::optional<double> fps;
   std::string color = "plain";
   std::optional<long> still;
+  long from = 0, to = -1;
   std::string forces;
   std::optional<double> yaw, pitch;
   std::vector<double> lookAt;
@@ -241,7 +243,7 @@ void render(const RenderOptions& o) {
   int w = 0, h = 0;
   parseSize(o.size, "--size", w, h);
   const auto mode = colorModeFromString(o.color);
-  if (!mode) throw Error("--color " + o.color + ": expected plain, mass or elasticity");
+  if (!mode) throw Error("--color " + o.color + ": expected one of " + colorModeNames());
   if (o.fps && !(*o.fps > 0.0 && *o.fps <= 1000.0)) throw Error("--fps must be in (0, 1000]");
   if (!(o.zoom > 0.0)) throw Error("--zoom must be positive");
   for (const double v : o.lookAt)
@@ -284,21 +286,53 @@ void render(const RenderOptions& o) {
   if (reader.numFrames() == 0) throw InputError(o.file, 0, "the recording holds no frames");
   if (!o.forces.empty() && !rec.info.debug)
     throw Error("--forces needs a debug recording (tumble run --debug-record); " + o.file + " is not one");
+  // The frames rendered, first to last: --from and --to, or the one of --still (framed as the
+  // whole recording is, as in a video of it).
   const std::size_t numFrames = reader.numFrames();
-  std::size_t first = 0, last = numFrames - 1;
-  if (o.still) {
-    const long i = *o.still < 0 ? static_cast<long>(numFrames) + *o.still : *o.still;
+  const auto frameIndex = [&](long n, const char* option) {
+    const long i = n < 0 ? static_cast<long>(numFrames) + n : n;
     if (i < 0 || i >= static_cast<long>(numFrames))
-      throw Error("--still " + std::to_string(*o.still) + ": " + o.file + " has frames 0 to " +
+      throw Error(std::string(option) + " " + std::to_string(n) + ": " + o.file + " has frames 0 to " +
                   std::to_string(numFrames - 1) + " (negative counts from the end)");
-    first = last = static_cast<std::size_t>(i);
-  }
+    return static_cast<std::size_t>(i);
+  };
+  const std::size_t first = frameIndex(o.from, "--from"), last = frameIndex(o.to, "--to");
+  if (first > last)
+    throw Error("--from " + std::to_string(o.from) + " --to " + std::to_string(o.to) + ": frame " +
+                std::to_string(first) + " comes after frame " + std::to_string(last) + " of " + o.file);
+  const std::size_t stillIndex = o.still ? frameIndex(*o.still, "--still") : first;
+  const std::size_t count = last - first + 1;  // frames in the range
 
-  // One pass over every frame (each checked) frames the camera before anything is drawn.
+  // One pass over the range's frames (each checked) frames the camera before anything is drawn,
+  // and finds the range of a colouring by speed or height.
   const ParticleTable table = ParticleTable::from(rec);
+  const bool perFrame = *mode == ColorMode::Speed || *mode == ColorMode::Height;
+  float valueLo = std::numeric_limits<float>::infinity(), valueHi = -valueLo;
+  RecordedFrame before;  // the frame before the one visited (positions and time)
+  bool haveBefore = false;
+  std::vector<float> values;
+  const auto visit = [&](const RecordedFrame& f, const std::vector<float>& spheres) {
+    if (*mode == ColorMode::Height) {
+      frameValues(*mode, table, spheres, {}, values);
+      // The bulk, as the camera frames it: from the 1st to the 99th percentile (all below 100).
+      const bool all = values.size() < 100;
+      valueLo = std::min(valueLo, quantile(values, all ? 0.0 : 0.01));
+      valueHi = std::max(valueHi, quantile(values, all ? 1.0 : 0.99));
+    } else if (*mode == ColorMode::Speed) {
+      if (haveBefore) {
+        values = bodySpeeds(f, before);
+        valueLo = 0.0f;
+        valueHi = std::max(valueHi, quantile(values, values.size() < 100 ? 1.0 : 0.99));
+      }
+      before.time = f.time, before.px = f.px, before.py = f.py, before.pz = f.pz;
+      haveBefore = true;
+    }
+  };
   std::vector<double> times;
   std::vector<Bounds> boxes;
-  const Camera fixedCamera = Camera::framing(recordingBounds(reader, table, &times, follow ? &boxes : nullptr));
+  const Camera fixedCamera =
+      Camera::framing(recordingBounds(reader, table, &times, follow ? &boxes : nullptr, visit, first, last));
+  if (perFrame && !(valueHi >= valueLo)) valueLo = valueHi = 0.0f;  // one frame: no speed
   OffscreenContext ctx;
   Renderer renderer;
   renderer.setWalls(wallMeshes(rec.walls));
@@ -308,27 +342,37 @@ void render(const RenderOptions& o) {
   d.groundEnabled = rec.info.groundEnabled;
   d.groundHeight = rec.info.groundHeight;
   d.colors = particleColors(table, *mode);
+  float legendLo = valueLo, legendHi = valueHi;
+  if (*mode == ColorMode::Mass || *mode == ColorMode::Elasticity) {
+    const std::vector<float>& v = *mode == ColorMode::Mass ? table.mass : table.elasticity;
+    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    legendLo = *lo, legendHi = *hi;
+  }
+  const char* legendName = *mode == ColorMode::Mass         ? "mass kg"
+                           : *mode == ColorMode::Elasticity ? "elasticity"
+                           : *mode == ColorMode::Speed      ? "speed m/s"
+                                                            : "height m";
 
   // How fast the video plays: simulated seconds per second of video. Without --realtime one
   // recorded frame is one video frame; with it, video frame k shows the last recorded frame at or
-  // before t0 + k / fps, so the video runs at the simulation's speed.
+  // before t0 + k / fps, so the video runs at the simulation's speed. times[k] is frame first + k's.
   const double fps = o.fps ? *o.fps : rec.info.fps;
   const double span = times.back() - times.front();
-  const double speed = o.realtime || numFrames < 2 ? 1.0 : span / double(numFrames - 1) * fps;
-  std::vector<std::size_t> sequence;
+  const double speed = o.realtime || count < 2 ? 1.0 : span / double(count - 1) * fps;
+  std::vector<std::size_t> sequence;  // the recorded frame of each video frame
   if (o.still) {
-    sequence = {first};
+    sequence = {stillIndex};
   } else if (!o.realtime) {
     for (std::size_t i = first; i <= last; ++i) sequence.push_back(i);
   } else {
     // A thousandth of a video frame of slack: frame times carry the rounding of the time steps.
     const double tol = 1e-3 / fps;
-    const auto count = static_cast<std::size_t>(std::floor((span + tol) * fps)) + 1;
+    const auto videoFrames = static_cast<std::size_t>(std::floor((span + tol) * fps)) + 1;
     std::size_t i = 0;
-    for (std::size_t k = 0; k < count; ++k) {
+    for (std::size_t k = 0; k < videoFrames; ++k) {
       const double t = times.front() + double(k) / fps;
-      while (i + 1 < numFrames && times[i + 1] <= t + tol) ++i;
-      sequence.push_back(i);
+      while (i + 1 < count && times[i + 1] <= t + tol) ++i;
+      sequence.push_back(first + i);
     }
   }
   // The camera of each video frame: the fixed framing or the following one, then the options, then
@@ -338,9 +382,9 @@ void render(const RenderOptions& o) {
     std::vector<Bounds> seqBoxes;
     if (o.still) seqBoxes = boxes;
     else
-      for (const std::size_t i : sequence) seqBoxes.push_back(boxes[i]);
+      for (const std::size_t i : sequence) seqBoxes.push_back(boxes[i - first]);
     cams = followCameras(seqBoxes, o.cameraSmooth * fps);
-    if (o.still) cams = {cams[first]};
+    if (o.still) cams = {cams[stillIndex]};
   } else {
     cams.assign(sequence.size(), fixedCamera);
   }
@@ -351,24 +395,34 @@ void render(const RenderOptions& o) {
     c.distance /= static_cast<float>(o.zoom);
     if (o.lookAt.size() == 3)
       c.target = {static_cast<float>(o.lookAt[0]), static_cast<float>(o.lookAt[1]), static_cast<float>(o.lookAt[2])};
-    if (!path.empty()) c = cameraOnPath(path, times[sequence[k]], c);
+    if (!path.empty()) c = cameraOnPath(path, times[sequence[k] - first], c);
   }
 
-  const std::string speedText = numFrames < 2 ? std::string("one frame")
+  const std::string speedText = count < 2 ? std::string("one frame")
                                 : o.realtime || std::abs(speed - 1.0) < 0.01 ? std::string("real time")
                                 : speed < 1.0 ? "slow motion x" + compact(1.0 / speed)
                                               : "fast motion x" + compact(speed);
   // Enough decimals in the time label to tell the frames apart (at least 4).
-  const int decimals = numFrames < 2 || !(span > 0.0)
+  const int decimals = count < 2 || !(span > 0.0)
                            ? 4
-                           : std::clamp(static_cast<int>(std::ceil(-std::log10(span / double(numFrames - 1)))) + 1, 4, 12);
+                           : std::clamp(static_cast<int>(std::ceil(-std::log10(span / double(count - 1)))) + 1, 4, 12);
 
-  RecordedFrame f;
+  RecordedFrame f, neighbour;
+  std::vector<float> speeds;
   const auto drawFrame = [&](std::size_t k) {
     const std::size_t i = sequence[k];
     reader.readFrame(i, f);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(),
                     d.spheres, rec.particlesOf(f.numBodies()));
+    if (perFrame) {
+      speeds.clear();
+      if (*mode == ColorMode::Speed && numFrames > 1) {
+        reader.readFrame(i > 0 ? i - 1 : 1, neighbour);  // the frame before (after the first)
+        speeds = bodySpeeds(f, neighbour);
+      }
+      frameValues(*mode, table, d.spheres, speeds, values);
+      rampColors(*mode, values, valueLo, valueHi, d.colors);
+    }
     d.pulls = f.pulls;
     d.time = f.time;
     if (rec.info.debug) forceLines(table, d.spheres, f.debug, show, d.lines);
@@ -379,11 +433,7 @@ void render(const RenderOptions& o) {
       const int scale = labelScale(h), margin = 4 * scale;
       drawLabel(img, margin, margin, "t = " + fixed(f.time, decimals) + " s", scale);
       if (!o.still) drawLabel(img, margin, margin + 10 * scale, speedText, scale);
-      if (*mode != ColorMode::Plain) {
-        const std::vector<float>& v = *mode == ColorMode::Mass ? table.mass : table.elasticity;
-        const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-        drawLegend(img, *mode, *lo, *hi, *mode == ColorMode::Mass ? "mass kg" : "elasticity", scale);
-      }
+      if (hasRamp(*mode)) drawLegend(img, *mode, legendLo, legendHi, legendName, scale);
     }
     return img;
   };
@@ -391,7 +441,7 @@ void render(const RenderOptions& o) {
   if (o.still) {
     writeImage(o.out, drawFrame(0));
     if (!o.quiet)
-      std::fprintf(stderr, "tumble render: frame %zu (step %llu, t = %.4f s) of %s, %dx%d, %s, to %s\n", first,
+      std::fprintf(stderr, "tumble render: frame %zu (step %llu, t = %.4f s) of %s, %dx%d, %s, to %s\n", stillIndex,
                    static_cast<unsigned long long>(f.step), f.time, o.file.c_str(), w,
                    h, toString(*mode), o.out.c_str());
     return;
@@ -399,7 +449,7 @@ void render(const RenderOptions& o) {
 
   if (pngs) {
     writePngSequence(o, sequence, fps, drawFrame);
-    if (!o.quiet && numFrames > 1) printSpeed(speedText, speed, o.realtime);
+    if (!o.quiet && count > 1) printSpeed(speedText, speed, o.realtime);
     return;
   }
   // ffmpeg writes the temporary by name (output_file.hpp: created exclusively next to the target,
@@ -471,7 +521,7 @@ void render(const RenderOptions& o) {
     std::fprintf(stderr, "tumble render: %zu frames of %s (%dx%d, %g frames/s, %s) to %s in %.1f s (%s, EGL %s)\n",
                  sequence.size(), o.file.c_str(), w, h, fps, toString(*mode), o.out.c_str(), el,
                  Renderer::glRenderer().c_str(), ctx.platform().c_str());
-    if (numFrames > 1) printSpeed(speedText, speed, o.realtime);
+    if (count > 1) printSpeed(speedText, speed, o.realtime);
   }
 }
 #endif
@@ -489,9 +539,18 @@ void addRender(CLI::App& app) {
       ->required();
   c->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720; even for a video)");
   c->add_option("--fps", o->fps, "Video frames per second (default: the recording's, 60)");
-  c->add_option("--color", o->color, "Colouring: plain (one colour per body), mass or elasticity")
-      ->check(CLI::IsMember({"plain", "mass", "elasticity"}));
-  c->add_option("--still", o->still, "Write only frame N as an image (negative counts from the end: -1 = last)");
+  c->add_option("--color", o->color,
+                "Colouring: plain or body (one colour per body), shape (one per shape), mass, elasticity, speed or "
+                "height (a colour ramp, light to dark, with a legend)")
+      ->check(CLI::IsMember({"plain", "body", "mass", "elasticity", "shape", "speed", "height"}));
+  CLI::Option* still =
+      c->add_option("--still", o->still, "Write only frame N as an image (negative counts from the end: -1 = last)");
+  c->add_option("--from", o->from,
+                "First frame to render (default 0; negative counts from the end); the camera frames the frames "
+                "rendered")
+      ->excludes(still);
+  c->add_option("--to", o->to, "Last frame to render, included (default -1: the last; negative counts from the end)")
+      ->excludes(still);
   c->add_option("--forces", o->forces,
                 "Debug recordings: draw force lines, digits 1-5 (1 repulsion, 2 damping, 3 shear, 4 ground, 5 friction)");
   c->add_option("--yaw", o->yaw, "Camera direction about the vertical, degrees (default -57)");

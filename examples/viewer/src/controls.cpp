@@ -85,25 +85,32 @@ const char* toString(ColorMode m) {
     case ColorMode::Plain: return "plain";
     case ColorMode::Mass: return "mass";
     case ColorMode::Elasticity: return "elasticity";
+    case ColorMode::Shape: return "shape";
+    case ColorMode::Speed: return "speed";
+    case ColorMode::Height: return "height";
   }
   return "?";
 }
 
 std::optional<ColorMode> colorModeFromString(const std::string& s) {
   const std::string n = lower(s);
-  if (n == "plain") return ColorMode::Plain;
-  if (n == "mass") return ColorMode::Mass;
-  if (n == "elasticity") return ColorMode::Elasticity;
+  if (n == "body") return ColorMode::Plain;
+  for (const ColorMode m : {ColorMode::Plain, ColorMode::Mass, ColorMode::Elasticity, ColorMode::Shape,
+                            ColorMode::Speed, ColorMode::Height})
+    if (n == toString(m)) return m;
   return std::nullopt;
 }
+
+const char* colorModeNames() { return "plain, body, mass, elasticity, shape, speed, height"; }
+
+bool hasRamp(ColorMode m) { return m != ColorMode::Plain && m != ColorMode::Shape; }
 
 ColorMode nextColorMode(ColorMode m) {
   switch (m) {
     case ColorMode::Plain: return ColorMode::Mass;
     case ColorMode::Mass: return ColorMode::Elasticity;
-    case ColorMode::Elasticity: return ColorMode::Plain;
+    default: return ColorMode::Plain;
   }
-  return ColorMode::Plain;
 }
 
 const char* forceName(int kind) {

@@ -33,8 +33,63 @@ std::vector<float> normalised(const std::vector<float>& v) {
 }  // namespace
 
 Rgb rampColor(ColorMode mode, float t) {
-  if (mode == ColorMode::Mass) return lerp({1.0f, 0.93f, 0.70f}, {0.55f, 0.05f, 0.05f}, t);     // cream → dark red
-  return lerp({0.80f, 0.95f, 1.0f}, {0.05f, 0.15f, 0.55f}, t);                                // ice → navy
+  switch (mode) {
+    case ColorMode::Mass: return lerp({1.0f, 0.93f, 0.70f}, {0.55f, 0.05f, 0.05f}, t);    // cream → dark red
+    case ColorMode::Speed: return lerp({0.88f, 0.97f, 0.72f}, {0.05f, 0.38f, 0.15f}, t);   // pale → dark green
+    case ColorMode::Height: return lerp({0.93f, 0.86f, 1.0f}, {0.32f, 0.05f, 0.45f}, t);   // lilac → deep purple
+    default: return lerp({0.80f, 0.95f, 1.0f}, {0.05f, 0.15f, 0.55f}, t);                   // ice → navy
+  }
+}
+
+std::vector<std::uint32_t> bodyShapes(const ParticleTable& table) {
+  std::uint32_t numBodies = 0;
+  for (const std::uint32_t b : table.body) numBodies = std::max(numBodies, b + 1);
+  std::vector<std::vector<float>> key(numBodies);
+  for (std::size_t i = 0; i < table.size(); ++i)
+    key[table.body[i]].insert(key[table.body[i]].end(), {table.ux[i], table.uy[i], table.uz[i], table.radius[i],
+                                                         table.mass[i], table.elasticity[i]});
+  std::map<std::vector<float>, std::uint32_t> shapes;
+  std::vector<std::uint32_t> out(numBodies);
+  for (std::uint32_t b = 0; b < numBodies; ++b)
+    out[b] = shapes.emplace(std::move(key[b]), static_cast<std::uint32_t>(shapes.size())).first->second;
+  return out;
+}
+
+std::vector<float> bodySpeeds(const RecordedFrame& f, const RecordedFrame& other) {
+  std::vector<float> v(f.numBodies(), 0.0f);
+  const double dt = std::abs(f.time - other.time);
+  if (!(dt > 0.0)) return v;
+  for (std::size_t k = 0; k < std::min(f.numBodies(), other.numBodies()); ++k)
+    v[k] = static_cast<float>(norm(Vec3f{f.px[k] - other.px[k], f.py[k] - other.py[k], f.pz[k] - other.pz[k]}) / dt);
+  return v;
+}
+
+void frameValues(ColorMode mode, const ParticleTable& table, const std::vector<float>& spheres,
+                 const std::vector<float>& speeds, std::vector<float>& out) {
+  const std::size_t n = spheres.size() / 4;
+  out.assign(n, 0.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (mode == ColorMode::Height) out[i] = spheres[4 * i + 2];
+    else if (mode == ColorMode::Speed && table.body[i] < speeds.size()) out[i] = speeds[table.body[i]];
+  }
+}
+
+void rampColors(ColorMode mode, const std::vector<float>& values, float lo, float hi, std::vector<float>& out) {
+  out.resize(3 * values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const float t = hi > lo ? std::clamp((values[i] - lo) / (hi - lo), 0.0f, 1.0f) : 0.5f;
+    const Rgb c = rampColor(mode, t);
+    out[3 * i] = c.r;
+    out[3 * i + 1] = c.g;
+    out[3 * i + 2] = c.b;
+  }
+}
+
+float quantile(std::vector<float>& v, double q) {
+  if (v.empty()) return 0.0f;
+  const auto at = v.begin() + static_cast<std::ptrdiff_t>(std::clamp(q, 0.0, 1.0) * double(v.size() - 1));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
 }
 
 ParticleTable ParticleTable::from(const Recording& rec) {
@@ -50,12 +105,14 @@ float ParticleTable::maxRadius() const {
 std::vector<float> particleColors(const ParticleTable& table, ColorMode mode) {
   const std::size_t n = table.size();
   std::vector<float> out(3 * n);
-  std::vector<float> t;
+  std::vector<float> t(n, 0.0f);
   if (mode == ColorMode::Mass) t = normalised(table.mass);
   if (mode == ColorMode::Elasticity) t = normalised(table.elasticity);
+  const std::vector<std::uint32_t> shape = mode == ColorMode::Shape ? bodyShapes(table) : std::vector<std::uint32_t>();
   for (std::size_t i = 0; i < n; ++i) {
-    const Rgb c = mode == ColorMode::Plain ? kPalette[(table.body[i] * 7u + 3u) % std::size(kPalette)]
-                                           : rampColor(mode, t[i]);
+    const Rgb c = mode == ColorMode::Plain   ? kPalette[(table.body[i] * 7u + 3u) % std::size(kPalette)]
+                  : mode == ColorMode::Shape ? kPalette[shape[table.body[i]] % std::size(kPalette)]
+                                             : rampColor(mode, t[i]);
     out[3 * i] = c.r;
     out[3 * i + 1] = c.g;
     out[3 * i + 2] = c.b;
@@ -144,18 +201,21 @@ Bounds robustBounds(const std::vector<float>& spheres) {
 }
 
 Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times,
-                       std::vector<Bounds>* perFrame) {
+                       std::vector<Bounds>* perFrame,
+                       const std::function<void(const RecordedFrame&, const std::vector<float>&)>& visit,
+                       std::size_t first, std::size_t last) {
   Bounds b;
   std::vector<float> s;
   RecordedFrame f;
   if (times) times->clear();
   if (perFrame) perFrame->clear();
   const bool ground = rec.info().groundEnabled;
-  for (std::size_t k = 0; k < rec.numFrames(); ++k) {
+  for (std::size_t k = first; k < rec.numFrames() && k <= last; ++k) {
     rec.readFrame(k, f);
     if (times) times->push_back(f.time);
     particleSpheres(table, f.px.data(), f.py.data(), f.pz.data(), f.qw.data(), f.qx.data(), f.qy.data(), f.qz.data(), s,
                     rec.header().particlesOf(f.numBodies()));
+    if (visit) visit(f, s);
     Bounds fb = robustBounds(s);
     if (!fb.empty) {
       b.add(fb.lo, 0.0f);

@@ -244,6 +244,70 @@ TEST(Label, LowerCaseLettersWithoutAscendersStartAtTheThirdRow) {
   }
 }
 
+// Issue 35 item 9: colouring by shape, speed and height (tumble render --color).
+TEST(Colours, ModeNamesRoundTripAndBodyIsPlain) {
+  for (const ColorMode m : {ColorMode::Plain, ColorMode::Mass, ColorMode::Elasticity, ColorMode::Shape,
+                            ColorMode::Speed, ColorMode::Height}) {
+    ASSERT_TRUE(colorModeFromString(toString(m))) << toString(m);
+    EXPECT_EQ(*colorModeFromString(toString(m)), m);
+    EXPECT_NE(std::string(colorModeNames()).find(toString(m)), std::string::npos) << toString(m);
+  }
+  EXPECT_EQ(colorModeFromString("body"), ColorMode::Plain);
+  EXPECT_FALSE(colorModeFromString("rainbow"));
+  EXPECT_FALSE(hasRamp(ColorMode::Shape));
+  EXPECT_TRUE(hasRamp(ColorMode::Speed));
+  EXPECT_EQ(nextColorMode(ColorMode::Height), ColorMode::Plain) << "the windows' 0 key cycles plain, mass, elasticity";
+}
+
+TEST(Colours, ShapeGivesEveryShapeItsOwnColour) {
+  // Bodies 0 and 2: dimers of one shape; 1: a single sphere; 3: a dimer of larger spheres;
+  // 4: body 0's dimer, heavier.
+  ParticleTable t;
+  t.body = {0, 0, 1, 2, 2, 3, 3, 4, 4};
+  t.ux = {-0.1f, 0.1f, 0.0f, -0.1f, 0.1f, -0.1f, 0.1f, -0.1f, 0.1f};
+  t.uy = t.uz = std::vector<float>(9, 0.0f);
+  t.radius = {0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.12f, 0.12f, 0.1f, 0.1f};
+  t.mass = {1, 1, 1, 1, 1, 1, 1, 2, 2};
+  t.elasticity = std::vector<float>(9, 0.5f);
+  EXPECT_EQ(bodyShapes(t), (std::vector<std::uint32_t>{0, 1, 0, 2, 3}));
+  const std::vector<float> c = particleColors(t, ColorMode::Shape);
+  const auto colour = [&](std::size_t i) { return std::vector<float>(c.begin() + 3 * i, c.begin() + 3 * i + 3); };
+  EXPECT_EQ(colour(0), colour(3)) << "one shape, one colour";
+  EXPECT_EQ(colour(0), colour(1));
+  for (const std::size_t i : {2u, 5u, 7u}) EXPECT_NE(colour(0), colour(i)) << i;
+  EXPECT_NE(colour(2), colour(5));
+  EXPECT_NE(c, particleColors(t, ColorMode::Plain)) << "not the colours by body";
+}
+
+TEST(Colours, SpeedFromNeighbouringFramesAndHeightFromTheCentres) {
+  RecordedFrame a, b;
+  a.time = 1.0, b.time = 1.5;
+  a.px = {0.0f, 3.0f, 0.0f}, a.py = {0.0f, 0.0f, 0.0f}, a.pz = {1.0f, 1.0f, 1.0f};
+  b.px = {1.0f, 3.0f}, b.py = {0.0f, 0.0f}, b.pz = {1.0f, 1.0f};  // body 2 enters after frame b
+  EXPECT_EQ(bodySpeeds(a, b), (std::vector<float>{2.0f, 0.0f, 0.0f})) << "1 m in 0.5 s; still; not in b";
+  EXPECT_EQ(bodySpeeds(b, a), (std::vector<float>{2.0f, 0.0f}));
+  b.time = a.time;
+  EXPECT_EQ(bodySpeeds(a, b), (std::vector<float>{0.0f, 0.0f, 0.0f})) << "no time between them";
+
+  ParticleTable t;
+  t.body = {0, 0, 1};
+  const std::vector<float> spheres = {0, 0, 0.5f, 0.1f, 0, 0, 0.7f, 0.1f, 3, 0, 2.0f, 0.1f};
+  std::vector<float> v;
+  frameValues(ColorMode::Height, t, spheres, {}, v);
+  EXPECT_EQ(v, (std::vector<float>{0.5f, 0.7f, 2.0f}));
+  frameValues(ColorMode::Speed, t, spheres, {4.0f, 1.0f}, v);
+  EXPECT_EQ(v, (std::vector<float>{4.0f, 4.0f, 1.0f})) << "a particle moves with its body";
+  std::vector<float> c;
+  rampColors(ColorMode::Speed, {-1.0f, 1.0f, 2.0f, 9.0f}, 0.0f, 2.0f, c);
+  const Rgb light = rampColor(ColorMode::Speed, 0.0f), dark = rampColor(ColorMode::Speed, 1.0f);
+  EXPECT_EQ(c[0], light.r) << "clamped below";
+  EXPECT_EQ(c[9], dark.r) << "clamped above";
+  EXPECT_EQ(c[6], dark.r);
+  EXPECT_GT(c[3], dark.r);
+  EXPECT_LT(c[3], light.r) << "between";
+  EXPECT_GT(light.r + light.g + light.b, dark.r + dark.g + dark.b + 1.0f) << "light for slow, dark for fast";
+}
+
 TEST(Controls, SpacePlaysAndLLoops) {
   Keyboard kb;
   PlaybackControls p(10, false);
@@ -935,14 +999,30 @@ TEST_F(Cli, RenderColourModesAndPulls) {
   scene("pulled.toml", "[pulls]\non = [\"x\"]\n");
   ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0);
   ASSERT_EQ(run("run pulled.toml --record pulled.bin -q").status, 0);
-  for (const char* c : {"plain", "mass", "elasticity"})
-    ASSERT_EQ(run(std::string("render rec.bin --still 0 --size 320x240 -o ") + c + ".ppm --color " + c).status, 0);
+  for (const char* c : {"plain", "body", "mass", "elasticity", "shape", "speed", "height"})
+    ASSERT_EQ(run(std::string("render rec.bin --still 1 --size 320x240 -o ") + c + ".ppm --color " + c).status, 0)
+        << c << ": " << slurp(path("err.txt"));
   ASSERT_EQ(run("render pulled.bin --still 0 --size 320x240 -o pulled.ppm").status, 0);
   const Image plain = readPpm(path("plain.ppm")), mass = readPpm(path("mass.ppm")),
               elast = readPpm(path("elasticity.ppm")), pulled = readPpm(path("pulled.ppm"));
   EXPECT_GT(pixelsDiffering(plain, mass, 30), 1000);
   EXPECT_GT(pixelsDiffering(mass, elast, 30), 1000);
   EXPECT_GT(pixelsDiffering(plain, elast, 30), 1000);
+  // Issue 35 item 9: by body is plain; by shape, speed and height each their own, with a legend
+  // for the ramps.
+  EXPECT_EQ(readPpm(path("body.ppm")).rgb, plain.rgb);
+  const Image shape = readPpm(path("shape.ppm")), speed = readPpm(path("speed.ppm")), height = readPpm(path("height.ppm"));
+  EXPECT_GT(pixelsDiffering(plain, shape, 30), 1000);
+  EXPECT_GT(pixelsDiffering(shape, speed, 30), 1000);
+  EXPECT_GT(pixelsDiffering(speed, height, 30), 1000);
+  EXPECT_GT(pixelsDiffering(mass, height, 30), 1000);
+  EXPECT_EQ(findText(speed, "speed m/s", 1).size(), 1u);
+  EXPECT_EQ(findText(height, "height m", 1).size(), 1u);
+  EXPECT_EQ(findText(mass, "mass kg", 1).size(), 1u);
+  EXPECT_EQ(findText(shape, "mass kg", 1).size() + findText(shape, "speed m/s", 1).size(), 0u) << "no legend";
+  const Result bad = run("render rec.bin --still 1 -o x.ppm --color rainbow");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("height"), std::string::npos) << bad.err;
   // The recording stores the pulls per frame; the x pull turns the ground red.
   const Recording rec = Recording::read(path("pulled.bin"));
   EXPECT_EQ(rec.frames.front().pulls, kPullX);

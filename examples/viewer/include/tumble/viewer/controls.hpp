@@ -60,12 +60,17 @@ struct Rgb {
 Rgb groundColor(std::uint32_t pullMask);
 
 /// How particles are coloured: plain (one colour per body), by mass or by elasticity
-/// (light = small, dark = large).
-enum class ColorMode { Plain, Mass, Elasticity };
+/// (light = small, dark = large); by shape (one colour per shape); by speed or by height, which
+/// change from frame to frame (tumble render only: draw_data.hpp, frameValues).
+enum class ColorMode { Plain, Mass, Elasticity, Shape, Speed, Height };
 const char* toString(ColorMode m);
-/// "plain", "mass", "elasticity"; empty otherwise.
+/// "plain" (or "body", the same), "mass", "elasticity", "shape", "speed", "height"; empty otherwise.
 std::optional<ColorMode> colorModeFromString(const std::string& s);
-/// plain → mass → elasticity → plain.
+/// The names colorModeFromString takes, for messages and --help: "plain, body, mass, ...".
+const char* colorModeNames();
+/// Whether the mode maps a value to a ramp and has a legend (mass, elasticity, speed, height).
+bool hasRamp(ColorMode m);
+/// The windows' 0 key: plain → mass → elasticity → plain (any other mode → plain).
 ColorMode nextColorMode(ColorMode m);
 
 /// The five per-particle force kinds of a debug recording (keys 1–5).

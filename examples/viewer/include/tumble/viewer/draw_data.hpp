@@ -6,6 +6,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "tumble/recording.hpp"
@@ -67,12 +68,33 @@ std::vector<WallMesh> wallMeshes(const std::vector<WallSurface>& walls);
 Bounds framedWithWalls(const Bounds& bodies, const std::vector<WallSurface>& walls);
 
 /// Particle colours for a colouring mode: plain gives every body its own colour from a fixed
-/// palette; mass and elasticity map the particle's value from the table's range to a colour
-/// ramp (light = smallest, dark = largest; mass in warm, elasticity in cool colours).
+/// palette, shape every shape (bodyShapes); mass and elasticity map the particle's value from
+/// the table's range to a colour ramp (light = smallest, dark = largest; mass in warm,
+/// elasticity in cool colours). Speed and height change from frame to frame: here every particle
+/// gets the ramp's light end, and frameValues and rampColors give a frame's colours.
 std::vector<float> particleColors(const ParticleTable& table, ColorMode mode);
-/// The colour ramp of the mass and elasticity modes at t in [0, 1] (0: the smallest value, light;
-/// 1: the largest, dark): cream to dark red for mass, ice blue to navy for elasticity.
+/// The colour ramp of a mode with a ramp (hasRamp) at t in [0, 1] (0: the smallest value,
+/// light; 1: the largest, dark): cream to dark red for mass, ice blue to navy for elasticity,
+/// pale to dark green for speed, lilac to deep purple for height.
 Rgb rampColor(ColorMode mode, float t);
+/// The shape of each body (indexed by body), numbered from 0 in the order of the bodies: bodies
+/// whose particles have the same offsets, radii, masses and elasticities, in the same order,
+/// have the same shape (the scene's [[shape]] it was made of).
+std::vector<std::uint32_t> bodyShapes(const ParticleTable& table);
+
+/// The speed of each body of frame `f` [m/s]: how far it moved between `f` and `other` (a
+/// neighbouring frame: the one before, or the one after for the first frame) over the time
+/// between them; 0 for a body `other` lacks (it entered later) and for frames of one time. A body
+/// that leaves a periodic box on one side and comes in on the other looks fast for that frame.
+std::vector<float> bodySpeeds(const RecordedFrame& f, const RecordedFrame& other);
+/// The values a per-frame colouring maps, one per particle of `spheres` (x, y, z, r each): speed,
+/// the particle's body's (`speeds` from bodySpeeds); height, the particle's centre z [m].
+void frameValues(ColorMode mode, const ParticleTable& table, const std::vector<float>& spheres,
+                 const std::vector<float>& speeds, std::vector<float>& out);
+/// Colours (r, g, b per value) on the mode's ramp: `lo` light, `hi` dark, clamped outside.
+void rampColors(ColorMode mode, const std::vector<float>& values, float lo, float hi, std::vector<float>& out);
+/// The `q`-quantile (0 to 1) of `v`, taken by nth_element (`v` is reordered); 0 when empty.
+float quantile(std::vector<float>& v, double q);
 
 /// Particle centres x = X + R(Q) u from per-body columns (writes x, y, z, radius per particle),
 /// for the first `count` particles of the table (a frame of a recording that grows holds the
@@ -92,8 +114,13 @@ void forceLines(const ParticleTable& table, const std::vector<float>& spheres, c
 /// the recording's finite walls (framedWithWalls). One pass over the file, one frame in memory;
 /// `times`, when given, gets each frame's simulated time and `perFrame` each frame's own box of
 /// the bodies (cut at the ground in the same way; no walls).
+/// `visit`, when given, is called with each frame and its spheres in order, as read. Only frames
+/// `first` to `last` (clamped to the recording) are read and framed, and `times` and `perFrame`
+/// hold theirs, from `first` on.
 Bounds recordingBounds(RecordingReader& rec, const ParticleTable& table, std::vector<double>* times = nullptr,
-                       std::vector<Bounds>* perFrame = nullptr);
+                       std::vector<Bounds>* perFrame = nullptr,
+                       const std::function<void(const RecordedFrame&, const std::vector<float>&)>& visit = {},
+                       std::size_t first = 0, std::size_t last = SIZE_MAX);
 /// The bulk of the given spheres (x, y, z, r per particle): per axis from the 1st to the 99th
 /// percentile of the sphere extents, so that a few escaping bodies do not shrink the rest (all
 /// of them below 100 spheres).
