@@ -296,8 +296,30 @@ Bounds framedWithWalls(const Bounds& bodies, const std::vector<WallSurface>& wal
   if (bodies.empty) return bodies;
   Bounds b = bodies;
   const float limit = 4.0f * norm(bodies.hi - bodies.lo);
-  for (const WallSurface& w : walls) {
-    if (w.kind == WallKind::Plane || w.triangles.empty()) continue;
+  // A plane that meets another (a corner of one within a millionth of the walls' size of a corner
+  // of the other) is a container's face: a box's, open or closed. A lone plane meets none.
+  const auto corners = [](const WallSurface& w) {
+    std::vector<Vec3f> c;
+    for (std::size_t i = 0; i + 2 < w.triangles.size(); i += 3) c.push_back({w.triangles[i], w.triangles[i + 1], w.triangles[i + 2]});
+    return c;
+  };
+  Bounds all = bodies;
+  for (const WallSurface& w : walls)
+    for (const Vec3f& c : corners(w)) all.add(c, 0.0f);
+  const float tol = 1e-6f * norm(all.hi - all.lo);
+  const auto meetsAnotherPlane = [&](std::size_t k) {
+    const std::vector<Vec3f> mine = corners(walls[k]);
+    for (std::size_t j = 0; j < walls.size(); ++j) {
+      if (j == k || walls[j].kind != WallKind::Plane) continue;
+      for (const Vec3f& p : corners(walls[j]))
+        for (const Vec3f& q : mine)
+          if (norm(p - q) <= tol) return true;
+    }
+    return false;
+  };
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    const WallSurface& w = walls[k];
+    if (w.triangles.empty() || (w.kind == WallKind::Plane && !meetsAnotherPlane(k))) continue;
     Bounds wb;
     for (std::size_t i = 0; i + 2 < w.triangles.size(); i += 3)
       wb.add(Vec3f{w.triangles[i], w.triangles[i + 1], w.triangles[i + 2]}, 0.0f);

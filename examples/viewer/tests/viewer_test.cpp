@@ -413,6 +413,23 @@ TEST(Walls, MeshesAreShadedRoundWithSharpEdgesAndOutlined) {
   EXPECT_EQ(framed.lo.z, -1.0f) << "the floor at z = -2 is not framed";
   drum.radius0 = drum.radius1 = 50.0f;
   EXPECT_EQ(framedWithWalls(bodies, wallSurfaces({drum}, inside)).hi.x, bodies.hi.x) << "a huge drum is not framed";
+  // Issue 35 item 9: an open box of planes 4 m long around a pile 1 m across (a short box run) is
+  // framed whole, its sides up to where they are drawn; a lone plane still is not.
+  const std::vector<WallDef> box = {planeWall({0, 0, 0}, {0, 0, 1}), planeWall({-2, 0, 0}, {1, 0, 0}),
+                                    planeWall({2, 0, 0}, {-1, 0, 0}), planeWall({0, -1, 0}, {0, 1, 0}),
+                                    planeWall({0, 1, 0}, {0, -1, 0})};
+  Extent pile;
+  pile.add({0, 0, 0.5f}, 0.5f);
+  Bounds pileBox;
+  pileBox.add({0, 0, 0.5f}, 0.5f);
+  const Bounds boxed = framedWithWalls(pileBox, wallSurfaces(box, pile));
+  EXPECT_NEAR(boxed.lo.x, -2.0, 1e-5);
+  EXPECT_NEAR(boxed.hi.x, 2.0, 1e-5);
+  EXPECT_NEAR(boxed.lo.y, -1.0, 1e-5);
+  EXPECT_GT(boxed.hi.z, 1.0f) << "the sides reach above the pile";
+  const Bounds lone = framedWithWalls(pileBox, wallSurfaces({planeWall({0, 0, 0}, {1, 0, 1})}, pile));
+  EXPECT_EQ(lone.lo.x, pileBox.lo.x);
+  EXPECT_EQ(lone.hi.x, pileBox.hi.x);
 }
 
 TEST(Controls, LivePauseStepRecord) {
