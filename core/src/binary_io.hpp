@@ -163,6 +163,7 @@ class InFile {
   InFile& operator=(const InFile&) = delete;
 
   std::uint64_t size() const { return m_size; }
+  const std::string& path() const { return m_path; }
   std::uint64_t offset() const { return m_offset; }
   std::uint64_t remaining() const { return m_size - m_offset; }
 

@@ -209,10 +209,12 @@ struct RecordingReader::File {
   std::uint64_t framesOffset = 0, frameBytes = 0;
   std::vector<std::uint64_t> frameOffsets;
   std::vector<std::uint32_t> firstParticle;  // a recording that grows: of each body, and N
+  std::uint64_t frameCountOffset = 0;         // the header's frame count (a u64, then the header's checksum)
+  std::uint64_t framesEnd = 0;                // where the whole frames end
   explicit File(const std::string& path) : in(path, "recording") {}
 };
 
-RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_unique<File>(path)) {
+RecordingReader::RecordingReader(const std::string& path, TornEnd tornEnd) : m_file(std::make_unique<File>(path)) {
   InFile& in = m_file->in;
   Recording& rec = m_header;
   RecordingInfo& info = rec.info;
@@ -265,6 +267,7 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
   const std::uint8_t* name = hd.take(nameBytes);
   info.sceneName.assign(reinterpret_cast<const char*>(name), nameBytes);
   const std::uint64_t frameCountOffset = hd.fileOffset();
+  m_file->frameCountOffset = frameCountOffset;
   const std::uint64_t headerFrameCount = hd.u64();
 
   if (info.stepsPerFrame == 0) in.fail(kOffStepsPerFrame, "steps per frame is 0");
@@ -341,9 +344,23 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
   const std::uint64_t minDebugPayload = basePayload + kDebugParticleBytes * numParticles + 4;
   m_file->basePayload = basePayload;
   m_file->minDebugPayload = minDebugPayload;
+  // A torn end: refused (with the way out), or where the kept frames end.
+  const bool keep = tornEnd == TornEnd::KeepWholeFrames;
+  bool cut = false;
+  const auto torn = [&](std::uint64_t at, const std::string& problem) {
+    if (!keep) in.fail(at, problem + " (tumble repair " + m_file->in.path() + " keeps the whole frames before it)");
+    m_torn = "byte " + std::to_string(at) + ": " + problem;
+    cut = true;
+  };
   const auto truncated = [&](std::uint64_t k, std::uint64_t at, std::uint64_t needs) {
-    in.fail(at, "frame " + std::to_string(k) + " truncated: needs " + std::to_string(needs) +
-                    " bytes, only " + std::to_string(in.size() - at) + " left");
+    torn(at, "frame " + std::to_string(k) + " truncated: needs " + std::to_string(needs) + " bytes, only " +
+                 std::to_string(in.size() - at) + " left");
+  };
+  // A finished file cut at a frame's end: its header's count says what is missing.
+  const auto countAgrees = [&](std::uint64_t held) {
+    if (headerFrameCount != kUnfinished && headerFrameCount != held)
+      torn(frameCountOffset, "header says " + std::to_string(headerFrameCount) + " frames but the file holds " +
+                                 std::to_string(held));
   };
   const std::uint64_t framesOffset = in.offset();
   if (!info.debug && !info.grows) {
@@ -351,37 +368,38 @@ RecordingReader::RecordingReader(const std::string& path) : m_file(std::make_uni
     const std::uint64_t whole = (in.size() - framesOffset) / frameBytes;
     const std::uint64_t tail = framesOffset + whole * frameBytes;
     if (tail < in.size()) truncated(whole, tail, in.size() - tail < 4 ? 4 : frameBytes);
-    if (headerFrameCount != kUnfinished && headerFrameCount != whole) {
-      in.fail(frameCountOffset, "header says " + std::to_string(headerFrameCount) +
-                                    " frames but the file holds " + std::to_string(whole));
-    }
+    if (!cut) countAgrees(whole);
     m_numFrames = static_cast<std::size_t>(whole);
     m_file->framesOffset = framesOffset;
     m_file->frameBytes = frameBytes;
+    m_file->framesEnd = tail;
   } else {
-    for (std::uint64_t at = framesOffset, k = 0; at < in.size(); ++k) {
-      if (in.size() - at < 4) truncated(k, at, 4);
+    std::uint64_t at = framesOffset;
+    for (std::uint64_t k = 0; at < in.size() && !cut; ++k) {
+      if (in.size() - at < 4) {
+        truncated(k, at, 4);
+        break;
+      }
       in.seek(at);
       buf.clear();
       in.read(buf, 4, "frame size");
       const std::uint64_t payloadBytes = getU32(buf.data());
       // (A frame of a recording that grows is sized by its number of bodies: readFrame checks it.)
       if (info.grows && payloadBytes < kFramePrefixBytes + 4)
-        in.fail(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) +
-                        ", less than the " + std::to_string(kFramePrefixBytes + 4) + " bytes before its bodies");
-      if (!info.grows && (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0)) {
-        in.fail(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) +
-                        ", expected " + std::to_string(minDebugPayload) + " + 8 per contact");
-      }
-      if (payloadBytes + 8 > in.size() - at) truncated(k, at, payloadBytes + 8);
+        torn(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) +
+                     ", less than the " + std::to_string(kFramePrefixBytes + 4) + " bytes before its bodies");
+      else if (!info.grows && (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0))
+        torn(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) + ", expected " +
+                     std::to_string(minDebugPayload) + " + 8 per contact");
+      else if (payloadBytes + 8 > in.size() - at)
+        truncated(k, at, payloadBytes + 8);
+      if (cut) break;
       m_file->frameOffsets.push_back(at);
       at += payloadBytes + 8;
     }
     m_numFrames = m_file->frameOffsets.size();
-    if (headerFrameCount != kUnfinished && headerFrameCount != m_numFrames) {
-      in.fail(frameCountOffset, "header says " + std::to_string(headerFrameCount) +
-                                    " frames but the file holds " + std::to_string(m_numFrames));
-    }
+    m_file->framesEnd = at;
+    if (!cut) countAgrees(m_numFrames);
   }
 }
 
@@ -788,6 +806,58 @@ void RecordingWriter::close() {
     throw Error("cannot finish recording file '" + kept + "': " + why);
   }
   m_out->commit();  // throws naming the path and the reason
+}
+
+// The reader's index, for repairRecording().
+struct RecordingRepair {
+  static std::uint64_t frameStart(const RecordingReader& r, std::size_t k) {
+    const RecordingInfo& info = r.m_header.info;
+    return info.debug || info.grows ? r.m_file->frameOffsets[k] : r.m_file->framesOffset + k * r.m_file->frameBytes;
+  }
+  static std::uint64_t framesEnd(const RecordingReader& r) { return r.m_file->framesEnd; }
+  static std::uint64_t frameCountOffset(const RecordingReader& r) { return r.m_file->frameCountOffset; }
+  static std::uint64_t size(const RecordingReader& r) { return r.m_file->in.size(); }
+};
+
+RepairResult repairRecording(const std::string& in, const std::string& out) {
+  RecordingReader reader(in, RecordingReader::TornEnd::KeepWholeFrames);
+  RepairResult r;
+  r.why = reader.torn();
+  RecordedFrame frame;
+  for (; r.kept < reader.numFrames(); ++r.kept) {  // a frame whose bytes are damaged ends them too
+    try {
+      reader.readFrame(r.kept, frame);
+    } catch (const InputError& e) {
+      r.why = e.problem();
+      break;
+    }
+  }
+  const std::uint64_t end =
+      r.kept < reader.numFrames() ? RecordingRepair::frameStart(reader, r.kept) : RecordingRepair::framesEnd(reader);
+  r.droppedBytes = RecordingRepair::size(reader) - end;
+  if (r.why.empty()) return r;  // whole: nothing to write
+
+  // The header up to its checksum, with the frame count of the frames kept, then the rest as is.
+  const std::uint64_t at = RecordingRepair::frameCountOffset(reader);
+  std::ifstream src(in, std::ios::binary);
+  std::vector<std::uint8_t> head(static_cast<std::size_t>(at + 12));
+  if (!src.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size())))
+    throw InputError(in, 0, "cannot read the header again: " + errnoText(errno));
+  putU64At(head, static_cast<std::size_t>(at), r.kept);
+  putU32At(head, static_cast<std::size_t>(at + 8), fnv1a(head.data(), static_cast<std::size_t>(at + 8)));
+  OutputFile o(out);
+  bool ok = writeFully(o.file(), head.data(), head.size());
+  std::vector<char> chunk(std::size_t{1} << 20);
+  for (std::uint64_t left = end - head.size(); ok && left > 0;) {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, chunk.size()));
+    if (!src.read(chunk.data(), static_cast<std::streamsize>(n)))
+      throw InputError(in, 0, "cannot read its frames again: " + errnoText(errno));
+    ok = writeFully(o.file(), chunk.data(), n);
+    left -= n;
+  }
+  if (!ok) throw Error("cannot write " + out + ": " + errnoText(errno));
+  o.commit();
+  return r;
 }
 
 }  // namespace tumble

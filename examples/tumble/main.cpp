@@ -170,6 +170,7 @@ int main(int argc, char** argv) {
   tumble::cli::addRender(app);
   tumble::cli::addPlot(app);
   tumble::cli::addExport(app);
+  tumble::cli::addRepair(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

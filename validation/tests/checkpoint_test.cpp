@@ -276,17 +276,26 @@ TEST(Checkpoint, EveryTruncationAndEveryFlippedByteIsAnInputError) {
 INSTANTIATE_TEST_SUITE_P(Backends, CheckpointTest, ::testing::ValuesIn(compiledBackends()),
                          tumble_test::backendName);
 
-// A diverged state (a run with --no-guard) is refused when written, since read() would refuse
-// it; the file already at the path stays as it was.
-TEST(Checkpoint, ADivergedStateIsNotWritten) {
+namespace {
+
+// The checkpoint of four molecules after two steps on the CPU pipeline.
+Checkpoint fourMoleculesStepped() {
   Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
   s.bodies.resize(4);
   const World w = World::fromScene(s);
   auto p = makePipeline(Backend::Cpu);
   p->load(w);
   p->step(2);
+  return Checkpoint::of(w, *p);
+}
+
+}  // namespace
+
+// A diverged state (a run with --no-guard) is refused when written, since read() would refuse
+// it; the file already at the path stays as it was.
+TEST(Checkpoint, ADivergedStateIsNotWritten) {
   const std::string path = tempPath("diverged.ck");
-  const Checkpoint good = Checkpoint::of(w, *p);
+  const Checkpoint good = fourMoleculesStepped();
   good.write(path);
   for (std::vector<float> BodyState::*column : {&BodyState::lx, &BodyState::vz, &BodyState::groundSpringY}) {
     Checkpoint bad = good;
@@ -309,13 +318,7 @@ TEST(Checkpoint, ADivergedStateIsNotWritten) {
 // and wrote inf to --state-out, a zero orientation was accepted, one of length 2e30 stopped the
 // run at its first step.
 TEST(Checkpoint, ValuesNoRunCanHaveAreRefused) {
-  Scene s = readSceneFile(sourcePath("scenes/molecules.toml"));
-  s.bodies.resize(4);
-  const World w = World::fromScene(s);
-  auto p = makePipeline(Backend::Cpu);
-  p->load(w);
-  p->step(2);
-  const Checkpoint good = Checkpoint::of(w, *p);
+  const Checkpoint good = fourMoleculesStepped();
   const std::string path = tempPath("crafted.ck");
   struct Craft {
     const char* what;

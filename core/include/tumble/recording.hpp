@@ -85,7 +85,11 @@ struct Recording {
 /// Not thread-safe (one file position); separate readers of one file are fine.
 class RecordingReader {
  public:
-  explicit RecordingReader(const std::string& path);
+  /// What a torn end does: Refuse (an error naming the frame and the byte, and `tumble repair`),
+  /// or KeepWholeFrames: the frames before it are the recording (numFrames()), and torn() says
+  /// where it was cut; a frame count in the header that disagrees is then not an error either.
+  enum class TornEnd { Refuse, KeepWholeFrames };
+  explicit RecordingReader(const std::string& path, TornEnd tornEnd = TornEnd::Refuse);
   ~RecordingReader();
   RecordingReader(const RecordingReader&) = delete;
   RecordingReader& operator=(const RecordingReader&) = delete;
@@ -96,14 +100,33 @@ class RecordingReader {
   std::size_t numFrames() const { return m_numFrames; }
   /// Reads frame `k` (< numFrames()) into `out`, reusing its storage.
   void readFrame(std::size_t k, RecordedFrame& out);
+  /// Under TornEnd::KeepWholeFrames: why the file ends before its frames do (empty when it does
+  /// not): "frame 22 truncated: needs 4812 bytes, only 1200 left", with its byte.
+  const std::string& torn() const { return m_torn; }
 
  private:
+  friend struct RecordingRepair;
   struct File;
   std::unique_ptr<File> m_file;
   Recording m_header;
   std::size_t m_numFrames = 0;
   std::vector<std::uint8_t> m_buffer;         ///< one frame's bytes
+  std::string m_torn;
 };
+
+/// What repairRecording() did.
+struct RepairResult {
+  std::size_t kept = 0;            ///< whole frames written to the output
+  std::uint64_t droppedBytes = 0;  ///< of the input, after them
+  std::string why;                 ///< what ended the kept frames ("" when the file was whole)
+};
+
+/// `tumble repair`: copies the recording at `in` to `out` up to its last frame that reads whole
+/// (a crash-left temporary, a file cut short by a full disk or a copy), with the frame count in
+/// its header set to what it keeps. `out` is written as every output is (OutputFile: in place
+/// only by a rename; `out` may be `in`). Nothing is written when the file is whole (result.why
+/// empty) or when not even its header and table can be read (InputError, as the reader's).
+RepairResult repairRecording(const std::string& in, const std::string& out);
 
 /// Writes a recording. Frames go to a temporary next to `path` (`path.part-XXXXXX`, OutputFile);
 /// close() (or the destructor) writes the frame count and renames it to `path`, so a crash never
