@@ -31,6 +31,8 @@ struct PlayOptions {
   std::optional<std::uint64_t> frames;
   std::string screenshot;
   bool noWalls = false;
+  FrameRangeOptions range;
+  LookOptions look;
 };
 
 #if TUMBLE_HAS_VIEWER
@@ -41,21 +43,24 @@ void play(const PlayOptions& o) {
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
   if (!o.screenshot.empty()) checkImageName(o.screenshot, "--screenshot");
+  const Look look = parseLook(o.look.background, o.look.ground);
   // RecordingReader names the file, the byte offset and the problem for a corrupt or
   // truncated file; main() prints it and ends with status 2. Frames are read as they are shown.
   RecordingReader reader(o.file);
   const Recording& rec = reader.header();
   const std::size_t numFrames = reader.numFrames();
   if (numFrames == 0) throw InputError(o.file, 0, "the recording holds no frames");
+  const std::pair<std::size_t, std::size_t> range = frameRange(o.range, numFrames, o.file);
+  const std::size_t first = range.first, last = range.second;
 
-  // One pass over every frame (each checked) frames the camera before any window opens.
+  // One pass over the frames played (each checked) frames the camera before any window opens.
   const ParticleTable table = ParticleTable::from(rec);
-  Camera cam = Camera::framing(recordingBounds(reader, table));
+  Camera cam = Camera::framing(recordingBounds(reader, table, nullptr, nullptr, {}, first, last));
   Window window("tumble play: " + o.file, w, h);
   Renderer renderer;
   renderer.setWalls(wallMeshes(rec.walls));
   Keyboard kb;
-  PlaybackControls controls(numFrames, rec.info.debug);
+  PlaybackControls controls(last - first + 1, rec.info.debug, first);
   controls.setWallsShown(!o.noWalls);
   window.setKeyHandler([&](Key k, bool pressed) {
     if (kb.event(k, pressed)) controls.keyEvent(k, pressed);
@@ -64,13 +69,14 @@ void play(const PlayOptions& o) {
   DrawData d;
   d.groundEnabled = rec.info.groundEnabled;
   d.groundHeight = rec.info.groundHeight;
+  applyLook(look, d);
   ColorMode color = controls.colorMode();
   d.colors = particleColors(table, color);
   const auto massRange = std::minmax_element(rec.mass.begin(), rec.mass.end());
   const auto elasticityRange = std::minmax_element(rec.elasticity.begin(), rec.elasticity.end());
 
   RecordedFrame f;
-  std::size_t shown = numFrames;  // the frame in f (none yet)
+  std::size_t shown = numFrames;  // the frame in f (none yet: no frame has this index)
   std::uint64_t frame = 0;
   std::size_t nextEvent = 0;
   bool quit = false;
@@ -110,7 +116,7 @@ void play(const PlayOptions& o) {
     ImGui::Begin("tumble play", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
     ImGui::Text("%s (%s): %u particles, %u bodies", o.file.c_str(), rec.info.sceneName.c_str(), rec.info.numParticles,
                 rec.info.numBodies);
-    ImGui::Text("frame %zu / %zu   step %llu   t = %.4f s", controls.frame(), numFrames - 1,
+    ImGui::Text("frame %zu / %zu   step %llu   t = %.4f s", controls.frame(), last,
                 static_cast<unsigned long long>(f.step), f.time);
     ImGui::Text("speed %gx   pulls %s", controls.speed(), pullsToString(f.pulls).c_str());
     if (color == ColorMode::Mass)
@@ -152,6 +158,8 @@ void addPlay(CLI::App& app) {
   c->add_option("--frames", o->frames, "Quit after N window frames")->check(countIn(1, kMaxSteps));
   c->add_option("--screenshot", o->screenshot, "When quitting, save the last frame without the overlay (.png or .ppm)");
   c->add_flag("--no-walls", o->noWalls, "Start with the walls hidden (V shows them)");
+  addFrameRangeOptions(c, o->range, "; the camera frames the frames played, and play stays within them");
+  addLookOptions(c, o->look);
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER
     play(*o);

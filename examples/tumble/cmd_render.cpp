@@ -57,6 +57,38 @@ void parseSize(const std::string& text, const char* option, int& outW, int& outH
     throw Error(std::string(option) + " " + text + ": expected WIDTHxHEIGHT, each from 16 to 8192 (e.g. 1280x720)");
 }
 
+void addLookOptions(CLI::App* c, LookOptions& look) {
+  c->add_option("--background", look.background,
+                "Background colour: default (dark blue-grey), black, white, grey (gray) or #RRGGBB");
+  c->add_option("--ground", look.ground,
+                "The scene's ground: on (default: grey, tinted by the pulls), off (no ground, no shadows) or a colour "
+                "as for --background");
+}
+
+std::pair<CLI::Option*, CLI::Option*> addFrameRangeOptions(CLI::App* c, FrameRangeOptions& range,
+                                                           const std::string& note) {
+  return {c->add_option("--from", range.from, "First frame (default 0; negative counts from the end)" + note),
+          c->add_option("--to", range.to, "Last frame, included (default -1: the last; negative counts from the end)")};
+}
+
+std::size_t frameIndex(long n, const char* option, std::size_t numFrames, const std::string& file) {
+  const long i = n < 0 ? static_cast<long>(numFrames) + n : n;
+  if (i < 0 || i >= static_cast<long>(numFrames))
+    throw Error(std::string(option) + " " + std::to_string(n) + ": " + file + " has frames 0 to " +
+                std::to_string(numFrames - 1) + " (negative counts from the end)");
+  return static_cast<std::size_t>(i);
+}
+
+std::pair<std::size_t, std::size_t> frameRange(const FrameRangeOptions& range, std::size_t numFrames,
+                                               const std::string& file) {
+  const std::size_t first = frameIndex(range.from, "--from", numFrames, file);
+  const std::size_t last = frameIndex(range.to, "--to", numFrames, file);
+  if (first > last)
+    throw Error("--from " + std::to_string(range.from) + " --to " + std::to_string(range.to) + ": frame " +
+                std::to_string(first) + " comes after frame " + std::to_string(last) + " of " + file);
+  return {first, last};
+}
+
 namespace {
 
 struct RenderOptions {
@@ -66,7 +98,8 @@ struct RenderOptions {
   std::optional<double> fps;
   std::string color = "plain";
   std::optional<long> still;
-  long from = 0, to = -1;
+  FrameRangeOptions range;
+  LookOptions look;
   std::string forces;
   std::optional<double> yaw, pitch;
   std::vector<double> lookAt;
@@ -244,6 +277,7 @@ void render(const RenderOptions& o) {
   parseSize(o.size, "--size", w, h);
   const auto mode = colorModeFromString(o.color);
   if (!mode) throw Error("--color " + o.color + ": expected one of " + colorModeNames());
+  const Look look = parseLook(o.look.background, o.look.ground);
   if (o.fps && !(*o.fps > 0.0 && *o.fps <= 1000.0)) throw Error("--fps must be in (0, 1000]");
   if (!(o.zoom > 0.0)) throw Error("--zoom must be positive");
   for (const double v : o.lookAt)
@@ -289,18 +323,9 @@ void render(const RenderOptions& o) {
   // The frames rendered, first to last: --from and --to, or the one of --still (framed as the
   // whole recording is, as in a video of it).
   const std::size_t numFrames = reader.numFrames();
-  const auto frameIndex = [&](long n, const char* option) {
-    const long i = n < 0 ? static_cast<long>(numFrames) + n : n;
-    if (i < 0 || i >= static_cast<long>(numFrames))
-      throw Error(std::string(option) + " " + std::to_string(n) + ": " + o.file + " has frames 0 to " +
-                  std::to_string(numFrames - 1) + " (negative counts from the end)");
-    return static_cast<std::size_t>(i);
-  };
-  const std::size_t first = frameIndex(o.from, "--from"), last = frameIndex(o.to, "--to");
-  if (first > last)
-    throw Error("--from " + std::to_string(o.from) + " --to " + std::to_string(o.to) + ": frame " +
-                std::to_string(first) + " comes after frame " + std::to_string(last) + " of " + o.file);
-  const std::size_t stillIndex = o.still ? frameIndex(*o.still, "--still") : first;
+  const std::pair<std::size_t, std::size_t> range = frameRange(o.range, numFrames, o.file);
+  const std::size_t first = range.first, last = range.second;
+  const std::size_t stillIndex = o.still ? frameIndex(*o.still, "--still", numFrames, o.file) : first;
   const std::size_t count = last - first + 1;  // frames in the range
 
   // One pass over the range's frames (each checked) frames the camera before anything is drawn,
@@ -341,6 +366,7 @@ void render(const RenderOptions& o) {
   d.wallsShown = !o.noWalls;
   d.groundEnabled = rec.info.groundEnabled;
   d.groundHeight = rec.info.groundHeight;
+  applyLook(look, d);
   d.colors = particleColors(table, *mode);
   float legendLo = valueLo, legendHi = valueHi;
   if (*mode == ColorMode::Mass || *mode == ColorMode::Elasticity) {
@@ -545,12 +571,9 @@ void addRender(CLI::App& app) {
       ->check(CLI::IsMember({"plain", "body", "mass", "elasticity", "shape", "speed", "height"}));
   CLI::Option* still =
       c->add_option("--still", o->still, "Write only frame N as an image (negative counts from the end: -1 = last)");
-  c->add_option("--from", o->from,
-                "First frame to render (default 0; negative counts from the end); the camera frames the frames "
-                "rendered")
-      ->excludes(still);
-  c->add_option("--to", o->to, "Last frame to render, included (default -1: the last; negative counts from the end)")
-      ->excludes(still);
+  const auto [from, to] = addFrameRangeOptions(c, o->range, "; the camera frames the frames rendered");
+  from->excludes(still);
+  to->excludes(still);
   c->add_option("--forces", o->forces,
                 "Debug recordings: draw force lines, digits 1-5 (1 repulsion, 2 damping, 3 shear, 4 ground, 5 friction)");
   c->add_option("--yaw", o->yaw, "Camera direction about the vertical, degrees (default -57)");
@@ -576,6 +599,7 @@ void addRender(CLI::App& app) {
   c->add_flag("--no-walls", o->noWalls,
               "Leave out the walls (drawn by default: shaded, faint where they would hide the bodies, a turning "
               "wall with stripes; a recording of version 1 has none)");
+  addLookOptions(c, o->look);
   c->add_flag("-q,--quiet", o->quiet, "No progress and no summary");
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER

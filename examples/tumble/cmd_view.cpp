@@ -45,6 +45,7 @@ struct ViewOptions {
   std::optional<std::uint64_t> frames;
   std::string screenshot;
   bool noWalls = false;
+  LookOptions look;
 };
 
 #if TUMBLE_HAS_VIEWER
@@ -65,6 +66,7 @@ void view(const ViewOptions& o) {
   parseSize(o.size, "--size", w, h);
   const std::vector<ScriptEvent> script = o.script.empty() ? std::vector<ScriptEvent>{} : readScript(o.script);
   if (!o.screenshot.empty()) checkImageName(o.screenshot, "--screenshot");
+  const Look look = parseLook(o.look.background, o.look.ground);
   const Scene scene = readSceneFile(o.scene, o.sets);
   refuseSceneInput(scene, o.record, "--record");
   refuseSceneInput(scene, o.screenshot, "--screenshot");
@@ -108,10 +110,11 @@ void view(const ViewOptions& o) {
   DrawData d;
   d.groundEnabled = world.params.ground.enabled;
   d.groundHeight = world.params.ground.height;
+  applyLook(look, d);
   particleSpheres(table, state.px.data(), state.py.data(), state.pz.data(), state.qw.data(), state.qx.data(),
                   state.qy.data(), state.qz.data(), d.spheres);
   Camera cam = Camera::framing(framedWithWalls(sphereBounds(d.spheres), walls));
-  if (d.groundEnabled) {
+  if (world.params.ground.enabled) {  // framed as with the ground, drawn or not (--ground off)
     cam.target.z = std::max(cam.target.z, d.groundHeight);
   }
   window.setCamera(&cam);
@@ -279,6 +282,7 @@ void addView(CLI::App& app) {
   c->add_option("--frames", o->frames, "Quit after N frames")->check(countIn(1, kMaxSteps));
   c->add_option("--screenshot", o->screenshot, "When quitting, save the last frame without the overlay (.png or .ppm)");
   c->add_flag("--no-walls", o->noWalls, "Start with the walls hidden (V shows them)");
+  addLookOptions(c, o->look);
   c->callback([o] {
 #if TUMBLE_HAS_VIEWER
     view(*o);

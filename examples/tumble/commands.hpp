@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tumble::cli {
@@ -47,6 +48,32 @@ struct Exit {
 
 /// Parses "WxH" (each 16 to 8192); throws tumble::Error naming `option` otherwise.
 void parseSize(const std::string& text, const char* option, int& outW, int& outH);
+
+/// --background and --ground of view, play and render (addLookOptions), parsed by
+/// viewer::parseLook before any work and applied by viewer::applyLook (draw_data.hpp).
+struct LookOptions {
+  std::string background = "default";
+  std::string ground = "on";
+};
+/// Adds --background and --ground to a viewer command.
+void addLookOptions(CLI::App* command, LookOptions& look);
+
+/// --from and --to of play and render: frames of a recording, both included, negative counting
+/// from the end (the default, 0 to -1, is every frame).
+struct FrameRangeOptions {
+  long from = 0, to = -1;
+};
+/// Adds --from and --to; `note` ends --from's help (what the range changes besides the frames).
+/// Returns the two options (render makes them exclude --still).
+std::pair<CLI::Option*, CLI::Option*> addFrameRangeOptions(CLI::App* command, FrameRangeOptions& range,
+                                                           const std::string& note);
+/// The index of frame `n` of a recording of `numFrames` frames (negative counts from the end);
+/// throws tumble::Error naming `option`, the value and the frames `file` has.
+std::size_t frameIndex(long n, const char* option, std::size_t numFrames, const std::string& file);
+/// The first and last frame --from and --to select; throws tumble::Error as frameIndex does and
+/// when the first comes after the last.
+std::pair<std::size_t, std::size_t> frameRange(const FrameRangeOptions& range, std::size_t numFrames,
+                                               const std::string& file);
 
 /// The most steps a run accepts (10^15: decades at a microsecond per step).
 inline constexpr std::uint64_t kMaxSteps = 1000000000000000ull;

@@ -175,9 +175,10 @@ std::vector<KeyHelp> playKeyHelp(bool debug) {
   return h;
 }
 
-PlaybackControls::PlaybackControls(std::size_t numFrames, bool debug) : m_numFrames(numFrames), m_debug(debug) {}
+PlaybackControls::PlaybackControls(std::size_t numFrames, bool debug, std::size_t first)
+    : m_numFrames(numFrames), m_debug(debug), m_first(first) {}
 
-std::size_t PlaybackControls::frame() const {
+std::size_t PlaybackControls::local() const {
   if (m_numFrames == 0) return 0;
   const double p = std::floor(m_position + 1e-9);
   return std::min(m_numFrames - 1, static_cast<std::size_t>(std::max(0.0, p)));
@@ -187,12 +188,12 @@ void PlaybackControls::keyEvent(Key k, bool pressed) {
   if (!pressed) return;
   const double last = m_numFrames ? double(m_numFrames - 1) : 0.0;
   switch (k) {
-    case Key::Up: m_position = std::min(last, double(frame()) + 1.0); break;
-    case Key::Down: m_position = std::max(0.0, double(frame()) - 1.0); break;
+    case Key::Up: m_position = std::min(last, double(local()) + 1.0); break;
+    case Key::Down: m_position = std::max(0.0, double(local()) - 1.0); break;
     case Key::LeftShift: m_speedIndex = (m_speedIndex + 1) % kSpeeds.size(); break;
     case Key::Space:
       m_playing = !m_playing;
-      if (m_playing && !m_loop && frame() + 1 >= m_numFrames) m_position = 0.0;  // play again from the start
+      if (m_playing && !m_loop && local() + 1 >= m_numFrames) m_position = 0.0;  // play again from the start
       break;
     case Key::L: m_loop = !m_loop; break;
     case Key::V: m_walls = !m_walls; break;
@@ -225,7 +226,7 @@ void PlaybackControls::advance(const Keyboard& kb, double seconds, double fps) {
 
 std::string PlaybackControls::describe() const {
   std::ostringstream s;
-  s << "frame " << frame() << "/" << (m_numFrames ? m_numFrames - 1 : 0) << " speed " << speed() << "x colour "
+  s << "frame " << frame() << "/" << m_first + (m_numFrames ? m_numFrames - 1 : 0) << " speed " << speed() << "x colour "
     << toString(m_color) << " forces ";
   std::string f;
   for (int i = 0; i < kNumForces; ++i)

@@ -9,6 +9,8 @@
 #include <map>
 #include <utility>
 
+#include "tumble/error.hpp"
+
 namespace tumble::viewer {
 namespace {
 
@@ -31,6 +33,50 @@ std::vector<float> normalised(const std::vector<float>& v) {
 }
 
 }  // namespace
+
+std::optional<Rgb> rgbFromString(const std::string& text) {
+  if (text == "black") return Rgb{0.0f, 0.0f, 0.0f};
+  if (text == "white") return Rgb{1.0f, 1.0f, 1.0f};
+  if (text == "grey" || text == "gray") return Rgb{0.5f, 0.5f, 0.5f};
+  if (text.size() != 7 || text[0] != '#') return std::nullopt;
+  const auto digit = [](char h) {
+    if (h >= '0' && h <= '9') return h - '0';
+    if (h >= 'a' && h <= 'f') return h - 'a' + 10;
+    if (h >= 'A' && h <= 'F') return h - 'A' + 10;
+    return -1;
+  };
+  float c[3];
+  for (std::size_t i = 0; i < 3; ++i) {
+    const int hi = digit(text[1 + 2 * i]), lo = digit(text[2 + 2 * i]);
+    if (hi < 0 || lo < 0) return std::nullopt;
+    c[i] = float(16 * hi + lo) / 255.0f;
+  }
+  return Rgb{c[0], c[1], c[2]};
+}
+
+Look parseLook(const std::string& background, const std::string& ground) {
+  static const std::string colours = "black, white, grey (gray) or #RRGGBB (hex, e.g. #ffffff)";
+  Look look;
+  if (background != "default") {
+    const auto c = rgbFromString(background);
+    if (!c) throw Error("--background " + background + ": expected default or a colour: " + colours);
+    look.background = *c;
+  }
+  if (ground == "off") {
+    look.ground = false;
+  } else if (ground != "on") {
+    const auto c = rgbFromString(ground);
+    if (!c) throw Error("--ground " + ground + ": expected on (coloured by the pulls), off or a colour: " + colours);
+    look.groundColor = c;
+  }
+  return look;
+}
+
+void applyLook(const Look& look, DrawData& d) {
+  d.background = look.background;
+  d.groundColor = look.groundColor;
+  d.groundEnabled = d.groundEnabled && look.ground;
+}
 
 Rgb rampColor(ColorMode mode, float t) {
   switch (mode) {

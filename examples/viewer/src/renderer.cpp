@@ -483,7 +483,7 @@ std::string Renderer::glRenderer() {
 
 void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
   glViewport(0, 0, w, h);
-  glClearColor(kSkyColor.r, kSkyColor.g, kSkyColor.b, 1.0f);
+  glClearColor(d.background.r, d.background.g, d.background.b, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -504,7 +504,7 @@ void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
     const float sceneR = b.empty ? 1.0f : 0.5f * norm(b.hi - b.lo);
     const float fade = std::max(3.0f * camera.distance, 4.0f * sceneR);
     const float grid = std::pow(10.0f, std::floor(std::log10(std::max(fade / 8.0f, 1e-3f))));
-    const Rgb gc = groundColor(d.pulls);
+    const Rgb gc = d.groundColor ? *d.groundColor : groundColor(d.pulls);
     glDisable(GL_CULL_FACE);
     glUseProgram(m->groundProg);
     glUniformMatrix4fv(glGetUniformLocation(m->groundProg, "uViewProj"), 1, GL_FALSE, vp.m.data());
@@ -512,7 +512,7 @@ void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
     glUniform1f(glGetUniformLocation(m->groundProg, "uHalf"), fade);
     glUniform1f(glGetUniformLocation(m->groundProg, "uHeight"), d.groundHeight);
     glUniform3f(glGetUniformLocation(m->groundProg, "uColor"), gc.r, gc.g, gc.b);
-    glUniform3f(glGetUniformLocation(m->groundProg, "uSky"), kSkyColor.r, kSkyColor.g, kSkyColor.b);
+    glUniform3f(glGetUniformLocation(m->groundProg, "uSky"), d.background.r, d.background.g, d.background.b);
     glUniform1f(glGetUniformLocation(m->groundProg, "uFade"), fade);
     glUniform1f(glGetUniformLocation(m->groundProg, "uGrid"), grid);
     glUniform3f(glGetUniformLocation(m->groundProg, "uLight"), light.x, light.y, light.z);

@@ -117,6 +117,26 @@ TEST(Controls, PlaybackStepsAndPlaysContinuously) {
   EXPECT_EQ(p.speed(), 1.0) << "the speeds cycle";
 }
 
+// Issue 35 item 9: tumble play --from 5 --to 7 plays frames 5 to 7 of the recording only.
+TEST(Controls, PlaybackOfAFrameRangeStaysWithinIt) {
+  Keyboard kb;
+  PlaybackControls p(3, false, 5);
+  const auto tap = [&](Key k) {
+    if (kb.event(k, true)) p.keyEvent(k, true);
+    if (kb.event(k, false)) p.keyEvent(k, false);
+  };
+  EXPECT_EQ(p.frame(), 5u) << "starts at the first frame of the range";
+  tap(Key::Down);
+  EXPECT_EQ(p.frame(), 5u);
+  for (int i = 0; i < 5; ++i) tap(Key::Up);
+  EXPECT_EQ(p.frame(), 7u) << "stops at the last frame of the range";
+  EXPECT_EQ(p.describe().substr(0, 9), "frame 7/7");
+  tap(Key::L);
+  tap(Key::Space);
+  p.advance(kb, 1.0 / 60.0, 60.0);
+  EXPECT_EQ(p.frame(), 5u) << "the loop goes on from the range's first frame";
+}
+
 TEST(Label, TextAndLegendAreDrawnWhereAsked) {
   Image img;
   img.width = 320;
@@ -257,6 +277,52 @@ TEST(Colours, ModeNamesRoundTripAndBodyIsPlain) {
   EXPECT_FALSE(hasRamp(ColorMode::Shape));
   EXPECT_TRUE(hasRamp(ColorMode::Speed));
   EXPECT_EQ(nextColorMode(ColorMode::Height), ColorMode::Plain) << "the windows' 0 key cycles plain, mass, elasticity";
+}
+
+// Issue 35 item 9: --background and --ground take a few names and #RRGGBB, nothing else.
+TEST(Colours, BackgroundAndGroundChoices) {
+  const auto c = rgbFromString("#FF8000");
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->r, 1.0f);
+  EXPECT_NEAR(c->g, 128.0f / 255.0f, 1e-6f);
+  EXPECT_EQ(c->b, 0.0f);
+  EXPECT_EQ(rgbFromString("#ff8000")->g, c->g) << "either case";
+  EXPECT_EQ(rgbFromString("white")->b, 1.0f);
+  EXPECT_EQ(rgbFromString("gray")->r, rgbFromString("grey")->r);
+  for (const char* bad : {"", "#", "#12345", "#1234567", "#gg0000", "ff8000", "White", "purple"})
+    EXPECT_FALSE(rgbFromString(bad)) << bad;
+  const Look plain = parseLook("default", "on");
+  EXPECT_EQ(plain.background.b, kSkyColor.b);
+  EXPECT_TRUE(plain.ground);
+  EXPECT_FALSE(plain.groundColor);
+  const Look look = parseLook("black", "#00ff00");
+  EXPECT_EQ(look.background.r, 0.0f);
+  ASSERT_TRUE(look.groundColor);
+  EXPECT_EQ(look.groundColor->g, 1.0f);
+  EXPECT_FALSE(parseLook("default", "off").ground);
+  try {
+    parseLook("purple", "on");
+    ADD_FAILURE() << "purple is no background";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--background purple: expected default or a colour: black, white"),
+              std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("#RRGGBB"), std::string::npos) << e.what();
+  }
+  try {
+    parseLook("default", "yes");
+    ADD_FAILURE() << "yes is no ground";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--ground yes: expected on (coloured by the pulls), off or a colour"),
+              std::string::npos) << e.what();
+  }
+  DrawData d;
+  d.groundEnabled = true;
+  applyLook(parseLook("white", "off"), d);
+  EXPECT_FALSE(d.groundEnabled);
+  EXPECT_EQ(d.background.g, 1.0f);
+  d.groundEnabled = false;
+  applyLook(parseLook("default", "on"), d);
+  EXPECT_FALSE(d.groundEnabled) << "no ground where the scene has none";
 }
 
 TEST(Colours, ShapeGivesEveryShapeItsOwnColour) {
@@ -1097,6 +1163,69 @@ TEST_F(Cli, RenderDrawsTheWallsAndNoWallsLeavesThemOut) {
   ASSERT_TRUE(cam.project({-0.7f, 0.3f, 0.8f}, 320, 240, x, y));
   const Px w = pixel(walls, int(x), int(y)), g = pixel(none, int(x), int(y));
   EXPECT_GT(w.b - w.r, g.b - g.r + 10) << w << " over " << g;
+}
+
+// Issue 35 item 9: --background and --ground, in a still: a white background everywhere the
+// ground was with --ground off, a red ground with --ground '#ff0000'; bad values are refused,
+// listing what is accepted, and nothing is written.
+TEST_F(Cli, RenderBackgroundAndGroundChoices) {
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --record rec.bin -q").status, 0) << slurp(path("err.txt"));
+  const std::string opts = " --still 0 --size 320x240 --no-label";
+  ASSERT_EQ(run("render rec.bin -o plain.ppm" + opts).status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("render rec.bin -o white.ppm --background white --ground off" + opts).status, 0)
+      << slurp(path("err.txt"));
+  ASSERT_EQ(run("render rec.bin -o red.ppm --background '#00ff00' --ground '#ff0000'" + opts).status, 0)
+      << slurp(path("err.txt"));
+  const Image plain = readPpm(path("plain.ppm")), white = readPpm(path("white.ppm")), red = readPpm(path("red.ppm"));
+  EXPECT_TRUE(nearColor(groundPixel(plain), groundColor(0), 60)) << groundPixel(plain);
+  EXPECT_TRUE(nearColor(groundPixel(white), Rgb{1, 1, 1}, 0)) << "no ground: the background " << groundPixel(white);
+  EXPECT_TRUE(nearColor(pixel(white, 2, 2), Rgb{1, 1, 1}, 0)) << pixel(white, 2, 2);
+  EXPECT_TRUE(nearColor(pixel(red, 2, 2), Rgb{0, 1, 0}, 0)) << "a green sky " << pixel(red, 2, 2);
+  const Px g = groundPixel(red);
+  EXPECT_GT(g.r, 100) << g;
+  EXPECT_LT(g.g + g.b, 20) << "a red ground, without shadows' tint of another colour " << g;
+  // The spheres are drawn alike: the middle of the image differs little from the plain image
+  // where that has spheres (no ground, no sky there).
+  int spheres = 0, same = 0;
+  for (int y = 80; y < 160; ++y)
+    for (int x = 110; x < 210; ++x) {
+      const Px p = pixel(plain, x, y);
+      if (nearColor(p, groundColor(0), 45) || nearColor(p, kSkyColor, 20)) continue;
+      ++spheres;
+      same += colourDistance(p, pixel(white, x, y)) <= 30;
+    }
+  EXPECT_GT(same, spheres * 9 / 10) << same << " of " << spheres;
+  for (const std::string bad : {"--background purple", "--background '#12345'", "--ground yes", "--ground '#gg0000'"}) {
+    const Result r = run("render rec.bin -o bad.ppm " + bad + opts);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("black, white, grey (gray) or #RRGGBB"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::ifstream(path("bad.ppm"))) << bad;
+  }
+}
+
+// Issue 35 item 9: play --from and --to (shared with render): the player starts at --from and
+// stays within the range; a range out of the recording is refused before any window opens.
+TEST_F(Cli, PlayFromToPlaysTheRangeOnly) {
+  scene("small.toml");
+  ASSERT_EQ(run("run small.toml --steps 400 --record rec.bin -q").status, 0) << slurp(path("err.txt"));
+  Result r = run("play rec.bin --from 50");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--from 50: rec.bin has frames 0 to 40 (negative counts from the end)"), std::string::npos)
+      << r.err;
+  r = run("play rec.bin --from -3 --to 10");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--from -3 --to 10: frame 38 comes after frame 10 of rec.bin"), std::string::npos) << r.err;
+  if (!have("xvfb-run") || !have("xauth")) GTEST_SKIP() << "xvfb-run/xauth not installed";
+  write("start.txt", "3 quit\n");
+  write("ups.txt", "1 tap up\n3 tap up\n5 tap up\n7 tap up\n9 tap up\n11 quit\n");
+  r = run("play rec.bin --from 20 --to -20 --script start.txt --size 320x240", xvfbRun());
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("tumble play: frame 20/21 "), std::string::npos) << r.out;
+  r = run("play rec.bin --from 20 --to 21 --script ups.txt --size 320x240", xvfbRun());
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("tumble play: frame 21/21 "), std::string::npos) << "up stops at --to: " << r.out;
 }
 
 TEST_F(Cli, CorruptOrTruncatedRecordingGivesAClearMessage) {

@@ -107,7 +107,9 @@ class PlaybackControls {
   /// Speeds cycled by left shift, starting at 1×.
   static constexpr std::array<double, 6> kSpeeds{1.0, 2.0, 4.0, 8.0, 0.25, 0.5};
 
-  PlaybackControls(std::size_t numFrames, bool debug);
+  /// Plays frames `first` to `first + numFrames − 1` of a recording (tumble play --from, --to);
+  /// frame() counts from the recording's first frame, position() from `first`.
+  PlaybackControls(std::size_t numFrames, bool debug, std::size_t first = 0);
   /// Reacts to a key press (pressed = true) or release; `kb` already holds the new state.
   void keyEvent(Key k, bool pressed);
   /// Advances continuous play by `seconds` of wall time at `fps` recorded frames per second
@@ -116,7 +118,8 @@ class PlaybackControls {
   /// goes on from the first frame after the last.
   void advance(const Keyboard& kb, double seconds, double fps);
 
-  std::size_t frame() const;
+  /// The recording's frame shown.
+  std::size_t frame() const { return m_first + local(); }
   double position() const { return m_position; }
   double speed() const { return kSpeeds[m_speedIndex]; }
   ColorMode colorMode() const { return m_color; }
@@ -127,13 +130,16 @@ class PlaybackControls {
   bool quit() const { return m_quit; }
   bool playing() const { return m_playing; }
   bool looping() const { return m_loop; }
-  /// One line: "frame 12/31 speed 2x colour mass forces 1,3", then " playing", " loop" when on
-  /// and " no-walls" when the walls are hidden (used by --script runs).
+  /// One line: "frame 12/31 speed 2x colour mass forces 1,3" (the frame shown / the last one
+  /// played), then " playing", " loop" when on and " no-walls" when the walls are hidden (used by
+  /// --script runs).
   std::string describe() const;
 
  private:
+  std::size_t local() const;  ///< the frame shown, counted from m_first
   std::size_t m_numFrames;
   bool m_debug;
+  std::size_t m_first;
   double m_position = 0.0;
   std::size_t m_speedIndex = 0;
   ColorMode m_color = ColorMode::Plain;

@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "tumble/recording.hpp"
@@ -28,6 +30,24 @@ struct ParticleTable {
   float maxRadius() const;
 };
 
+/// Background (sky) colour of every image unless --background says otherwise.
+inline constexpr Rgb kSkyColor{0.13f, 0.15f, 0.19f};
+
+/// How the background and the ground are drawn: `--background` and `--ground` of view, play and
+/// render (parseLook, applyLook).
+struct Look {
+  Rgb background = kSkyColor;
+  bool ground = true;              ///< draw the scene's ground (where it has one)
+  std::optional<Rgb> groundColor;  ///< one colour instead of the pulls' (groundColor())
+};
+/// A colour by name (black, white, grey or gray) or as #RRGGBB (hex digits, either case);
+/// nothing for any other text.
+std::optional<Rgb> rgbFromString(const std::string& text);
+/// The values of --background and --ground: the background `default` (kSkyColor) or a colour
+/// (rgbFromString); the ground `on` (the pulls' colours), `off` (no ground, no shadows) or a
+/// colour. Throws tumble::Error naming the option, the value and what is accepted.
+Look parseLook(const std::string& background, const std::string& ground);
+
 /// Everything one image shows.
 struct DrawData {
   std::vector<float> spheres;  ///< x, y, z, radius per particle
@@ -38,8 +58,14 @@ struct DrawData {
   std::uint32_t pulls = 0;     ///< colours the ground (groundColor)
   double time = 0.0;           ///< simulated time [s]: poses the walls (WallMotion)
   bool wallsShown = true;      ///< draw the walls given to Renderer::setWalls
+  Rgb background = kSkyColor;  ///< the clear colour, into which the ground fades
+  std::optional<Rgb> groundColor;  ///< the ground's colour whatever the pulls; by default groundColor(pulls)
   std::size_t numSpheres() const { return spheres.size() / 4; }
 };
+
+/// Applies a Look to what is drawn: its background and ground colour, and no ground when it is
+/// off (`d.groundEnabled` is left as the scene has it otherwise).
+void applyLook(const Look& look, DrawData& d);
 
 /// A wall as the renderer draws it (wallMeshes()).
 struct WallMesh {

@@ -16,9 +16,6 @@
 
 namespace tumble::viewer {
 
-/// Background (sky) colour of every image.
-inline constexpr Rgb kSkyColor{0.13f, 0.15f, 0.19f};
-
 class Renderer {
  public:
   /// Compiles the shaders and creates the buffers; throws tumble::Error with the compiler log
