@@ -56,6 +56,7 @@ void play(const PlayOptions& o) {
   // One pass over the frames played (each checked) frames the camera before any window opens.
   const ParticleTable table = ParticleTable::from(rec);
   Camera cam = Camera::framing(recordingBounds(reader, table, nullptr, nullptr, {}, first, last));
+  cam.setUp(upFromGravity(rec.info.gravity));  // a chute's tilted gravity: down on screen
   Window window("tumble play: " + o.file, w, h);
   Renderer renderer;
   renderer.setWalls(wallMeshes(rec.walls));

@@ -414,8 +414,10 @@ void render(const RenderOptions& o) {
   } else {
     cams.assign(sequence.size(), fixedCamera);
   }
+  const Vec3f up = upFromGravity(rec.info.gravity);  // a chute's tilted gravity: down on screen
   for (std::size_t k = 0; k < cams.size(); ++k) {
     Camera& c = cams[k];
+    c.setUp(up);
     if (o.yaw) c.yaw = static_cast<float>(*o.yaw * 3.14159265358979 / 180.0);
     if (o.pitch) c.pitch = static_cast<float>(std::max(-85.0, std::min(85.0, *o.pitch)) * 3.14159265358979 / 180.0);
     c.distance /= static_cast<float>(o.zoom);
@@ -576,8 +578,9 @@ void addRender(CLI::App& app) {
   to->excludes(still);
   c->add_option("--forces", o->forces,
                 "Debug recordings: draw force lines, digits 1-5 (1 repulsion, 2 damping, 3 shear, 4 ground, 5 friction)");
-  c->add_option("--yaw", o->yaw, "Camera direction about the vertical, degrees (default -57)");
-  c->add_option("--pitch", o->pitch, "Camera elevation, degrees (default 26)");
+  c->add_option("--yaw", o->yaw,
+                "Camera direction about the up (opposite the gravity: z, tilted for a chute), degrees (default -57)");
+  c->add_option("--pitch", o->pitch, "Camera elevation above the plane across the up, degrees (default 26)");
   c->add_option("--zoom", o->zoom, "Zoom factor (default 1: the bulk of the bodies over the recording fits)");
   c->add_option("--look-at", o->lookAt, "Point the camera at X,Y,Z (m; default: the centre of the framed box)")
       ->expected(3)

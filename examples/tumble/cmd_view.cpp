@@ -117,6 +117,7 @@ void view(const ViewOptions& o) {
   if (world.params.ground.enabled) {  // framed as with the ground, drawn or not (--ground off)
     cam.target.z = std::max(cam.target.z, d.groundHeight);
   }
+  cam.setUp(upFromGravity(world.params.gravity));  // a chute's tilted gravity: down on screen
   window.setCamera(&cam);
   d.colors = particleColors(table, controls.colorMode());
   color = controls.colorMode();

@@ -62,6 +62,26 @@ void Bounds::add(Vec3f p, float r) {
   hi = {std::max(hi.x, hi2.x), std::max(hi.y, hi2.y), std::max(hi.z, hi2.z)};
 }
 
+Vec3f upFromGravity(Vec3f g) {
+  const float n = norm(g);
+  if (!(n > 0.0f) || (g.x == 0.0f && g.y == 0.0f && g.z < 0.0f)) return {0, 0, 1};
+  return (-1.0f / n) * g;
+}
+
+void Camera::setUp(Vec3f u) {
+  up = u;
+  // Rodrigues' rotation about k = (z × up) / s by the angle whose cosine is c = up.z, sine s.
+  const float c = u.z, s = std::sqrt(u.x * u.x + u.y * u.y);
+  if (!(s > 1e-7f)) {
+    ex = {1, 0, 0};
+    ey = {0.0f, c < 0.0f ? -1.0f : 1.0f, 0.0f};  // upside down: half a turn about x
+    return;
+  }
+  const float kx = -u.y / s, ky = u.x / s;
+  ex = {c + (1.0f - c) * kx * kx, (1.0f - c) * kx * ky, -u.x};
+  ey = {(1.0f - c) * kx * ky, c + (1.0f - c) * ky * ky, -u.y};
+}
+
 Camera Camera::framing(const Bounds& b) {
   Camera c;
   if (b.empty) return c;
@@ -73,11 +93,12 @@ Camera Camera::framing(const Bounds& b) {
 }
 
 Vec3f Camera::eye() const {
+  // In the default frame each term adds exact zeros: the z-up camera's numbers, bit for bit.
   const float cp = std::cos(pitch);
-  return target + distance * Vec3f{cp * std::cos(yaw), cp * std::sin(yaw), std::sin(pitch)};
+  return target + distance * ((cp * std::cos(yaw)) * ex + (cp * std::sin(yaw)) * ey + std::sin(pitch) * up);
 }
 
-Mat4 Camera::view() const { return lookAt(eye(), target, Vec3f{0, 0, 1}); }
+Mat4 Camera::view() const { return lookAt(eye(), target, up); }
 
 Mat4 Camera::projection(float aspect) const {
   return perspective(fovY, aspect, std::max(1e-4f, 0.01f * distance), 200.0f * distance);
@@ -90,12 +111,12 @@ void Camera::orbit(float dx, float dy) {
 
 void Camera::zoom(float notches) { distance = std::max(1e-3f, distance * std::pow(0.9f, notches)); }
 
-void Camera::move(float forward, float right, float up, float turn, float seconds) {
+void Camera::move(float forward, float right, float rise, float turn, float seconds) {
   // Speed scales with the distance so that small and large scenes feel the same.
   const float step = 0.6f * distance * seconds;
-  const Vec3f fwd{-std::cos(yaw), -std::sin(yaw), 0.0f};
-  const Vec3f rgt{-std::sin(yaw), std::cos(yaw), 0.0f};
-  target += (forward * step) * fwd + (right * step) * rgt + Vec3f{0, 0, up * step};
+  const Vec3f fwd = (-std::cos(yaw)) * ex + (-std::sin(yaw)) * ey;
+  const Vec3f rgt = (-std::sin(yaw)) * ex + std::cos(yaw) * ey;
+  target += (forward * step) * fwd + (right * step) * rgt + (rise * step) * up;
   if (turn != 0.0f) {
     // Turn in place: keep the eye, swing the target around it.
     const Vec3f e = eye();

@@ -226,8 +226,8 @@ void PlaybackControls::advance(const Keyboard& kb, double seconds, double fps) {
 
 std::string PlaybackControls::describe() const {
   std::ostringstream s;
-  s << "frame " << frame() << "/" << m_first + (m_numFrames ? m_numFrames - 1 : 0) << " speed " << speed() << "x colour "
-    << toString(m_color) << " forces ";
+  s << "frame " << frame() << "/" << m_first + (m_numFrames ? m_numFrames - 1 : 0) << " speed " << speed()
+    << "x colour " << toString(m_color) << " forces ";
   std::string f;
   for (int i = 0; i < kNumForces; ++i)
     if (m_forces[static_cast<std::size_t>(i)]) {

@@ -493,8 +493,8 @@ void Renderer::draw(const DrawData& d, const Camera& camera, int w, int h) {
 
   const Mat4 vp = camera.viewProjection(float(w) / float(std::max(h, 1)));
   const Vec3f eye = camera.eye();
-  // Light from above, over the camera's left shoulder.
-  Vec3f light = Vec3f{std::cos(camera.yaw + 0.6f), std::sin(camera.yaw + 0.6f), 1.6f};
+  // Light from above (the camera's up), over the camera's left shoulder.
+  Vec3f light = std::cos(camera.yaw + 0.6f) * camera.ex + std::sin(camera.yaw + 0.6f) * camera.ey + 1.6f * camera.up;
   light = (1.0f / norm(light)) * light;
 
   if (d.groundEnabled) {

@@ -581,6 +581,51 @@ TEST(Camera, ProjectsTheTargetToTheImageCentre) {
   EXPECT_FALSE(c.project(c.eye() + (c.eye() - c.target), 200, 100, x, y)) << "behind the camera";
 }
 
+// Issue 35 item 9: with gravity along -z the camera is the z-up one, number for number (images
+// compared by tests stay as they were); with a chute's tilted gravity, gravity points straight
+// down on screen whatever the yaw and pitch.
+TEST(Camera, UpIsOppositeTheGravity) {
+  EXPECT_EQ(upFromGravity({0.0f, 0.0f, -9.81f}).z, 1.0f);
+  EXPECT_EQ(upFromGravity({0.0f, 0.0f, 0.0f}).z, 1.0f) << "no gravity: z up";
+  for (const float yaw : {-1.0f, 0.3f, 2.5f})
+    for (const float pitch : {-0.4f, 0.45f, 1.2f}) {
+      Camera c;
+      c.target = {0.3f, -1.2f, 0.7f};
+      c.yaw = yaw;
+      c.pitch = pitch;
+      c.distance = 4.5f;
+      c.setUp(upFromGravity({0.0f, 0.0f, -9.81f}));
+      const float cp = std::cos(pitch);
+      const Vec3f eye = c.target + c.distance * Vec3f{cp * std::cos(yaw), cp * std::sin(yaw), std::sin(pitch)};
+      EXPECT_EQ(c.eye().x, eye.x);
+      EXPECT_EQ(c.eye().y, eye.y);
+      EXPECT_EQ(c.eye().z, eye.z);
+      EXPECT_EQ(c.view().m, lookAt(eye, c.target, Vec3f{0, 0, 1}).m) << "the z-up camera's matrix, bit for bit";
+    }
+  const Vec3f g{4.4536f, 0.0f, -8.7408f};  // scenes/chute.toml: 27 degrees down +x
+  const Vec3f up = upFromGravity(g);
+  EXPECT_NEAR(up.x, -std::sin(27 * M_PI / 180), 1e-4);
+  Camera c;
+  c.setUp(up);
+  EXPECT_NEAR(dot(c.ex, up), 0.0f, 1e-6f);
+  EXPECT_NEAR(dot(c.ey, up), 0.0f, 1e-6f);
+  EXPECT_NEAR(norm(cross(c.ex, c.ey) - up), 0.0f, 1e-6f) << "right-handed";
+  EXPECT_NEAR(c.ey.y, 1.0f, 1e-6f) << "tilted about y: y stays";
+  for (const float yaw : {-1.0f, -1.5708f, 0.3f, 2.5f})
+    for (const float pitch : {0.0f, 0.45f, 1.2f}) {
+      c.yaw = yaw;
+      c.pitch = pitch;
+      float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+      ASSERT_TRUE(c.project(c.target, 640, 480, x0, y0));
+      ASSERT_TRUE(c.project(c.target + 0.05f * g, 640, 480, x1, y1));
+      EXPECT_NEAR(x1, x0, 1e-3f) << "yaw " << yaw << " pitch " << pitch;
+      EXPECT_GT(y1, y0 + 1.0f) << "gravity points down on screen";
+    }
+  Camera flipped;
+  flipped.setUp(upFromGravity({0.0f, 0.0f, 9.81f}));
+  EXPECT_NEAR(norm(cross(flipped.ex, flipped.ey) - flipped.up), 0.0f, 1e-6f) << "upside down, right-handed";
+}
+
 Bounds box(float cx, float cy, float cz, float half) {
   Bounds b;
   b.add({cx, cy, cz}, half);
@@ -1226,6 +1271,52 @@ TEST_F(Cli, PlayFromToPlaysTheRangeOnly) {
   r = run("play rec.bin --from 20 --to 21 --script ups.txt --size 320x240", xvfbRun());
   ASSERT_EQ(r.status, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("tumble play: frame 21/21 "), std::string::npos) << "up stops at --to: " << r.out;
+}
+
+// The slope on screen of a row of spheres: the angle in degrees (positive: going down to the
+// right) between the centroids of the leftmost and the rightmost third of the pixels brighter
+// than a black background.
+double rowSlopeDegrees(const Image& img) {
+  int xmin = img.width, xmax = -1;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (colourDistance(pixel(img, x, y), Px{0, 0, 0}) > 60) xmin = std::min(xmin, x), xmax = std::max(xmax, x);
+  double sx[2] = {}, sy[2] = {}, n[2] = {};
+  const int third = (xmax - xmin) / 3;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      if (colourDistance(pixel(img, x, y), Px{0, 0, 0}) <= 60) continue;
+      const int side = x < xmin + third ? 0 : x > xmax - third ? 1 : -1;
+      if (side < 0) continue;
+      sx[side] += x, sy[side] += y, n[side] += 1;
+    }
+  if (n[0] == 0 || n[1] == 0) return std::nan("");
+  return std::atan2(sy[1] / n[1] - sy[0] / n[0], sx[1] / n[1] - sx[0] / n[0]) * 180.0 / M_PI;
+}
+
+// Issue 35 item 9: a chute is shown as a slope. A row of balls lies on the ground along x under
+// gravity tilted by 27 degrees down +x (scenes/chute.toml's): seen from the side (--yaw -90
+// --pitch 0, which are about the gravity), the row goes down to the right by 27 degrees; under
+// gravity along -z it is level. The default view turns too.
+TEST_F(Cli, RenderShowsATiltedGravityAsASlope) {
+  const std::string row = "[ground]\nheight = 0.0\n" + sphereShapeToml("ball", "0.1", "1.0", "0.5") +
+                          groupToml("ball", "[7, 1, 1]", "0.25", "[-0.75, 0.0, 0.1]");
+  write("chute.toml", "[scene]\nname = \"chute\"\ndt = 1e-4\nsteps = 20\ngravity = [4.4536, 0.0, -8.7408]\n" + row);
+  write("level.toml", "[scene]\nname = \"level\"\ndt = 1e-4\nsteps = 20\n" + row);
+  ASSERT_EQ(run("run chute.toml --record chute.bin -q").status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("run level.toml --record level.bin -q").status, 0) << slurp(path("err.txt"));
+  const std::string opts = " --still 0 --size 320x240 --no-label --ground off --background black";
+  ASSERT_EQ(run("render chute.bin -o side.ppm --yaw -90 --pitch 0" + opts).status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("render level.bin -o level_side.ppm --yaw -90 --pitch 0" + opts).status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("render chute.bin -o default.ppm" + opts).status, 0) << slurp(path("err.txt"));
+  ASSERT_EQ(run("render level.bin -o level_default.ppm" + opts).status, 0) << slurp(path("err.txt"));
+  const double side = rowSlopeDegrees(readPpm(path("side.ppm"))),
+               levelSide = rowSlopeDegrees(readPpm(path("level_side.ppm"))),
+               byDefault = rowSlopeDegrees(readPpm(path("default.ppm"))),
+               levelDefault = rowSlopeDegrees(readPpm(path("level_default.ppm")));
+  EXPECT_NEAR(side, 27.0, 2.0) << "the chute's slope, seen from the side";
+  EXPECT_NEAR(levelSide, 0.0, 1.0) << "a level row";
+  EXPECT_GT(byDefault, levelDefault + 10.0) << "the default view turns with the gravity too";
 }
 
 TEST_F(Cli, CorruptOrTruncatedRecordingGivesAClearMessage) {

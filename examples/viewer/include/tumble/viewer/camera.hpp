@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file camera.hpp
-/// A z-up orbit camera (target, yaw, pitch, distance) and the 4×4 matrices the renderer needs.
-/// Plain C++ (no OpenGL), so tests can project points to pixels.
+/// An orbit camera (target, yaw, pitch, distance) about the scene's up, z or opposite a tilted
+/// gravity, and the 4×4 matrices the renderer needs. Plain C++ (no OpenGL), so tests can project
+/// points to pixels.
 #pragma once
 #include <array>
 
@@ -29,15 +30,27 @@ struct Bounds {
   void add(Vec3f p, float r);
 };
 
-/// Orbit camera around a target point, z up. Yaw turns about z, pitch is the elevation of the
-/// eye above the target (radians).
+/// The scene's up for a gravity `g`: z when g is zero or along −z (x and y exactly 0), else −g
+/// normalised (a chute's tilted gravity: its bed is then drawn as a slope).
+Vec3f upFromGravity(Vec3f g);
+
+/// Orbit camera around a target point. Up on screen is `up` (z unless setUp() says otherwise):
+/// yaw turns about it, pitch is the elevation of the eye above the plane across it (radians).
 class Camera {
  public:
   Vec3f target{0, 0, 0};
-  float yaw = -1.0f;      ///< eye direction from the target, radians about +z from +x
+  float yaw = -1.0f;      ///< eye direction from the target, radians about `up` from `ex`
   float pitch = 0.45f;    ///< elevation, radians, kept in (−1.5, 1.5)
   float distance = 10.0f;
   float fovY = 0.7854f;   ///< 45°
+  /// The frame yaw and pitch are measured in: `up`, and `ex`, `ey` (yaw 0 and 90°) across it;
+  /// z, x and y by default, so that a camera of a scene with gravity along −z is z-up.
+  Vec3f up{0, 0, 1}, ex{1, 0, 0}, ey{0, 1, 0};
+
+  /// Sets `up` (a unit vector) and turns `ex` and `ey` with it by the smallest rotation that takes
+  /// z to `up` (about z × up): the directions across a tilted gravity that are nearest x and y.
+  /// `up` = z gives the default frame exactly.
+  void setUp(Vec3f up);
 
   /// A camera that sees the whole box from the default direction.
   static Camera framing(const Bounds& b);
@@ -51,9 +64,9 @@ class Camera {
   void orbit(float dx, float dy);
   /// Mouse wheel: each notch zooms by 10 %.
   void zoom(float notches);
-  /// Keyboard motion over `seconds`: forward/right in the ground plane relative to the view,
-  /// up along z, turn about the eye (the target moves, the eye stays).
-  void move(float forward, float right, float up, float turn, float seconds);
+  /// Keyboard motion over `seconds`: forward/right in the plane across `up` relative to the view,
+  /// `rise` along `up`, turn about the eye (the target moves, the eye stays).
+  void move(float forward, float right, float rise, float turn, float seconds);
 
   /// Projects a world point to pixel coordinates (x right, y down from the top-left corner) of
   /// a w × h image. False when the point is behind the camera.
