@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -185,6 +186,24 @@ void SceneParser::readPours(Scene& scene) {
       particles += scene.shapes[b.body.shape].spheres.size();
       scene.pourBodies.push_back(b);
     }
+    // A region no sphere of the pour fits in takes no body, ever: said here, not by a pour that
+    // waits for the whole run (issue 34, item 11). (A mesh region is left to the placement.)
+    const FillRegion& g = p.region;
+    const double room = g.kind == FillRegion::Kind::Box
+                            ? 0.5 * std::min({double(g.max.x) - g.min.x, double(g.max.y) - g.min.y, double(g.max.z) - g.min.z})
+                        : g.kind == FillRegion::Kind::Cylinder
+                            ? std::min(double(g.radius), 0.5 * std::sqrt(double(g.axis.x) * g.axis.x +
+                                                                         double(g.axis.y) * g.axis.y + double(g.axis.z) * g.axis.z))
+                            : std::numeric_limits<double>::infinity();
+    for (std::size_t b = scene.pourBodies.size() - f.count; b < scene.pourBodies.size(); ++b)
+      for (const SphereDef& s : scene.shapes[scene.pourBodies[b].body.shape].spheres)
+        if (double(s.radius) > room) {
+          char sizes[96];
+          std::snprintf(sizes, sizeof sizes, "radius %.6g m, the region's half-width %.6g m", double(s.radius), room);
+          r.fail(r.header(), "its region is narrower than a sphere of shape '" +
+                                 scene.shapes[scene.pourBodies[b].body.shape].name + "' (" + sizes +
+                                 "): no body could ever enter; use a larger region or smaller bodies");
+        }
     addParticles(r, r.header(), particles);
   }
   // The order they enter: by the time each is due, then by pour, then by index.

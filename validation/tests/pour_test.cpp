@@ -209,6 +209,14 @@ TEST(PourTest, SceneKeysAndErrors) {
   expectError(head + pour + "rate = 1\nstart = -1\n", 16, "start must be >= 0");
   expectError(head + pour + "rate = 1\ninterval = 0\n", 16, "interval must be > 0");
   expectError(head + pour + "rate = 1\nspeed = 1\n", 16, "unknown key 'speed'");
+  // A region no ball fits in poured nothing, without a word (issue 34, item 11).
+  const std::string thin = "[[pour]]\nshape = \"ball\"\ncount = 5\nregion = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 0.15]\n";
+  expectError(head + thin + "rate = 1\n", 9,
+              "its region is narrower than a sphere of shape 'ball' (radius 0.1 m, the region's half-width 0.075 m): "
+              "no body could ever enter");
+  const std::string narrow = "[[pour]]\nshape = \"ball\"\ncount = 5\nregion = \"cylinder\"\npoint = [0, 0, 0]\n"
+                             "axis = [0, 0, 1]\nradius = 0.05\n";
+  expectError(head + narrow + "rate = 1\n", 9, "the region's half-width 0.05 m");
   // Bodies only from the pour: it must start at 0, with room for the first.
   const Pouring now(parseScene(head + pour + "rate = 100\n", "p.toml"));
   EXPECT_EQ(now.worldWith(now.initialBodies()).numBodies(), 1u) << "the body due at t = 0";
