@@ -264,6 +264,23 @@ TEST(Label, LowerCaseLettersWithoutAscendersStartAtTheThirdRow) {
   }
 }
 
+// Issue 35 item 9: a colour file's header names the legend ("stress kPa"), so capitals and a few
+// signs are drawn too: each character of the font draws something and no two draw alike.
+TEST(Label, EveryCharacterOfTheFontIsDrawnAndTellsApart) {
+  const std::string chars = "0123456789.=-+()/_%:abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ";
+  std::vector<std::vector<std::uint8_t>> drawn;
+  for (const char c : chars) {
+    Image img = greyImage(6, 8, 0);
+    drawLabel(img, 0, 0, std::string(1, c), 1);
+    int white = 0;
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 6; ++x) white += isWhite(img, x, y);
+    EXPECT_GT(white, 1) << c;
+    for (std::size_t k = 0; k < drawn.size(); ++k) EXPECT_NE(drawn[k], img.rgb) << c << " is drawn as " << chars[k];
+    drawn.push_back(img.rgb);
+  }
+}
+
 // Issue 35 item 9: colouring by shape, speed and height (tumble render --color).
 TEST(Colours, ModeNamesRoundTripAndBodyIsPlain) {
   for (const ColorMode m : {ColorMode::Plain, ColorMode::Mass, ColorMode::Elasticity, ColorMode::Shape,

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file label.hpp
-/// Text burnt into a rendered image (tumble render's time label): a 5×7 bitmap font of the
-/// digits, `. = - + x ( ) /` and the lower-case letters, white with a dark shadow.
+/// Text burnt into a rendered image (tumble render's time label and legend): a 5×7 bitmap font of
+/// the digits, `. = - + ( ) / _ % :` and the letters, lower and upper case, white with a dark
+/// shadow.
 #pragma once
 #include <string>
 #include <utility>
@@ -45,7 +46,7 @@ std::pair<std::string, std::string> legendValues(float lo, float hi);
 
 /// The colour legend of a ramp colouring (mass, elasticity, speed, height), bottom right: the
 /// ramp (rampColor) from `lo` to `hi`, their values under its ends and `name` ("mass kg",
-/// "elasticity") under them, laid out by legendLayout.
+/// "elasticity", a colour file's header) under them, laid out by legendLayout.
 LegendLayout drawLegend(Image& img, ColorMode mode, float lo, float hi, const std::string& name, int scale);
 
 /// The label scale for an image `height` pixels high: a glyph about 1/34 of it (1 from 240 up).
