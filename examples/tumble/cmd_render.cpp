@@ -28,6 +28,7 @@
 
 #include "tumble/recording.hpp"
 #include "tumble/viewer/camera_path.hpp"
+#include "tumble/viewer/color_file.hpp"
 #include "tumble/viewer/draw_data.hpp"
 #include "tumble/viewer/label.hpp"
 #include "tumble/viewer/offscreen.hpp"
@@ -97,6 +98,7 @@ struct RenderOptions {
   std::string size = "1280x720";
   std::optional<double> fps;
   std::string color = "plain";
+  std::string colorFile;
   std::optional<long> still;
   FrameRangeOptions range;
   LookOptions look;
@@ -275,8 +277,11 @@ class FfmpegPipe {
 void render(const RenderOptions& o) {
   int w = 0, h = 0;
   parseSize(o.size, "--size", w, h);
-  const auto mode = colorModeFromString(o.color);
+  const auto mode = o.colorFile.empty() ? colorModeFromString(o.color) : ColorMode::User;
   if (!mode) throw Error("--color " + o.color + ": expected one of " + colorModeNames());
+  // A user's values: read and checked now, their count once the recording's header is read.
+  const std::optional<ColorFile> colorFile =
+      o.colorFile.empty() ? std::nullopt : std::optional<ColorFile>(readColorFile(o.colorFile));
   const Look look = parseLook(o.look.background, o.look.ground);
   if (o.fps && !(*o.fps > 0.0 && *o.fps <= 1000.0)) throw Error("--fps must be in (0, 1000]");
   if (!(o.zoom > 0.0)) throw Error("--zoom must be positive");
@@ -314,7 +319,7 @@ void render(const RenderOptions& o) {
   }
 
   // Frame by frame: memory is one frame whatever the recording's length.
-  if (!pngs) refuseSameFile({{"recording", o.file}, {"-o", o.out}});
+  if (!pngs) refuseSameFile({{"recording", o.file}, {"-o", o.out}, {"--color-file", o.colorFile}});
   RecordingReader reader(o.file);
   const Recording& rec = reader.header();
   if (reader.numFrames() == 0) throw InputError(o.file, 0, "the recording holds no frames");
@@ -331,6 +336,7 @@ void render(const RenderOptions& o) {
   // One pass over the range's frames (each checked) frames the camera before anything is drawn,
   // and finds the range of a colouring by speed or height.
   const ParticleTable table = ParticleTable::from(rec);
+  const std::vector<float> userValues = colorFile ? colorFile->particleValues(table, o.file) : std::vector<float>();
   const bool perFrame = *mode == ColorMode::Speed || *mode == ColorMode::Height;
   float valueLo = std::numeric_limits<float>::infinity(), valueHi = -valueLo;
   RecordedFrame before;  // the frame before the one visited (positions and time)
@@ -369,15 +375,21 @@ void render(const RenderOptions& o) {
   applyLook(look, d);
   d.colors = particleColors(table, *mode);
   float legendLo = valueLo, legendHi = valueHi;
-  if (*mode == ColorMode::Mass || *mode == ColorMode::Elasticity) {
-    const std::vector<float>& v = *mode == ColorMode::Mass ? table.mass : table.elasticity;
+  if (*mode == ColorMode::Mass || *mode == ColorMode::Elasticity || *mode == ColorMode::User) {
+    const std::vector<float>& v = *mode == ColorMode::Mass         ? table.mass
+                                  : *mode == ColorMode::Elasticity ? table.elasticity
+                                                                   : colorFile->values;
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
     legendLo = *lo, legendHi = *hi;
   }
-  const char* legendName = *mode == ColorMode::Mass         ? "mass kg"
-                           : *mode == ColorMode::Elasticity ? "elasticity"
-                           : *mode == ColorMode::Speed      ? "speed m/s"
-                                                            : "height m";
+  if (*mode == ColorMode::User) rampColors(*mode, userValues, legendLo, legendHi, d.colors);
+  const std::string legendName = *mode == ColorMode::Mass         ? "mass kg"
+                                 : *mode == ColorMode::Elasticity ? "elasticity"
+                                 : *mode == ColorMode::Speed      ? "speed m/s"
+                                 : *mode == ColorMode::Height     ? "height m"
+                                 : colorFile                      ? colorFile->name
+                                                                  : "";
+  const std::string colouring = colorFile ? "--color-file " + o.colorFile : std::string(toString(*mode));
 
   // How fast the video plays: simulated seconds per second of video. Without --realtime one
   // recorded frame is one video frame; with it, video frame k shows the last recorded frame at or
@@ -471,7 +483,7 @@ void render(const RenderOptions& o) {
     if (!o.quiet)
       std::fprintf(stderr, "tumble render: frame %zu (step %llu, t = %.4f s) of %s, %dx%d, %s, to %s\n", stillIndex,
                    static_cast<unsigned long long>(f.step), f.time, o.file.c_str(), w,
-                   h, toString(*mode), o.out.c_str());
+                   h, colouring.c_str(), o.out.c_str());
     return;
   }
 
@@ -547,7 +559,7 @@ void render(const RenderOptions& o) {
   if (!o.quiet) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "tumble render: %zu frames of %s (%dx%d, %g frames/s, %s) to %s in %.1f s (%s, EGL %s)\n",
-                 sequence.size(), o.file.c_str(), w, h, fps, toString(*mode), o.out.c_str(), el,
+                 sequence.size(), o.file.c_str(), w, h, fps, colouring.c_str(), o.out.c_str(), el,
                  Renderer::glRenderer().c_str(), ctx.platform().c_str());
     if (count > 1) printSpeed(speedText, speed, o.realtime);
   }
@@ -567,10 +579,16 @@ void addRender(CLI::App& app) {
       ->required();
   c->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720; even for a video)");
   c->add_option("--fps", o->fps, "Video frames per second (default: the recording's, 60)");
-  c->add_option("--color", o->color,
-                "Colouring: plain or body (one colour per body), shape (one per shape), mass, elasticity, speed or "
-                "height (a colour ramp, light to dark, with a legend)")
-      ->check(CLI::IsMember({"plain", "body", "mass", "elasticity", "shape", "speed", "height"}));
+  CLI::Option* color =
+      c->add_option("--color", o->color,
+                    "Colouring: plain or body (one colour per body), shape (one per shape), mass, elasticity, speed "
+                    "or height (a colour ramp, light to dark, with a legend)")
+          ->check(CLI::IsMember({"plain", "body", "mass", "elasticity", "shape", "speed", "height"}));
+  c->add_option("--color-file", o->colorFile,
+                "Colour by your own values: a CSV of one column, a header line (the legend's name, e.g. stress kPa) "
+                "and one number per body (body 0 first) or per particle, for the whole recording; a ramp from "
+                "yellow (smallest) to dark purple (largest) (docs/animation.md)")
+      ->excludes(color);
   CLI::Option* still =
       c->add_option("--still", o->still, "Write only frame N as an image (negative counts from the end: -1 = last)");
   const auto [from, to] = addFrameRangeOptions(c, o->range, "; the camera frames the frames rendered");

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "text.hpp"
 #include "tumble/error.hpp"
 
 namespace tumble::viewer {
@@ -46,11 +47,7 @@ std::vector<Camera> followCameras(const std::vector<Bounds>& boxes, double sigma
 
 namespace {
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
+using detail::trim;
 
 bool parseNumber(const std::string& s, double& out) {
   char* end = nullptr;

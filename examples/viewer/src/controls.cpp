@@ -88,6 +88,7 @@ const char* toString(ColorMode m) {
     case ColorMode::Shape: return "shape";
     case ColorMode::Speed: return "speed";
     case ColorMode::Height: return "height";
+    case ColorMode::User: return "user";
   }
   return "?";
 }

@@ -83,6 +83,9 @@ Rgb rampColor(ColorMode mode, float t) {
     case ColorMode::Mass: return lerp({1.0f, 0.93f, 0.70f}, {0.55f, 0.05f, 0.05f}, t);    // cream → dark red
     case ColorMode::Speed: return lerp({0.88f, 0.97f, 0.72f}, {0.05f, 0.38f, 0.15f}, t);   // pale → dark green
     case ColorMode::Height: return lerp({0.93f, 0.86f, 1.0f}, {0.32f, 0.05f, 0.45f}, t);   // lilac → deep purple
+    case ColorMode::User:  // yellow → teal → dark purple (viridis, reversed: light to dark)
+      return t < 0.5f ? lerp({0.99f, 0.91f, 0.15f}, {0.13f, 0.57f, 0.55f}, 2.0f * t)
+                      : lerp({0.13f, 0.57f, 0.55f}, {0.27f, 0.0f, 0.33f}, 2.0f * t - 1.0f);
     default: return lerp({0.80f, 0.95f, 1.0f}, {0.05f, 0.15f, 0.55f}, t);                   // ice → navy
   }
 }

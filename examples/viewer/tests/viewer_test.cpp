@@ -25,6 +25,7 @@
 #include "tumble/scene.hpp"
 #include "tumble/viewer/camera.hpp"
 #include "tumble/viewer/camera_path.hpp"
+#include "tumble/viewer/color_file.hpp"
 #include "tumble/viewer/controls.hpp"
 #include "tumble/viewer/draw_data.hpp"
 #include "tumble/viewer/label.hpp"
@@ -294,6 +295,10 @@ TEST(Colours, ModeNamesRoundTripAndBodyIsPlain) {
   EXPECT_FALSE(hasRamp(ColorMode::Shape));
   EXPECT_TRUE(hasRamp(ColorMode::Speed));
   EXPECT_EQ(nextColorMode(ColorMode::Height), ColorMode::Plain) << "the windows' 0 key cycles plain, mass, elasticity";
+  EXPECT_FALSE(colorModeFromString(toString(ColorMode::User))) << "a user's values need a file: --color-file";
+  EXPECT_TRUE(hasRamp(ColorMode::User));
+  const Rgb light = rampColor(ColorMode::User, 0.0f), dark = rampColor(ColorMode::User, 1.0f);
+  EXPECT_GT(light.r + light.g + light.b, dark.r + dark.g + dark.b + 1.2f) << "light to dark";
 }
 
 // Issue 35 item 9: --background and --ground take a few names and #RRGGBB, nothing else.
@@ -717,6 +722,89 @@ TEST(CameraPath, RejectsBadKeysWithTheLine) {
   EXPECT_NE(message("0,nan\n").find("p.csv:1: x: expected a number, got 'nan'"), std::string::npos);
   EXPECT_NE(message("time,x\n# nothing\n").find("p.csv: the camera path holds no keys"), std::string::npos);
   EXPECT_THROW(readCameraPath("/nonexistent/path.csv"), InputError);
+}
+
+// Issue 35 item 9: colour by a user array (tumble render --color-file). The header names the
+// legend; a UTF-8 byte-order mark, quotes, spaces, CRLF and blank lines at the end are taken.
+TEST(ColorFile, ReadsTheHeaderAndOneValuePerLine) {
+  const ColorFile f = parseColorFile("\xEF\xBB\xBF\"stress kPa\"\r\n1.5\r\n -2e3 \r\n0\r\n\n\n", "v.csv");
+  EXPECT_EQ(f.name, "stress kPa");
+  EXPECT_EQ(f.values, (std::vector<float>{1.5f, -2000.0f, 0.0f}));
+  EXPECT_EQ(f.origin, "v.csv");
+}
+
+TEST(ColorFile, RejectsBadFilesWithTheLineAndWhatToDo) {
+  const auto message = [](const std::string& text) {
+    try {
+      parseColorFile(text, "v.csv");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::pair<const char*, const char*> cases[] = {
+      {"", "v.csv: the file is empty; a colour file is one column: a header line naming the values"},
+      {"\n\n", "v.csv: the file is empty"},
+      {"12.5\n3\n", "v.csv:1: the header is missing: the first line is the number 12.5; add a first line naming "
+                    "the values (e.g. value or stress kPa)"},
+      {"\n1\n", "v.csv:1: the header is missing (the first line is blank)"},
+      {"body,value\n0,1\n", "v.csv:1: expected one column, got 2 (body,value); a colour file is one column"},
+      {"value\n1\n2,3\n", "v.csv:3: expected one value, got 2 columns (2,3)"},
+      {"value\n1\nabc\n", "v.csv:3: expected a number, got 'abc'; write one number per line"},
+      {"value\n1\n2 kPa\n", "v.csv:3: expected a number, got '2 kPa'"},
+      {"value\nnan\n", "v.csv:2: 'nan' is not a finite number; every value must be finite"},
+      {"value\n1\n-inf\n", "v.csv:3: '-inf' is not a finite number"},
+      {"value\n1e39\n", "v.csv:2: '1e39' is out of range; values are drawn as floats"},
+      {"value\n1\n\n2\n", "v.csv:3: a blank line among the values; every body (or particle) needs a value"},
+      {"value\n\n", "v.csv: no values after the header (value); add one number per line"},
+      {"a name much longer than the legend takes it\n1\n", "v.csv:1: the header is 43 characters long; the "
+                                                            "legend shows at most 40: shorten it"},
+  };
+  for (const auto& [text, expected] : cases)
+    EXPECT_NE(message(text).find(expected), std::string::npos) << "'" << text << "': " << message(text);
+  try {
+    readColorFile("/nonexistent/v.csv");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/v.csv: cannot open the colour file (--color-file)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// One value per body, or per particle, by the count; any other count names both.
+TEST(ColorFile, ValuesByBodyOrByParticle) {
+  ParticleTable t;  // body 0 of two particles, body 1 of one
+  t.radius = {0.1f, 0.1f, 0.1f};
+  t.mass = t.elasticity = t.radius;
+  t.body = {0, 0, 1};
+  t.ux = t.uy = t.uz = {0.0f, 0.0f, 0.0f};
+  ColorFile f;
+  f.origin = "v.csv";
+  f.values = {5.0f, 7.0f};
+  EXPECT_EQ(f.particleValues(t, "rec.bin"), (std::vector<float>{5.0f, 5.0f, 7.0f})) << "by body";
+  f.values = {1.0f, 2.0f, 3.0f};
+  EXPECT_EQ(f.particleValues(t, "rec.bin"), (std::vector<float>{1.0f, 2.0f, 3.0f})) << "by particle";
+  f.values = {1.0f, 2.0f, 3.0f, 4.0f};
+  try {
+    f.particleValues(t, "rec.bin");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("v.csv: 4 values after the header, but rec.bin has 2 bodies of 3 particles; "
+                                         "give 2 values after the header, one per body (body 0 first), or 3, one per "
+                                         "particle"),
+              std::string::npos)
+        << e.what();
+  }
+  t.body = {0, 1, 2};  // one particle each: only bodies are named
+  try {
+    f.particleValues(t, "rec.bin");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("but rec.bin has 3 bodies; give 3 values after the header, one per body"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(CameraPath, InterpolatesEachGivenValueAndKeepsTheRest) {
@@ -1334,6 +1422,67 @@ TEST_F(Cli, RenderShowsATiltedGravityAsASlope) {
   EXPECT_NEAR(side, 27.0, 2.0) << "the chute's slope, seen from the side";
   EXPECT_NEAR(levelSide, 0.0, 1.0) << "a level row";
   EXPECT_GT(byDefault, levelDefault + 10.0) << "the default view turns with the gravity too";
+}
+
+// Issue 35 item 9: colour by a user array. A row of seven balls along x, seen from the side (x to
+// the right), each with its x in the last frame as its value: the leftmost ball has the ramp's
+// light end, the middle one its middle, the rightmost its dark end, and the legend shows the
+// file's header. Bad files are refused with the file, the line and what to do; nothing is written.
+TEST_F(Cli, RenderColorFileMapsValuesToTheRampWithTheHeaderAsLegend) {
+  write("row.toml", "[scene]\nname = \"row\"\ndt = 1e-4\nsteps = 20\n[ground]\nheight = 0.0\n" +
+                        sphereShapeToml("ball", "0.1", "1.0", "0.5") +
+                        groupToml("ball", "[7, 1, 1]", "0.25", "[-0.75, 0.0, 0.1]"));
+  ASSERT_EQ(run("run row.toml --record rec.bin -q").status, 0) << slurp(path("err.txt"));
+  const Recording rec = Recording::read(path("rec.bin"));
+  ASSERT_EQ(rec.info.numBodies, 7u);
+  std::ostringstream csv;
+  csv << "stress kPa\n";
+  for (const float x : rec.frames.back().px) csv << x << "\n";
+  write("v.csv", csv.str());
+  const std::string opts = " --size 320x240 --ground off --background black --yaw -90 --pitch 0";
+  Result r = run("render rec.bin --still -1 --color-file v.csv -o x.png" + opts);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("--color-file v.csv"), std::string::npos) << "the summary names the file: " << r.err;
+  ASSERT_EQ(run("render rec.bin --still -1 --color-file v.csv -o x.ppm" + opts).status, 0) << slurp(path("err.txt"));
+  const Image img = readPpm(path("x.ppm"));
+  EXPECT_EQ(findText(img, "stress kPa", labelScale(img.height)).size(), 1u) << "the legend's name is the header";
+  // Pixels of each end and of the middle of the ramp (lit, so within 24 a channel: half of what
+  // tells the dark end from the next ball's colour), above the legend.
+  struct Seen {
+    int n = 0, minX = 1 << 20, maxX = -1;
+  } seen[3];
+  const float at[3] = {0.0f, 0.5f, 1.0f};
+  for (int y = 0; y < img.height * 3 / 4; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int k = 0; k < 3; ++k)
+        if (nearColor(pixel(img, x, y), rampColor(ColorMode::User, at[k]), 24))
+          ++seen[k].n, seen[k].minX = std::min(seen[k].minX, x), seen[k].maxX = std::max(seen[k].maxX, x);
+  for (int k = 0; k < 3; ++k) EXPECT_GT(seen[k].n, 10) << "ramp at " << at[k];
+  EXPECT_LT(seen[0].maxX, img.width / 3) << "the smallest value, the leftmost ball: the light end";
+  EXPECT_GT(seen[2].minX, 2 * img.width / 3) << "the largest, the rightmost: the dark end";
+  EXPECT_GT(seen[1].minX, img.width / 3) << "the middle value, the middle ball";
+  EXPECT_LT(seen[1].maxX, 2 * img.width / 3);
+
+  write("short.csv", "stress kPa\n1\n2\n");
+  write("noheader.csv", "1\n2\n3\n4\n5\n6\n7\n");
+  write("text.csv", "v\n1\n2\nthree\n4\n5\n6\n7\n");
+  const std::pair<const char*, const char*> bad[] = {
+      {"short.csv", "short.csv: 2 values after the header, but rec.bin has 7 bodies; give 7 values after the header, "
+                    "one per body (body 0 first)"},
+      {"noheader.csv", "noheader.csv:1: the header is missing: the first line is the number 1"},
+      {"text.csv", "text.csv:4: expected a number, got 'three'"},
+      {"missing.csv", "missing.csv: cannot open the colour file (--color-file)"},
+  };
+  for (const auto& [file, expected] : bad) {
+    r = run(std::string("render rec.bin --still -1 -o bad.png --color-file ") + file + opts);
+    EXPECT_EQ(r.status, 2) << file;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_FALSE(std::ifstream(path("bad.png"))) << "nothing written: " << file;
+    EXPECT_FALSE(temporaryLeft("bad.png")) << file;
+  }
+  r = run("render rec.bin --still -1 -o bad.png --color-file v.csv --color mass");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--color excludes --color-file"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, CorruptOrTruncatedRecordingGivesAClearMessage) {

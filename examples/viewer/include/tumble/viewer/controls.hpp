@@ -61,14 +61,16 @@ Rgb groundColor(std::uint32_t pullMask);
 
 /// How particles are coloured: plain (one colour per body), by mass or by elasticity
 /// (light = small, dark = large); by shape (one colour per shape); by speed or by height, which
-/// change from frame to frame (tumble render only: draw_data.hpp, frameValues).
-enum class ColorMode { Plain, Mass, Elasticity, Shape, Speed, Height };
+/// change from frame to frame (tumble render only: draw_data.hpp, frameValues); by the user's
+/// values of a colour file (tumble render --color-file: color_file.hpp; no name of its own).
+enum class ColorMode { Plain, Mass, Elasticity, Shape, Speed, Height, User };
 const char* toString(ColorMode m);
-/// "plain" (or "body", the same), "mass", "elasticity", "shape", "speed", "height"; empty otherwise.
+/// "plain" (or "body", the same), "mass", "elasticity", "shape", "speed", "height"; empty otherwise
+/// (User, "user", needs a file: --color-file).
 std::optional<ColorMode> colorModeFromString(const std::string& s);
 /// The names colorModeFromString takes, for messages and --help: "plain, body, mass, ...".
 const char* colorModeNames();
-/// Whether the mode maps a value to a ramp and has a legend (mass, elasticity, speed, height).
+/// Whether the mode maps a value to a ramp and has a legend (mass, elasticity, speed, height, user).
 bool hasRamp(ColorMode m);
 /// The windows' 0 key: plain → mass → elasticity → plain (any other mode → plain).
 ColorMode nextColorMode(ColorMode m);

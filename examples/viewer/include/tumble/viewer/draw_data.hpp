@@ -97,11 +97,13 @@ Bounds framedWithWalls(const Bounds& bodies, const std::vector<WallSurface>& wal
 /// palette, shape every shape (bodyShapes); mass and elasticity map the particle's value from
 /// the table's range to a colour ramp (light = smallest, dark = largest; mass in warm,
 /// elasticity in cool colours). Speed and height change from frame to frame: here every particle
-/// gets the ramp's light end, and frameValues and rampColors give a frame's colours.
+/// gets the ramp's light end, and frameValues and rampColors give a frame's colours; so does
+/// user (rampColors of ColorFile::particleValues gives its colours).
 std::vector<float> particleColors(const ParticleTable& table, ColorMode mode);
 /// The colour ramp of a mode with a ramp (hasRamp) at t in [0, 1] (0: the smallest value,
 /// light; 1: the largest, dark): cream to dark red for mass, ice blue to navy for elasticity,
-/// pale to dark green for speed, lilac to deep purple for height.
+/// pale to dark green for speed, lilac to deep purple for height, yellow over teal to dark purple
+/// for a user's values (viridis, reversed).
 Rgb rampColor(ColorMode mode, float t);
 /// The shape of each body (indexed by body), numbered from 0 in the order of the bodies: bodies
 /// whose particles have the same offsets, radii, masses and elasticities, in the same order,
