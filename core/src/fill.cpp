@@ -242,7 +242,7 @@ std::uint32_t drawShape(Scene& scene, Rng& rng, const std::vector<std::uint32_t>
       s.mass *= m;
     }
     if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres(), scene.gravity); !why.empty())
-      throw Error(where + ": shape '" + sh.name + "': " + why);
+      throw Error(where + ": shape '" + printable(sh.name) + "': " + why);
     scene.shapes.push_back(sh);
   }
   return it->second;

@@ -22,7 +22,7 @@ namespace tumble::scene_reader {
 /// scale, the motion, the seed and the attempts (`kind` "fill" or "pour", `k` its index).
 FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std::string& kind, std::size_t k) {
   FillDef f;
-  f.where = r.where() + " (" + m_file + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
+  f.where = r.where() + " (" + printable(m_file) + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
   f.shapes = shapesOf(r, scene);
   if (const toml::node* w = r.find("weights")) {
     const toml::array& a = r.array(*w, "weights", "of one number > 0 per shape, e.g. weights = [3, 1]");

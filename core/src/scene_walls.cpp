@@ -31,7 +31,7 @@ void SceneParser::readWalls(Scene& scene) {
                          "orientation", "stiffness", "friction", "tangential_stiffness", "rolling_friction",
                          "material"});
     const std::string where =
-        name + " (" + m_file + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
+        name + " (" + printable(m_file) + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
     WallDef wall;
     wall.where = where;
     readPlaneContact(scene, r, "wall", &wall.contact);

@@ -157,6 +157,9 @@ TEST(MeshReader, EveryErrorNamesItsPlace) {
   };
   expectMeshError("a1.stl", ascii(5, "      vertex 1 zero 0"), 5, {"coordinate y of vertex 2 of facet 1 must be a number", "'zero'"});
   expectMeshError("a2.stl", ascii(5, "      vertex 1 nan 0"), 5, {"must be a finite number"});
+  // A NUL byte in a token is shown as \0, not where the message ends (issue 34, item 12).
+  expectMeshError("a0.stl", ascii(5, std::string("      vertex 1 z\0ro 0", 21)), 5,
+                  {"must be a number (got 'z\\0ro')"});
   expectMeshError("a3.stl", ascii(5, "      vertex 1 1e39 0"), 5, {"beyond single precision", "scale the mesh"});
   expectMeshError("a4.stl", ascii(5, "      vertx 1 0 0"), 5, {"expected 'vertex'", "'vertx'", "facet normal"});
   expectMeshError("a5.stl", ascii(7, "      vertex 0 1 0\n    endloop"), 7, {"expected 'endloop' after the third vertex"});

@@ -201,7 +201,8 @@ inline void expectSetError(const std::string& text, const std::vector<std::strin
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "command line, --set " + spec) << e.what();
     EXPECT_EQ(e.line(), 0) << e.what();
-    EXPECT_EQ(std::string(e.what()).rfind("command line, --set " + spec + ": ", 0), 0u) << e.what();
+    // what() shows the spec printable() (a newline in it as \n: the message stays one line).
+    EXPECT_EQ(std::string(e.what()).rfind("command line, --set " + tumble::printable(spec) + ": ", 0), 0u) << e.what();
     for (const char* n : needles) {
       EXPECT_NE(std::string(e.what()).find(n), std::string::npos) << "message lacks \"" << n << "\": " << e.what();
     }

@@ -323,3 +323,34 @@ TEST(SceneOverrides, FileErrorsStayTheFiles) {
     EXPECT_EQ(e.file(), "command line, --set foo");
   }
 }
+
+// A NUL byte in user text (a TOML key or string, Python's name= or set=) is shown as \0: what()
+// is read as a C string, and a raw NUL cut the message short there (issue 34, item 12).
+TEST(SceneMessages, ANulByteIsShownEscaped) {
+  const auto what = [](const std::string& text, const std::string& name, const std::vector<std::string>& sets,
+                       tumble::OverrideSource source) -> std::string {
+    try {
+      (void)tumble::parseScene(text, name, sets, source);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << "no error";
+    return {};
+  };
+  const std::string base = join(baseLines());
+  const std::string key = what(base + "[[wall]]\n\"ty\\u0000pe\" = \"plane\"\n", "test.toml", {},
+                               tumble::OverrideSource::CommandLine);
+  EXPECT_NE(key.find("unknown key 'ty\\0pe'; allowed keys:"), std::string::npos) << key;
+  const std::string type = what(base + "[[wall]]\ntype = \"pl\\u0000ane\"\n", "test.toml", {},
+                                tumble::OverrideSource::CommandLine);
+  EXPECT_NE(type.find("unknown wall type \"pl\\0ane\" (\"plane\""), std::string::npos) << type;
+  const std::string name = what(base + "[ground]\nfriction = -1\n", std::string("sce\0ne", 6), {},
+                                tumble::OverrideSource::Python);
+  EXPECT_EQ(name.rfind("sce\\0ne:13: [ground]: friction must be >= 0", 0), 0u) << name;
+  const std::string set = what(base, "test.toml", {std::string("ground.friction=-1\0 # x", 23)},
+                               tumble::OverrideSource::Python);
+  EXPECT_NE(set.find("set=['ground.friction=-1\\0 # x']: "), std::string::npos) << set;
+  EXPECT_EQ(set.find('\0'), std::string::npos);
+  const std::string tab = what(base + "[ground]\nfriction = -1\n", "a\tb\x7f.toml", {}, tumble::OverrideSource::CommandLine);
+  EXPECT_EQ(tab.rfind("a\\tb\\x7f.toml:13: ", 0), 0u) << tab;
+}

@@ -295,6 +295,13 @@ grep -q "interrupted (SIGTERM)" stuck.err && [ -s stuck.ck ] && ok "the blocked 
   || bad "blocked run: $(cat stuck.err)"
 kill "$reader" 2>/dev/null; wait "$reader" 2>/dev/null
 
+# Messages say what is wrong (issue 34, item 12). A NUL byte in a mesh's token is shown as \0
+# (it ended the message there).
+printf 'solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 z\0ro 0\n' > nul.stl
+{ cat small.toml; printf '[[wall]]\ntype = "mesh"\nfile = "nul.stl"\n'; } > nulmesh.toml
+expect_status "a NUL in an ASCII STL" 2 "$bin" run nulmesh.toml
+expect_msg "a NUL in an ASCII STL" "nul.stl:5: coordinate y of vertex 2 of facet 1 must be a number \(got 'z\\\\0ro'\)"
+
 # --set SECTION.KEY=VALUE overrides scene keys: the same run as the file edited the same way (a key
 # replaced, a table added), another one than without; explicit options win over it; bad overrides
 # end with status 2 and a message naming the override, before anything is written.

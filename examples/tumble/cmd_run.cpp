@@ -239,7 +239,7 @@ void run(RunOptions o) {
                                                  std::to_string(pours.finalBodies()) + " once the [[pour]]s are in)"
                                            : std::to_string(world.numBodies()) + " bodies";
     std::fprintf(stderr, "tumble run: %s — %s, %u particles, %llu steps of %g s, pipeline %s%s\n",
-                 scene.name.c_str(), bodies.c_str(), world.numParticles(),
+                 printable(scene.name).c_str(), bodies.c_str(), world.numParticles(),
                  static_cast<unsigned long long>(scene.steps), scene.dt, toString(pipeline.backend()), on.c_str());
     if (start > 0)
       std::fprintf(stderr, "tumble run: resuming at step %llu (t = %.9g s) from %s\n",
@@ -345,7 +345,7 @@ void run(RunOptions o) {
   const std::vector<mpi::MpiStats> rankStats = mpiPipeline && !o.quiet ? mpiPipeline->gatherStats() : std::vector<mpi::MpiStats>{};
   if (!o.quiet && writes) {
     const StepStats st = run.stats();
-    std::printf("%s: %llu steps, %u particles, %llu contacts in the last step\n", scene.name.c_str(),
+    std::printf("%s: %llu steps, %u particles, %llu contacts in the last step\n", printable(scene.name).c_str(),
                 static_cast<unsigned long long>(st.steps), run.world().numParticles(),
                 static_cast<unsigned long long>(st.numPairs));
     if (run.pouring().any()) {

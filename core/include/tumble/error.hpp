@@ -5,8 +5,37 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace tumble {
+
+/// User text (a token, a key, a name, a path) as a message shows it: a NUL byte as \0, a tab,
+/// newline or carriage return as \t, \n, \r, any other control byte as \xNN; the rest as is
+/// (UTF-8 stays UTF-8). A NUL would otherwise end the message where what() is read as a C string.
+inline std::string printable(std::string_view text) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 0x20 && c != 0x7f) {
+      out += ch;
+    } else if (c == 0) {
+      out += "\\0";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
 
 /// Configuration or input error. what() is one line meant for the user; for file input it
 /// starts with "FILE:LINE: ".
@@ -15,7 +44,9 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// An input file could not be read or parsed. Carries the file and line (0 = unknown).
+/// An input file could not be read or parsed. Carries the file and line (0 = unknown) as given;
+/// what() shows both the file and the problem printable(), so that the user text they quote (a
+/// token, a key, a name, Python's name= or set=) is shown whole, on one line.
 class InputError : public Error {
  public:
   InputError(const std::string& file, long line, const std::string& problem)
@@ -27,13 +58,13 @@ class InputError : public Error {
  private:
   // Built by appending (GCC 12 warns, wrongly, about chains of temporaries: -Wrestrict).
   static std::string message(const std::string& file, long line, const std::string& problem) {
-    std::string s = file;
+    std::string s = printable(file);
     if (line > 0) {
       s += ':';
       s += std::to_string(line);
     }
     s += ": ";
-    s += problem;
+    s += printable(problem);
     return s;
   }
   std::string m_file;

@@ -267,6 +267,18 @@ def test_a_pour_grows_the_run_as_tumble_run_does(tmp_path):
     assert (tmp_path / "py.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
 
 
+def test_a_nul_byte_in_name_or_set_is_shown_escaped():
+    # A NUL in name= or set= is shown as \0; it used to end the message there (issue 34, item 12).
+    with pytest.raises(tumble.InputError) as e:
+        tumble.Scene.parse('[scene]\nname = "x"\ndt = -1\n', name="sce\0ne.toml")
+    assert str(e.value).startswith("sce\\0ne.toml:3: "), str(e.value)
+    assert "dt" in str(e.value)
+    with pytest.raises(tumble.InputError) as e:
+        tumble.Scene.load(MOLECULES, set=["ground.friction=-1\0 # x"])
+    assert str(e.value).startswith("set=['ground.friction=-1\\0 # x']: "), str(e.value)
+    assert "\0" not in str(e.value)
+
+
 def test_errors_name_the_file_and_line(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text('[scene]\nname = "x"\ndt = -1\n')
