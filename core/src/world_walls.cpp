@@ -32,13 +32,20 @@ std::vector<WallDef> Scene::planes() const {
 }
 
 namespace {
-// A plane's h (x·n on it) must be a float the kernels can subtract (found by reading: a point
-// near the float limit on a tilted plane gave an h beyond it, and its conversion is undefined).
-double checkedHeight(double h, const std::string& where) {
+// A plane's h (x·n on it), a cylinder's axis or a mesh's pivot must be a float the kernels can
+// subtract (found by reading: a point near the float limit on a tilted plane gave an h beyond it,
+// and its conversion is undefined). `what` names it: "the plane", "the cylinder's axis", …
+double checkedHeight(double h, const std::string& where, const char* what) {
   if (std::abs(h) <= 1.0e38) return h;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, ": the plane lies %.3g m from the origin, beyond single precision; bring it closer", h);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, ": %s lies %.3g m from the origin, beyond single precision; bring it closer", what, h);
   throw Error(where + buf);
+}
+
+// What a revolved wall is, as its [[wall]] type says.
+const char* revolvedKind(const WallDef& d) {
+  if (d.length == 0.0f) return "disk";
+  return d.radius0 == d.radius1 ? "cylinder" : "cone";
 }
 }  // namespace
 
@@ -70,9 +77,10 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
         w.omega = static_cast<float>(rate);
         if (rate > 0.0) w.n = Vec3f{float(om.x / rate), float(om.y / rate), float(om.z / rate)};
         const Vec3f q = d.meshPivot();
-        w.restCentre = Vec3f{static_cast<float>(checkedHeight(double(q.x) - o[0], d.where)),
-                             static_cast<float>(checkedHeight(double(q.y) - o[1], d.where)),
-                             static_cast<float>(checkedHeight(double(q.z) - o[2], d.where))};
+        const char* pivot = "the mesh's pivot";
+        w.restCentre = Vec3f{static_cast<float>(checkedHeight(double(q.x) - o[0], d.where, pivot)),
+                             static_cast<float>(checkedHeight(double(q.y) - o[1], d.where, pivot)),
+                             static_cast<float>(checkedHeight(double(q.z) - o[2], d.where, pivot))};
         w.centre = w.restCentre;
       }
       out.push_back(w);
@@ -87,10 +95,12 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
       // The axis's point nearest the frame's origin, and the segment's start from it, in double.
       const double along = (o[0] - p[0]) * n[0] + (o[1] - p[1]) * n[1] + (o[2] - p[2]) * n[2];
-      w.centre = Vec3f{static_cast<float>(checkedHeight(p[0] + along * n[0] - o[0], d.where)),
-                       static_cast<float>(checkedHeight(p[1] + along * n[1] - o[1], d.where)),
-                       static_cast<float>(checkedHeight(p[2] + along * n[2] - o[2], d.where))};
-      w.start = static_cast<float>(checkedHeight(-along, d.where));
+      const std::string axis = std::string("the ") + revolvedKind(d) + "'s axis";
+      const std::string point = std::string("the ") + revolvedKind(d) + "'s point";
+      w.centre = Vec3f{static_cast<float>(checkedHeight(p[0] + along * n[0] - o[0], d.where, axis.c_str())),
+                       static_cast<float>(checkedHeight(p[1] + along * n[1] - o[1], d.where, axis.c_str())),
+                       static_cast<float>(checkedHeight(p[2] + along * n[2] - o[2], d.where, axis.c_str()))};
+      w.start = static_cast<float>(checkedHeight(-along, d.where, point.c_str()));
       const double l2 = double(d.length) * d.length + (double(d.radius1) - d.radius0) * (double(d.radius1) - d.radius0);
       if (!(d.length >= 0.0f && d.radius0 >= 0.0f && d.radius1 >= 0.0f && std::isfinite(l2) &&
             static_cast<float>(l2) >= std::numeric_limits<float>::min()))
@@ -120,7 +130,7 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       w.t1 = Vec3f{t1[0], t1[1], t1[2]};
       w.t2 = Vec3f{t2[0], t2[1], t2[2]};
       // The ground's height as toLocal() shifts it (h − o_z rounded to float), with the sign.
-      w.coeffs.height = w.sign * static_cast<float>(checkedHeight(p[a] - o[a], d.where));
+      w.coeffs.height = w.sign * static_cast<float>(checkedHeight(p[a] - o[a], d.where, "the plane"));
     } else {  // t1, t2 ⟂ n (double), as the sweep frame's p, q
       double t[3], u[3];
       perpendicularPair(n, t, u);
@@ -128,7 +138,7 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
       w.t2 = Vec3f{float(u[0]), float(u[1]), float(u[2])};
       // h = (p − o)·n in double, rounded once.
       w.coeffs.height =
-          static_cast<float>(checkedHeight((p[0] - o[0]) * n[0] + (p[1] - o[1]) * n[1] + (p[2] - o[2]) * n[2], d.where));
+          static_cast<float>(checkedHeight((p[0] - o[0]) * n[0] + (p[1] - o[1]) * n[1] + (p[2] - o[2]) * n[2], d.where, "the plane"));
     }
     w.restHeight = w.coeffs.height;
     out.push_back(w);

@@ -438,3 +438,32 @@ TEST(MeshWallKeys, FillsKeepClearOfMeshesAndPackTheirInside) {
   expectSceneError(bad + "wall = 2\n", 16, {"wall = 2 names no [[wall]] of type = \"mesh\""});
   expectSceneError(bad, 12, {"missing required key 'wall'"});
 }
+
+// A wall that lies beyond single precision from the origin is named by its kind: a mesh's pivot,
+// a cylinder's axis, a plane (issue 34, item 12: all were "the plane").
+TEST(MeshWallKeys, AFarPivotOrAxisIsNamed) {
+  writeFile("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  const auto what = [](const std::string& text) -> std::string {
+    const Scene s = readSceneFile(writeFile("scene.toml", text));
+    try {
+      (void)kernelWalls(s, LocalFrame{});
+    } catch (const Error& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << "no error for:\n" << text;
+    return {};
+  };
+  const std::string pivot = what(meshScene("file = \"square.obj\"\nangular_velocity = [0, 0, 1]\npivot = [0, 3e38, 0]\n"));
+  EXPECT_NE(pivot.find("[[wall]] #1 (" + dir() + "/scene.toml:12): the mesh's pivot lies 3e+38 m from the origin"),
+            std::string::npos) << pivot;
+  const std::string base = meshScene("");
+  const std::string head = base.substr(0, base.rfind("[[wall]]"));
+  const std::string cylinder =
+      what(head + "[[wall]]\ntype = \"cylinder\"\npoint = [3e38, 0, 0]\naxis = [0, 0, 1]\nradius = 1\n");
+  EXPECT_NE(cylinder.find("the cylinder's axis lies 3e+38 m from the origin"), std::string::npos) << cylinder;
+  const std::string cone =
+      what(head + "[[wall]]\ntype = \"cone\"\npoint = [0, 0, 3e38]\naxis = [0, 0, 1]\nradius = [1, 2]\n");
+  EXPECT_NE(cone.find("the cone's point lies 3e+38 m from the origin"), std::string::npos) << cone;
+  const std::string plane = what(head + "[[wall]]\ntype = \"plane\"\npoint = [0, 0, 3e38]\nnormal = [0, 0, 1]\n");
+  EXPECT_NE(plane.find("the plane lies 3e+38 m from the origin"), std::string::npos) << plane;
+}

@@ -301,6 +301,14 @@ printf 'solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n     
 { cat small.toml; printf '[[wall]]\ntype = "mesh"\nfile = "nul.stl"\n'; } > nulmesh.toml
 expect_status "a NUL in an ASCII STL" 2 "$bin" run nulmesh.toml
 expect_msg "a NUL in an ASCII STL" "nul.stl:5: coordinate y of vertex 2 of facet 1 must be a number \(got 'z\\\\0ro'\)"
+# A far mesh pivot or cylinder axis is named as such, not as "the plane".
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n' > tri.obj
+{ cat small.toml; printf '[[wall]]\ntype = "mesh"\nfile = "tri.obj"\nangular_velocity = [0, 0, 1]\npivot = [0, 3e38, 0]\n'; } > farpivot.toml
+expect_status "a mesh pivot at 3e38" 2 "$bin" run farpivot.toml
+expect_msg "a mesh pivot at 3e38" "\[\[wall\]\] #1 \(farpivot.toml:[0-9]+\): the mesh's pivot lies 3e\+38 m from the origin"
+{ cat small.toml; printf '[[wall]]\ntype = "cylinder"\npoint = [3e38, 0, 0]\naxis = [0, 0, 1]\nradius = 1\n'; } > faraxis.toml
+expect_status "a cylinder at 3e38" 2 "$bin" run faraxis.toml
+expect_msg "a cylinder at 3e38" "the cylinder's axis lies 3e\+38 m from the origin"
 
 # --set SECTION.KEY=VALUE overrides scene keys: the same run as the file edited the same way (a key
 # replaced, a table added), another one than without; explicit options win over it; bad overrides
