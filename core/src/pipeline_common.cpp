@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 
 #include "tumble/error.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/sweep_frame.hpp"
 
 namespace tumble {
 
@@ -64,7 +66,18 @@ float checkCloud(const ParticleCloud& cloud) {
 }
 
 float effectiveSkin(const World& world) {
-  return effectiveSkin(world.params.broadphase.skin, world.sizingRadius, world.maxRadius);
+  const float skin = world.params.broadphase.skin;
+  // Half the skin grows every radius the detection sees: beyond the sweep's range on its own, no
+  // spread of the particles could be swept (the sweep's own message would blame the spread).
+  if (!(0.5 * double(skin) + double(world.maxRadius) <= detail::kSweepRange)) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "[broadphase] skin = %g m is beyond single precision's range for the contact "
+                  "detection: half of it is added to every radius, and radii, skin and the particles' spread together "
+                  "must stay within %.0e m; use a skin of the order of the particles' radius (automatic: %g m)",
+                  double(skin), detail::kSweepRange, double(effectiveSkin(-1.0f, world.sizingRadius, world.maxRadius)));
+    throw Error(buf);
+  }
+  return effectiveSkin(skin, world.sizingRadius, world.maxRadius);
 }
 
 float effectiveSkin(float skin, float sizingRadius, float maxRadius) {

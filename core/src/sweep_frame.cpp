@@ -75,10 +75,12 @@ int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cell
   // Projected coordinates (and their differences in the sweep) must stay finite floats: beyond
   // this, a pair's test would compare inf − inf and drop it. Refused instead (found by review
   // with the particle CSV fuzz target: clouds at ±2.5e38).
-  if (!(half[0] + half[1] + half[2] + double(maxRadius) <= 1.0e38)) {
-    char buf[300];
+  if (!(half[0] + half[1] + half[2] + double(maxRadius) <= kSweepRange)) {
+    char buf[400];
     std::snprintf(buf, sizeof buf, "the particles are spread over more than single precision can sweep (half-extents "
-                  "%.3g, %.3g, %.3g m; at most 1e38 in all); bring them closer together", half[0], half[1], half[2]);
+                  "%.3g, %.3g, %.3g m, and the largest radius grown by half the skin %.3g m; at most %.0e in all); "
+                  "bring them closer together, or use a smaller skin",
+                  half[0], half[1], half[2], double(maxRadius), kSweepRange);
     throw Error(buf);
   }
   const double u = std::ldexp(1.0, -24);

@@ -2,6 +2,7 @@
 // Tests of the TOML scene reader: what toml++ must not see (deep dotted keys, non-ASCII
 // outside strings) and the command line's --set overrides.
 #include "scene_io_test_util.hpp"
+#include "tumble/pipeline.hpp"
 
 using namespace scene_io_test;
 
@@ -353,4 +354,21 @@ TEST(SceneMessages, ANulByteIsShownEscaped) {
   EXPECT_EQ(set.find('\0'), std::string::npos);
   const std::string tab = what(base + "[ground]\nfriction = -1\n", "a\tb\x7f.toml", {}, tumble::OverrideSource::CommandLine);
   EXPECT_EQ(tab.rfind("a\\tb\\x7f.toml:13: ", 0), 0u) << tab;
+}
+
+// --set broadphase.skin=3e38: the detection grows every radius by half the skin, beyond single
+// precision; refused at load naming the skin, where the sweep said "the particles are spread
+// over…" of particles at the origin (issue 34, item 12).
+TEST(SceneMessages, ASkinBeyondSinglePrecisionIsNamed) {
+  const tumble::World w = tumble::World::fromScene(withSets(join(baseLines()), {"broadphase.skin=3e38"}));
+  try {
+    (void)tumble::effectiveSkin(w);
+    ADD_FAILURE() << "no error";
+  } catch (const tumble::Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("[broadphase] skin = 3e+38 m is beyond single precision's range for the contact detection", 0),
+              0u) << what;
+    EXPECT_NE(what.find("automatic: 0.25 m"), std::string::npos) << what;
+  }
+  EXPECT_EQ(tumble::effectiveSkin(tumble::World::fromScene(withSets(join(baseLines()), {"broadphase.skin=1e30"}))), 1e30f);
 }

@@ -301,6 +301,10 @@ printf 'solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n     
 { cat small.toml; printf '[[wall]]\ntype = "mesh"\nfile = "nul.stl"\n'; } > nulmesh.toml
 expect_status "a NUL in an ASCII STL" 2 "$bin" run nulmesh.toml
 expect_msg "a NUL in an ASCII STL" "nul.stl:5: coordinate y of vertex 2 of facet 1 must be a number \(got 'z\\\\0ro'\)"
+# A skin beyond single precision is named, not "the particles are spread over…".
+expect_status "--set broadphase.skin=3e38" 2 "$bin" run small.toml --set broadphase.skin=3e38
+expect_msg "--set broadphase.skin=3e38" "\[broadphase\] skin = 3e\+38 m is beyond single precision's range"
+grep -q "spread over" err.txt && bad "the skin is blamed on the particles' spread" || ok "the skin is not blamed on the spread"
 # A far mesh pivot or cylinder axis is named as such, not as "the plane".
 printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n' > tri.obj
 { cat small.toml; printf '[[wall]]\ntype = "mesh"\nfile = "tri.obj"\nangular_velocity = [0, 0, 1]\npivot = [0, 3e38, 0]\n'; } > farpivot.toml

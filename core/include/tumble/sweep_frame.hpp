@@ -120,12 +120,18 @@ BoundsPartial combineBounds(const BoundsPartial* part, std::uint32_t numChunks);
 /// solve and sign rule as the CPU's principalAxis. n ≥ 2.
 Vec3f principalAxisFromPartials(const CovariancePartial* part, std::uint32_t numChunks, std::uint32_t n);
 
+/// The most the sweep holds: the particles' half-extents along x, y and z plus their reach (the
+/// largest radius, grown by half the skin) [m]; beyond it a projected coordinate or a difference
+/// of two would overflow single precision. computeFrame() refuses more, and load refuses a skin
+/// whose half alone passes it (effectiveSkin()).
+inline constexpr double kSweepRange = 1.0e38;
+
 /// The CPU's Broadphase::computeFrame after the bounds and axis: frame axes, centre, slack,
 /// cell size and cell counts. Returns the number of cell bits of the sort key. The automatic
 /// cell size (params.cellSize 0) is 3 diameters of cellRadius (0: of maxRadius), but at least
 /// 1/32 of the largest diameter, so that one large sphere covers at most about 32 × 32 cells,
 /// and at least 8 slacks, so that the rounding margin alone never spans many cells; a given
-/// cell size is raised to 8 slacks too (speed only).
+/// cell size is raised to 8 slacks too (speed only). Throws tumble::Error beyond kSweepRange.
 int computeFrame(const BoundsPartial& b, Vec3f axis, float maxRadius, float cellRadius, const BroadphaseParams& params,
                  SweepFrame* outFrame);
 
