@@ -662,6 +662,7 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
   auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps, grows);
   BodyState s;
   RecordedFrame f;
+  w->m_copyOf = reader.numFrames();  // a failed write says that `path` keeps these
   try {
     for (std::size_t k = 0; k < reader.numFrames(); ++k) {
       reader.readFrame(k, f);
@@ -674,6 +675,7 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
     w->abandon();  // a copy cut short (a full disk) must not replace the recording it copies
     throw;
   }
+  w->m_copyOf = 0;
   return w;
 }
 
@@ -771,6 +773,10 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
       a != Appended::Whole) {
     const std::string why = errnoText(error);
     m_failed = a == Appended::Torn;
+    if (m_copyOf > 0)  // continueAt's copy: abandoned, so the recording stays as it was
+      throw Error("cannot continue recording '" + m_path + "': copying its frames failed at step " +
+                  std::to_string(step) + ": " + why + "; it is left as it was, with its " + std::to_string(m_copyOf) +
+                  " frames (free some space, or record the resumed run to another file)");
     throw Error(m_failed ? "cannot write frame to recording file '" + m_partPath + "': " + why
                          : "cannot write frame to recording '" + m_path + "': " + why + "; it keeps the " +
                                std::to_string(m_numFrames) + " complete frames written before");

@@ -215,14 +215,20 @@ TEST_F(RecordingTest, AFailedContinuationLeavesTheRecording) {
   small.rlim_cur = kFramesAt + 2 * kFrameBytes + kFrameBytes / 2;
   ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
   bool threw = false;
+  std::string what;
   try {
     RecordingWriter::continueAt(path, makeWorld(), false, 10, 1000);
-  } catch (const tumble::Error&) {
+  } catch (const tumble::Error& e) {
     threw = true;
+    what = e.what();
   }
   ::setrlimit(RLIMIT_FSIZE, &old);
   std::signal(SIGXFSZ, oldHandler);
   EXPECT_TRUE(threw);
+  // The message names what is kept: the recording as it was, not the copy's 2 frames (issue 34, item 12).
+  EXPECT_TRUE(contains(what, "cannot continue recording '" + path + "': copying its frames failed at step 20: "
+                             "File too large; it is left as it was, with its 5 frames")) << what;
+  EXPECT_FALSE(contains(what, "keeps")) << what;
   EXPECT_EQ(readAll(path), before) << "the recording was replaced by a shorter copy";
   for (const auto& e : fs::directory_iterator(m_dir))
     EXPECT_EQ(e.path().filename().string().find(".part"), std::string::npos) << e.path();

@@ -313,6 +313,15 @@ expect_msg "a mesh pivot at 3e38" "\[\[wall\]\] #1 \(farpivot.toml:[0-9]+\): the
 { cat small.toml; printf '[[wall]]\ntype = "cylinder"\npoint = [3e38, 0, 0]\naxis = [0, 0, 1]\nradius = 1\n'; } > faraxis.toml
 expect_status "a cylinder at 3e38" 2 "$bin" run faraxis.toml
 expect_msg "a cylinder at 3e38" "the cylinder's axis lies 3e\+38 m from the origin"
+# A resumed run whose copy of the recording's first frames fills the disk (here a file size
+# limit) leaves the recording whole, and says so (it said "it keeps the N complete frames", N
+# those of the abandoned copy).
+"$bin" run small.toml --steps 20 --set output.steps_per_frame=2 --record whole.bin --checkpoint whole.ck -q 2>/dev/null
+"$bin" run small.toml --resume whole.ck --set output.steps_per_frame=2 --record whole.bin -q 2>/dev/null
+cp whole.bin whole.keep
+expect_status "resume into a full disk" 2 bash -c 'ulimit -f 8; trap "" XFSZ; exec "$0" run small.toml --resume whole.ck --set output.steps_per_frame=2 --record whole.bin' "$bin"
+expect_msg "resume into a full disk" "cannot continue recording 'whole.bin': copying its frames failed at step [0-9]+: File too large; it is left as it was, with its 26 frames"
+cmp -s whole.bin whole.keep && ok "the recording is left whole" || bad "the recording was changed"
 
 # --set SECTION.KEY=VALUE overrides scene keys: the same run as the file edited the same way (a key
 # replaced, a table added), another one than without; explicit options win over it; bad overrides

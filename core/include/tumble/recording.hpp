@@ -153,7 +153,9 @@ class RecordingWriter {
   /// not exist, is not a regular file (a device, a FIFO) or names a descriptor (/dev/stdout,
   /// /dev/fd/N: namesDescriptor), this is a new recording, from `step` on. Throws tumble::InputError for an unreadable or corrupt file and tumble::Error
   /// when it records another scene or other settings (its frames would not belong to this run).
-  /// A version 1 recording is continued as version 2 (its frames, with this world's walls).
+  /// A version 1 recording is continued as version 2 (its frames, with this world's walls). A copy
+  /// that cannot be written (a full disk) throws tumble::Error saying that `path` is left as it
+  /// was, with its frames.
   static std::unique_ptr<RecordingWriter> continueAt(const std::string& path, const World& world, bool debug,
                                                      int stepsPerFrame, std::uint64_t step, float fps = 60.0f,
                                                      bool grows = false);
@@ -199,6 +201,7 @@ class RecordingWriter {
   std::vector<std::uint32_t> m_firstParticle;  ///< grows: the first particle of each body, and N
   bool m_debug = false;
   bool m_failed = false;                 ///< a failed frame could not be cut off: close() keeps the temporary
+  std::uint64_t m_copyOf = 0;            ///< continueAt() copying: the frames `path` keeps if a write fails
   long m_frameCountOffset = 0;           ///< byte offset of the header's frame count
   std::vector<std::uint8_t> m_header;    ///< header bytes, re-checksummed at close()
   std::vector<std::uint8_t> m_buffer;    ///< one frame, encoded before it is written
