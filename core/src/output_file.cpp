@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -82,6 +83,33 @@ void requestWriteStop() noexcept { g_writeStop = 1; }
 void clearWriteStop() noexcept { g_writeStop = 0; }
 bool writeStopRequested() noexcept { return g_writeStop != 0; }
 
+namespace {
+// A FIFO's open() for writing blocks until a reader opens it, and with SA_RESTART (tumble run's
+// stop handler) a stop signal only restarts it. It is opened without blocking instead, retried
+// every 20 ms until a reader comes or a stop is requested (requestWriteStop(); then -1 and errno
+// EINTR, as a signal that interrupts the wait gives too), and made blocking again for the writes.
+int openFifoForWriting(const std::string& path) {
+  for (;;) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd >= 0) {
+      const int flags = ::fcntl(fd, F_GETFL);
+      if (flags >= 0 && ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) == 0) return fd;
+      const int e = errno;
+      ::close(fd);
+      errno = e;
+      return -1;
+    }
+    if (errno != ENXIO) return -1;  // ENXIO: no reader yet
+    if (writeStopRequested()) {
+      errno = EINTR;
+      return -1;
+    }
+    struct timespec pause {0, 20 * 1000 * 1000};
+    if (::nanosleep(&pause, nullptr) != 0 && !writeStopRequested()) return -1;  // EINTR: a signal, not a stop
+  }
+}
+}  // namespace
+
 bool writeFully(std::FILE* file, const void* data, std::size_t size) {
   const auto* p = static_cast<const unsigned char*>(data);
   while (size > 0) {
@@ -135,6 +163,20 @@ OutputFile::OutputFile(const std::string& path, Temporary temporary) : m_path(pa
     m_mode = static_cast<unsigned>(st.st_mode) & 0777u;  // not set-id bits onto a new file
     m_direct = !S_ISREG(st.st_mode);
     if (S_ISDIR(st.st_mode)) throw Error("cannot write " + path + ": it is a directory");
+  }
+  if (m_direct && S_ISFIFO(st.st_mode)) {
+    m_writing = m_target;
+    const int fd = openFifoForWriting(m_target);
+    if (fd < 0 && errno == EINTR && writeStopRequested())
+      throw Error("cannot write " + path + ": stopped while waiting for a reader of the FIFO");
+    if (fd < 0) throw Error("cannot write " + path + ": " + std::strerror(errno));
+    m_file = ::fdopen(fd, "wb");
+    if (m_file == nullptr) {
+      const int e = errno;
+      ::close(fd);
+      throw Error("cannot write " + path + ": " + std::strerror(e));
+    }
+    return;
   }
   if (m_direct) {
     m_writing = m_target;

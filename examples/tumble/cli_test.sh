@@ -295,6 +295,42 @@ grep -q "interrupted (SIGTERM)" stuck.err && [ -s stuck.ck ] && ok "the blocked 
   || bad "blocked run: $(cat stuck.err)"
 kill "$reader" 2>/dev/null; wait "$reader" 2>/dev/null
 
+# SIGTERM while --record waits for a reader of a FIFO (its open blocks until one comes): the run
+# ends as interrupted with status 143 within a moment (issue 34, item 12: it waited for the 2 s
+# grace alarm, then exited 2 with "Interrupted system call").
+rm -f nobody.fifo; mkfifo nobody.fifo
+"$bin" run small.toml --record nobody.fifo -q 2>err.txt &
+pid=$!
+sleep 0.5
+t0=$(date +%s%N)
+kill -TERM $pid
+wait $pid
+got=$?
+ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+[ "$got" = 143 ] && ok "SIGTERM while waiting for a FIFO's reader ends with 143 (after $ms ms)" \
+  || bad "SIGTERM while waiting for a FIFO's reader: status $got, want 143; $(cat err.txt)"
+[ "$ms" -lt 1500 ] && ok "the FIFO's wait ends at once" || bad "the FIFO's wait ended $ms ms after SIGTERM"
+expect_msg "SIGTERM while waiting for a FIFO's reader" \
+  "interrupted \(SIGTERM\) at step 0 of 50: cannot write nobody.fifo: stopped while waiting for a reader of the FIFO; no final state written"
+# The same for --thermo (a background job ignores SIGINT, so SIGTERM again).
+"$bin" run small.toml --thermo nobody.fifo -q 2>err.txt &
+pid=$!
+sleep 0.5
+kill -TERM $pid
+wait $pid
+got=$?
+[ "$got" = 143 ] && ok "SIGTERM while --thermo waits for a FIFO's reader ends with 143" \
+  || bad "SIGTERM, --thermo FIFO: status $got, want 143; $(cat err.txt)"
+expect_msg "SIGTERM while --thermo waits for a FIFO's reader" "interrupted \(SIGTERM\) at step 0 of 50: cannot write nobody.fifo"
+# With a reader the FIFO still gets the whole recording.
+cat nobody.fifo > fromfifo.bin &
+reader=$!
+expect_status "record to a FIFO with a reader" 0 "$bin" run small.toml --record nobody.fifo -q
+wait $reader
+"$bin" run small.toml --record direct.bin -q 2>/dev/null
+[ "$(wc -c < fromfifo.bin)" = "$(wc -c < direct.bin)" ] && ok "the FIFO's reader got the recording" \
+  || bad "the FIFO's reader got $(wc -c < fromfifo.bin) bytes, the file has $(wc -c < direct.bin)"
+
 # Messages say what is wrong (issue 34, item 12). A NUL byte in a mesh's token is shown as \0
 # (it ended the message there).
 printf 'solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 z\0ro 0\n' > nul.stl

@@ -197,6 +197,24 @@ class CliHooks : public RunHooks {
   std::chrono::steady_clock::time_point m_t0, m_lastPrint;
 };
 
+// Opens an output of the run (its recording, its time series) before the first step. A stop
+// signal that comes while the open waits (a FIFO nobody reads: OutputFile waits for its reader
+// until a stop is requested) ends the run as interrupted, with the signal's status.
+template <class Open>
+void openOrStop(Open&& open, std::uint64_t step, std::uint64_t steps, bool writes) {
+  try {
+    open();
+  } catch (const Error& e) {
+    const int sig = g_stopSignal;
+    if (sig == 0) throw;
+    if (writes)
+      std::fprintf(stderr, "tumble run: interrupted (%s) at step %llu of %llu: %s; no final state written\n",
+                   sig == SIGTERM ? "SIGTERM" : "SIGINT", static_cast<unsigned long long>(step),
+                   static_cast<unsigned long long>(steps), e.what());
+    dieOfSignal(sig);
+  }
+}
+
 void run(RunOptions o) {
   // Under mpirun (docs/mpi.md) every rank runs this with the same input: the collective calls
   // (the pipeline's, the guards', the reads) fall in the same order on every rank; rank 0 alone
@@ -254,11 +272,12 @@ void run(RunOptions o) {
     rs.debug = debug;
     rs.lastStep = recSteps;
     rs.continues = true;  // a resumed run continues the recording of the first part
-    run.record(rs);
+    openOrStop([&] { run.record(rs); }, start, scene.steps, writes);
   }
   if (checks.stop && start == 0 && !run.guard()->initialWarning().empty() && writes)
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), run.guard()->initialWarning().c_str());
-  if (!o.thermo.empty()) run.writeThermo(o.thermo, thermoEvery);  // a row of the state at the start
+  if (!o.thermo.empty())  // a row of the state at the start
+    openOrStop([&] { run.writeThermo(o.thermo, thermoEvery); }, start, scene.steps, writes);
   if (o.checkpointEvery) run.checkpointEvery(o.checkpoint, *o.checkpointEvery);
 
   // Steps are counted from the start of the run (a resumed run continues the count), so frames,

@@ -69,7 +69,8 @@ class OutputFile {
   /// saying so and nothing else is touched.
   enum class Temporary { Private, Live };
   /// Opens the temporary (or the non-regular target) for writing. Throws tumble::Error naming
-  /// the path and the reason.
+  /// the path and the reason. A FIFO is waited for until a reader opens it, or until a stop is
+  /// requested (requestWriteStop(): "stopped while waiting for a reader of the FIFO").
   explicit OutputFile(const std::string& path, Temporary temporary = Temporary::Private);
   ~OutputFile();  ///< abandon() unless committed or kept
   OutputFile(const OutputFile&) = delete;
