@@ -62,7 +62,7 @@ if(HAS_CUDA)
   if(why MATCHES "not linked with" OR NOT (rc EQUAL 0 OR why MATCHES "CUDA"))
     message(FATAL_ERROR "hello_spheres with tumble::cuda has no cuda backend (status ${rc}): ${ran}${why}")
   endif()
-elseif(rc EQUAL 0 OR NOT log MATCHES "built without its CUDA module")
+elseif(rc EQUAL 0 OR NOT log MATCHES "built without its CUDA module" OR log MATCHES ";[ \n]*rebuild it")
   message(FATAL_ERROR "COMPONENTS cuda of a package without CUDA (status ${rc}) said:\n${log}")
 endif()
 # run_scene (docs/cpp.md), built against the package, runs the installed scene of pours alone:

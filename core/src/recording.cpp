@@ -842,6 +842,8 @@ RepairResult repairRecording(const std::string& in, const std::string& out) {
       r.kept < reader.numFrames() ? RecordingRepair::frameStart(reader, r.kept) : RecordingRepair::framesEnd(reader);
   r.droppedBytes = RecordingRepair::size(reader) - end;
   if (r.why.empty()) return r;  // whole: nothing to write
+  if (r.kept == 0)  // a recording of no frame is one nothing opens
+    throw InputError(in, 0, "no whole frame to keep (" + r.why + "): nothing written");
 
   // The header up to its checksum, with the frame count of the frames kept, then the rest as is.
   const std::uint64_t at = RecordingRepair::frameCountOffset(reader);

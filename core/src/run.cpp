@@ -67,16 +67,6 @@ void Run::captureForces(bool on) {
   m_pipeline->setDebugCapture(on || (m_recOn && m_recSettings.debug));
 }
 
-void Run::reload(World world) {
-  const std::uint32_t pulls = m_pipeline->pulls();  // load() starts from the scene's
-  const StepStats before = m_pipeline->stats();     // and its counters afresh
-  m_pipeline->load(world);
-  m_pipeline->setPulls(pulls);
-  m_statsBefore.add(before);
-  m_world = std::move(world);
-  if (m_guard) m_guard.emplace(m_world, *m_pipeline);
-}
-
 namespace {
 
 bool finite3(Vec3f a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
@@ -92,6 +82,31 @@ World continuing(World tables, const Pipeline& pipeline) {
 }
 
 }  // namespace
+
+void Run::reload(World world) {
+  const std::uint32_t pulls = m_pipeline->pulls();  // load() starts from the scene's
+  m_statsBefore.add(m_pipeline->stats());           // and its counters afresh
+  // Should the new state be refused (the detection cannot take it: at load, or when the guard
+  // finds its contacts), the run goes on as it was: the state now, the world and its guard.
+  World previous = m_world;
+  World back = continuing(m_world, *m_pipeline);
+  std::optional<RunGuard> oldGuard;  // it refers to m_world, whose contents come back
+  if (m_guard) oldGuard.emplace(std::move(*m_guard));
+  m_guard.reset();
+  try {
+    m_pipeline->load(world);
+    m_pipeline->setPulls(pulls);
+    m_world = std::move(world);
+    if (oldGuard) m_guard.emplace(m_world, *m_pipeline);
+  } catch (...) {
+    m_world = std::move(previous);
+    m_pipeline->load(back);
+    m_pipeline->setPulls(pulls);
+    if (oldGuard) m_guard.emplace(std::move(*oldGuard));
+    throw;
+  }
+}
+
 
 void Run::setBodies(const BodyChanges& c) {
   requireLoaded(m_pipeline, "setBodies()");
@@ -243,12 +258,15 @@ void Run::setParameters(const std::vector<std::pair<std::string, double>>& chang
                                          : it->range == Range::NonNegative ? v >= 0.0f
                                          : it->range == Range::Poisson     ? v >= 0.0f && v < 0.5f
                                                                            : v > 0.0f && v <= 1.0f);
-    if (!ok)
-      throw Error("setParameters: " + key + " = " + std::to_string(value) + ": must be " +
+    if (!ok) {
+      char shown[32];
+      std::snprintf(shown, sizeof shown, "%.9g", value);  // as the scene reader shows a number
+      throw Error("setParameters: " + key + " = " + shown + ": must be " +
                   (it->range == Range::Positive      ? "a finite number > 0"
                    : it->range == Range::NonNegative ? "a finite number >= 0"
                    : it->range == Range::Poisson     ? "in [0, 0.5)"
                                                      : "in (0, 1]"));
+    }
     *it->to = v;
   }
   auto pouring = std::make_unique<const Pouring>(s);
@@ -455,6 +473,13 @@ void Run::closeThermo() {
 void Run::closeOutputs() {
   closeRecording();
   closeThermo();
+}
+
+void Run::abandonOutputs() noexcept {
+  if (m_recOn && m_rec) m_rec->abandon();
+  if (m_thermoOn && m_thermo) m_thermo->abandon();
+  m_recOn = m_thermoOn = false;
+  if (m_pipeline) m_pipeline->setDebugCapture(m_captureForces);
 }
 
 void Run::checkpointEvery(const std::string& path, std::uint64_t every) {

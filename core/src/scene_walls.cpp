@@ -187,9 +187,11 @@ void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
   try {
     bytes = detail::readWholeFile(resolved, "the mesh file", detail::kMeshFileLimit);
   } catch (const InputError& e) {
-    r.fail(sourceOf(fn), e.problem() + " (file = \"" + file + "\", looked for at " + resolved +
-                             "); a relative file is found from " +
-                             (m_base.empty() ? std::string("the scene file's folder") : "the base folder " + m_base));
+    const std::string from = m_base.empty() ? std::string("the scene file's folder") : "the base folder " + m_base;
+    r.fail(sourceOf(fn), e.problem() + (std::filesystem::path(file).is_relative()
+                                            ? " (file = \"" + file + "\", looked for at " + resolved +
+                                                  "); a relative file is found from " + from
+                                            : " (file = \"" + file + "\")"));
   }
   wall->meshFile = resolved;
   if (const toml::node* sn = r.find("scale")) {

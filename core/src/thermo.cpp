@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "tumble/error.hpp"
 #include "tumble/output_file.hpp"
@@ -92,6 +93,10 @@ void ThermoWriter::write(const ThermoSample& s) {
                 (m_torn ? "" : "; it keeps the " + std::to_string(m_rows) + " whole rows written before"));
   }
   ++m_rows;
+}
+
+void ThermoWriter::abandon() noexcept {
+  if (m_out) std::exchange(m_out, nullptr)->abandon();
 }
 
 void ThermoWriter::close() {

@@ -41,7 +41,9 @@ namespace {
 constexpr std::uint64_t kMaxStepsPerCall = 1000000000000000ull;  // as tumble run --steps
 
 // A path argument: a str or any os.PathLike (pathlib.Path).
-std::string pathOf(const py::object& p) { return py::str(py::module_::import("os").attr("fspath")(p)); }
+// A str, bytes or os.PathLike path as the file system's text (bytes decoded as os.fsdecode does:
+// str() of bytes would be the name "b'...'").
+std::string pathOf(const py::object& p) { return py::str(py::module_::import("os").attr("fsdecode")(p)); }
 
 template <class T>
 py::array_t<T> array1(const std::vector<T>& v) {
@@ -319,9 +321,22 @@ class Simulation {
     m_warning = m_run.guard() ? m_run.guard()->initialWarning() : std::string();
   }
 
-  void setParameters(const std::map<std::string, double>& changes) {
+  void setParameters(const py::dict& changes) {
+    std::vector<std::pair<std::string, double>> c;
+    for (const auto& [key, value] : changes) {
+      const std::string k = py::str(key);
+      const auto notANumber = [&] {
+        return Error("set_parameters: " + k + " = " + std::string(py::repr(value)) + ": expected a number");
+      };
+      if (py::isinstance<py::bool_>(value)) throw notANumber();  // True is not 1.0 here
+      try {
+        c.emplace_back(k, value.cast<double>());
+      } catch (const py::cast_error&) {
+        throw notANumber();
+      }
+    }
     const auto lock = exclusive();
-    m_run.setParameters({changes.begin(), changes.end()});
+    m_run.setParameters(c);
     m_warning = m_run.timeStepWarning();
     const std::string pressed = m_run.guard() ? m_run.guard()->initialWarning() : std::string();
     if (!pressed.empty()) m_warning += (m_warning.empty() ? "" : "; ") + pressed;

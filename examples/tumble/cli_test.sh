@@ -717,7 +717,10 @@ expect_status "resume with thermo" 0 "$bin" run small.toml --steps 50 --resume c
 # time series is readable in its live name FILE.part (tumble plot FILE plots it) until the run ends.
 expect_status "--progress with -q" 2 "$bin" run small.toml --progress -q
 expect_msg "--progress with -q" "excludes"
-expect_status "--progress=0" 2 "$bin" run small.toml --progress=0
+for bad_progress in 0 nan abc 30s; do
+  expect_status "--progress=$bad_progress" 2 "$bin" run small.toml --progress=$bad_progress
+  expect_msg "--progress=$bad_progress" "expected SECONDS, a number from 0.001 to 1e6 \\(got '$bad_progress'\\)"
+done
 "$bin" run small.toml --steps 100000000 --progress=0.2 --thermo live.csv --thermo-every 50 >live.out 2>live.err &
 live_pid=$!
 for _ in $(seq 300); do [ "$(wc -l < live.csv.part 2>/dev/null || echo 0)" -ge 4 ] && break; sleep 0.1; done
@@ -726,10 +729,13 @@ for _ in $(seq 300); do [ "$(wc -l < live.csv.part 2>/dev/null || echo 0)" -ge 4
 [ -e live.csv ] && bad "live.csv exists before the run ends" || ok "live.csv appears only at the end"
 if command -v gnuplot >/dev/null; then
   expect_status "plot a time series being written" 0 "$bin" plot live.csv -o live.png
-  expect_msg "plot a time series being written" "live.png \(the [0-9]+ rows so far: a run is still writing live.csv, into live.csv.part\)"
+  expect_msg "plot a time series being written" "live.png \(the [0-9]+ rows of live.csv.part: a run writing live.csv, or one stopped before it finished\)"
 fi
-expect_status "a second run writing the same time series" 2 "$bin" run small.toml --thermo live.csv
+cp spf.bin keep.bin
+expect_status "a second run writing the same time series" 2 "$bin" run small.toml --thermo live.csv --record spf.bin
 expect_msg "a second run writing the same time series" "live.csv.part exists \(another run is writing live.csv"
+cmp -s spf.bin keep.bin && ok "a run that could not start left the recording it would have replaced" ||
+  bad "a run refused at its time series replaced spf.bin"
 for _ in $(seq 100); do grep -q "^tumble run: step [0-9]*/100000000 " live.err && break; sleep 0.1; done
 kill -TERM "$live_pid"; wait "$live_pid"; live_status=$?
 [ "$live_status" = 143 ] && ok "the watched run stopped by SIGTERM (143)" || bad "the watched run ended with $live_status"
@@ -786,9 +792,9 @@ expect_msg "repair a torn recording" "^tumble repair: kept the 3 whole frames of
 expect_status "export the repaired recording" 0 "$bin" export torn.repaired.bin torndir -q
 [ -s torndir/torn.repaired_000002.vtp ] && [ ! -e torndir/torn.repaired_000003.vtp ] && ok "the repaired recording holds 3 frames" ||
   bad "repaired export: $(ls torndir)"
-expect_status "repair a whole recording" 0 "$bin" repair ex.bin -o whole.bin
+expect_status "repair a whole recording" 0 "$bin" repair ex.bin -o whole-again.bin
 expect_msg "repair a whole recording" "ex.bin is whole \(4 frames\): nothing to repair, nothing written"
-[ -e whole.bin ] && bad "repair wrote a whole recording again" || ok "repair leaves a whole recording alone"
+[ -e whole-again.bin ] && bad "repair wrote a whole recording again" || ok "repair leaves a whole recording alone"
 expect_status "repair into its input" 2 "$bin" repair torn.bin -o torn.bin
 expect_status "export" 0 "$bin" export ex.bin exdir
 [ -s exdir/ex.pvd ] && [ -s exdir/ex_000003.vtp ] && [ -s exdir/ex_ground.vtp ] && [ ! -e exdir/ex_000004.vtp ] &&

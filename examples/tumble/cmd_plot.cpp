@@ -52,11 +52,12 @@ struct Panel {
 };
 
 void plot(const PlotOptions& o) {
-  // A run still writing FILE has its rows in the live name FILE.part (docs/thermo.md): plotted
-  // while there is no FILE yet.
+  // A run writing FILE has its rows in the live name FILE.part (next to FILE's target, links
+  // followed; docs/thermo.md): those are plotted, newer than a FILE of an earlier run.
   std::error_code ec;
-  const bool live = !std::filesystem::exists(o.file, ec) && std::filesystem::is_regular_file(o.file + ".part", ec);
-  const std::string data = live ? o.file + ".part" : o.file;
+  const std::string livePath = outputTarget(o.file) + ".part";
+  const bool live = std::filesystem::is_regular_file(livePath, ec);
+  const std::string data = live ? livePath : o.file;
   std::size_t rows = 0;
   const std::vector<std::string> header = headerOf(data, rows);
   std::string list;
@@ -138,8 +139,8 @@ void plot(const PlotOptions& o) {
   if (!status.empty()) throw Error("gnuplot failed (" + status + ") drawing " + data + ":\n" + why);
   png.commit();
   if (live)
-    std::fprintf(stderr, "tumble plot: %s (the %zu rows so far: a run is still writing %s, into %s)\n", out.c_str(), rows,
-                 o.file.c_str(), data.c_str());
+    std::fprintf(stderr, "tumble plot: %s (the %zu rows of %s: a run writing %s, or one stopped before it finished)\n",
+                 out.c_str(), rows, data.c_str(), o.file.c_str());
   else
     std::fprintf(stderr, "tumble plot: %s\n", out.c_str());
 }

@@ -38,8 +38,9 @@ void repair(const RepairOptions& o) {
                  o.file.c_str(), r.kept);
     return;
   }
-  std::fprintf(stderr, "tumble repair: kept the %zu whole frames of %s in %s; %llu bytes after them left out (%s)\n",
-               r.kept, o.file.c_str(), out.c_str(), static_cast<unsigned long long>(r.droppedBytes), r.why.c_str());
+  const std::string kept = r.kept == 1 ? "kept the 1 whole frame" : "kept the " + std::to_string(r.kept) + " whole frames";
+  std::fprintf(stderr, "tumble repair: %s of %s in %s; %llu bytes after them left out (%s)\n", kept.c_str(),
+               o.file.c_str(), out.c_str(), static_cast<unsigned long long>(r.droppedBytes), r.why.c_str());
 }
 
 }  // namespace

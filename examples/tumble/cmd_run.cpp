@@ -199,12 +199,15 @@ class CliHooks : public RunHooks {
 
 // Opens an output of the run (its recording, its time series) before the first step. A stop
 // signal that comes while the open waits (a FIFO nobody reads: OutputFile waits for its reader
-// until a stop is requested) ends the run as interrupted, with the signal's status.
+// until a stop is requested) ends the run as interrupted, with the signal's status. Either way the
+// outputs already opened are abandoned: a run that could not start replaces no file (a time
+// series refused after the recording began left a one-frame recording over the last good one).
 template <class Open>
-void openOrStop(Open&& open, std::uint64_t step, std::uint64_t steps, bool writes) {
+void openOrStop(Run& run, Open&& open, std::uint64_t step, std::uint64_t steps, bool writes) {
   try {
     open();
   } catch (const Error& e) {
+    run.abandonOutputs();  // the run never started: what it began to write replaces nothing
     const int sig = g_stopSignal;
     if (sig == 0) throw;
     if (writes)
@@ -272,13 +275,14 @@ void run(RunOptions o) {
     rs.debug = debug;
     rs.lastStep = recSteps;
     rs.continues = true;  // a resumed run continues the recording of the first part
-    openOrStop([&] { run.record(rs); }, start, scene.steps, writes);
+    openOrStop(run, [&] { run.record(rs); }, start, scene.steps, writes);
   }
   if (checks.stop && start == 0 && !run.guard()->initialWarning().empty() && writes)
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), run.guard()->initialWarning().c_str());
   if (!o.thermo.empty())  // a row of the state at the start
-    openOrStop([&] { run.writeThermo(o.thermo, thermoEvery); }, start, scene.steps, writes);
-  if (o.checkpointEvery) run.checkpointEvery(o.checkpoint, *o.checkpointEvery);
+    openOrStop(run, [&] { run.writeThermo(o.thermo, thermoEvery); }, start, scene.steps, writes);
+  if (o.checkpointEvery)
+    openOrStop(run, [&] { run.checkpointEvery(o.checkpoint, *o.checkpointEvery); }, start, scene.steps, writes);
 
   // Steps are counted from the start of the run (a resumed run continues the count), so frames,
   // guard checks and checkpoints fall on the same steps as in an uninterrupted run.
@@ -430,7 +434,15 @@ void addRun(CLI::App& app) {
               "A progress line every SECONDS (default 30) as a whole line on stderr, also when it is not a terminal "
               "(a log under nohup, a redirect or a cluster job); without it the line is drawn on a terminal only")
       ->type_name("[=SECONDS]")
-      ->check(CLI::Range(0.001, 1e6))
+      ->check(CLI::Validator(
+          [](std::string& s) {  // (CLI::Range lets nan through)
+            char* end = nullptr;
+            const double v = std::strtod(s.c_str(), &end);
+            if (s.empty() || end != s.c_str() + s.size() || !(v >= 0.001 && v <= 1e6))
+              return "expected SECONDS, a number from 0.001 to 1e6 (got '" + s + "')";
+            return std::string();
+          },
+          "SECONDS"))
       ->excludes(quiet);
   c->add_option("--guard-every", o->guardEvery,
                 "Check the guards (finite state, energy, overlaps) every N steps, and before every frame and "

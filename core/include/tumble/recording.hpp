@@ -125,7 +125,8 @@ struct RepairResult {
 /// (a crash-left temporary, a file cut short by a full disk or a copy), with the frame count in
 /// its header set to what it keeps. `out` is written as every output is (OutputFile: in place
 /// only by a rename; `out` may be `in`). Nothing is written when the file is whole (result.why
-/// empty) or when not even its header and table can be read (InputError, as the reader's).
+/// empty), and InputError when not even its header and table can be read (as the reader's) or
+/// when not one frame is whole.
 RepairResult repairRecording(const std::string& in, const std::string& out);
 
 /// Writes a recording. Frames go to a temporary next to `path` (`path.part-XXXXXX`, OutputFile);

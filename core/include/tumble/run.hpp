@@ -142,6 +142,9 @@ class Run {
   void closeThermo();
   /// Finishes both; the guard's trip, a signal and the end of a run all call this.
   void closeOutputs();
+  /// Abandons both: their files stay as they were before the run (a run whose start failed
+  /// after one of them was opened, e.g. a time series refused after the recording began).
+  void abandonOutputs() noexcept;
   /// Writes a checkpoint to `path` every `every` steps (0: never) from here on.
   void checkpointEvery(const std::string& path, std::uint64_t every);
   /// Writes a checkpoint of the state now to `path` (collective; the writer writes).

@@ -36,7 +36,7 @@ struct ThermoSample {
 
 /// Writes samples as CSV (header thermoHeader()), one line per sample, flushed at once. Until
 /// close() the rows go to the live name `FILE.part` (readable, as the finished file will be:
-/// `tail -f FILE.part`, `tumble plot FILE`, which plots the live name while there is no FILE);
+/// `tail -f FILE.part`, `tumble plot FILE`, which plots the live name while it is there);
 /// close() renames it into place; the destructor does too, so an interrupted run keeps its rows.
 /// A second run writing the same FILE is refused while the first's `FILE.part` is there.
 /// Times are printed at the step's precision (formatTime). Thread safety: none.
@@ -49,6 +49,8 @@ class ThermoWriter {
   ThermoWriter& operator=(const ThermoWriter&) = delete;
   void write(const ThermoSample& s);  ///< throws tumble::Error (a full disk: with the reason)
   void close();                       ///< throws tumble::Error
+  /// Removes the live file: FILE stays as it was (a run that could not start). Never throws.
+  void abandon() noexcept;
   std::uint64_t rows() const { return m_rows; }
   const std::string& path() const { return m_path; }
 

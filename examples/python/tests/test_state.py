@@ -148,6 +148,8 @@ def test_bad_changes_raise_and_change_nothing():
         (dict(bodies=[0], omega=[[0, 0, 1]]), "does not rotate"),
         (dict(bodies=[0], l=[[0, 0, 0]], omega=[[0, 0, 0]]), "l or omega, not both"),
         (dict(bodies=[0.5]), "whole numbers"),
+        # Refused by the detection when the pipeline takes the state: the run goes on as it was.
+        (dict(bodies=[0], x=[[3e38, 0, 0]]), "single precision"),
     ]
     for kwargs, message in cases:
         with pytest.raises(tumble.Error, match=message):
@@ -254,6 +256,8 @@ def test_what_cannot_change_is_named():
                                     r"contact.damping, contact.shear, ground.stiffness"),
         ({"ground.friction": -1.0}, "ground.friction = -1.* must be a finite number >= 0"),
         ({"ground.friction": 0.2, "contact.stiffness": 0.0}, "contact.stiffness = 0.* > 0"),
+        ({"contact.stiffness": True}, r"contact.stiffness = True: expected a number"),
+        ({"ground.friction": -1e300}, r"ground.friction = -1e\+300: must be"),
     ]:
         with pytest.raises(tumble.Error, match=message):
             sim.set_parameters(changes)

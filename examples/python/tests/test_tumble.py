@@ -412,3 +412,12 @@ def test_a_pour_that_falls_behind_warns_once():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         sim.step(100)  # said once
+
+
+def test_paths_may_be_bytes(tmp_path):
+    """A bytes path is the file system's name (os.fsdecode), not the text "b'...'"."""
+    sim = tumble.Simulation(tumble.Scene.load(os.fsencode(SPHERES)))
+    sim.step(2)
+    sim.checkpoint(os.fsencode(str(tmp_path / "b.ck")))
+    assert (tmp_path / "b.ck").is_file()
+    assert not any(p.name.startswith("b'") for p in tmp_path.iterdir())
