@@ -250,7 +250,9 @@ void Run::setParameters(const std::vector<std::pair<std::string, double>>& chang
   requireLoaded(m_pipeline, "setParameters()");
   Scene s = scene();
   const std::vector<Changeable> can = changeable(s);
-  for (const auto& [key, value] : changes) {
+  for (const auto& change : changes) {
+    const std::string& key = change.first;  // (a named variable: Clang 14 captures no structured binding)
+    const double value = change.second;
     const auto it = std::find_if(can.begin(), can.end(), [&](const Changeable& c) { return c.key == key; });
     if (it == can.end()) throw Error("setParameters: " + cannotChange(key, s, can));
     const float v = static_cast<float>(value);
