@@ -66,9 +66,6 @@ std::vector<const std::vector<float>*> bodyColumns(const BodyState& s) {
 std::vector<std::vector<float>*> bodyColumns(BodyState& s) {
   return {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz};
 }
-// How far from 1 a stored orientation's length may be: float roundings of a normalised
-// quaternion are a few 1e-7.
-constexpr double kUnitQuaternionTolerance = 1e-4;
 const char* const kColumnNames[13] = {"px", "py", "pz", "vx", "vy", "vz", "qw",
                                       "qx", "qy", "qz", "lx", "ly", "lz"};
 

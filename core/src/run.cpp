@@ -131,7 +131,7 @@ void Run::setBodies(const BodyChanges& c) {
     if (!c.q.empty()) {
       const Quatf q = c.q[k];
       const double norm = std::sqrt(double(q.w) * q.w + double(q.x) * q.x + double(q.y) * q.y + double(q.z) * q.z);
-      if (!(std::fabs(norm - 1.0) <= 1e-4))
+      if (!(std::fabs(norm - 1.0) <= kUnitQuaternionTolerance))
         throw Error(what + ": q is not a unit quaternion (|q| = " + std::to_string(norm) + "); normalise it");
     }
     const Vec3f* turn = !c.l.empty() ? &c.l[k] : !c.omega.empty() ? &c.omega[k] : nullptr;

@@ -21,15 +21,10 @@ std::string slurp(const std::string& path) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tumble;
-  const std::string path = fuzz::writeInput(data, size, "in.ck");
-  Checkpoint ck;
-  try {
-    ck = Checkpoint::read(path);
-  } catch (const InputError&) {
-    return 0;
-  }
+  const std::optional<Checkpoint> ck = fuzz::readCheckpoint(data, size);
+  if (!ck) return 0;
   const std::string once = fuzz::scratchPath("once.ck"), twice = fuzz::scratchPath("twice.ck");
-  ck.write(once);
+  ck->write(once);
   Checkpoint::read(once).write(twice);
   const std::string a = slurp(once), b = slurp(twice);
   if (a != b) fuzz::fail("a checkpoint read back and written again differs");

@@ -21,16 +21,11 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tumble;
   static const World scene = World::fromScene(readSceneFile(TUMBLE_FUZZ_RESUME_SCENE));
-  const std::string path = fuzz::writeInput(data, size, "in.ck");
-  Checkpoint ck;
-  try {
-    ck = Checkpoint::read(path);
-  } catch (const InputError&) {
-    return 0;
-  }
+  const std::optional<Checkpoint> ck = fuzz::readCheckpoint(data, size);
+  if (!ck) return 0;
   try {
     std::string warning;  // (other physics: not this target's concern)
-    const World world = ck.resume(scene, &warning);
+    const World world = ck->resume(scene, &warning);
     const auto pipeline = fuzz::cpuPipeline();
     pipeline->load(world);
     pipeline->step(5);

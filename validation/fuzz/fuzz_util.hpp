@@ -9,10 +9,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <unistd.h>
 
+#include "tumble/checkpoint.hpp"
+#include "tumble/error.hpp"
 #include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 
@@ -52,6 +55,15 @@ inline std::unique_ptr<Pipeline> cpuPipeline() {
   PipelineOptions one;
   one.threads = 1;
   return makePipeline(Backend::Cpu, one);
+}
+
+/// The checkpoint the input holds, or nothing when the reader refuses it (InputError).
+inline std::optional<Checkpoint> readCheckpoint(const std::uint8_t* data, std::size_t size) {
+  try {
+    return Checkpoint::read(writeInput(data, size, "in.ck"));
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
 }
 
 /// A property does not hold: say which, and abort (libFuzzer keeps the input).

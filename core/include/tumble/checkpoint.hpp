@@ -13,6 +13,10 @@
 
 namespace tumble {
 
+/// How far from 1 the length of an orientation a run can have may be (a checkpoint's, one set
+/// with Run::setBodies): float roundings of a normalised quaternion are a few 1e-7.
+inline constexpr double kUnitQuaternionTolerance = 1e-4;
+
 /// The newest format (docs/checkpoint.md): version 2 adds the mesh springs. A state without
 /// them is written as version 1, byte for byte as before, and both are read.
 inline constexpr std::uint32_t kCheckpointVersion = 2;
