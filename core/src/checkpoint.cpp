@@ -23,6 +23,7 @@
 
 #include "binary_io.hpp"
 #include "tumble/error.hpp"
+#include "tumble/exact_range.hpp"
 #include "tumble/mesh.hpp"
 
 namespace tumble {
@@ -348,16 +349,17 @@ Checkpoint Checkpoint::read(const std::string& path) {
   auto cols = bodyColumns(c.state);
   for (int k = 0; k < 13; ++k) sd.finiteColumn(*cols[k], static_cast<std::size_t>(nb), kColumnNames[k]);
   // Values a run can have, as the scene reader checks them: positions in the world (the frame's
-  // origin plus the local one) within single precision, and unit orientations (the pipelines
+  // origin plus the local one) within ±2^60 m (exact_range.hpp), and unit orientations (the pipelines
   // keep them to a few float roundings; a crafted zero or huge one is refused).
   const auto entry = [&](int column, std::uint64_t body) { return stateAt + 4 * (std::uint64_t(column) * nb + body); };
   const double frameAxis[3] = {c.frame.x, c.frame.y, c.frame.z};
   for (std::uint64_t b = 0; b < nb; ++b) {
     for (int a = 0; a < 3; ++a) {
       const double x = frameAxis[a] + double((*cols[a])[b]);
-      if (!(std::fabs(x) <= double(std::numeric_limits<float>::max())))
+      if (!withinExactRange(x))
         in.fail(entry(a, b), "body " + std::to_string(b) + "'s position " + "xyz"[a] + " (the frame origin's " +
-                                 std::to_string(frameAxis[a]) + " plus " + kColumnNames[a] + ") is beyond single precision");
+                                 std::to_string(frameAxis[a]) + " plus " + kColumnNames[a] +
+                                 ") is beyond +-2^60 m, the range whose contacts single precision decides right");
     }
     const double w = c.state.qw[b], x = c.state.qx[b], y = c.state.qy[b], z = c.state.qz[b];
     const double length = std::sqrt(w * w + x * x + y * y + z * z);

@@ -30,6 +30,7 @@
 
 #include "binary_io.hpp"
 #include "tumble/error.hpp"
+#include "tumble/exact_range.hpp"
 
 namespace tumble {
 namespace {
@@ -388,9 +389,10 @@ std::vector<Vec3f> meshWallVertices(const WallDef& wall, const LocalFrame& f) {
     double p[3];
     for (int r = 0; r < 3; ++r) {
       p[r] = t[r] + R[r][0] * a[0] + R[r][1] * a[1] + R[r][2] * a[2];
-      if (!(std::abs(p[r]) <= kFloatMax))
+      if (!withinExactRange(p[r]))
         throw Error(wall.where + ": vertex " + point(v) + " of " + wall.mesh->file +
-                    " lies beyond single precision once scaled, turned and placed; use a smaller scale or position");
+                    " lies beyond +-2^60 m (1.15e18) once scaled, turned and placed, the range whose contacts single "
+                    "precision decides right; use a smaller scale or position");
     }
     out[k] = Vec3f{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
   }

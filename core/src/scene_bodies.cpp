@@ -44,9 +44,9 @@ void SceneParser::readShapes(Scene& scene) {
                            where + ", [[shape.sphere]] #" + std::to_string(i + 1),
                            {"offset", "radius", "mass", "density", "elasticity", "material"});
       SphereDef sd;
-      sd.offset = sr.vec3("offset", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
+      sd.offset = sr.vec3("offset", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Coordinate);
       sd.radius = sr.single(sr.require("radius", "sphere radius in m, e.g. radius = 0.5"), "radius",
-                            Rule::Positive);
+                            Rule::Radius);
       readSphereMaterial(scene, sr, &sd);
       for (const WallDef& plane : scene.planes())
         if (const std::string why = groundDampingOutOfRange(sd, plane.contact, plane.where); !why.empty())
@@ -206,13 +206,14 @@ void SceneParser::readBody(Scene& scene, const toml::table& t, std::size_t index
   b.shape = shapeNamed(r, r.require("shape", "the name of a [[shape]], e.g. shape = \"dimer\""),
                        "shape", scene);
   const toml::node& positionNode = r.require("position", "centre of mass in m, e.g. position = [0, 0, 1]");
-  b.position = r.vec3(positionNode, "position", Rule::Any);
+  b.position = r.vec3(positionNode, "position", Rule::Coordinate);
   if (const std::string why = outsidePeriodicBox(scene.periodic, b.position); !why.empty())
     r.fail(sourceOf(positionNode), why);
   const double reach = shapeExtent(scene.shapes[b.shape]);
   for (float x : {b.position.x, b.position.y, b.position.z}) {
-    if (!(std::fabs(double(x)) + reach <= double(std::numeric_limits<float>::max())))
-      r.fail(r.header(), "the body's spheres reach beyond single-precision range from this position");
+    if (!(std::fabs(double(x)) + reach <= kMaxCoordinate))
+      r.fail(r.header(), "the body's spheres reach beyond +-2^60 m (1.15e18) from this position, the range whose "
+                         "contacts single precision decides right");
   }
   b.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
   if (const toml::node* q = r.find("orientation")) b.orientation = r.orientation(*q);
@@ -273,7 +274,7 @@ void SceneParser::readGroup(Scene& scene, const toml::table& t, std::size_t inde
                        "or [sx, sy, sz])");
   }
   std::array<double, 3> origin{0.0, 0.0, 0.0};
-  if (const toml::node* o = r.find("origin")) origin = r.numbers<3>(*o, "origin", Rule::Any);
+  if (const toml::node* o = r.find("origin")) origin = r.numbers<3>(*o, "origin", Rule::Coordinate);
   const float jitter = r.single("jitter", 0.0f, Rule::NonNegative);
   const Vec3f velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
   const float velocityJitter = r.single("velocity_jitter", 0.0f, Rule::NonNegative);
@@ -287,9 +288,10 @@ void SceneParser::readGroup(Scene& scene, const toml::table& t, std::size_t inde
   for (std::size_t c = 0; c < 3; ++c) {
     const double far = origin[c] + static_cast<double>(count[c] - 1) * spacing[c];
     const double extent = std::max(std::fabs(origin[c]), std::fabs(far)) + double(jitter) + reach;
-    if (!(extent <= kFloatMax)) {
-      r.fail(r.header(), "the lattice reaches beyond single-precision range along " + std::string(kAxes[c]) +
-                             " (origin, spacing, jitter and the shapes' size)");
+    if (!(extent <= kMaxCoordinate)) {
+      r.fail(r.header(), "the lattice reaches beyond +-2^60 m (1.15e18) along " + std::string(kAxes[c]) +
+                             " (origin, spacing, jitter and the shapes' size), the range whose contacts single "
+                             "precision decides right");
     }
   }
   for (float v : {velocity.x, velocity.y, velocity.z}) {

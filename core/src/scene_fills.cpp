@@ -65,16 +65,16 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
     g.wall = m_wallOfTable[std::size_t(k) - 1];
   } else if (region == "box") {
     g.kind = FillRegion::Kind::Box;
-    g.min = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
+    g.min = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Coordinate);
     const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
-    g.max = r.vec3(hiNode, "max", Rule::Any);
+    g.max = r.vec3(hiNode, "max", Rule::Coordinate);
     if (!(g.min.x < g.max.x && g.min.y < g.max.y && g.min.z < g.max.z))
       r.fail(sourceOf(hiNode), "max must exceed min on every axis");
   } else {
     g.kind = FillRegion::Kind::Cylinder;
-    g.point = r.vec3(r.require("point", "the axis's start in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
+    g.point = r.vec3(r.require("point", "the axis's start in m, e.g. point = [0, 0, 0]"), "point", Rule::Coordinate);
     const toml::node& an = r.require("axis", "from point to the far end in m, e.g. axis = [0, 0, 1]");
-    g.axis = r.vec3(an, "axis", Rule::Any);
+    g.axis = r.vec3(an, "axis", Rule::Coordinate);
     const double len =
         std::sqrt(double(g.axis.x) * g.axis.x + double(g.axis.y) * g.axis.y + double(g.axis.z) * g.axis.z);
     if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(an), "axis must be a non-zero, finite vector");
@@ -92,6 +92,13 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
     } else {
       f.scaleMin = f.scaleMax = r.single(*sn, "scale", Rule::Positive);
     }
+    // Every scaled radius within the range whose contacts single precision decides right.
+    for (std::uint32_t s : f.shapes)
+      for (const SphereDef& sp : scene.shapes[s].spheres)
+        if (!(double(sp.radius) * f.scaleMin >= kMinRadius && double(sp.radius) * f.scaleMax <= kMaxCoordinate))
+          r.fail(sourceOf(*sn), "scale makes a sphere of shape '" + printable(scene.shapes[s].name) +
+                                    "' leave [2^-60, 2^60] m (8.7e-19 to 1.15e18), the range whose contacts single "
+                                    "precision decides right");
   }
   f.velocity = r.vec3("velocity", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
   f.velocityJitter = r.single("velocity_jitter", 0.0f, Rule::NonNegative);

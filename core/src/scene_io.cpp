@@ -75,6 +75,7 @@ Scene SceneParser::run() {
                                 "(and the [[shape]] it uses)");
   }
   checkPeriod(scene);
+  checkMeshResolution(scene);
   return scene;
 }
 

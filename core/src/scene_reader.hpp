@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "tumble/error.hpp"
+#include "tumble/exact_range.hpp"
 #include "tumble/fill.hpp"
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
@@ -69,7 +70,9 @@ std::string typeName(const toml::node& n);
 std::string joinNames(std::initializer_list<std::string_view> names);
 
 /// Range rule for a number.
-enum class Rule { Any, Positive, NonNegative, Elasticity, Poisson };
+/// What a number may be. Coordinate: a position within ±2^60 m; Radius: a sphere radius in
+/// [2^-60, 2^60] m (the range whose contacts single precision decides right, exact_range.hpp).
+enum class Rule { Any, Positive, NonNegative, Elasticity, Poisson, Coordinate, Radius };
 
 /// Reads one TOML table: rejects unknown keys up front, then hands out typed, checked values.
 class TableReader {
@@ -263,6 +266,17 @@ class TableReader {
       case Rule::Poisson:
         if (!(v >= 0.0 && v < 0.5)) fail(sourceOf(n), what + " must be in [0, 0.5) (got " + fmt(shown) + ")");
         return;
+      case Rule::Coordinate:
+        if (!withinExactRange(v))
+          fail(sourceOf(n), what + " must be within +-2^60 m (1.15e18), the range whose contacts single precision "
+                                   "decides right (got " + fmt(shown) + ")");
+        return;
+      case Rule::Radius:
+        if (!(v > 0.0)) fail(sourceOf(n), what + " must be > 0 (got " + fmt(shown) + ")");
+        if (!(v >= kMinRadius && v <= kMaxCoordinate))
+          fail(sourceOf(n), what + " must be in [2^-60, 2^60] m (8.7e-19 to 1.15e18), the range whose contacts single "
+                                   "precision decides right (got " + fmt(shown) + ")");
+        return;
     }
   }
 
@@ -307,6 +321,7 @@ class SceneParser {
   void readPlaneContact(const Scene& scene, const TableReader& r, const std::string& what, GroundParams* out) const;
   void readPeriodic(Scene& scene);
   void checkPeriod(const Scene& scene);
+  void checkMeshResolution(const Scene& scene) const;
   void readPulls(Scene& scene);
   void readBroadphase(Scene& scene);
   void readIntegrator(Scene& scene);

@@ -94,7 +94,7 @@ void SceneParser::readGround(Scene& scene) {
                       {"enabled", "height", "stiffness", "friction", "tangential_stiffness", "rolling_friction",
                        "material"});
   g.enabled = r.boolean("enabled", true);
-  g.height = r.single("height", 0.0f, Rule::Any);
+  g.height = r.single("height", 0.0f, Rule::Coordinate);
   readPlaneContact(scene, r, "ground", &g);
 }
 
@@ -141,8 +141,8 @@ void SceneParser::readPeriodic(Scene& scene) {
     if (v.size() != 2)
       r.fail(sourceOf(*n), std::string(key) + " must be an array " + form + " (got " + std::to_string(v.size()) +
                                " elements)");
-    p.lo[a] = r.single(*v.get(0), std::string(key) + "[0]", Rule::Any);
-    p.hi[a] = r.single(*v.get(1), std::string(key) + "[1]", Rule::Any);
+    p.lo[a] = r.single(*v.get(0), std::string(key) + "[0]", Rule::Coordinate);
+    p.hi[a] = r.single(*v.get(1), std::string(key) + "[1]", Rule::Coordinate);
     if (!(p.lo[a] < p.hi[a]))
       r.fail(sourceOf(*n), std::string(key) + " = [" + key + "0, " + key + "1] needs " + key + "1 > " + key + "0 (got [" +
                                fmt(p.lo[a]) + ", " + fmt(p.hi[a]) + "])");

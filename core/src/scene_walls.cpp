@@ -3,17 +3,31 @@
 // and their motion: SceneParser members (scene_reader.hpp).
 #include "scene_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "binary_io.hpp"
+#include "tumble/exact_range.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble::scene_reader {
+
+namespace {
+
+// "triangle 7 PROBLEM" at the triangle's line in its mesh file (its byte in a binary STL).
+InputError triangleError(const TriangleMesh& mesh, std::size_t t, const std::string& problem) {
+  const std::string what = "triangle " + std::to_string(t + 1) + " " + problem;
+  return mesh.binary ? InputError(mesh.file, 0, "byte " + std::to_string(mesh.source[t]) + ": " + what)
+                     : InputError(mesh.file, static_cast<long>(mesh.source[t]), what);
+}
+
+}  // namespace
 
 /// [[wall]]: a plane (point, normal) or an axis-aligned box (min, max, open faces) of planes,
 /// each with the ground's contact keys.
@@ -66,7 +80,7 @@ void SceneParser::readWalls(Scene& scene) {
       readMeshWall(r, &wall);
       scene.walls.push_back(wall);
     } else if (type == "plane") {
-      wall.point = r.vec3(r.require("point", "a point of the plane in m, e.g. point = [0, 0, 0]"), "point", Rule::Any);
+      wall.point = r.vec3(r.require("point", "a point of the plane in m, e.g. point = [0, 0, 0]"), "point", Rule::Coordinate);
       const toml::node& nn = r.require("normal", "the normal towards the spheres, e.g. normal = [0, 0, 1]");
       wall.normal = r.vec3(nn, "normal", Rule::Any);  // normalised in double where the planes are built
       const Vec3f& v = wall.normal;
@@ -75,9 +89,9 @@ void SceneParser::readWalls(Scene& scene) {
       readWallMotionWindow(r, &wall);
       scene.walls.push_back(wall);
     } else {  // a box
-      const Vec3f lo = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Any);
+      const Vec3f lo = r.vec3(r.require("min", "the lowest corner in m, e.g. min = [-1, -1, 0]"), "min", Rule::Coordinate);
       const toml::node& hiNode = r.require("max", "the highest corner in m, e.g. max = [1, 1, 2]");
-      const Vec3f hi = r.vec3(hiNode, "max", Rule::Any);
+      const Vec3f hi = r.vec3(hiNode, "max", Rule::Coordinate);
       if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
         char buf[200];
         std::snprintf(buf, sizeof buf, "max must exceed min on every axis (as single-precision numbers: min [%.9g, %.9g, "
@@ -132,7 +146,7 @@ void SceneParser::readRevolvedWall(const TableReader& r, const std::string& type
   const bool disk = type == "disk";
   wall->point = r.vec3(r.require("point", disk ? "the disk's centre in m, e.g. point = [0, 0, 0]"
                                                : "the axis's start in m, e.g. point = [0, 0, 0]"),
-                       "point", Rule::Any);
+                       "point", Rule::Coordinate);
   const char* dirKey = disk ? "normal" : "axis";
   const toml::node& dn = r.require(dirKey, disk ? "the disk's normal (either way), e.g. normal = [0, 0, 1]"
                                                 : "the axis from point to the far end in m, e.g. axis = [0, 0, 2]");
@@ -202,7 +216,7 @@ void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
       wall->scale = Vec3f{k, k, k};
     }
   }
-  wall->point = r.vec3("position", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Any);
+  wall->point = r.vec3("position", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Coordinate);
   if (const toml::node* q = r.find("orientation")) wall->orientation = r.orientation(*q);
   try {
     const auto mesh = std::make_shared<const TriangleMesh>(parseMesh(bytes, resolved));
@@ -212,12 +226,8 @@ void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
     for (std::size_t t = 0; t < mesh->numTriangles(); ++t) {
       const std::uint32_t* c = &mesh->triangles[3 * t];
       if (const std::string why = degenerateTriangle(v[c[0]], v[c[1]], v[c[2]]); !why.empty())
-        throw mesh->binary ? InputError(mesh->file, 0, "byte " + std::to_string(mesh->source[t]) + ": triangle " +
-                                                           std::to_string(t + 1) + " is degenerate once scaled and placed: " +
-                                                           why + "; use a larger scale, or remove it from the mesh")
-                           : InputError(mesh->file, static_cast<long>(mesh->source[t]),
-                                        "triangle " + std::to_string(t + 1) + " is degenerate once scaled and placed: " +
-                                            why + "; use a larger scale, or remove it from the mesh");
+        throw triangleError(*mesh, t, "is degenerate once scaled and placed: " + why +
+                                          "; use a larger scale, or remove it from the mesh");
     }
   } catch (const InputError& e) {
     throw InputError(e.file(), e.line(), e.problem() + " (the mesh of " + wall->where + ")");
@@ -236,7 +246,7 @@ void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
     if (w.x == 0.0f && w.y == 0.0f && w.z == 0.0f)
       r.fail(sourceOf(*pn), "pivot is the point the mesh turns about, and it does not turn; give it an "
                             "angular_velocity = [x, y, z] (rad/s), or leave pivot out");
-    wall->pivot = r.vec3(*pn, "pivot", Rule::Any);
+    wall->pivot = r.vec3(*pn, "pivot", Rule::Coordinate);
   }
   readWallMotionWindow(r, wall);
 }
@@ -256,6 +266,41 @@ void SceneParser::readWallMotionWindow(const TableReader& r, WallDef* wall) {
   if (!(wall->stop > wall->start))
     r.fail(sourceOf(*off), "stop must be after start (got start = " + fmt(wall->start) + ", stop = " +
                                fmt(wall->stop) + ")");
+}
+
+/// The mesh walls' triangles against the smallest sphere of the scene's bodies (after they are
+/// read): a triangle's nearest point is computed to within a few 2^-24 of its size, so each is
+/// at most kMaxTriangleToRadius (2^15) times that radius long (exact_range.hpp).
+void SceneParser::checkMeshResolution(const Scene& scene) const {
+  double radius = INFINITY;
+  const auto smallest = [&](std::uint32_t shape) {
+    for (const SphereDef& sp : scene.shapes[shape].spheres) radius = std::min(radius, double(sp.radius));
+  };
+  for (const BodyDef& b : scene.bodies) smallest(b.shape);
+  for (const PourBody& p : scene.pourBodies) smallest(p.body.shape);
+  const double longest = kMaxTriangleToRadius * radius;
+  for (const WallDef& w : scene.walls) {
+    if (!w.mesh) continue;
+    const std::vector<Vec3f> v = meshWallVertices(w);
+    for (std::size_t t = 0; t < w.mesh->numTriangles(); ++t) {
+      const std::uint32_t* c = &w.mesh->triangles[3 * t];
+      double edge = 0.0;
+      for (int j = 0; j < 3; ++j) {
+        const Vec3f a = v[c[j]], b = v[c[j == 2 ? 0 : j + 1]];
+        const double dx = double(b.x) - a.x, dy = double(b.y) - a.y, dz = double(b.z) - a.z;
+        edge = std::max(edge, std::sqrt(dx * dx + dy * dy + dz * dz));
+      }
+      if (edge > longest) {
+        char buf[320];
+        std::snprintf(buf, sizeof buf,
+                      "is %.4g m long once scaled and placed, more than 2^15 = 32768 times the smallest sphere's "
+                      "radius (%.4g m): single precision finds its contacts to within a few 2^-24 of its size; "
+                      "split it into triangles at most %.4g m long, or use a smaller scale (the mesh of %s)",
+                      edge, radius, longest, w.where.c_str());
+        throw triangleError(*w.mesh, t, buf);
+      }
+    }
+  }
 }
 
 }  // namespace tumble::scene_reader

@@ -160,7 +160,7 @@ TEST(SceneIoErrors, Periodic) {
   expectError(withExtra(p + "y = [0, 1, 2]\n"), 13, {"y must be an array of 2 numbers [y0, y1]", "(got 3 elements)"});
   expectError(withExtra(p + "x = [0, \"1\"]\n"), 13, {"x[1] must be a number"});
   expectError(withExtra(p + "x = [nan, 1]\n"), 13, {"x[0] must be a finite number"});
-  expectError(withExtra(p + "x = [-1e39, 1]\n"), 13, {"x[0] is out of single-precision range"});
+  expectError(withExtra(p + "x = [-1e39, 1]\n"), 13, {"x[0] must be within +-2^60 m (1.15e18)", "got -1e+39"});
   expectError(withExtra(p + "x = [3, 3]\n"), 13, {"x = [x0, x1] needs x1 > x0 (got [3, 3])"});
   expectError(withExtra(p + "x = [-3, 3]\ny = [2, -2]\n"), 14, {"needs y1 > y0 (got [2, -2])"});
   // The period: 2 × (extent 0.5 + radius 0.5 + automatic skin 0.25) = 2.5 m; a given skin counts.

@@ -186,7 +186,8 @@ TEST(SceneIoErrors, NonFinite) {
   expectError(withLine(2, "dt = nan"), 2, {"dt must be a finite number (got nan)"});
   expectError(withLine(7, "radius = inf"), 7, {"radius must be a finite number (got inf)"});
   expectError(withLine(11, "position = [0, -inf, 1]"), 11, {"component y of position", "finite"});
-  expectError(withLine(7, "radius = 1e39"), 7, {"out of single-precision range"});
+  expectError(withLine(7, "radius = 1e39"), 7, {"radius must be in [2^-60, 2^60] m", "got 1e+39"});
+  expectError(withLine(11, "position = [0, 1e38, 1]"), 11, {"component y of position must be within +-2^60 m"});
   std::vector<std::string> ls = baseLines();
   ls.insert(ls.begin() + 3, "gravity = [0,\n 0,\n nan]");  // elements on their own lines
   expectError(join(ls), 6, {"component z of gravity must be a finite number"});
@@ -195,7 +196,12 @@ TEST(SceneIoErrors, NonFinite) {
 TEST(SceneIoErrors, PhysicalRanges) {
   expectError(withLine(7, "radius = -1"), 7, {"shape \"ball\"", "radius must be > 0 (got -1)"});
   expectError(withLine(7, "radius = 0"), 7, {"radius must be > 0 (got 0)"});
-  expectError(withLine(7, "radius = 1e-50"), 7, {"radius must be > 0 (got 1e-50)"});  // rounds to 0 in float
+  expectError(withLine(7, "radius = 1e-50"), 7, {"radius must be in [2^-60, 2^60] m", "got 1e-50"});
+  // The range whose contacts single precision decides right (exact_range.hpp): beyond it a
+  // pair's squares overflow or underflow.
+  expectError(withLine(7, "radius = 1e-20"), 7, {"radius must be in [2^-60, 2^60] m", "got 1e-20"});
+  expectError(withLine(7, "radius = 1.5e19"), 7, {"radius must be in [2^-60, 2^60] m", "got 1.5e+19"});
+  EXPECT_NO_THROW((void)tumble::parseScene(withLine(7, "radius = 8.7e-19"), "test.toml"));
   expectError(withLine(8, "mass = 0"), 8, {"mass must be > 0 (got 0)"});
   expectError(withLine(8, "mass = -2.5"), 8, {"mass must be > 0 (got -2.5)"});
   expectError(withExtra("[[shape]]\nname = \"e\"\n[[shape.sphere]]\nradius = 1\nmass = 1\nelasticity = 1.5\n"), 17,
@@ -259,26 +265,29 @@ TEST(SceneIoErrors, DerivedValuesBeyondSinglePrecision) {
                         "[[shape.sphere]]\noffset = [1, 0, 0]\nradius = 1\nmass = 3e38\n"),
               12, {"shape \"heavy\"", "total mass 6e+38 kg is beyond single precision"});
   // A far offset: the inertia overflows.
+  expectError(withExtra("[[shape]]\nname = \"far\"\n[[shape.sphere]]\nradius = 1\nmass = 1e15\n"
+                        "[[shape.sphere]]\noffset = [1e12, 0, 0]\nradius = 1\nmass = 1e15\n"),
+              12, {"shape \"far\"", "moment of inertia"});
   expectError(withExtra("[[shape]]\nname = \"far\"\n[[shape.sphere]]\nradius = 1\nmass = 1\n"
                         "[[shape.sphere]]\noffset = [3e38, 0, 0]\nradius = 1\nmass = 1\n"),
-              12, {"shape \"far\"", "moment of inertia"});
+              18, {"shape \"far\"", "component x of offset must be within +-2^60 m"});
   // A clump of tiny spheres: the inverse of the inertia overflows. (A single sphere never
   // rotates: its inertia is not checked, so the same ball alone is accepted.)
-  expectError(withExtra("[[shape]]\nname = \"tiny\"\n[[shape.sphere]]\nradius = 1e-20\nmass = 1\n"
-                        "[[shape.sphere]]\nradius = 1e-20\nmass = 1\n"),
+  expectError(withExtra("[[shape]]\nname = \"tiny\"\n[[shape.sphere]]\nradius = 1e-18\nmass = 1e-4\n"
+                        "[[shape.sphere]]\nradius = 1e-18\nmass = 1e-4\n"),
               12, {"shape \"tiny\"", "too small for single precision"});
-  EXPECT_NO_THROW((void)tumble::parseScene(withLine(7, "radius = 1e-20"), "test.toml"));
+  EXPECT_NO_THROW((void)tumble::parseScene(withLine(7, "radius = 1e-18"), "test.toml"));
   // A body whose sphere reaches past the float range from its position.
   {
     std::vector<std::string> ls = baseLines();
-    ls[6] = "radius = 1e38";
-    ls[7] = "mass = 3e-38";
-    ls[10] = "position = [3e38, 0, 0]";
-    expectError(join(ls), 9, {"reach beyond single-precision range"});
+    ls[6] = "radius = 1e18";
+    ls[10] = "position = [1e18, 0, 0]";
+    expectError(join(ls), 9, {"reach beyond +-2^60 m (1.15e18) from this position"});
   }
   // A lattice whose jitter, or whose velocity jitter, overflows.
   const std::string group = "[[group]]\nshape = \"ball\"\ncount = [2, 1, 1]\nspacing = 1\n";
-  expectError(withExtra(group + "origin = [3.4e38, 0, 0]\njitter = 1e38\n"), 12, {"lattice reaches beyond", "jitter"});
+  expectError(withExtra(group + "origin = [1e18, 0, 0]\njitter = 2e17\n"), 12, {"lattice reaches beyond +-2^60 m", "jitter"});
+  expectError(withExtra(group + "origin = [3.4e38, 0, 0]\n"), 16, {"component x of origin must be within +-2^60 m"});
   expectError(withExtra(group + "velocity = [3e38, 0, 0]\nvelocity_jitter = 1e38\n"), 12,
               {"velocity with velocity_jitter"});
   // A spin whose angular momentum I ω overflows: at the key's line, for a body and for a lattice
@@ -366,8 +375,7 @@ TEST(SceneIoErrors, TooManyParticles) {
 // Derived values that overflow are refused at load, at their line (issue 34, item 8): they were
 // found only by the run ("particle 0 has a non-finite position", or a guard advising a smaller dt).
 TEST(SceneIoErrors, OverflowsFoundOnlyByTheRunAreRefusedAtLoad) {
-  expectError(withExtra("[periodic]\nx = [-3.4e38, 3.4e38]\n"), 13,
-              {"[periodic]: x: its length hi - lo is beyond single precision"});
+  expectError(withExtra("[periodic]\nx = [-3.4e38, 3.4e38]\n"), 13, {"[periodic]: x[0] must be within +-2^60 m"});
   expectError(withLine(8, "mass = 1e38"), 4, {"its weight m |g| = 9.81e+38 N is beyond single precision"});
   std::vector<std::string> weightless = baseLines();
   weightless[7] = "mass = 1e38";

@@ -30,6 +30,22 @@ std::vector<Pair> bruteForcePairs(const ParticleCloud& c) {
   return out;
 }
 
+DoublePairs doublePrecisionPairs(const ParticleCloud& c, double band) {
+  DoublePairs out;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    for (std::size_t j = i + 1; j < c.size(); ++j) {
+      if (c.body[i] == c.body[j]) continue;
+      const double dx = double(c.x[i]) - c.x[j], dy = double(c.y[i]) - c.y[j], dz = double(c.z[i]) - c.z[j];
+      const double s = double(c.r[i]) + c.r[j], d2 = dx * dx + dy * dy + dz * dz, s2 = s * s;
+      const Pair p{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)};
+      if (d2 < s2 * (1.0 - band))
+        out.sure.push_back(p);
+      else if (d2 <= s2 * (1.0 + band))
+        out.unsure.push_back(p);
+    }
+  return out;
+}
+
 namespace {
 
 // The vertices of the feature of a nearest point of triangle t: an edge's two (lower first),

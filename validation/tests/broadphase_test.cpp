@@ -4,15 +4,20 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iterator>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "tumble_test/cuda_gate.hpp"
 #include "tumble/error.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/exact_range.hpp"
 #include "tumble/kernels/cell_key.hpp"
+#include "tumble/kernels/overlap.hpp"
 #include "tumble/random.hpp"
 #include "tumble/sweep_frame.hpp"
 #include "tumble/validation/brute_force.hpp"
@@ -303,3 +308,65 @@ TEST_P(PairsTest, OneLargeSphereAmongManySmall) {
 
 INSTANTIATE_TEST_SUITE_P(Backends, PairsTest, ::testing::ValuesIn(compiledBackends()),
                          tumble_test::backendName);
+
+// Issue 34, item 7: at the ends of the range the readers accept (radii in [2^-60, 2^60] m, each
+// coordinate plus radius within ±2^60 m: exact_range.hpp) the pipeline's pairs agree with an
+// oracle in double precision that shares no code with the float predicate: every pair the
+// double oracle is sure of is found, and every pair found is sure or within the rounding band
+// (1e-5 of the squared radii sum). Beyond the range the float predicate itself fails, which is
+// why the readers refuse it: coincident spheres of 2^-76 m underflow, spheres of 1.5e19 m at
+// 2e19 m overflow (issue 34's cases).
+TEST_P(PairsTest, TheEndsOfTheExactRangeAgreeWithADoubleOracle) {
+  const std::uint64_t seed = 20261207;
+  std::printf("cloud seed %llu\n", static_cast<unsigned long long>(seed));
+  auto p = makePipeline(GetParam());
+  // A cloud of radii 0.05-0.15 in a 3 m box, scaled by s and moved by `offset` along x.
+  struct Case {
+    const char* name;
+    double scale, offset;
+  };
+  const Case cases[] = {{"radii from 2^-60 m", 0x1p-60 / 0.05, 0.0},
+                        {"near the origin, 2^-40", 0x1p-40, 0.0},
+                        {"unit", 1.0, 0.0},
+                        {"radii to 2^53 m, 2^59 m from the origin", 0x1p56, 0x1p59},
+                        {"radii to 2^53 m, -2^59 m from the origin", 0x1p56, -0x1p59 - 0x1p58}};
+  for (const Case& k : cases) {
+    const ParticleCloud unit = randomCloud(600, seed, 3.0f, 0.05f, 0.15f, 1);
+    ParticleCloud c = unit;
+    for (std::uint32_t i = 0; i < c.size(); ++i) {
+      c.x[i] = static_cast<float>(double(unit.x[i]) * k.scale + k.offset);
+      c.y[i] = static_cast<float>(double(unit.y[i]) * k.scale);
+      c.z[i] = static_cast<float>(double(unit.z[i]) * k.scale);
+      c.r[i] = static_cast<float>(double(unit.r[i]) * k.scale);
+      ASSERT_TRUE(c.r[i] >= kMinRadius && std::fabs(double(c.x[i])) + c.r[i] <= kMaxCoordinate) << k.name << " " << i;
+    }
+    const DoublePairs want = doublePrecisionPairs(c, 1e-5);
+    const std::vector<Pair> got = p->findPairs(c, BroadphaseParams{});
+    std::vector<Pair> missed, extra;
+    std::set_difference(want.sure.begin(), want.sure.end(), got.begin(), got.end(), std::back_inserter(missed));
+    std::set_difference(got.begin(), got.end(), want.sure.begin(), want.sure.end(), std::back_inserter(extra));
+    std::vector<Pair> unexplained;
+    std::set_difference(extra.begin(), extra.end(), want.unsure.begin(), want.unsure.end(),
+                        std::back_inserter(unexplained));
+    EXPECT_GT(want.sure.size(), 100u) << k.name << ": the cloud must have contacts";
+    EXPECT_TRUE(missed.empty()) << k.name << ": " << missed.size() << " pairs the double oracle is sure of are missing";
+    EXPECT_TRUE(unexplained.empty()) << k.name << ": " << unexplained.size() << " pairs found that do not overlap";
+  }
+  // Two coincident spheres of the smallest radius; two of nearly 2^58 m overlapping by 5 %, one
+  // reaching 2.85 · 2^58 m from the origin: found.
+  ParticleCloud ends;
+  const float big = 0x1p58f * 0.99f;
+  for (const auto& [x, z, r] : {std::tuple<float, float, float>{1.0f, 0x1p59f, 0x1p-60f}, {1.0f, 0x1p59f, 0x1p-60f},
+                                {-0x1p59f + 2.0f * big, 0.0f, big}, {-0x1p59f + 3.9f * big, 0.0f, big}}) {
+    ends.x.push_back(x);
+    ends.y.push_back(0.0f);
+    ends.z.push_back(z);
+    ends.r.push_back(r);
+    ends.body.push_back(static_cast<std::uint32_t>(ends.body.size()));
+  }
+  EXPECT_EQ(p->findPairs(ends, BroadphaseParams{}), (std::vector<Pair>{{0, 1}, {2, 3}}));
+  EXPECT_EQ(doublePrecisionPairs(ends, 1e-5).sure, (std::vector<Pair>{{0, 1}, {2, 3}}));
+  // Outside the range the shared predicate misses pairs the double oracle finds.
+  EXPECT_FALSE(spheresOverlap(0.0f, 0.0f, 0.0f, 0x1p-76f, 0.0f, 0.0f, 0.0f, 0x1p-76f)) << "(2 r)^2 underflows";
+  EXPECT_FALSE(spheresOverlap(0.0f, 0.0f, 0.0f, 1.5e19f, 2e19f, 0.0f, 0.0f, 1.5e19f)) << "d^2 overflows";
+}

@@ -327,7 +327,8 @@ TEST(Checkpoint, ValuesNoRunCanHaveAreRefused) {
   };
   const Craft crafts[] = {
       {"origin 1e300", [](Checkpoint& c) { c.frame.x = 1e300; }, "body 0's position x (the frame origin's"},
-      {"origin beyond float", [](Checkpoint& c) { c.frame.z = 3.5e38; }, "is beyond single precision"},
+      {"origin beyond float", [](Checkpoint& c) { c.frame.z = 3.5e38; }, "is beyond +-2^60 m"},
+      {"origin beyond 2^60 m", [](Checkpoint& c) { c.frame.y = 2e18; }, "body 0's position y (the frame origin's"},
       {"zero orientation", [](Checkpoint& c) { c.state.qw[1] = c.state.qx[1] = c.state.qy[1] = c.state.qz[1] = 0.0f; },
        "body 1's orientation is not a unit quaternion (its length is 0"},
       {"huge orientation", [](Checkpoint& c) { c.state.qw[2] = 2e30f; }, "body 2's orientation is not a unit quaternion"},

@@ -17,6 +17,16 @@ namespace tumble::validation {
 /// Parallel over i (TBB); output is deterministic.
 std::vector<Pair> bruteForcePairs(const ParticleCloud& cloud);
 
+/// An oracle independent of the shared predicate (issue 34, item 7): the pairs of different
+/// bodies whose distance squared, |x_i − x_j|² computed in double from the float inputs (exact
+/// to 2^-52), is below (r_i + r_j)² by more than a relative `band`, in `sure`; those within the
+/// band (where the float predicate may round either way) in `unsure`. Both sorted by (i, j).
+/// No periodic boundaries; O(N²), for clouds of a few thousand.
+struct DoublePairs {
+  std::vector<Pair> sure, unsure;
+};
+DoublePairs doublePrecisionPairs(const ParticleCloud& cloud, double band);
+
 /// Every mesh contact of spheres at positions x (3 floats per particle, the mesh's frame) with
 /// radii r, by brute force: each particle against each triangle, with the kernels' own nearest
 /// point (nearestOnTriangle(), so that contacts exactly at the boundary agree) and the counting
