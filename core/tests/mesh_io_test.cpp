@@ -344,6 +344,14 @@ TEST(MeshWallKeys, EveryError) {
   expectSceneError(meshScene("file = \"square.obj\"\nscale = 1e-30\n"), 5,
                    {"triangle 1 is degenerate once scaled and placed", "too close for single precision", "use a larger scale",
                     "(the mesh of [[wall]] #1"}, sq);
+  // A triangle longer than 2^15 times the smallest radius (0.1 m: 3276.8 m) once scaled: at its
+  // line in the mesh file (issue 34, item 7). The square's diagonal at scale 2318 is 3278 m; at
+  // 2316, 3275 m, accepted.
+  expectSceneError(meshScene("file = \"square.obj\"\nscale = 2318\n"), 5,
+                   {"triangle 1 is 3278 m long once scaled and placed, more than 2^15 = 32768 times the smallest "
+                    "sphere's radius (0.1 m)", "split it into triangles at most 3277 m long", "(the mesh of [[wall]] #1"},
+                   sq);
+  EXPECT_NO_THROW((void)readSceneFile(writeFile("scene.toml", meshScene("file = \"square.obj\"\nscale = 2316\n"))));
   // A problem inside the mesh file: its file and line, and the wall that reads it.
   const std::string bad = writeFile("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
   expectSceneError(meshScene("file = \"bad.obj\"\n"), 3, {"index 3", "(the mesh of [[wall]] #1 ("}, bad);
