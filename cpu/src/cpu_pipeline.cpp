@@ -81,9 +81,9 @@ void CpuPipeline::load(const World& world) {
   m_fullLimit = skinClosureLimit(m_skin, w.maxRadius, periodicReach);
   m_nearSkin = kNearSkinFraction * m_skin;
   m_nearLimit = skinClosureLimit(m_nearSkin, w.maxRadius, periodicReach);
-  // Too thin to help, or a law whose history lives beside the candidate list: the forces read
-  // the candidate list.
-  if (!(m_nearLimit > 0.0f) || m_history) m_nearSkin = 0.0f;
+  // Too thin to help: the forces read the candidate list. (Under a law with history the near
+  // list's entries find their ξ beside the candidate list, StepView::historySlot.)
+  if (!(m_nearLimit > 0.0f)) m_nearSkin = 0.0f;
   m_listBuilt = false;
   if (m_history) keepLoadedHistory(s.contacts);
   m_mesh = kernelMesh(world.params, m_frame);  // from the world's scene and the run's frame, as the guard's

@@ -236,10 +236,10 @@ class CpuPipeline final : public HaloPipeline {
   std::vector<Vec3f> m_meshHist;
   float m_skin = 0.0f;
   bool m_needRebuild = true;
-  // The near list (kernels/contact_list.hpp fillNear), compact.
-  std::vector<std::uint32_t> m_nearOffsets, m_near, m_nearRoom;
-  std::vector<std::uint32_t> m_owner;  // the particle of each entry of contactListView(); empty
-                                       // under the laws with history (StepView::listOwner)
+  // The near list (kernels/contact_list.hpp fillNear), compact; under a law with history the
+  // candidate entry of each of its entries, where its ξ is (StepView::historySlot).
+  std::vector<std::uint32_t> m_nearOffsets, m_near, m_nearRoom, m_nearSlot, m_nearSlotRoom;
+  std::vector<std::uint32_t> m_owner;  // the particle of each entry of contactListView() (StepView::listOwner)
   float m_nearSkin = 0.0f;     // 0: no near list
   float m_fullLimit = 0.0f;    // the candidate list holds while m_closed + closure < this
   float m_nearLimit = 0.0f;    // the near list holds while its interval's closure < this

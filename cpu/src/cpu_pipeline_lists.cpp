@@ -62,13 +62,11 @@ void CpuPipeline::rebuild() {
   m_listBuilt = true;
   m_closed = 0.0;
   m_rebuildTime = m_time;
-  if (m_nearSkin > 0.0f)
+  if (m_nearSkin > 0.0f) {
     fillNearList();
-  else if (m_law == ContactLaw::Report) {
+  } else {
     m_owner.resize(m_cand.size());
     forEach(n, kGrain, [&](std::uint32_t i) { ownRow(m_candOffsets, i); });
-  } else {  // the laws with history go particle by particle: no owners
-    m_owner.clear();
   }
   sec[int(Phase::List)] += since(t0);
   m_needRebuild = false;
@@ -124,26 +122,35 @@ Drift CpuPipeline::driftSinceRebuild() {
 }
 
 // The near list, compact (its rows one after the other), with each entry's particle
-// (StepView::listOwner): first at the candidate rows' offsets, then compacted.
+// (StepView::listOwner) and, under a law with history, its candidate entry (historySlot; the
+// entries left out forget their ξ, fillNear()): first at the candidate rows' offsets, then
+// compacted.
 void CpuPipeline::fillNearList() {
   const std::uint32_t n = m_world.numParticles();
   std::uint32_t* room = tumble::detail::grow(m_nearRoom, m_cand.size());
+  std::uint32_t* slotRoom = m_history ? tumble::detail::grow(m_nearSlotRoom, m_cand.size()) : nullptr;
+  Vec3f* hist = m_history ? m_hist.data() : nullptr;
   std::uint32_t* count = tumble::detail::grow(m_count, std::size_t(n) + 1);
   const CandidateListView full = compactList(m_candOffsets.data(), m_cand.data());
   const PosRow* pos = m_pos[m_cur].data();
   if (m_periodic.axes != 0)
     forEach(n, kGrain, [&](std::uint32_t i) {
-      count[i] = fillNear<true>(pos, full, m_nearSkin, room, i, m_periodic) - m_candOffsets[i];
+      count[i] = fillNear<true>(pos, full, m_nearSkin, room, i, m_periodic, hist, slotRoom) - m_candOffsets[i];
     });
   else
-    forEach(n, kGrain, [&](std::uint32_t i) { count[i] = fillNear(pos, full, m_nearSkin, room, i) - m_candOffsets[i]; });
+    forEach(n, kGrain, [&](std::uint32_t i) {
+      count[i] = fillNear(pos, full, m_nearSkin, room, i, PeriodicBox{}, hist, slotRoom) - m_candOffsets[i];
+    });
   count[n] = 0;
   m_nearOffsets.resize(std::size_t(n) + 1);
   scanCounts(count, std::size_t(n) + 1, m_nearOffsets.data());
   m_near.resize(m_nearOffsets[n]);
   m_owner.resize(m_nearOffsets[n]);
+  m_nearSlot.resize(m_history ? m_nearOffsets[n] : 0);
   forEach(n, kGrain, [&](std::uint32_t i) {
-    std::copy(room + m_candOffsets[i], room + m_candOffsets[i] + count[i], m_near.data() + m_nearOffsets[i]);
+    const std::uint32_t from = m_candOffsets[i], to = m_nearOffsets[i];
+    std::copy(room + from, room + from + count[i], m_near.data() + to);
+    if (slotRoom != nullptr) std::copy(slotRoom + from, slotRoom + from + count[i], m_nearSlot.data() + to);
     ownRow(m_nearOffsets, i);
   });
 }

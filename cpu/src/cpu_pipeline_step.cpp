@@ -128,7 +128,8 @@ StepView CpuPipeline::stepView() {
                   m_mesh.view(m_meshPoses),
                   MeshListView{m_meshOffsets.data(), m_meshTri.data(), m_meshHist.data()},
                   m_perBody ? m_bodyRef.data() : nullptr,
-                  m_owner.empty() ? nullptr : m_owner.data()};
+                  m_owner.empty() ? nullptr : m_owner.data(),
+                  m_history && m_nearSkin > 0.0f ? m_nearSlot.data() : nullptr};
 }
 
 }  // namespace tumble::cpu::impl

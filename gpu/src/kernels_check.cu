@@ -55,14 +55,16 @@ __global__ void movingMeshCheckKernel(StepView v, ForceParams fp, std::uint32_t*
   count[i] = c + f.contacts;
 }
 
-// The CPU's body batch (bodyForces(), one body per thread here), which the CUDA pipeline does
+// The CPU's body batch (bodyForces(), one body per thread here; the report's law and one with
+// history), which the CUDA pipeline does
 // not instantiate (stepBody<…, kBodyBatch = false>), and the particle pass's debug and history
 // paths.
 __global__ void bodyBatchCheckKernel(StepView v, ForceParams fp, DebugForcesView dbg, Vec3f* out) {
   const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= v.numBodies) return;
   Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
-  const std::uint32_t n = bodyForces<true, false, false>(v, fp, dbg, v.bodies[k], &F, &T);
+  const std::uint32_t n = bodyForces<true, ContactLaw::Report, false, false>(v, fp, dbg, v.bodies[k], &F, &T) +
+                          bodyForces<true, ContactLaw::HookeHistory, false, false>(v, fp, dbg, v.bodies[k], &F, &T);
   const BodyRow& b = v.bodies[k];
   const ParticleForce h = particleForce<true, true, ContactLaw::HertzMindlin>(v, fp, dbg, b, b.first);
   out[k] = F + T + h.f + Vec3f{float(n), 0.0f, 0.0f};

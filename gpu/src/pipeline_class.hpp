@@ -232,7 +232,8 @@ class CudaPipeline final : public HaloPipeline {
                     meshView(),
                     MeshListView{m_meshOffsets.data(), m_meshTri.data(), hasMesh() ? m_meshHist.data() : nullptr},
                     nullptr,   // the skin test per particle (buildPos)
-                    nullptr};  // the list's rows are walked one by one (no owners)
+                    nullptr,   // the list's rows are walked one by one (no owners)
+                    nullptr};  // the list is the candidate list: ξ of entry e at history[e]
   }
 
   // As CpuPipeline::stepOnce, `count` times in a row with no host round trip between the steps:

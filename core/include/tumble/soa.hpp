@@ -199,8 +199,9 @@ struct StepView {
   std::uint8_t* touching;        ///< written by the forces: min(255, contacts) per particle, so that
                                  ///< pairs() need not test the particles that touch nothing
   std::uint32_t numParticles;
-  /// Contact laws with a history: ξ of each entry of `list` (the candidate list), zero for a
-  /// pair that does not touch; nullptr otherwise.
+  /// Contact laws with a history: ξ of each entry of the candidate list, zero for a pair that
+  /// does not touch; nullptr otherwise. Entry e of `list` has its ξ at history[historySlot[e]]
+  /// when `list` is the CPU's near list (its candidate entries, fillNear()), else at history[e].
   Vec3f* history = nullptr;
   bool rotateSpheres = false;    ///< single-sphere bodies rotate too (ContactParams::rotatesSpheres)
   /// hertz-mindlin: the coefficients of each pair of materials a, b at hertz[a (M + 1) + b], the
@@ -231,6 +232,14 @@ struct StepView {
   /// entries, so that a body's rows are walked as one run (bodyForces()); nullptr otherwise (the
   /// CPU under a law with history, the CUDA pipeline).
   const std::uint32_t* listOwner = nullptr;
+  /// See `history`: the candidate entry of each entry of `list`; nullptr when `list` is the
+  /// candidate list (the CUDA pipeline's, the CPU's without a near list).
+  const std::uint32_t* historySlot = nullptr;
 };
+
+/// ξ of entry e of v.list (StepView::history, historySlot).
+TUMBLE_HD_INLINE Vec3f& historyOf(const StepView& v, std::uint32_t e) {
+  return v.history[v.historySlot != nullptr ? v.historySlot[e] : e];
+}
 
 }  // namespace tumble

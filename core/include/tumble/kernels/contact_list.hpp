@@ -364,9 +364,17 @@ TUMBLE_HD_INLINE bool listStillValid(const Drift& d, float limit) { return closu
 /// the forces may iterate the near list instead of the candidate list: the same contacts in the
 /// same order, so the same bits. It is refreshed from the candidate list (point 4 above).
 /// kPeriodic: the distances are minimum images in `box` (kernels/periodic.hpp).
+///
+/// Laws with a history (`history`: ξ per candidate entry; nullptr otherwise): the near entry's
+/// candidate entry goes to nearSlot (StepView::historySlot), and a partner left out forgets its
+/// history now. It does not touch now (r_i + g + r_j ≥ r_i + r_j in float too), so the forces
+/// over the candidate list would zero its ξ at this step (particleForce()); left out, it is not
+/// visited again before the next refresh, where it is left out or taken back with ξ = 0 as the
+/// candidate list's pass would have it: the same histories, so the same bits.
 template <bool kPeriodic = false>
 TUMBLE_HD_INLINE std::uint32_t fillNear(const PosRow* pos, const CandidateListView& l, float g, std::uint32_t* nearCand,
-                                        std::uint32_t i, const PeriodicBox& box = PeriodicBox{}) {
+                                        std::uint32_t i, const PeriodicBox& box = PeriodicBox{}, Vec3f* history = nullptr,
+                                        std::uint32_t* nearSlot = nullptr) {
   const PosRow pi = pos[i];
   std::uint32_t out = l.begin[i];
   for (std::uint32_t e = l.begin[i]; e < l.end[i]; ++e) {
@@ -378,6 +386,10 @@ TUMBLE_HD_INLINE std::uint32_t fillNear(const PosRow* pos, const CandidateListVi
       near = spheresOverlap(box, pi.x, pi.y, pi.z, pi.r + g, pj.x, pj.y, pj.z, pj.r);
     else
       near = spheresOverlap(pi.x, pi.y, pi.z, pi.r + g, pj.x, pj.y, pj.z, pj.r);
+    if (history != nullptr) {
+      nearSlot[out] = e;
+      if (!near) history[e] = Vec3f{0.0f, 0.0f, 0.0f};
+    }
     out += near ? 1u : 0u;
   }
   return out;

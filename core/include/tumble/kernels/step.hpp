@@ -300,7 +300,7 @@ TUMBLE_HD_INLINE ParticleSums<kDebug> zeroSums() {
 
 /// The contact of particle i (at pi, of body `self`) with particle j of another body, entry e of
 /// i's row, that touches: d = x_i − x_j and |d|² as the predicate computed them. Its force and
-/// torque (and rolling torque) are added to *sum; a law with history updates v.history[e].
+/// torque (and rolling torque) are added to *sum; a law with history updates its ξ (historyOf()).
 template <bool kDebug, bool kClumps, ContactLaw kLaw>
 TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                  const PosRow& pi, std::uint32_t e, std::uint32_t j, Vec3f d, float d2,
@@ -314,7 +314,7 @@ TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const
   if constexpr (kLaw == ContactLaw::HookeHistory) {
     const float meff = 1.0f / (self.invMass + other.invMass);
     const ContactSide& si = side.get(v, self, i);
-    cf = hookeHistoryForces<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ, meff, fp.history, fp.dt, &v.history[e]);
+    cf = hookeHistoryForces<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ, meff, fp.history, fp.dt, &historyOf(v, e));
     if (fp.rollingFriction > 0.0f)
       out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, (pi.r * rj) / (pi.r + rj), meff, fp.rollingFriction,
                              fp.dt);
@@ -324,7 +324,7 @@ TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const
         v.hertz[materialPairIndex(materialOf(v.material, i), materialOf(v.material, j), v.numMaterials)];
     const ContactSide& si = side.get(v, self, i);
     cf = hertzMindlinForces(contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ), reff, meff, hp, fp.dt,
-                            &v.history[e]);
+                            &historyOf(v, e));
     if (hp.muR > 0.0f) out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
   } else {
     cf = contactForces<kClumps>(d, d2, pi.r, rj, side.get(v, self, i), sj, iBeforeJ, fp.contact);
@@ -395,6 +395,13 @@ TUMBLE_HD_INLINE bool touches(const StepView& v, const PosRow& pi, const PosRow&
     return spheresOverlap(pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r, &d->x, &d->y, &d->z, d2);
 }
 
+/// An open contact forgets its history: ξ of entry e of v.list zeroed (written only when it is
+/// not zero already).
+TUMBLE_HD_INLINE void forgetHistory(const StepView& v, std::uint32_t e) {
+  Vec3f& h = historyOf(v, e);
+  if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) h = Vec3f{0.0f, 0.0f, 0.0f};
+}
+
 /// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
 /// view (the candidate list, or on the CPU its near list) filtered by the exact predicate spheresOverlap() (the one the oracle uses), summed in
 /// the list's order (ascending scene index of the partner; addContact()); then the planes in their order (the
@@ -404,8 +411,7 @@ TUMBLE_HD_INLINE bool touches(const StepView& v, const PosRow& pi, const PosRow&
 ///
 /// kClumps: bodies rotate (some have several particles, or the law turns spheres). kLaw: the
 /// contact law; with a history (hooke-history, hertz-mindlin) the view's `history` holds ξ per
-/// list entry (the list is then the candidate list), updated in place and zeroed when the pair
-/// does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
+/// candidate entry (historyOf()), updated in place and zeroed when the pair does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
 /// kPeriodic: the pairs meet through their minimum image in the view's periodic box (the
 /// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
 /// kPosedMesh: some mesh wall moves (meshWallContacts()); a scene whose meshes stand still (or
@@ -423,10 +429,7 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     Vec3f d;
     float d2;
     if (!touches<kPeriodic>(v, pi, v.pos[j], &d, &d2)) {
-      if constexpr (kLaw != ContactLaw::Report) {  // an open contact forgets its history
-        const Vec3f h = v.history[e];
-        if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) v.history[e] = Vec3f{0.0f, 0.0f, 0.0f};
-      }
+      if constexpr (kLaw != ContactLaw::Report) forgetHistory(v, e);
       continue;
     }
     addContact<kDebug, kClumps, kLaw>(v, fp, self, i, pi, e, j, d, d2, side, &sum);
@@ -442,8 +445,8 @@ TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
   if (kClumps) T += pf.t;
 }
 
-/// particleForce() for the particles of body `self` at once (the CPU's pass, the report's law,
-/// a compact list with its owners, StepView::listOwner): the body's rows, one run of entries,
+/// particleForce() for the particles of body `self` at once (the CPU's pass, any law, a compact
+/// list with its owners, StepView::listOwner): the body's rows, one run of entries,
 /// are first filtered into a buffer of the touching entries with no branch per entry, then the
 /// contacts are summed particle by particle in row order (addContact()) and each particle
 /// finished in order (finishParticle()): particleForce()'s operations in its order, so the same
@@ -451,12 +454,13 @@ TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
 /// candidate loop's exit and its touch test, which goes either way about as often). A body with
 /// more than kBodyBatchParticles particles or kBodyBatch entries, or a list without owners, goes
 /// particle by particle. Adds each particle's force to F and T (addToBody()) and returns the
-/// number of contacts.
+/// number of contacts. A law with history: the filter zeroes the ξ of the entries that do not
+/// touch (forgetHistory()), the contacts update theirs; each entry has its own ξ, so the order
+/// of the two does not matter and the histories are particleForce()'s too.
 inline constexpr std::uint32_t kBodyBatch = 96, kBodyBatchParticles = 16;
-template <bool kClumps, bool kPeriodic, bool kPosedMesh>
+template <bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
 TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                           const BodyRow& self, Vec3f* F, Vec3f* T) {
-  constexpr ContactLaw kLaw = ContactLaw::Report;
   const std::uint32_t first = self.first, count = self.count;
   // A compact list: the body's rows are one run of entries. (Its ends are read again for the
   // loop below: kept live across the branch, they cost 5 % of the pass at 16k, measured.)
@@ -484,7 +488,11 @@ TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& 
     Hit& h = hits[numHits];
     h.e = e;
     h.k = i - first;
-    numHits += touches<kPeriodic>(v, v.pos[i], v.pos[v.list.cand[e]], &h.d, &h.d2) ? 1u : 0u;
+    const bool hit = touches<kPeriodic>(v, v.pos[i], v.pos[v.list.cand[e]], &h.d, &h.d2);
+    if constexpr (kLaw != ContactLaw::Report) {
+      if (!hit) forgetHistory(v, e);
+    }
+    numHits += hit ? 1u : 0u;
   }
   ParticleSums<false> sums[kBodyBatchParticles];
   for (std::uint32_t k = 0; k < count; ++k) sums[k] = zeroSums<false>();
@@ -552,8 +560,8 @@ TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f grav
 }
 
 /// Stages 3–7 and the next step's stage 1 for body k, in one pass (both pipelines' step, one
-/// writer per body): its particles' forces in order (particleForce(); with kBodyBatch, under the
-/// report's law without debug capture, the body batch, bodyForces(), which gives the same bits),
+/// writer per body): its particles' forces in order (particleForce(); with kBodyBatch, without
+/// debug capture, the body batch, bodyForces(), which gives the same bits),
 /// summed into its force and torque as they come (addToBody()), then finishBody(). The body's
 /// force and torque never leave the registers: no per-particle force is stored for a second
 /// pass. Returns the contacts its particles counted. kBodyBatch: the CPU pipeline, whose lists
@@ -565,8 +573,8 @@ TUMBLE_HD_INLINE std::uint32_t stepBody(const StepView& v, const ForceParams& fp
   const BodyRow& self = v.bodies[k];
   Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
   std::uint32_t contacts = 0;
-  if constexpr (kBodyBatch && !kDebug && kLaw == ContactLaw::Report) {
-    contacts = bodyForces<kClumps, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
+  if constexpr (kBodyBatch && !kDebug) {
+    contacts = bodyForces<kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
   } else {
     for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
       const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
