@@ -12,6 +12,7 @@
 
 #include "tumble/memory.hpp"
 #include "tumble/random.hpp"
+#include "tumble/run_memory.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble::scene_reader {
@@ -180,22 +181,25 @@ std::vector<std::uint32_t> SceneParser::shapesOf(const TableReader& r, const Sce
   return shapes;
 }
 
-/// Refuses `bodies` more bodies of at least `minSpheres` spheres each when the scene would
-/// pass 2^31 particles, or the run could not be held in memory (instead of bad_alloc later).
-/// `pouredBefore`: the bodies of earlier pours, whose particles m_numParticles already counts
-/// but scene.bodies does not hold.
+/// Refuses `bodies` more bodies of at least `minSpheres` spheres each (`pour`: bodies a [[pour]]
+/// adds during the run) when the scene would pass 2^31 particles, or when the run's peak memory
+/// (runMemoryEstimate(), with the bodies of the tables before) would not fit in the memory
+/// available: here, at the table that makes it too big, instead of bad_alloc later.
 void SceneParser::checkBodyBudget(const TableReader& r, const toml::node& at, const Scene& scene, std::uint64_t bodies,
-                                  std::size_t minSpheres, std::uint64_t pouredBefore) const {
+                                  std::size_t minSpheres, bool pour) const {
   if (m_numParticles + bodies * minSpheres > kMaxParticles) {
     r.fail(sourceOf(at), "the scene would have more than 2^31 particles (" +
                              std::to_string(m_numParticles + bodies * minSpheres) + " at least); use a smaller count");
   }
-  const std::uint64_t allBodies = scene.bodies.size() + pouredBefore + bodies, allParticles = m_numParticles + bodies * minSpheres;
-  if (const std::string shortfall = memoryShortfall(allBodies * (kRunBytesPerBody + sizeof(BodyDef)) +
-                                                    allParticles * kRunBytesPerParticle);
-      !shortfall.empty()) {
-    r.fail(sourceOf(at), "a run of " + std::to_string(allBodies) + " bodies and " + std::to_string(allParticles) +
-                             " particles needs at least " + shortfall.substr(6) + "; use a smaller count");
+  // m_numParticles counts the particles of earlier pours too, which scene.bodies does not hold.
+  const std::uint64_t placed = scene.bodies.size() + (pour ? 0 : bodies);
+  const std::uint64_t poured = scene.pourBodies.size() + (pour ? bodies : 0);
+  const std::uint64_t particles = m_numParticles + bodies * minSpheres;
+  const std::uint64_t need = runMemoryEstimate(runSizeOf(scene, placed, poured, particles));
+  if (!memoryShortfall(need).empty()) {
+    r.fail(sourceOf(at), "a run of " + std::to_string(placed + poured) + " bodies and " + std::to_string(particles) +
+                             " particles needs about " + bytesText(need) + " at its peak (docs/scenes.md#memory), more than " +
+                             availableMemoryText() + "; use a smaller count");
   }
 }
 

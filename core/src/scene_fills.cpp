@@ -38,7 +38,7 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
   std::size_t minSpheres = std::numeric_limits<std::size_t>::max();
   for (std::uint32_t s : f.shapes) minSpheres = std::min(minSpheres, scene.shapes[s].spheres.size());
   if (f.count > kMaxParticles) r.fail(sourceOf(countNode), "count asks for more than 2^31 bodies");
-  checkBodyBudget(r, countNode, scene, f.count, minSpheres, scene.pourBodies.size());
+  checkBodyBudget(r, countNode, scene, f.count, minSpheres, kind == "pour");
   const toml::node& regionNode =
       r.require("region", "where to put them: region = \"box\", \"cylinder\" or \"mesh\"");
   const std::string region = r.string(regionNode, "region");

@@ -344,7 +344,7 @@ class SceneParser {
   void readBodies(Scene& scene);
   std::vector<std::uint32_t> shapesOf(const TableReader& r, const Scene& scene) const;
   void checkBodyBudget(const TableReader& r, const toml::node& at, const Scene& scene, std::uint64_t bodies,
-                       std::size_t minSpheres, std::uint64_t pouredBefore = 0) const;
+                       std::size_t minSpheres, bool pour = false) const;
   void readBody(Scene& scene, const toml::table& t, std::size_t index);
   void readGroup(Scene& scene, const toml::table& t, std::size_t index);
 

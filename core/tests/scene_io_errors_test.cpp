@@ -338,13 +338,19 @@ TEST(SceneIoErrors, GroundDampingBeyondSinglePrecision) {
 }
 
 // A lattice the machine could never run is refused at its count, at once, instead of ending in
-// std::bad_alloc after minutes (2e9 bodies need over a terabyte).
+// std::bad_alloc after minutes (2e9 bodies need over 3 TB), with the sizes: the bodies,
+// the particles, the estimate of the run's peak (tumble/run_memory.hpp) and what is available.
+// So is a pour, whose bodies the run holds by the end.
 TEST(SceneIoErrors, ALatticeTooBigForTheMemory) {
   const auto have = tumble::availableMemory();
   if (!have) GTEST_SKIP() << "no /proc/meminfo";
   if (*have > (std::uint64_t{1} << 40)) GTEST_SKIP() << "this machine has more than a terabyte available";
   expectError(withExtra("[[group]]\nshape = \"ball\"\ncount = [1000, 1000, 2000]\nspacing = 1\n"), 14,
-              {"a run of 2000000001 bodies", "needs at least", "this machine has available", "use a smaller count"});
+              {"a run of 2000000001 bodies and 2000000001 particles needs about 3", " GiB at its peak",
+               "more than the ", "this machine has available", "use a smaller count"});
+  expectError(withExtra("[[pour]]\nshape = \"ball\"\ncount = 2000000000\nrate = 1\nregion = \"box\"\n"
+                        "min = [0, 0, 0]\nmax = [1, 1, 1]\n"),
+              14, {"[[pour]] #1", "a run of 2000000001 bodies and 2000000001 particles needs about ", " GiB at its peak"});
 }
 
 TEST(SceneIoErrors, WholeFile) {

@@ -1,20 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @file memory.hpp
-/// Early, clear refusals of inputs too big for the machine: a rough lower bound of what a run
-/// needs, compared with what the system says is available, instead of std::bad_alloc after
-/// minutes.
+/// Early, clear refusals of inputs too big for the machine: what a run or a reader needs (a
+/// run's: runMemoryEstimate(), tumble/run_memory.hpp), compared with what the system says is
+/// available, instead of std::bad_alloc after minutes.
 #pragma once
 #include <cstdint>
 #include <optional>
 #include <string>
 
 namespace tumble {
-
-/// The least a run holds per body and per particle (scene, world and pipeline rows: two body
-/// rows of 128 bytes, four particle rows of 16, the tables), in bytes. A lower bound: detection
-/// and recording need more.
-inline constexpr std::uint64_t kRunBytesPerBody = 400;
-inline constexpr std::uint64_t kRunBytesPerParticle = 150;
 
 /// What this process can still allocate, in bytes: MemAvailable from /proc/meminfo, lowered to
 /// the room left under the address-space and data limits (`ulimit -v`, RLIMIT_AS and
