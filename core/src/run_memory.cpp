@@ -110,13 +110,10 @@ std::vector<MemoryItem> runMemoryItems(const RunSize& s) {
   else
     add("CpuPipeline m_buildPos: the skin test's reference per particle (PosRow)", n, double(sizeof(PosRow)));
   // Offsets of the per-particle lists (n + 1 each): the candidate list, the mesh list and the
-  // mesh springs kept across a rebuild; the near list's under the report's law; the contact
-  // histories kept across a rebuild with their count (grown) under the laws with history.
-  add("CpuPipeline m_candOffsets, m_meshOffsets, m_meshKeep.offsets, m_touching", n, 3 * kU32 + 1);
-  if (s.history)
-    add("CpuPipeline m_keep.offsets, m_keep.count (grown)", n, kU32 + kGrow * kU32);
-  else
-    add("CpuPipeline m_nearOffsets", n, kU32);
+  // mesh springs kept across a rebuild; the near list's; the contact histories kept across a
+  // rebuild with their count (grown) under the laws with history.
+  add("CpuPipeline m_candOffsets, m_meshOffsets, m_meshKeep.offsets, m_nearOffsets, m_touching", n, 4 * kU32 + 1);
+  if (s.history) add("CpuPipeline m_keep.offsets, m_keep.count (grown)", n, kU32 + kGrow * kU32);
   // Grow-only scratch: the detection's input (positions and grown radii), the counts of every
   // scan; per body the reordering's Morton keys, values, sorted keys, permutation and new first
   // particles, and its radix sort's temp (the keys and values again, and about a byte a body
@@ -143,21 +140,22 @@ std::vector<MemoryItem> runMemoryItems(const RunSize& s) {
 
   // The candidate list (both directions) and its sort keys.
   add("CpuPipeline m_cand, m_candKey (grown): per candidate-list entry", entries, kU32 + kGrow * kU32);
+  // The near list, first at the candidate rows' offsets (grown), then compact with each entry's
+  // particle (m_owner); it holds about the touching pairs. Under a law with history each of its
+  // entries also has its candidate entry (m_nearSlot, and its room).
+  const double nearBytes = s.history ? 2.0 : 1.0;
+  add("CpuPipeline m_nearRoom (and m_nearSlotRoom) (grown): per candidate-list entry", entries, nearBytes * kGrow * kU32);
+  add("CpuPipeline m_near, m_owner (and m_nearSlot): per near-list entry (both directions of a contact)", 2.0 * contacts,
+      (nearBytes + 1.0) * kU32);
   if (s.history) {
-    // The laws with history read the candidate list itself (no near list), with ξ per entry;
-    // the histories kept across a rebuild (the non-zero ones: both directions of each
-    // contact, key and ξ); the guard's and Run's read-outs (ContactHistory per contact) and
-    // readRows()'s scratch (key and ξ per contact, offsets per particle).
+    // ξ per candidate-list entry; the histories kept across a rebuild (the non-zero ones: both
+    // directions of each contact, key and ξ); the guard's and Run's read-outs (ContactHistory
+    // per contact) and readRows()'s scratch (key and ξ per contact, offsets per particle).
     add("CpuPipeline m_hist: ξ per candidate-list entry (Vec3f)", entries, double(sizeof(Vec3f)));
     add("CpuPipeline m_keep.key, m_keep.hist: both directions of each contact", 2.0 * contacts, kU32 + sizeof(Vec3f));
     add("BodyState::contacts ×2 (the guard's, Run's) and readRows() scratch: per contact", contacts,
         2.0 * sizeof(ContactHistory) + kU32 + sizeof(Vec3f));
     add("readRows() offsets", n, kU32);
-  } else {
-    // The report's law: the near list, first at the candidate rows' offsets (grown), then
-    // compact with each entry's particle (m_owner); it holds about the touching pairs.
-    add("CpuPipeline m_nearRoom (grown): per candidate-list entry", entries, kGrow * kU32);
-    add("CpuPipeline m_near, m_owner: per near-list entry (both directions of a contact)", 2.0 * contacts, 2 * kU32);
   }
 
   // The guard (RunGuard): the particle positions, each body's rounding on two axes, and its
