@@ -99,6 +99,8 @@ class CpuPipeline final : public HaloPipeline {
 
   std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const override;
 
+  std::vector<TrafficLine> stepTraffic() const override;
+
  private:
   const std::vector<std::uint32_t>& internalBodies() const;
 

@@ -132,4 +132,48 @@ StepView CpuPipeline::stepView() {
                   m_history && m_nearSkin > 0.0f ? m_nearSlot.data() : nullptr};
 }
 
+// The arrays of the fused pass (advance(): stepBody() per body, the body batch) a step without
+// a rebuild or refresh reads and writes, each counted once per read and once per write at its
+// size now (docs/performance.md, "The memory floor"). What a step reads only for some
+// particles is counted whole where most particles read it (a partner's rows are counted with
+// the partner); the scene index (m_orig: coincident centres only) and the masses (pulls only) are
+// left out.
+std::vector<TrafficLine> CpuPipeline::stepTraffic() const {
+  const double n = m_world.numParticles(), nb = double(m_bodies.size());
+  const bool nearList = m_nearSkin > 0.0f;
+  const double entries = double(nearList ? m_near.size() : m_cand.size());
+  const double touching = 2.0 * double(m_stats.numPairs);  // both directions of each contact
+  constexpr double kU32 = sizeof(std::uint32_t), kF32 = sizeof(float);
+  std::vector<TrafficLine> t;
+  const auto add = [&t](const char* what, double bytes) {
+    if (bytes > 0.0) t.push_back(TrafficLine{what, bytes});
+  };
+  add("particle positions (PosRow: this step's read, the next written)", 2.0 * n * sizeof(PosRow));
+  add("own rows (OwnRow: body-frame offset, ground damping; read)", n * sizeof(OwnRow));
+  add("radii (read for the next positions)", n * kF32);
+  if (m_clumps) add("body of each particle (read: the partners' bodies)", n * kU32);
+  add("contacts per particle (written)", n * sizeof(std::uint8_t));
+  add("the list's row offsets (read)", (n + 1.0) * kU32);
+  add(nearList ? "near-list entries (read)" : "candidate-list entries (read)", entries * kU32);
+  if (!m_owner.empty()) add("the entries' particles (read: the body batch)", entries * kU32);
+  if (m_history) {
+    if (nearList) add("the near entries' candidate entries (read: where their xi is)", entries * kU32);
+    add("xi of the list's entries (read) and of the contacts (written)", (entries + touching) * sizeof(Vec3f));
+  }
+  if (!m_material.empty()) add("materials (read)", n * sizeof(std::uint16_t));
+  add("body rows (BodyRow: this step's read, the next written)", 2.0 * nb * sizeof(BodyRow));
+  add("body static rows (BodyStatic: read)", nb * sizeof(BodyStatic));
+  if (m_perBody)
+    add("the skin test's reference per body (BodyRef: read)", nb * sizeof(BodyRef));
+  else
+    add("the skin test's reference positions (PosRow: read)", n * sizeof(PosRow));
+  add("plane springs (two floats per plane and particle: read and written)",
+      2.0 * double(m_gtx.size() + m_gty.size()) * kF32);
+  add("plane damping of the walls (read)", double(m_planeDamping.size()) * kF32);
+  if (m_hasMesh)
+    add("mesh rows: offsets and triangles (read), springs (read and written)",
+        (n + 1.0) * kU32 + double(m_meshTri.size()) * kU32 + 2.0 * double(m_meshHist.size()) * sizeof(Vec3f));
+  return t;
+}
+
 }  // namespace tumble::cpu::impl

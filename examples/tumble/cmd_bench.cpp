@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "tumble/cpu/bandwidth.hpp"
 #include "tumble/factory.hpp"
 #include "tumble/pipeline.hpp"
 #include "tumble/scene_io.hpp"
@@ -40,6 +41,7 @@ struct Row {
   int threads;
   double meanMs, medianMs;
   StepStats stats;
+  double trafficBytes;  // Pipeline::stepTraffic(), summed (0: not counted)
 };
 
 Row benchOne(const World& world, const std::string& name, const std::string& pl, int threads,
@@ -66,7 +68,9 @@ Row benchOne(const World& world, const std::string& name, const std::string& pl,
   }
   const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::sort(ms.begin(), ms.end());
-  Row r{name, world.numParticles(), pl, threads, total / o.steps, ms[ms.size() / 2], p->stats()};
+  double traffic = 0.0;
+  for (const TrafficLine& l : p->stepTraffic()) traffic += l.bytes;
+  Row r{name, world.numParticles(), pl, threads, total / o.steps, ms[ms.size() / 2], p->stats(), traffic};
   std::fprintf(stderr, " %.3f ms/step, %.1f ns per particle-step\n", r.meanMs, 1e6 * r.meanMs / r.n);
   return r;
 }
@@ -94,19 +98,42 @@ void bench(BenchOptions o) {
   for (const auto& [name, world] : worlds)
     for (const auto& pl : o.pipelines)
       for (int t : o.threads) rows.push_back(benchOne(world, name, pl, t, o));
+  // The memory floor of the CPU rows: their bytes per step over this machine's streaming
+  // bandwidth, measured now on the same threads (docs/performance.md, "The memory floor").
+  std::vector<cpu::Bandwidth> bandwidths;
+  for (int t : o.threads) {
+    if (std::none_of(rows.begin(), rows.end(), [&](const Row& r) { return r.threads == t && r.trafficBytes > 0.0; }))
+      continue;
+    std::fprintf(stderr, "bench: streaming bandwidth on %s threads...", t ? std::to_string(t).c_str() : "all");
+    bandwidths.push_back(cpu::streamingBandwidth(t));
+    bandwidths.back().threads = t;
+    std::fprintf(stderr, " %.1f GB/s\n", 1e-9 * bandwidths.back().bytesPerSecond);
+  }
+  const auto bandwidthOf = [&](int t) {
+    for (const cpu::Bandwidth& b : bandwidths)
+      if (b.threads == t) return b.bytesPerSecond;
+    return 0.0;
+  };
 
   std::printf("Full steps (contacts, integration and the rebuilds of the candidate list they need), timed over "
               "steps %d to %d; threads 0 = all cores.\n",
               o.warmup, o.warmup + o.steps);
   std::printf("ms/step: mean over the window (rebuilds included), stepped in calls of 16 steps; median ms: the "
               "median of the calls, per step; ns: per particle-step; rebuilds and near-list refreshes per 1000 "
-              "steps; phase columns: mean ms per step.\n\n");
+              "steps; phase columns: mean ms per step; floor: the bytes a step moves per particle "
+              "(Pipeline::stepTraffic()), the time they take at the streaming bandwidth below, and the step as a "
+              "multiple of it.\n");
+  for (const cpu::Bandwidth& b : bandwidths)
+    std::printf("Streaming bandwidth, threads %d: %.1f GB/s (bytes read + written; the best of 5 copies of %.0f MiB)\n",
+                b.threads, 1e-9 * b.bytesPerSecond, double(b.bufferBytes) / double(1u << 20));
+  std::printf("\n");
   std::printf("| scene | particles | report (Intel Iris 6100) | pipeline | threads | ms/step | median ms | ns | "
               "speedup vs cpu | contacts | skin | rebuilds/1000 | near/1000 |");
   for (int ph = 0; ph < kNumPhases; ++ph) std::printf(" %s |", toString(static_cast<Phase>(ph)));
+  std::printf(" floor B | floor ns | x floor |");
   std::printf("\n|---|---|---|---|---|---|---|---|---|---|---|---|---|");
   for (int ph = 0; ph < kNumPhases; ++ph) std::printf("---|");
-  std::printf("\n");
+  std::printf("---|---|---|\n");
   for (const Row& r : rows) {
     const char* rep = r.n == 16000 ? "3.9 ms" : r.n == 128000 ? "12 ms" : r.n == 960000 ? "87 ms" : "-";
     // Speedup against the fastest CPU row of the same scene.
@@ -121,7 +148,13 @@ void bench(BenchOptions o) {
                 r.stats.per1000(r.stats.numNearRefreshes));
     for (int ph = 0; ph < kNumPhases; ++ph)
       std::printf(" %.3f |", 1e3 * r.stats.seconds[ph] / double(std::max<std::uint64_t>(1, r.stats.steps)));
-    std::printf("\n");
+    const double bw = bandwidthOf(r.threads);
+    if (r.trafficBytes > 0.0 && bw > 0.0) {
+      const double floorNs = 1e9 * r.trafficBytes / bw / r.n, stepNs = 1e6 * r.meanMs / r.n;
+      std::printf(" %.0f | %.2f | %.1f |\n", r.trafficBytes / r.n, floorNs, stepNs / floorNs);
+    } else {
+      std::printf(" - | - | - |\n");
+    }
   }
 }
 

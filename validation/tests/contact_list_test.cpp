@@ -13,6 +13,7 @@
 #include "tumble/factory.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene_io.hpp"
+#include "tumble/soa.hpp"
 #include "tumble/validation/brute_force.hpp"
 #include "tumble/validation/compare.hpp"
 #include "tumble/validation/scenes.hpp"
@@ -411,3 +412,42 @@ TEST_P(ContactListTest, SkinIsReusedAndCounted) {
 
 INSTANTIATE_TEST_SUITE_P(Backends, ContactListTest, ::testing::ValuesIn(compiledBackends()),
                          tumble_test::backendName);
+
+// The bytes of a step (Pipeline::stepTraffic(), the memory floor of `tumble bench`; issue 32,
+// item 3) against the arrays of two single spheres that touch each other and the ground, counted
+// here from the rows' sizes: each array the pass reads once at its size, once more if it writes
+// it. Under hooke-history the bodies rotate (their particles' bodies are read) and each near
+// entry reads its candidate entry and its ξ, the contacts write theirs.
+TEST(StepTraffic, CountsTheArraysOfThePass) {
+  Scene s;
+  s.dt = 1e-4f;
+  s.contact = {1e3f, 0.5f, 0.2f};
+  s.ground.enabled = true;
+  s.shapes.push_back(ShapeDef{"ball", {SphereDef{{0, 0, 0}, 0.5f, 1.0f, 0.5f}}});
+  for (float x : {0.0f, 0.9f}) {
+    BodyDef b;
+    b.position = {x, 0.0f, 0.45f};
+    s.bodies.push_back(b);
+  }
+  for (const bool history : {false, true}) {
+    SCOPED_TRACE(history ? "hooke-history" : "report");
+    const World w = World::fromScene(history ? withHookeHistory(s) : s);
+    auto p = makePipeline(Backend::Cpu);
+    p->load(w);
+    p->step(1);
+    ASSERT_EQ(p->stats().numPairs, 1u);
+    const double n = 2, nb = 2, entries = 2, contacts = 2;  // the pair, from both sides
+    double want = 2 * n * sizeof(PosRow) + n * sizeof(OwnRow) + n * 4 /* radii */ + n * 1 /* contacts */ +
+                  (n + 1) * 4 /* offsets */ + entries * 4 /* near entries */ + entries * 4 /* their particles */ +
+                  2 * nb * sizeof(BodyRow) + nb * sizeof(BodyStatic) + n * sizeof(PosRow) /* skin reference */ +
+                  2 * 2 * n * 4 /* the ground's springs, read and written */;
+    if (history) want += n * 4 /* bodies of the particles */ + entries * 4 /* candidate entries */ +
+                         (entries + contacts) * sizeof(Vec3f);
+    double got = 0.0;
+    for (const TrafficLine& l : p->stepTraffic()) {
+      std::printf("  %-90s %6.0f B\n", l.what.c_str(), l.bytes);
+      got += l.bytes;
+    }
+    EXPECT_EQ(got, want);
+  }
+}

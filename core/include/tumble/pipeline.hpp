@@ -105,6 +105,13 @@ struct StepStats {
   double rebuildsPer1000() const { return per1000(numRebuilds); }
 };
 
+/// One array a step reads or writes, for the memory floor (Pipeline::stepTraffic()): what it is
+/// and the bytes the step moves for it (its size once per read or write).
+struct TrafficLine {
+  std::string what;
+  double bytes = 0.0;
+};
+
 /// Per-particle debug data for the debug recording: velocity and the five forces.
 /// The five force kinds of ParticleDebug::force, in its order.
 inline constexpr const char* kDebugForceNames[5] = {"repulsion", "damping", "shear", "ground", "friction"};
@@ -172,6 +179,12 @@ class Pipeline {
     (void)law, (void)out;
     return false;
   }
+  /// The bytes a step without a rebuild or refresh must move through memory, array by array:
+  /// each array the step's pass reads counted once at its size, and once more if it writes it
+  /// (the floor of a step bound by bandwidth: `tumble bench` divides it by a measured streaming
+  /// bandwidth). Counted from the pipeline's arrays as they are now (after a step). Empty where
+  /// the pipeline does not count them (the default).
+  virtual std::vector<TrafficLine> stepTraffic() const { return {}; }
   /// Broadphase alone on a particle cloud: every pair i < j of different bodies with
   /// |x_i − x_j| < r_i + r_j, sorted. Throws tumble::Error on NaN/inf or radius ≤ 0.
   virtual std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) = 0;
