@@ -3,6 +3,12 @@
 # tumble against LAMMPS on the same starting state, on this machine, in one sitting.
 #
 #   bench/side_by_side.sh [N ...]          N in 16000 128000 960000 (default: 16000 128000)
+#   MODEL=hooke-history bench/side_by_side.sh [N ...]
+#
+# MODEL: tumble's contact law. hooke-history (the default) is LAMMPS's own model, the same
+# constants as the deck (k_n 2e4, k_t 5714.2857, gamma_n 86.17, gamma_t 43.085, mu 0.5): like
+# for like. report is the report's law (no tangential history) against the same LAMMPS run: a
+# different model, labelled so in the output (the pairing of earlier sittings).
 #
 # For each N: writes the peers' clump state for both codes (bench/peers/clumps.py), then
 # alternates, REPS times: tumble (tumble bench --scene, THREADS threads) and LAMMPS
@@ -11,13 +17,18 @@
 # 0.1 with "check yes") and detecting every step (tumble --skin 0, LAMMPS skin 0 rebuilt every
 # step). Prints ns per particle-step, the medians and the LAMMPS/tumble ratio as Markdown.
 #
-# Environment: TUMBLE (default build/examples/tumble), REPS (3), THREADS (2), WORK (/var/tmp/tumble-sbs),
+# Environment: MODEL (hooke-history), TUMBLE (default build/examples/tumble), REPS (3), THREADS (2), WORK (/var/tmp/tumble-sbs),
 # SKIN_ONLY=1 (skip the every-step pairing). Installs lammps and openmpi-bin with apt when missing.
 # Run it on an idle machine (uptime): the rows of a contended run mean nothing.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 tumble=${TUMBLE:-$here/../build/examples/tumble}
-REPS=${REPS:-3}; THREADS=${THREADS:-2}; WORK=${WORK:-/var/tmp/tumble-sbs}
+REPS=${REPS:-3}; THREADS=${THREADS:-2}; WORK=${WORK:-/var/tmp/tumble-sbs}; MODEL=${MODEL:-hooke-history}
+case "$MODEL" in
+  hooke-history) scene_suffix=_hooke-history; model_label="same model: tumble hooke-history, LAMMPS gran/hooke/history" ;;
+  report) scene_suffix=""; model_label="DIFFERENT models: tumble's report law (no tangential history), LAMMPS gran/hooke/history" ;;
+  *) echo "side_by_side.sh: MODEL must be hooke-history or report (got '$MODEL')" >&2; exit 2 ;;
+esac
 sizes=${*:-16000 128000}
 [ -x "$tumble" ] || { echo "side_by_side.sh: no tumble binary at $tumble (build first, or set TUMBLE)" >&2; exit 2; }
 if ! command -v lmp >/dev/null || ! command -v mpirun >/dev/null; then
@@ -31,7 +42,7 @@ mpi=(mpirun --allow-run-as-root --oversubscribe -np "$THREADS")
 
 tumble_ns() {  # N SKIN_ARGS... → ns per particle-step over steps 500-2500
   local n=$1; shift
-  "$tumble" bench --scene "$WORK/clumps_$n.toml" --threads "$THREADS" --warmup 500 --steps 2000 "$@" 2>/dev/null |
+  "$tumble" bench --scene "$WORK/clumps_$n$scene_suffix.toml" --threads "$THREADS" --warmup 500 --steps 2000 "$@" 2>/dev/null |
     awk -F'|' '$2 ~ /clumps/ {gsub(/ /, "", $9); gsub(/ /, "", $13); print $9, $13}'
 }
 lammps_ns() {  # N SKIN CHECK → ns per particle-step and list builds over steps 500-2500
@@ -45,11 +56,12 @@ median() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{a[NR] = $1} END {print (
 
 echo "Machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; $(date -u '+%Y-%m-%d %H:%M UTC'); load: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "tumble: $("$tumble" --version 2>/dev/null || echo "$tumble"); LAMMPS: $(lmp -h 2>/dev/null | sed -n 's/^Large-scale Atomic\/Molecular Massively Parallel Simulator - //p' | head -1) (Debian $(dpkg-query -W -f '${Version}' lammps 2>/dev/null))"
+echo "Model: $model_label"
 echo
 printf "| particles | pairing | rep | tumble ns | tumble rebuilds/1000 | LAMMPS ns | LAMMPS rebuilds/1000 | LAMMPS / tumble |\n|---|---|---|---|---|---|---|---|\n"
 summary=()
 for n in $sizes; do
-  [ -f "$WORK/clumps_$n.toml" ] || python3 "$here/peers/clumps.py" "$n" "$WORK" >&2
+  [ -f "$WORK/clumps_$n$scene_suffix.toml" ] || python3 "$here/peers/clumps.py" "$n" "$WORK" >&2
   pairings=("skin")
   [ "${SKIN_ONLY:-0}" = 1 ] || pairings+=("every step")
   for pairing in "${pairings[@]}"; do
@@ -67,7 +79,7 @@ for n in $sizes; do
   done
 done
 echo
-echo "Medians over $REPS alternating runs (ns per particle-step, steps 500-2500, $THREADS threads / ranks):"
+echo "Medians over $REPS alternating runs (ns per particle-step, steps 500-2500, $THREADS threads / ranks; $model_label):"
 echo
 printf "| particles | pairing | tumble | LAMMPS | LAMMPS / tumble |\n|---|---|---|---|---|\n"
 printf "%s\n" "${summary[@]}"

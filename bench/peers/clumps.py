@@ -5,8 +5,10 @@
 usage: clumps.py N OUTDIR        (N = 16000, 128000 or 960000 particles)
 
 Writes OUTDIR/clumps_N.toml (a tumble scene with every body listed, the physics of
-scenes/bench-128k.toml) and OUTDIR/clumps_N.data (a LAMMPS data file, atom_style hybrid sphere
-bond, for bench/peers/in.clumps).
+scenes/bench-128k.toml: the report's law), OUTDIR/clumps_N_hooke-history.toml (the same bodies
+under LAMMPS's own model, law = "hooke-history" with the constants of bench/peers/in.clumps:
+k_n 2e4, k_t 5714.2857, gamma_n 86.17, gamma_t 43.085, mu 0.5) and OUTDIR/clumps_N.data (a
+LAMMPS data file, atom_style hybrid sphere bond, for bench/peers/in.clumps).
 
 The lattice is the peers' clump scene: bodies of 8 spheres (radius 0.5, mass 1, density 6/pi)
 at the corners of a cube of edge 0.5 around the centre; nx x ny x nz bodies at spacing 1.65;
@@ -39,11 +41,19 @@ def bodies(n):
     return out
 
 
-def write_tumble(path, n, bs):
+CONTACT = {
+    'report': ['stiffness = 2.0e4', 'damping = 43.1', 'shear = 21.5'],
+    # LAMMPS's gran/hooke/history as bench/peers/in.clumps gives it.
+    'hooke-history': ['law = "hooke-history"', 'stiffness = 2.0e4', 'tangential_stiffness = 5714.2857',
+                      'gamma_n = 86.17', 'gamma_t = 43.085', 'friction = 0.5'],
+}
+
+
+def write_tumble(path, n, bs, law='report'):
     lines = ['# The peers\' clump benchmark, %d particles (bench/peers/clumps.py): the physics of' % n,
-             '# scenes/bench-128k.toml with every body listed.', '',
+             '# scenes/bench-128k.toml with every body listed, under the law "%s".' % law, '',
              '[scene]', 'name = "clumps-%d"' % n, 'dt = 5.0e-4', 'steps = 2500', 'gravity = [0.0, 0.0, -9.81]', '',
-             '[contact]', 'stiffness = 2.0e4', 'damping = 43.1', 'shear = 21.5', '',
+             '[contact]'] + CONTACT[law] + ['',
              '[ground]', 'height = 0.0', 'stiffness = 2.0e4', 'friction = 0.5', '',
              '[[shape]]', 'name = "clump"']
     for o in OFFSETS:
@@ -85,8 +95,10 @@ def main():
     n, out = int(sys.argv[1]), sys.argv[2]
     bs = bodies(n)
     write_tumble('%s/clumps_%d.toml' % (out, n), n, bs)
+    write_tumble('%s/clumps_%d_hooke-history.toml' % (out, n), n, bs, 'hooke-history')
     write_lammps('%s/clumps_%d.data' % (out, n), n, bs)
-    print('wrote %s/clumps_%d.toml and .data: %d bodies, %d particles' % (out, n, len(bs), 8 * len(bs)))
+    print('wrote %s/clumps_%d.toml, clumps_%d_hooke-history.toml and .data: %d bodies, %d particles' %
+          (out, n, n, len(bs), 8 * len(bs)))
 
 
 if __name__ == '__main__':

@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "tumble/exact_range.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/mesh.hpp"
 
@@ -72,6 +73,13 @@ bool finiteRow(const BodyState& s, std::size_t k) {
   for (const auto* c : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.qw, &s.qx, &s.qy, &s.qz, &s.lx, &s.ly, &s.lz})
     if (!std::isfinite((*c)[k])) return false;
   return true;
+}
+
+// The position within the range whose contacts single precision decides right (exact_range.hpp;
+// the frame's origin added: the state is the local one).
+bool inRangeRow(const BodyState& s, std::size_t k, const LocalFrame& f) {
+  return withinExactRange(f.x + double(s.px[k])) && withinExactRange(f.y + double(s.py[k])) &&
+         withinExactRange(f.z + double(s.pz[k]));
 }
 
 }  // namespace
@@ -163,15 +171,17 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   const std::size_t nb = s.size();
   struct FirstBad {
     std::int64_t body = -1;
+    bool beyond = false;  // finite, but beyond the range
   };
   const FirstBad bad = chunkedSum<FirstBad>(nb, [&](std::size_t begin, std::size_t end, FirstBad& a) {
     for (std::size_t k = begin; k < end && a.body < 0; ++k)
-      if (!finiteRow(s, k)) a.body = static_cast<std::int64_t>(k);
+      if (!finiteRow(s, k) || !inRangeRow(s, k, frame)) a = FirstBad{static_cast<std::int64_t>(k), finiteRow(s, k)};
   }, [](FirstBad& l, const FirstBad& r) {
-    if (l.body < 0) l.body = r.body;  // the lowest index
+    if (l.body < 0) l = r;  // the lowest index
   });
   if (bad.body >= 0) {
     out.nonFiniteBody = bad.body;
+    out.beyondRange = bad.beyond;
     return out;
   }
 
@@ -489,6 +499,14 @@ std::optional<GuardTrip> RunGuard::check(const Pipeline& pipeline) {
   m_sample.contacts = pipeline.stats().numPairs;
   m_sample.finite = s.nonFiniteBody < 0;
   if (s.nonFiniteBody >= 0) {
+    if (s.beyondRange) {  // it flew off: no dt helps
+      GuardTrip t = trip(GuardTrip::Kind::NonFinite, static_cast<std::uint32_t>(s.nonFiniteBody), pipeline, "");
+      t.message = "step " + std::to_string(t.step) + format(" (t = %.6g s): body ", pipeline.time()) +
+                  std::to_string(s.nonFiniteBody) +
+                  " left the range +-2^60 m (1.15e18) whose contacts single precision decides right; keep it in "
+                  "with a wall, or give it less speed";
+      return t;
+    }
     return trip(GuardTrip::Kind::NonFinite, static_cast<std::uint32_t>(s.nonFiniteBody), pipeline,
                 "body " + std::to_string(s.nonFiniteBody) + " has a non-finite position, velocity or orientation");
   }

@@ -71,15 +71,8 @@ ParticleCloud parseParticleCsv(std::string_view text, const std::string& path) {
         throw InputError(path, lineNo, std::string(names[k]) + " must be finite (got '" + field[k] + "')");
     }
     if (!(v[3] > 0.0f)) throw InputError(path, lineNo, "r must be > 0 (got '" + field[3] + "')");
-    // The range whose contacts single precision decides right (exact_range.hpp).
-    if (!(v[3] >= kMinRadius && v[3] <= kMaxCoordinate))
-      throw InputError(path, lineNo, "r must be in [2^-60, 2^60] m (8.7e-19 to 1.15e18), the range whose contacts "
-                                     "single precision decides right (got '" + field[3] + "')");
-    for (int k = 0; k < 3; ++k)
-      if (!(std::fabs(double(v[k])) + double(v[3]) <= kMaxCoordinate))
-        throw InputError(path, lineNo, "the sphere reaches beyond +-2^60 m (1.15e18) along " + std::string(names[k]) +
-                                           ", the range whose contacts single precision decides right (got " +
-                                           names[k] + " = '" + field[k] + "', r = '" + field[3] + "')");
+    if (const std::string why = sphereOutOfRange(v[0], v[1], v[2], v[3]); !why.empty())
+      throw InputError(path, lineNo, "the sphere: " + why);
     char* end = nullptr;
     errno = 0;
     const unsigned long long b = std::strtoull(field[4].c_str(), &end, 10);

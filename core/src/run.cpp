@@ -10,6 +10,7 @@
 
 #include "tumble/checkpoint.hpp"
 #include "tumble/error.hpp"
+#include "tumble/exact_range.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
 #include "tumble/scene_io.hpp"
@@ -128,6 +129,10 @@ void Run::setBodies(const BodyChanges& c) {
     if ((!c.x.empty() && !finite3(c.x[k])) || (!c.v.empty() && !finite3(c.v[k])) ||
         (!c.l.empty() && !finite3(c.l[k])) || (!c.omega.empty() && !finite3(c.omega[k])))
       throw Error(what + ": a value is not finite");
+    if (!c.x.empty())
+      for (const float v : {c.x[k].x, c.x[k].y, c.x[k].z})
+        if (!withinExactRange(double(v)))
+          throw Error(what + ": x is beyond +-2^60 m (1.15e18), the range whose contacts single precision decides right");
     if (!c.q.empty()) {
       const Quatf q = c.q[k];
       const double norm = std::sqrt(double(q.w) * q.w + double(q.x) * q.x + double(q.y) * q.y + double(q.z) * q.z);

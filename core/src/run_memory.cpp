@@ -46,14 +46,18 @@ RunSize runSizeOf(const Scene& scene, std::uint64_t bodies, std::uint64_t poured
   s.materialColumn = scene.contact.usesMaterials();
   s.pipelineMaterials = s.materialColumn && scene.materials.size() > 1;
   s.periodic = scene.periodic.any();
+  float r = 0.0f;
+  for (const ShapeDef& shape : scene.shapes)
+    for (const SphereDef& sphere : shape.spheres) r = std::max(r, sphere.radius);
   // The detection's cells are columns of side m across the sweep axis; a sphere of (grown)
   // radius r covers (1 + 2r/m)² of them on average. Automatic cells are 6 radii wide: 16/9.
   if (scene.broadphase.cellSize > 0.0f) {
-    float r = 0.0f;
-    for (const ShapeDef& shape : scene.shapes)
-      for (const SphereDef& sphere : shape.spheres) r = std::max(r, sphere.radius);
     const double across = 1.0 + 2.0 * double(r) / double(scene.broadphase.cellSize);
     s.recordsPerParticle = std::max(16.0 / 9.0, across * across);
+  }
+  if (scene.broadphase.skin > 0.0f && r > 0.0f) {  // a given skin (negative: the automatic 0.5 r)
+    const double shell = (2.0 * double(r) + double(scene.broadphase.skin)) / (2.5 * double(r));
+    s.pairsFactor = std::max(1.0, shell * shell * shell);
   }
   return s;
 }
@@ -62,7 +66,8 @@ std::vector<MemoryItem> runMemoryItems(const RunSize& s) {
   const double n = double(s.particles), nb = double(s.allBodies());
   // Plane 0's damping lives in the own rows (OwnRow::groundDamping), the others' in columns.
   const double planes = double(s.planes), walls = s.planes > 0 ? double(s.planes - 1) : 0.0;
-  const double pairs = kCandidatePairsPerParticle * n;  // each found once by the sweep
+  // Each pair found once by the sweep; at most every pair of particles (a skin beyond the scene).
+  const double pairs = std::min(kCandidatePairsPerParticle * s.pairsFactor, std::max(0.0, 0.5 * (n - 1.0))) * n;
   const double entries = 2.0 * pairs;                   // the candidate list holds both directions
   const double contacts = kContactsPerParticle * n;
   const double records = s.recordsPerParticle * n;

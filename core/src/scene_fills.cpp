@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "placement.hpp"
@@ -78,7 +79,13 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
     const double len =
         std::sqrt(double(g.axis.x) * g.axis.x + double(g.axis.y) * g.axis.y + double(g.axis.z) * g.axis.z);
     if (!(len > 0.0) || !std::isfinite(len)) r.fail(sourceOf(an), "axis must be a non-zero, finite vector");
-    g.radius = r.single(r.require("radius", "the radius in m, e.g. radius = 0.5"), "radius", Rule::Positive);
+    const toml::node& rn = r.require("radius", "the radius in m, e.g. radius = 0.5");
+    g.radius = r.single(rn, "radius", Rule::Positive);
+    // Every point of it within the range whose contacts single precision decides right.
+    for (const auto& [p, a] : {std::pair{g.point.x, g.axis.x}, {g.point.y, g.axis.y}, {g.point.z, g.axis.z}})
+      if (!(std::fabs(double(p)) + std::fabs(double(a)) + double(g.radius) <= kMaxCoordinate))
+        r.fail(sourceOf(rn), "the cylinder (point, axis and radius) reaches beyond +-2^60 m (1.15e18), the range "
+                             "whose contacts single precision decides right");
   }
   if (const toml::node* sn = r.find("scale")) {
     if (sn->is_array()) {

@@ -75,7 +75,7 @@ Scene SceneParser::run() {
                                 "(and the [[shape]] it uses)");
   }
   checkPeriod(scene);
-  checkMeshResolution(scene);
+  checkWallResolution(scene);
   return scene;
 }
 

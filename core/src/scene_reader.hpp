@@ -321,7 +321,7 @@ class SceneParser {
   void readPlaneContact(const Scene& scene, const TableReader& r, const std::string& what, GroundParams* out) const;
   void readPeriodic(Scene& scene);
   void checkPeriod(const Scene& scene);
-  void checkMeshResolution(const Scene& scene) const;
+  void checkWallResolution(const Scene& scene) const;
   void readPulls(Scene& scene);
   void readBroadphase(Scene& scene);
   void readIntegrator(Scene& scene);

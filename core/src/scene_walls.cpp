@@ -268,10 +268,11 @@ void SceneParser::readWallMotionWindow(const TableReader& r, WallDef* wall) {
                                fmt(wall->stop) + ")");
 }
 
-/// The mesh walls' triangles against the smallest sphere of the scene's bodies (after they are
-/// read): a triangle's nearest point is computed to within a few 2^-24 of its size, so each is
-/// at most kMaxTriangleToRadius (2^15) times that radius long (exact_range.hpp).
-void SceneParser::checkMeshResolution(const Scene& scene) const {
+/// The walls against the smallest sphere of the scene's bodies (after they are read): a mesh
+/// triangle's nearest point, and a cylinder's, cone's, disk's or ring's distance, are computed
+/// to within a few 2^-24 of its size, so each is at most kMaxTriangleToRadius (2^15) times that
+/// radius long (exact_range.hpp).
+void SceneParser::checkWallResolution(const Scene& scene) const {
   double radius = INFINITY;
   const auto smallest = [&](std::uint32_t shape) {
     for (const SphereDef& sp : scene.shapes[shape].spheres) radius = std::min(radius, double(sp.radius));
@@ -279,7 +280,24 @@ void SceneParser::checkMeshResolution(const Scene& scene) const {
   for (const BodyDef& b : scene.bodies) smallest(b.shape);
   for (const PourBody& p : scene.pourBodies) smallest(p.body.shape);
   const double longest = kMaxTriangleToRadius * radius;
-  for (const WallDef& w : scene.walls) {
+  for (std::size_t k = 0; k < scene.walls.size(); ++k) {
+    const WallDef& w = scene.walls[k];
+    if (w.shape == WallDef::Shape::Revolved) {
+      const double size = std::max({double(w.radius0), double(w.radius1), double(w.length)});
+      if (size > longest) {
+        // The [[wall]] table of wall k: the last whose first wall is at or before k.
+        const std::size_t table =
+            std::size_t(std::upper_bound(m_wallOfTable.begin(), m_wallOfTable.end(), k) - m_wallOfTable.begin()) - 1;
+        const std::vector<const toml::table*> tables = tablesOf(m_file, *m_root.get("wall"), "'wall'", "[[wall]]");
+        char buf[320];
+        std::snprintf(buf, sizeof buf,
+                      "[[wall]] #%zu: its radius or length, %.4g m, is more than 2^15 = 32768 times the smallest "
+                      "sphere's radius (%.4g m): single precision finds its contacts to within a few 2^-24 of that "
+                      "size; at most %.4g m",
+                      table + 1, size, radius, longest);
+        throw errorAt(m_file, sourceOf(*tables[table]), buf);
+      }
+    }
     if (!w.mesh) continue;
     const std::vector<Vec3f> v = meshWallVertices(w);
     for (std::size_t t = 0; t < w.mesh->numTriangles(); ++t) {

@@ -388,3 +388,25 @@ TEST(SceneIoErrors, OverflowsFoundOnlyByTheRunAreRefusedAtLoad) {
   weightless[1] = "dt = 1e-4\ngravity = [0, 0, 0]";
   EXPECT_NO_THROW((void)tumble::parseScene(join(weightless), "test.toml")) << "no gravity: no weight to overflow";
 }
+
+// Review of issue 34, item 7: a [[fill]] or [[pour]] cylinder whose point, axis and radius
+// together reach beyond ±2^60 m (its bodies were placed at 7.7e29 and 1.69e18 m), and a
+// revolved wall more than 2^15 times the smallest radius (a 0.05 m ball fell through a cylinder
+// of 1e7 m, and rested 5 mm off on one of 1e5 m) are refused at their line.
+TEST(SceneIoErrors, RegionsAndRevolvedWallsWithinTheExactRange) {
+  const std::string fill = "[[fill]]\nshape = \"ball\"\ncount = 3\nregion = \"cylinder\"\n";  // line 12
+  expectError(withExtra(fill + "point = [0, 0, 0]\naxis = [0, 0, 10]\nradius = 1e30\n"), 18,
+              {"[[fill]] #1: the cylinder (point, axis and radius) reaches beyond +-2^60 m"});
+  expectError(withExtra(fill + "point = [1.1e18, 0, 0]\naxis = [1.1e18, 0, 0]\nradius = 10\n"), 18,
+              {"reaches beyond +-2^60 m"});
+  EXPECT_NO_THROW((void)tumble::parseScene(withExtra(fill + "point = [0, 0, 5]\naxis = [0, 0, 10]\nradius = 10\n"),
+                                           "test.toml"));
+  // The ball's radius is 0.5 m: at most 2^14 m.
+  expectError(withExtra("[[wall]]\ntype = \"cylinder\"\npoint = [0, -1, 0]\naxis = [0, 2, 0]\nradius = 1e5\n"), 12,
+              {"[[wall]] #1: its radius or length, 1e+05 m, is more than 2^15 = 32768 times the smallest sphere's "
+               "radius (0.5 m)", "at most 1.638e+04 m"});
+  expectError(withExtra("[[wall]]\ntype = \"cylinder\"\npoint = [0, 0, 0]\naxis = [0, 0, 2e4]\nradius = 3\n"), 12,
+              {"its radius or length, 2e+04 m"});
+  EXPECT_NO_THROW((void)tumble::parseScene(
+      withExtra("[[wall]]\ntype = \"cylinder\"\npoint = [0, -1, 0]\naxis = [0, 2, 0]\nradius = 1.6e4\n"), "test.toml"));
+}

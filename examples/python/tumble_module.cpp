@@ -22,6 +22,7 @@
 
 #include "tumble/config.hpp"
 #include "tumble/error.hpp"
+#include "tumble/exact_range.hpp"
 #include "tumble/factory.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/integrate.hpp"
@@ -674,9 +675,15 @@ PYBIND11_MODULE(_tumble, m) {
                                                   ": expected 0 to 2^32 - 1");
           cloud.body.push_back(static_cast<std::uint32_t>(b));
         }
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < n; ++i) {
           if (!std::isfinite(cloud.x[i]) || !std::isfinite(cloud.y[i]) || !std::isfinite(cloud.z[i]))
             throw InputError("find_pairs", 0, "x[" + std::to_string(i) + "] is not finite");
+          // The range the CSV of `tumble pairs` is held to (exact_range.hpp); a radius <= 0 is
+          // the pipeline's own message.
+          if (cloud.r[i] > 0.0f)
+            if (const std::string why = sphereOutOfRange(cloud.x[i], cloud.y[i], cloud.z[i], cloud.r[i]); !why.empty())
+              throw InputError("find_pairs", 0, "particle " + std::to_string(i) + ": " + why);
+        }
         try {
           checkCloud(cloud);
         } catch (const InputError&) {

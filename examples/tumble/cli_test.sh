@@ -154,7 +154,7 @@ expect_status "pairs with one particle 1e18 away" 0 "$bin" pairs far.csv
   bad "pairs with one particle 1e18 away: output $(tr '\n' ' ' < out.txt | cut -c1-200)"
 sed -i 's/^1e18,/1e30,/' far.csv
 expect_status "pairs with one particle 1e30 away" 2 "$bin" pairs far.csv
-expect_msg "pairs with one particle 1e30 away" "far.csv:126: the sphere reaches beyond \+-2\^60 m \(1.15e18\) along x"
+expect_msg "pairs with one particle 1e30 away" "far.csv:126: the sphere: it reaches beyond \+-2\^60 m \(1.15e18\) along x \(x = 1e\+30 m, r = 1 m\)"
 # 30 000 coincident particles (4.5e8 pairs) under a 3 GB address-space limit: refused once the
 # pairs found so far would fill what the process may still allocate (no std::bad_alloc after the
 # sweep has stored them all). ASan reserves terabytes of address space, so its build skips this.
@@ -362,6 +362,14 @@ expect_msg "a NUL in an ASCII STL" "nul.stl:5: coordinate y of vertex 2 of facet
 expect_status "--set broadphase.skin=3e38" 2 "$bin" run small.toml --set broadphase.skin=3e38
 expect_msg "--set broadphase.skin=3e38" "\[broadphase\] skin = 3e\+38 m is beyond single precision's range"
 grep -q "spread over" err.txt && bad "the skin is blamed on the particles' spread" || ok "the skin is not blamed on the spread"
+# A body that flies beyond +-2^60 m stops the run (status 3) with what happened, not a dt advice,
+# and no checkpoint that --resume would refuse is written (review of issue 34, item 7).
+printf '[scene]\ndt = 1e-3\nsteps = 20000\ngravity = [0, 0, 0]\n[[shape]]\nname = "b"\n[[shape.sphere]]\nradius = 0.05\nmass = 0.1\n[[body]]\nshape = "b"\nposition = [0, 0, 1]\nvelocity = [1e17, 0, 0]\n' > flyaway.toml
+rm -f flyaway.ck
+expect_status "a body flying beyond 2^60 m" 3 "$bin" run flyaway.toml --checkpoint flyaway.ck
+expect_msg "a body flying beyond 2^60 m" "step 11550 \(t = 11.55 s\): body 0 left the range \+-2\^60 m \(1.15e18\) whose contacts single precision decides right; keep it in with a wall"
+grep "left the range" err.txt | grep -q "dt" && bad "a fly-away is blamed on dt" || ok "a fly-away is not blamed on dt"
+[ -e flyaway.ck ] && bad "a checkpoint of a body beyond 2^60 m was written" || ok "no checkpoint beyond 2^60 m"
 # A far mesh pivot or cylinder axis is named at its key, not as "the plane".
 printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n' > tri.obj
 { cat small.toml; printf '[[wall]]\ntype = "mesh"\nfile = "tri.obj"\nangular_velocity = [0, 0, 1]\npivot = [0, 3e38, 0]\n'; } > farpivot.toml

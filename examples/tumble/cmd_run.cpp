@@ -15,7 +15,9 @@
 #include "tumble/mpi/mpi_pipeline.hpp"
 #include "tumble/mpi/session.hpp"
 #include "tumble/pipeline.hpp"
+#include "tumble/memory.hpp"
 #include "tumble/run.hpp"
+#include "tumble/run_memory.hpp"
 #include "tumble/scene_io.hpp"
 
 namespace tumble::cli {
@@ -100,6 +102,15 @@ Start prepare(RunOptions& o) {
   if (o.skin) {
     if (!(*o.skin >= 0.0f) || !std::isfinite(*o.skin)) throw Error("--skin must be a finite number >= 0 (0 = detect every step)");
     scene.broadphase.skin = *o.skin;
+  }
+  if (o.skin || o.cellSize) {  // the scene reader's memory check saw the file's skin and cells
+    std::uint64_t particles = 0;
+    for (const BodyDef& b : scene.bodies) particles += scene.shapes[b.shape].spheres.size();
+    for (const PourBody& b : scene.pourBodies) particles += scene.shapes[b.body.shape].spheres.size();
+    const RunSize size = runSizeOf(scene, scene.bodies.size(), scene.pourBodies.size(), particles);
+    if (const std::string why = memoryShortfall(runMemoryEstimate(size)); !why.empty())
+      throw Error("with --skin or --cell-size as given, the run needs " + why +
+                  " (docs/scenes.md#memory); use a thinner skin or larger cells");
   }
   if (o.checkpointEvery && o.checkpoint.empty()) throw Error("--checkpoint-every N needs --checkpoint FILE");
   if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;

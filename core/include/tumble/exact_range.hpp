@@ -16,6 +16,9 @@
 ///   error within 2^-7 (0.8 %) of every radius; a plate of 2.8e6 m triangles lost a ball of
 ///   0.05 m near their shared edge, where the error was 3 times its radius.
 #pragma once
+#include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace tumble {
 
@@ -28,5 +31,24 @@ inline constexpr double kMaxTriangleToRadius = 0x1p15;
 
 /// Within ±kMaxCoordinate (and not NaN).
 inline bool withinExactRange(double v) { return v >= -kMaxCoordinate && v <= kMaxCoordinate; }
+
+/// Empty when a sphere at (x, y, z) of radius r lies in the range; else what is wrong ("its
+/// radius 1e-23 m is outside [2^-60, 2^60] m …", "it reaches beyond ±2^60 m along x …"): for the
+/// readers of spheres that have no scene file (the particle CSV, Python's find_pairs).
+inline std::string sphereOutOfRange(double x, double y, double z, double r) {
+  char buf[200];
+  if (!(r >= kMinRadius && r <= kMaxCoordinate)) {
+    std::snprintf(buf, sizeof buf, "its radius %g m is outside [2^-60, 2^60] m (8.7e-19 to 1.15e18)", r);
+    return std::string(buf) + ", the range whose contacts single precision decides right";
+  }
+  const double c[3] = {x, y, z};
+  for (int a = 0; a < 3; ++a)
+    if (!(std::fabs(c[a]) + r <= kMaxCoordinate)) {
+      std::snprintf(buf, sizeof buf, "it reaches beyond +-2^60 m (1.15e18) along %c (%c = %g m, r = %g m)", "xyz"[a],
+                    "xyz"[a], c[a], r);
+      return std::string(buf) + ", the range whose contacts single precision decides right";
+    }
+  return {};
+}
 
 }  // namespace tumble

@@ -109,6 +109,7 @@ class RunGuard {
     double overlapContactTime = 0.0;  ///< t_c of the deepest contact (its own masses and stiffness)
     std::uint32_t hottestBody = 0;  ///< largest kinetic energy
     std::int64_t nonFiniteBody = -1;
+    bool beyondRange = false;  ///< that body is finite but beyond ±2^60 m (exact_range.hpp)
     std::int64_t foundPairs = -1;  ///< pairs found with findPairsWith, when given
     ThermoSample sample;           ///< the energies and momenta (step, time, work and contacts: by the caller)
   };

@@ -27,6 +27,9 @@ struct RunSize {
   bool pipelineMaterials = false;  ///< hertz-mindlin with several materials: the pipeline's rows too
   bool periodic = false;           ///< periodic boundaries: image counters, the detection's images
   double recordsPerParticle = 16.0 / 9.0;  ///< detection cells a particle covers (runSizeOf())
+  /// The candidate pairs against those at the automatic skin (0.5 r): a thicker `[broadphase]
+  /// skin` finds the pairs within 2r + s, a shell (2r + s)³ / (2.5 r)³ as large (never below 1).
+  double pairsFactor = 1.0;
 
   std::uint64_t allBodies() const { return bodies + pouredBodies; }
 };

@@ -148,8 +148,9 @@ def test_bad_changes_raise_and_change_nothing():
         (dict(bodies=[0], omega=[[0, 0, 1]]), "does not rotate"),
         (dict(bodies=[0], l=[[0, 0, 0]], omega=[[0, 0, 0]]), "l or omega, not both"),
         (dict(bodies=[0.5]), "whole numbers"),
-        # Refused by the detection when the pipeline takes the state: the run goes on as it was.
-        (dict(bodies=[0], x=[[3e38, 0, 0]]), "single precision"),
+        # Beyond the range whose contacts single precision decides right (issue 34, item 7).
+        (dict(bodies=[0], x=[[3e38, 0, 0]]), r"beyond \+-2\^60 m"),
+        (dict(bodies=[0], x=[[0, 2e18, 0]]), r"beyond \+-2\^60 m"),
     ]
     for kwargs, message in cases:
         with pytest.raises(tumble.Error, match=message):

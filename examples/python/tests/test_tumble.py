@@ -357,6 +357,14 @@ def test_find_pairs_refuses_bad_body_ids_and_values():
         tumble.find_pairs(x, r, np.arange(3))
     with pytest.raises(tumble.InputError, match="radius"):
         tumble.find_pairs(x[:2], np.array([0.1, -1.0]), np.arange(2))
+    # Outside the range whose pairs single precision decides right (issue 34, item 7): both
+    # pairs were missed, with no error.
+    with pytest.raises(tumble.InputError, match=r"particle 0: its radius 1e-23 m is outside \[2\^-60, 2\^60\] m"):
+        tumble.find_pairs(np.zeros((2, 3)), np.full(2, 1e-23), np.arange(2))
+    with pytest.raises(tumble.InputError, match=r"particle 1: its radius 1\.5e\+19 m is outside"):
+        tumble.find_pairs(np.array([[0, 0, 0], [2e19, 0, 0]]), np.array([1e-3, 1.5e19]), np.arange(2))
+    with pytest.raises(tumble.InputError, match=r"particle 1: it reaches beyond \+-2\^60 m \(1.15e18\) along y"):
+        tumble.find_pairs(np.array([[0, 0, 0], [0, 1.2e18, 0]]), np.full(2, 1.0), np.arange(2))
 
 
 def test_to_toml_quotes_keys_and_escapes_strings():
