@@ -50,10 +50,15 @@ TEST(SceneIo, AFillRegionBeyondTheCellIndexRangePlacesItsBodies) {
   const std::string text = join({"[scene]", "dt = 1e-4", "steps = 1", "seed = 3", "[[shape]]", "name = \"small\"",
                                  "[[shape.sphere]]", "radius = 0.01", "mass = 0.01", "[[fill]]", "shapes = [\"small\"]",
                                  "count = 87", "region = \"cylinder\"", "point = [0, 0, 0]", "axis = [0, 0, 0.5]",
-                                 "radius = 9999999999999999999999999990.1"});
+                                 "radius = 1e18"});
+  // (The finding's radius, 1e28 m, is now refused: beyond ±2^60 m, issue 34 item 7. 1e18 m in
+  // cells of 0.04 m still gives indices beyond 2^62.)
   const tumble::Scene s = tumble::parseScene(text, "test.toml");
   ASSERT_EQ(s.bodies.size(), 87u);
   for (const tumble::BodyDef& b : s.bodies) EXPECT_TRUE(std::isfinite(b.position.x) && std::isfinite(b.position.y));
+  std::string beyond = text;
+  beyond.replace(beyond.find("radius = 1e18"), 13, "radius = 9999999999999999999999999990.1");
+  EXPECT_THROW((void)tumble::parseScene(beyond, "test.toml"), tumble::InputError);
 }
 
 // toml++ 3.3.0 has undefined behaviour for some non-ASCII code points where it expects
