@@ -231,8 +231,10 @@ void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
     }
   } catch (const InputError& e) {
     throw InputError(e.file(), e.line(), e.problem() + " (the mesh of " + wall->where + ")");
-  } catch (const Error& e) {  // a vertex beyond single precision once placed (its message names the wall)
-    throw errorAt(m_file, r.header().begin.line ? r.header() : sourceOf(fn), e.what());
+  } catch (const Error& e) {  // a vertex beyond ±2^60 m once placed (named with the wall's place: once here)
+    std::string m = e.what();
+    if (m.rfind(wall->where, 0) == 0) m = r.where() + m.substr(wall->where.size());
+    throw errorAt(m_file, r.header().begin.line ? r.header() : sourceOf(fn), m);
   }
   // Its motion: a rigid one, turning about the pivot at ω and translating (WallDef).
   if (const toml::node* an = r.find("angular_velocity")) {

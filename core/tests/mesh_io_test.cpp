@@ -335,7 +335,7 @@ TEST(MeshWallKeys, EveryError) {
   expectSceneError(meshScene("file = \"square.obj\"\nangular_velocity = [0, 0, 1]\nstart = 2\nstop = 1\n"), 17,
                    {"stop must be after start (got start = 2, stop = 1)"});
   expectSceneError(meshScene("file = \"square.obj\"\nscale = 3e38\n"), 12,
-                   {"vertex (1, 0, 0) of", "lies beyond +-2^60 m (1.15e18) once scaled, turned and placed"});
+                   {": [[wall]] #1: vertex (1, 0, 0) of", "lies beyond +-2^60 m (1.15e18) once scaled, turned and placed"});
   expectSceneError(meshScene("file = \"square.obj\"\nposition = [3e38, 0, 0]\n"), 15,
                    {"component x of position must be within +-2^60 m"});
   expectSceneError(meshScene("file = \"square.obj\"\nmaterial = \"x\"\n"), 15, {"material is read under law = \"hertz-mindlin\" only"});
