@@ -230,7 +230,7 @@ struct StepView {
   const BodyRef* bodyRef = nullptr;
   /// When `list` is compact (row i ends where row i + 1 begins), the particle of each of its
   /// entries, so that a body's rows are walked as one run (bodyForces()); nullptr otherwise (the
-  /// CPU under a law with history, the CUDA pipeline).
+  /// CUDA pipeline).
   const std::uint32_t* listOwner = nullptr;
   /// See `history`: the candidate entry of each entry of `list`; nullptr when `list` is the
   /// candidate list (the CUDA pipeline's, the CPU's without a near list).

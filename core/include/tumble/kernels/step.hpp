@@ -411,7 +411,8 @@ TUMBLE_HD_INLINE void forgetHistory(const StepView& v, std::uint32_t e) {
 ///
 /// kClumps: bodies rotate (some have several particles, or the law turns spheres). kLaw: the
 /// contact law; with a history (hooke-history, hertz-mindlin) the view's `history` holds ξ per
-/// candidate entry (historyOf()), updated in place and zeroed when the pair does not touch. Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
+/// candidate entry (historyOf()), updated in place and zeroed when the pair does not touch.
+/// Under hertz-mindlin a plane is a Hertz contact too (hertzGroundForces).
 /// kPeriodic: the pairs meet through their minimum image in the view's periodic box (the
 /// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
 /// kPosedMesh: some mesh wall moves (meshWallContacts()); a scene whose meshes stand still (or
