@@ -162,7 +162,7 @@ void bench(BenchOptions o) {
 
 void addBench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
-  CLI::App* c = app.add_subcommand("bench", "Time the steps of the bench scene (or of scene files) per pipeline, size and thread count on this machine: ms per step and its phases");
+  CLI::App* c = app.add_subcommand("bench", "Time the steps of the bench scene (or of scene files) per pipeline, size and thread count on this machine: ms per step, its phases and the memory floor (the bytes a step moves at a streaming bandwidth measured here)");
   c->add_option("--sizes", o->sizes, "Particle counts of the bench scene (multiples of 8)")->delimiter(',')
       ->check(countIn(8, 100000000));
   c->add_option("--scene", o->scenes, "Time these scene files instead of the bench scene")->delimiter(',');
