@@ -26,16 +26,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const BodyDef& b : scene.bodies)
     particles += b.shape < scene.shapes.size() ? scene.shapes[b.shape].spheres.size() : 0;
   if (particles > 256) return 0;  // speed: the detection on large scenes has its own tests
-  // Speed too: a given cell size far below the radii makes each sphere cover (1 + 2 r / cell)²
-  // cells (1.2 million for r = 551 m in cells of 1 m: 28 s of an instrumented step, a timeout
-  // of the campaign of 2026-12-07, 1 s in a release build); the detection's records are
-  // bounded by its memory check and tested in PairsTest.
+  // Speed too: a given cell size far below the radii (grown by half the skin) makes each sphere
+  // cover (1 + 2 (r + s/2) / cell)² cells: 1.2 million for r = 551 m in cells of 1 m (28 s of an
+  // instrumented step, a timeout of the campaign of 2026-12-07; 1 s in a release build), 3700
+  // for r = 5.2 m and a skin of 50 m (3.7 s); the detection's records are bounded by its memory
+  // check and tested in PairsTest.
   if (scene.broadphase.cellSize > 0.0f) {
     float r = 0.0f;
     for (const ShapeDef& shape : scene.shapes)
       for (const SphereDef& sphere : shape.spheres) r = sphere.radius > r ? sphere.radius : r;
-    const double across = 1.0 + 2.0 * double(r) / double(scene.broadphase.cellSize);
-    if (across * across > 1e4) return 0;
+    const double grown = double(r) + (scene.broadphase.skin > 0.0f ? 0.5 * double(scene.broadphase.skin) : 0.0);
+    const double across = 1.0 + 2.0 * grown / double(scene.broadphase.cellSize);
+    if (across * across > 1e3) return 0;
   }
   try {
     const World world = World::fromScene(scene);
