@@ -21,6 +21,8 @@ import math
 import random
 import sys
 
+from peer_files import write_data, write_scene
+
 DIMS = {16000: (20, 20, 5), 128000: (40, 40, 10), 960000: (80, 75, 20)}
 SPACING, HALF, RADIUS = 1.65, 0.75, 0.5
 OFFSETS = [(sx * 0.25, sy * 0.25, sz * 0.25) for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
@@ -59,34 +61,18 @@ def write_tumble(path, n, bs, law='report'):
     for o in OFFSETS:
         lines += ['[[shape.sphere]]', 'offset = [%g, %g, %g]' % o, 'radius = 0.5', 'mass = 1.0',
                   'elasticity = 0.5']
-    for b in bs:
-        lines += ['[[body]]', 'shape = "clump"', 'position = [%.9g, %.9g, %.9g]' % b[:3],
-                  'velocity = [%.9g, %.9g, %.9g]' % b[3:]]
-    with open(path, 'w') as f:
-        f.write('\n'.join(lines) + '\n')
+    write_scene(path, lines, 'clump', bs)
 
 
 def write_lammps(path, n, bs):
     nx, ny, nz = DIMS[n]
     density = 6.0 / math.pi  # mass 1 for a sphere of diameter 1
-    with open(path, 'w') as f:
-        f.write('clumps N=%d written by bench/peers/clumps.py\n\n' % n)
-        f.write('%d atoms\n1 atom types\n' % (8 * len(bs)))
-        f.write('-1.0 %.6f xlo xhi\n-1.0 %.6f ylo yhi\n0.0 %.6f zlo zhi\n\n' %
-                (nx * SPACING + 1.0, ny * SPACING + 1.0, nz * SPACING + 2.0))
-        f.write('Atoms\n\n')
-        atom = 0
-        for mol, b in enumerate(bs, start=1):
-            for o in OFFSETS:
-                atom += 1
-                # hybrid sphere bond: id type x y z diameter density molecule
-                f.write('%d 1 %.9g %.9g %.9g 1.0 %.9g %d\n' % (atom, b[0] + o[0], b[1] + o[1], b[2] + o[2], density, mol))
-        f.write('\nVelocities\n\n')
-        atom = 0
-        for b in bs:
-            for _ in OFFSETS:
-                atom += 1
-                f.write('%d %.9g %.9g %.9g 0 0 0\n' % (atom, b[3], b[4], b[5]))
+    # hybrid sphere bond: type x y z diameter density molecule
+    atoms = ['1 %.9g %.9g %.9g 1.0 %.9g %d' % (b[0] + o[0], b[1] + o[1], b[2] + o[2], density, mol)
+             for mol, b in enumerate(bs, start=1) for o in OFFSETS]
+    write_data(path, 'clumps N=%d written by bench/peers/clumps.py' % n,
+               ((-1.0, nx * SPACING + 1.0), (-1.0, ny * SPACING + 1.0), (0.0, nz * SPACING + 2.0)), atoms,
+               [b[3:] for b in bs for _ in OFFSETS])
 
 
 def main():

@@ -14,9 +14,10 @@ jittered uniformly by +-0.05 radii per component, the lowest layer 0.1 radii abo
 velocities uniform in +-0.25 m/s per component, no spin; Python's Mersenne Twister with seed
 12345, drawn per sphere in the order jitter x, y, z, then velocity x, y, z.
 """
-import math
 import random
 import sys
+
+from peer_files import write_data, write_scene
 
 DIMS = {16000: (40, 40, 10), 128000: (80, 80, 20)}
 RADIUS, DENSITY = 0.005, 2500.0
@@ -49,27 +50,16 @@ def write_tumble(path, n, bs):
              'poisson_ratio = %g' % POISSON, 'restitution = %g' % RESTITUTION, 'friction = %g' % FRICTION, '',
              '[ground]', 'height = 0.0', 'material = "glass"', '',
              '[[shape]]', 'name = "ball"', '[[shape.sphere]]', 'radius = %g' % RADIUS, 'material = "glass"']
-    for b in bs:
-        lines += ['[[body]]', 'shape = "ball"', 'position = [%.9g, %.9g, %.9g]' % b[:3],
-                  'velocity = [%.9g, %.9g, %.9g]' % b[3:]]
-    with open(path, 'w') as f:
-        f.write('\n'.join(lines) + '\n')
+    write_scene(path, lines, 'ball', bs)
 
 
 def write_liggghts(path, n, bs):
     nx, ny, nz = DIMS[n]
-    with open(path, 'w') as f:
-        f.write('spheres N=%d written by bench/peers/spheres.py\n\n' % n)
-        f.write('%d atoms\n1 atom types\n' % len(bs))
-        f.write('%.6f %.6f xlo xhi\n%.6f %.6f ylo yhi\n0.0 %.6f zlo zhi\n\n' %
-                (-SPACING, (nx + 1) * SPACING, -SPACING, (ny + 1) * SPACING, (nz + 4) * SPACING))
-        f.write('Atoms\n\n')
-        for a, b in enumerate(bs, start=1):
-            # atom_style sphere: id type diameter density x y z
-            f.write('%d 1 %.9g %.9g %.9g %.9g %.9g\n' % (a, 2 * RADIUS, DENSITY, b[0], b[1], b[2]))
-        f.write('\nVelocities\n\n')
-        for a, b in enumerate(bs, start=1):
-            f.write('%d %.9g %.9g %.9g 0 0 0\n' % (a, b[3], b[4], b[5]))
+    # atom_style sphere: type diameter density x y z
+    atoms = ['1 %.9g %.9g %.9g %.9g %.9g' % (2 * RADIUS, DENSITY, b[0], b[1], b[2]) for b in bs]
+    write_data(path, 'spheres N=%d written by bench/peers/spheres.py' % n,
+               ((-SPACING, (nx + 1) * SPACING), (-SPACING, (ny + 1) * SPACING), (0.0, (nz + 4) * SPACING)), atoms,
+               [b[3:] for b in bs])
 
 
 def main():
