@@ -18,10 +18,9 @@ Python's Mersenne Twister with seed 12345, drawn per body in the order jitter x,
 velocity x, y, z, so any generator that follows the same recipe writes the same bodies.
 """
 import math
-import random
 import sys
 
-from peer_files import write_data, write_scene
+from peer_files import jittered_lattice, write_data, write_scene
 
 DIMS = {16000: (20, 20, 5), 128000: (40, 40, 10), 960000: (80, 75, 20)}
 SPACING, HALF, RADIUS = 1.65, 0.75, 0.5
@@ -29,18 +28,7 @@ OFFSETS = [(sx * 0.25, sy * 0.25, sz * 0.25) for sx in (-1, 1) for sy in (-1, 1)
 
 
 def bodies(n):
-    nx, ny, nz = DIMS[n]
-    rng = random.Random(12345)
-    out = []
-    for k in range(nz):
-        for j in range(ny):
-            for i in range(nx):
-                x = (i + 0.5) * SPACING + rng.uniform(-0.025, 0.025)
-                y = (j + 0.5) * SPACING + rng.uniform(-0.025, 0.025)
-                z = HALF + 0.05 + k * SPACING + rng.uniform(-0.025, 0.025)
-                v = [rng.uniform(-0.5, 0.5) for _ in range(3)]
-                out.append((x, y, z, v[0], v[1], v[2]))
-    return out
+    return jittered_lattice(DIMS[n], SPACING, HALF + 0.05, 0.025, 0.5)
 
 
 CONTACT = {

@@ -1,6 +1,27 @@
 # SPDX-License-Identifier: MIT
-"""The files both generators (clumps.py, spheres.py) write: a tumble scene that lists every
-body, and a LAMMPS/LIGGGHTS data file (its header, box, Atoms and Velocities sections)."""
+"""What both generators (clumps.py, spheres.py) share: the jittered lattice of bodies, and the
+files they write: a tumble scene that lists every body, and a LAMMPS/LIGGGHTS data file (its
+header, box, Atoms and Velocities sections)."""
+import random
+
+
+def jittered_lattice(dims, spacing, z0, jitter, speed):
+    """(x, y, z, vx, vy, vz) of nx x ny x nz bodies at `spacing`, the lowest layer at z0, each
+    position jittered uniformly by +-jitter per component, velocities uniform in +-speed; Python's
+    Mersenne Twister with seed 12345, drawn per body in the order jitter x, y, z, then velocity
+    x, y, z."""
+    nx, ny, nz = dims
+    rng = random.Random(12345)
+    out = []
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                x = (i + 0.5) * spacing + rng.uniform(-jitter, jitter)
+                y = (j + 0.5) * spacing + rng.uniform(-jitter, jitter)
+                z = z0 + k * spacing + rng.uniform(-jitter, jitter)
+                v = [rng.uniform(-speed, speed) for _ in range(3)]
+                out.append((x, y, z, v[0], v[1], v[2]))
+    return out
 
 
 def write_scene(path, lines, shape, bodies):

@@ -14,10 +14,9 @@ jittered uniformly by +-0.05 radii per component, the lowest layer 0.1 radii abo
 velocities uniform in +-0.25 m/s per component, no spin; Python's Mersenne Twister with seed
 12345, drawn per sphere in the order jitter x, y, z, then velocity x, y, z.
 """
-import random
 import sys
 
-from peer_files import write_data, write_scene
+from peer_files import jittered_lattice, write_data, write_scene
 
 DIMS = {16000: (40, 40, 10), 128000: (80, 80, 20)}
 RADIUS, DENSITY = 0.005, 2500.0
@@ -27,18 +26,7 @@ DT = 5.0e-5
 
 
 def spheres(n):
-    nx, ny, nz = DIMS[n]
-    rng = random.Random(12345)
-    out = []
-    for k in range(nz):
-        for j in range(ny):
-            for i in range(nx):
-                x = (i + 0.5) * SPACING + rng.uniform(-0.05, 0.05) * RADIUS
-                y = (j + 0.5) * SPACING + rng.uniform(-0.05, 0.05) * RADIUS
-                z = 1.1 * RADIUS + k * SPACING + rng.uniform(-0.05, 0.05) * RADIUS
-                v = [rng.uniform(-0.25, 0.25) for _ in range(3)]
-                out.append((x, y, z, v[0], v[1], v[2]))
-    return out
+    return jittered_lattice(DIMS[n], SPACING, 1.1 * RADIUS, 0.05 * RADIUS, 0.25)
 
 
 def write_tumble(path, n, bs):
