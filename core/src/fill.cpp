@@ -219,14 +219,14 @@ bool placeBody(Rng& rng, const RegionFrame& g, const std::vector<Ball>& balls, S
 }
 
 std::uint32_t drawShape(Scene& scene, Rng& rng, const std::vector<std::uint32_t>& shapes,
-                        const std::vector<double>& weights, float scaleMin, float scaleMax,
+                        const std::vector<double>& weights, const SizeDistribution& size,
                         std::map<std::pair<std::uint32_t, float>, std::uint32_t>& scaled, const std::string& where) {
   double total = 0.0;
   for (double w : weights) total += w;
   double pick = double(rng.uniform()) * total;
   std::size_t k = 0;
   while (k + 1 < shapes.size() && pick >= weights[k]) pick -= weights[k++];
-  const float factor = scaleMin == scaleMax ? scaleMin : rng.uniform(scaleMin, scaleMax);
+  const float factor = size.draw(rng);
   const std::uint32_t shape = shapes[k];
   if (factor == 1.0f) return shape;
   const auto [it, fresh] = scaled.try_emplace({shape, factor}, static_cast<std::uint32_t>(scene.shapes.size()));
@@ -268,7 +268,7 @@ void fillScene(Scene& scene, const FillDef& def) {
   float largest = 0.0f;
   for (std::uint32_t s : def.shapes)
     for (const Ball& b : balls[s]) largest = std::max(largest, b.r);
-  SphereHash hash(2.0 * double(largest) * std::max(1.0f, def.scaleMax));
+  SphereHash hash(2.0 * double(largest) * std::max(1.0f, def.size.max()));
   hash.setPeriodic(scene.periodic, LocalFrame{});
   for (const BodyDef& b : scene.bodies) {
     const Mat3f R = rotationMatrix(b.orientation);
@@ -282,7 +282,7 @@ void fillScene(Scene& scene, const FillDef& def) {
   Rng rng(def.seed);
   for (std::uint64_t n = 0; n < def.count; ++n) {
     BodyDef b;
-    b.shape = drawShape(scene, rng, def.shapes, def.weights, def.scaleMin, def.scaleMax, scaled, def.where);
+    b.shape = drawShape(scene, rng, def.shapes, def.weights, def.size, scaled, def.where);
     if (b.shape >= balls.size()) balls.push_back(ballsOf(scene.shapes[b.shape]));
     if (!placeBody(rng, g, balls[b.shape], hash, walls, meshes, def.attempts, true, def.randomOrientation,
                    &b.position, &b.orientation)) {

@@ -15,6 +15,7 @@
 #include "tumble/math.hpp"
 #include "tumble/random.hpp"
 #include "tumble/scene.hpp"
+#include "tumble/size_distribution.hpp"
 #include "tumble/world.hpp"
 
 namespace tumble::detail {
@@ -106,13 +107,13 @@ bool placeBody(Rng& rng, const RegionFrame& g, const std::vector<Ball>& balls, S
                const std::vector<Wall>& walls, const MeshObstacles& meshes, std::uint64_t attempts,
                bool drawOrientation, bool randomOrientation, Vec3f* position, Quatf* q);
 
-/// A body's shape drawn with the odds of `weights` (one uniform), scaled by a factor uniform in
-/// [scaleMin, scaleMax] (one more uniform when they differ): the index of the scaled shape in
+/// A body's shape drawn with the odds of `weights` (one uniform), scaled by a factor drawn from
+/// `size` (one more uniform when it varies): the index of the scaled shape in
 /// scene.shapes, appended the first time (`scaled` remembers them; named "name x factor";
 /// offsets and radii times the factor, masses times its cube). Throws tumble::Error naming
 /// `where` when the scaled shape is beyond single precision.
 std::uint32_t drawShape(Scene& scene, Rng& rng, const std::vector<std::uint32_t>& shapes,
-                        const std::vector<double>& weights, float scaleMin, float scaleMax,
+                        const std::vector<double>& weights, const SizeDistribution& size,
                         std::map<std::pair<std::uint32_t, float>, std::uint32_t>& scaled, const std::string& where);
 
 /// A body's velocity (`velocity` plus a uniform jitter per component, three uniforms) and spin

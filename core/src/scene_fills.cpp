@@ -87,23 +87,33 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
         r.fail(sourceOf(rn), "the cylinder (point, axis and radius) reaches beyond +-2^60 m (1.15e18), the range "
                              "whose contacts single precision decides right");
   }
-  if (const toml::node* sn = r.find("scale")) {
+  const toml::node* sn = r.find("scale");
+  if (const toml::node* zn = r.find("size")) {
+    if (sn != nullptr)
+      r.fail(sourceOf(*zn), "give either scale (a uniform factor) or size (a distribution), not both");
+    sn = zn;
+    f.size = readSize(r, *zn);
+  } else if (sn != nullptr) {
     if (sn->is_array()) {
       const toml::array& sa = r.array(*sn, "scale", "of 2 numbers [min, max]");
       if (sa.size() != 2)
         r.fail(sourceOf(*sn), "scale must be a number or an array of 2 numbers [min, max] (got " +
                                   std::to_string(sa.size()) + " elements)");
-      f.scaleMin = r.single(*sa.get(0), "scale[0]", Rule::Positive);
-      f.scaleMax = r.single(*sa.get(1), "scale[1]", Rule::Positive);
-      if (!(f.scaleMin <= f.scaleMax)) r.fail(sourceOf(*sn), "scale = [min, max] needs min <= max");
+      const float lo = r.single(*sa.get(0), "scale[0]", Rule::Positive);
+      const float hi = r.single(*sa.get(1), "scale[1]", Rule::Positive);
+      if (!(lo <= hi)) r.fail(sourceOf(*sn), "scale = [min, max] needs min <= max");
+      f.size = SizeDistribution::uniform(lo, hi, SizeDistribution::Weight::Number);
     } else {
-      f.scaleMin = f.scaleMax = r.single(*sn, "scale", Rule::Positive);
+      f.size = SizeDistribution::fixed(r.single(*sn, "scale", Rule::Positive));
     }
+  }
+  if (sn != nullptr) {
     // Every scaled radius within the range whose contacts single precision decides right.
     for (std::uint32_t s : f.shapes)
       for (const SphereDef& sp : scene.shapes[s].spheres)
-        if (!(double(sp.radius) * f.scaleMin >= kMinRadius && double(sp.radius) * f.scaleMax <= kMaxCoordinate))
-          r.fail(sourceOf(*sn), "scale makes a sphere of shape '" + printable(scene.shapes[s].name) +
+        if (!(double(sp.radius) * f.size.min() >= kMinRadius && double(sp.radius) * f.size.max() <= kMaxCoordinate))
+          r.fail(sourceOf(*sn), std::string(sn == r.find("size") ? "size" : "scale") + " makes a sphere of shape '" +
+                                    printable(scene.shapes[s].name) +
                                     "' leave [2^-60, 2^60] m (8.7e-19 to 1.15e18), the range whose contacts single "
                                     "precision decides right");
   }
@@ -116,7 +126,7 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
   f.spin = r.single("spin", 0.0f, Rule::NonNegative);
   for (std::uint32_t s : f.shapes) {
     ShapeDef big = scene.shapes[s];
-    for (SphereDef& sp : big.spheres) sp.offset = f.scaleMax * sp.offset, sp.radius *= f.scaleMax;
+    for (SphereDef& sp : big.spheres) sp.offset = f.size.max() * sp.offset, sp.radius *= f.size.max();
     if (const std::string why = angularVelocityOutOfRange(big, f.spin); !why.empty())
       r.fail(sourceOf(*r.find("spin")), "spin: " + why + " (shape '" + scene.shapes[s].name + "')");
   }
@@ -134,6 +144,104 @@ FillDef SceneParser::readPlacement(const TableReader& r, Scene& scene, const std
   return f;
 }
 
+/// The `size` table of a [[fill]] or a [[pour]]: a distribution of the scale factor
+/// (docs/scenes.md#size-distributions).
+SizeDistribution SceneParser::readSize(const TableReader& placement, const toml::node& n) const {
+  const toml::table* t = n.as_table();
+  if (t == nullptr)
+    placement.fail(sourceOf(n), "size must be a table, e.g. size = { distribution = \"lognormal\", median = 1, "
+                                "sigma = 0.25 } (got " + typeName(n) + ")");
+  const TableReader r(m_file, *t, placement.where() + " size",
+                      {"distribution", "by", "min", "max", "mean", "sd", "median", "sigma", "sizes", "cumulative"});
+  const toml::node& kindNode =
+      r.require("distribution", "\"uniform\", \"normal\", \"lognormal\" or \"table\"");
+  const std::string kind = r.string(kindNode, "distribution");
+  static const std::pair<const char*, const char*> kKeysOf[] = {{"uniform", "min max by"},
+                                                                {"normal", "mean sd min max by"},
+                                                                {"lognormal", "median sigma min max by"},
+                                                                {"table", "sizes cumulative by"}};
+  const auto* entry =
+      std::find_if(std::begin(kKeysOf), std::end(kKeysOf), [&](const auto& e) { return kind == e.first; });
+  if (entry == std::end(kKeysOf))
+    r.fail(sourceOf(kindNode), "unknown distribution \"" + printable(kind) +
+                                   "\" (\"uniform\", \"normal\", \"lognormal\" or \"table\")");
+  for (auto&& [key, value] : *t) {
+    const std::string keys = std::string(" distribution ") + entry->second + " ";
+    std::string word(1, ' ');  // (" " + key + " ": GCC 12 warns falsely, -Wrestrict)
+    word.append(key.str()).push_back(' ');
+    if (keys.find(word) == std::string::npos)
+      r.fail(sourceOf(value), std::string(key.str()) + " is not a key of distribution = \"" + kind +
+                                  "\" (its keys: " + entry->second + ")");
+  }
+  SizeDistribution::Weight by = SizeDistribution::Weight::Number;
+  if (const toml::node* bn = r.find("by")) {
+    const std::string w = r.string(*bn, "by");
+    if (w == "volume" || w == "mass")
+      by = SizeDistribution::Weight::Volume;
+    else if (w != "number")
+      r.fail(sourceOf(*bn), "by must be \"number\" (the fraction of the bodies) or \"volume\" (of their volume; "
+                            "\"mass\" is the same), got \"" + printable(w) + "\"");
+  }
+  try {
+    if (kind == "table") {
+      const toml::node& sn = r.require("sizes", "the sizes (scale factors), increasing, e.g. sizes = [0.5, 1, 2]");
+      const toml::node& cn =
+          r.require("cumulative", "the fraction at or below each size, from 0 to 1, e.g. cumulative = [0, 0.7, 1]");
+      const toml::array& sa = r.array(sn, "sizes", "of sizes > 0, increasing");
+      const toml::array& ca = r.array(cn, "cumulative", "of fractions from 0 to 1, one per size");
+      if (sa.size() < 2) r.fail(sourceOf(sn), "sizes needs at least 2 entries (the smallest and the largest size)");
+      if (ca.size() != sa.size())
+        r.fail(sourceOf(cn), "cumulative has " + std::to_string(ca.size()) + " entries for " +
+                                 std::to_string(sa.size()) + " sizes; give one per size");
+      std::vector<double> sizes, cumulative;
+      for (std::size_t i = 0; i < sa.size(); ++i) {
+        sizes.push_back(double(r.single(*sa.get(i), "each size", Rule::Positive)));
+        cumulative.push_back(r.number(*ca.get(i), "each cumulative fraction", Rule::NonNegative));
+        if (i > 0 && !(sizes[i] > sizes[i - 1]))
+          r.fail(sourceOf(*sa.get(i)), "sizes must increase (entry " + std::to_string(i + 1) + " is not above the one before)");
+        if (i > 0 && !(cumulative[i] >= cumulative[i - 1]))
+          r.fail(sourceOf(*ca.get(i)), "cumulative must not decrease (entry " + std::to_string(i + 1) + " is below the one before)");
+      }
+      if (cumulative.front() != 0.0 || cumulative.back() != 1.0)
+        r.fail(sourceOf(cn), "cumulative must start at 0 and end at 1 (the fractions at or below the smallest and "
+                             "the largest size)");
+      return SizeDistribution::table(std::move(sizes), std::move(cumulative), by);
+    }
+    if (kind == "uniform") {
+      const float lo = r.single(r.require("min", "the smallest size, e.g. min = 0.8"), "min", Rule::Positive);
+      const toml::node& hn = r.require("max", "the largest size, e.g. max = 1.2");
+      const float hi = r.single(hn, "max", Rule::Positive);
+      if (!(lo <= hi)) r.fail(sourceOf(hn), "max must be at least min");
+      return SizeDistribution::uniform(lo, hi, by);
+    }
+    // A normal or a log-normal: its two parameters, and bounds 3 of its σ out where not given.
+    const bool normal = kind == "normal";
+    const toml::node& cn = normal ? r.require("mean", "the mean size, e.g. mean = 1")
+                                  : r.require("median", "the median size (e^mu), e.g. median = 1");
+    const double centre = r.number(cn, normal ? "mean" : "median", Rule::Positive);
+    const toml::node& wn = normal ? r.require("sd", "the standard deviation, e.g. sd = 0.1")
+                                  : r.require("sigma", "the standard deviation of ln(size), e.g. sigma = 0.25");
+    const double width = r.number(wn, normal ? "sd" : "sigma", Rule::Positive);
+    const double lo0 = normal ? centre - 3.0 * width : centre * std::exp(-3.0 * width);
+    const double hi0 = normal ? centre + 3.0 * width : centre * std::exp(3.0 * width);
+    const toml::node* ln = r.find("min");
+    const toml::node* hn = r.find("max");
+    if (ln == nullptr && !(lo0 > 0.0))
+      r.fail(sourceOf(wn), "the default lower bound, mean - 3 sd, is not above 0: give min (> 0)");
+    const float lo = ln != nullptr ? r.single(*ln, "min", Rule::Positive) : float(lo0);
+    const float hi = hn != nullptr ? r.single(*hn, "max", Rule::Positive) : float(hi0);
+    if (!(lo < hi) || !std::isfinite(hi) || !(lo > 0.0f))
+      r.fail(hn != nullptr ? sourceOf(*hn) : sourceOf(wn),
+             "the bounds must satisfy 0 < min < max (finite; by default 3 standard deviations either side)");
+    return normal ? SizeDistribution::normal(centre, width, lo, hi, by)
+                  : SizeDistribution::logNormal(centre, width, lo, hi, by);
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    r.fail(r.header(), e.what());
+  }
+}
+
 /// [[fill]]: bodies packed at random in a box or a cylinder, after every [[body]] and
 /// [[group]], in file order (tumble/fill.hpp).
 void SceneParser::readFills(Scene& scene) {
@@ -143,7 +251,7 @@ void SceneParser::readFills(Scene& scene) {
   for (std::size_t k = 0; k < tables.size(); ++k) {
     const TableReader r(m_file, *tables[k], "[[fill]] #" + std::to_string(k + 1),
                         {"shape", "shapes", "weights", "count", "region", "min", "max", "point", "axis", "radius",
-                         "wall", "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
+                         "wall", "scale", "size", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
                          "attempts"});
     const FillDef f = readPlacement(r, scene, "fill", k);
     const std::size_t before = scene.bodies.size();
@@ -167,7 +275,7 @@ void SceneParser::readPours(Scene& scene) {
   for (std::size_t k = 0; k < tables.size(); ++k) {
     const TableReader r(m_file, *tables[k], "[[pour]] #" + std::to_string(k + 1),
                         {"shape", "shapes", "weights", "count", "region", "min", "max", "point", "axis", "radius",
-                         "wall", "scale", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
+                         "wall", "scale", "size", "velocity", "velocity_jitter", "random_orientation", "spin", "seed",
                          "attempts", "rate", "start", "interval"});
     const FillDef f = readPlacement(r, scene, "pour", k);
     PourDef p;
@@ -190,7 +298,7 @@ void SceneParser::readPours(Scene& scene) {
       b.index = i;
       b.time = p.start + double(i) / p.rate;
       try {
-        b.body.shape = detail::drawShape(scene, rng, f.shapes, f.weights, f.scaleMin, f.scaleMax, scaled, f.where);
+        b.body.shape = detail::drawShape(scene, rng, f.shapes, f.weights, f.size, scaled, f.where);
       } catch (const Error& e) {
         r.fail(r.header(), std::string(e.what()).substr(f.where.size() + 2));
       }

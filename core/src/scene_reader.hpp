@@ -350,6 +350,7 @@ class SceneParser {
 
   // [[fill]] and [[pour]] (scene_fills.cpp).
   FillDef readPlacement(const TableReader& r, Scene& scene, const std::string& kind, std::size_t k);
+  SizeDistribution readSize(const TableReader& placement, const toml::node& n) const;
   void readFills(Scene& scene);
   void readPours(Scene& scene);
 

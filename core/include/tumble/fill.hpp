@@ -2,7 +2,7 @@
 /// @file fill.hpp
 /// Random packing of a region with bodies that overlap nothing (`[[fill]]`, docs/scenes.md):
 /// random sequential addition. Each body's shape is drawn by weight and its size scaled by a
-/// factor drawn uniformly; positions (and orientations) are drawn in the region until every
+/// factor drawn from the fill's size distribution (size_distribution.hpp); positions (and orientations) are drawn in the region until every
 /// sphere of the body lies inside it, apart from every sphere placed before it (the scene's
 /// bodies, then earlier fills), and out of contact with the ground and every wall. Every draw
 /// comes from the fill's own generator, so the bodies are the same for a given seed on any
@@ -14,6 +14,7 @@
 
 #include "tumble/math.hpp"
 #include "tumble/scene.hpp"
+#include "tumble/size_distribution.hpp"
 
 namespace tumble {
 
@@ -27,7 +28,7 @@ struct FillDef {
   std::vector<double> weights;        ///< one per shape, > 0: a body's shape is drawn with these odds
   std::uint64_t count = 0;            ///< bodies to place
   FillRegion region;
-  float scaleMin = 1.0f, scaleMax = 1.0f;  ///< each body's size factor, uniform in [min, max]
+  SizeDistribution size = SizeDistribution::fixed(1.0f);  ///< each body's scale factor
   Vec3f velocity{0, 0, 0};
   float velocityJitter = 0.0f;        ///< each velocity component gets a uniform addition in [−vj, vj)
   bool randomOrientation = true;
