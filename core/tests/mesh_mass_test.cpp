@@ -1,0 +1,200 @@
+// SPDX-License-Identifier: MIT
+// Tests of the solid a closed mesh bounds (tumble/mesh_mass.hpp): volume, centroid and inertia
+// against closed forms (a box, a tetrahedron, an L-shaped prism as the union of two boxes by
+// the parallel-axis theorem, a torus as its polyhedra converge), and the meshes that bound no
+// solid refused at their first triangle.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
+#include "tumble/mesh_mass.hpp"
+
+namespace {
+
+using tumble::SolidProperties;
+using V = std::array<double, 3>;
+using Tri = std::array<int, 3>;  // 0-based vertex indices, counter-clockwise seen from outside
+
+/// An OBJ of the vertices and triangles, read by tumble's reader.
+tumble::TriangleMesh objMesh(const std::vector<V>& vs, const std::vector<Tri>& ts) {
+  std::string text;
+  char line[128];
+  for (const V& v : vs) {
+    std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", v[0], v[1], v[2]);
+    text += line;
+  }
+  for (const Tri& t : ts) text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  return tumble::parseMesh(text, "solid.obj");
+}
+
+/// A box [lo, hi] as 12 outward triangles.
+void addBox(V lo, V hi, std::vector<V>& vs, std::vector<Tri>& ts) {
+  const int b = int(vs.size());
+  for (int k = 0; k < 8; ++k) vs.push_back({k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]});
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : faces) {
+    ts.push_back({b + f[0], b + f[1], b + f[2]});
+    ts.push_back({b + f[0], b + f[2], b + f[3]});
+  }
+}
+
+/// A box's properties at density 1 about its centre, in closed form.
+SolidProperties boxSolid(V lo, V hi) {
+  const double a = hi[0] - lo[0], b = hi[1] - lo[1], c = hi[2] - lo[2], m = a * b * c;
+  SolidProperties s;
+  s.volume = m;
+  s.centroid = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+  s.inertia = {m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12, 0, 0, 0};
+  return s;
+}
+
+void expectSolid(const SolidProperties& got, const SolidProperties& want, double tol, const char* what) {
+  const double size = std::cbrt(want.volume);
+  EXPECT_NEAR(got.volume, want.volume, tol * want.volume) << what << ": volume";
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(got.centroid[k], want.centroid[k], tol * size) << what << ": centroid " << k;
+  const double scale = want.volume * size * size;
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(got.inertia[k], want.inertia[k], tol * scale) << what << ": inertia " << k;
+}
+
+}  // namespace
+
+TEST(SolidProperties, ABoxAsItsClosedForm) {
+  std::vector<V> vs;
+  std::vector<Tri> ts;
+  const V lo{-0.25, 1.0, 2.0}, hi{0.875, 1.5, 4.0};  // exact in float, as the mesh keeps them
+  addBox(lo, hi, vs, ts);
+  expectSolid(tumble::solidProperties(objMesh(vs, ts)), boxSolid(lo, hi), 1e-12, "box");
+  // Scaled per axis: the box [2 lo, 2 hi] x [3 lo, 3 hi] x [0.5 lo, 0.5 hi].
+  const SolidProperties scaled = tumble::solidProperties(objMesh(vs, ts), {2.0, 3.0, 0.5});
+  expectSolid(scaled, boxSolid({2 * lo[0], 3 * lo[1], 0.5 * lo[2]}, {2 * hi[0], 3 * hi[1], 0.5 * hi[2]}), 1e-12, "scaled box");
+  // Wound inward (every triangle reversed): the same solid.
+  for (Tri& t : ts) std::swap(t[1], t[2]);
+  expectSolid(tumble::solidProperties(objMesh(vs, ts)), boxSolid(lo, hi), 1e-12, "inward box");
+}
+
+// The tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1): V = 1/6, centroid 1/4 each, ∫x² = 1/60 and
+// ∫xy = 1/120 about the origin, so I_xx = 2/60 − V (1/16 + 1/16) = 1/80 and
+// I_xy = −(1/120 − V/16) = 1/480 about the centroid.
+TEST(SolidProperties, ATetrahedronAsItsClosedForm) {
+  const std::vector<V> vs{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const std::vector<Tri> ts{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  SolidProperties want;
+  want.volume = 1.0 / 6;
+  want.centroid = {0.25, 0.25, 0.25};
+  want.inertia = {1.0 / 80, 1.0 / 80, 1.0 / 80, 1.0 / 480, 1.0 / 480, 1.0 / 480};
+  expectSolid(tumble::solidProperties(objMesh(vs, ts)), want, 1e-12, "tetrahedron");
+}
+
+// An L-shaped prism (the L (0,0) (2,0) (2,1) (1,1) (1,2) (0,2), 0.5 thick) as one closed mesh
+// against the union of the boxes [0,2]x[0,1] and [0,1]x[1,2] by the parallel-axis theorem.
+TEST(SolidProperties, AnLShapeAsTwoBoxes) {
+  const double h = 0.5;
+  const std::vector<std::array<double, 2>> l{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  std::vector<V> vs;
+  for (double z : {0.0, h})
+    for (const auto& p : l) vs.push_back({p[0], p[1], z});
+  std::vector<Tri> ts;
+  // The caps fanned from the reflex corner (1,1), index 3: bottom seen from below, top from above.
+  for (int k : {4, 5, 0, 1}) {
+    const int next = (k + 1) % 6;
+    ts.push_back({3, next, k});
+    ts.push_back({6 + 3, 6 + k, 6 + next});
+  }
+  for (int k = 0; k < 6; ++k) {  // the sides, outward for a counter-clockwise L
+    const int n = (k + 1) % 6;
+    ts.push_back({k, n, 6 + n});
+    ts.push_back({k, 6 + n, 6 + k});
+  }
+  const SolidProperties a = boxSolid({0, 0, 0}, {2, 1, h}), b = boxSolid({0, 1, 0}, {1, 2, h});
+  SolidProperties want;
+  want.volume = a.volume + b.volume;
+  for (int k = 0; k < 3; ++k) want.centroid[k] = (a.volume * a.centroid[k] + b.volume * b.centroid[k]) / want.volume;
+  for (const SolidProperties* p : {&a, &b}) {  // each box moved to the union's centroid
+    const double d[3] = {p->centroid[0] - want.centroid[0], p->centroid[1] - want.centroid[1],
+                         p->centroid[2] - want.centroid[2]};
+    want.inertia[0] += p->inertia[0] + p->volume * (d[1] * d[1] + d[2] * d[2]);
+    want.inertia[1] += p->inertia[1] + p->volume * (d[0] * d[0] + d[2] * d[2]);
+    want.inertia[2] += p->inertia[2] + p->volume * (d[0] * d[0] + d[1] * d[1]);
+    want.inertia[3] -= p->volume * d[0] * d[1];
+    want.inertia[4] -= p->volume * d[0] * d[2];
+    want.inertia[5] -= p->volume * d[1] * d[2];
+  }
+  EXPECT_NE(want.inertia[3], 0.0) << "the L has a product of inertia";
+  expectSolid(tumble::solidProperties(objMesh(vs, ts)), want, 1e-12, "L-shape");
+}
+
+// A torus of radii R = 1, r = 0.3 about z: V = 2π² R r², I_zz = V (R² + 3r²/4), I_xx = I_yy =
+// V (R²/2 + 5r²/8). Its polyhedra (vertices on the torus, n × n/2 quads) approach it as
+// 1/n²: within 1e-3 at n = 256 (an inscribed polygon of m sides has (2π/m)²/6 less area), and
+// about 4 times closer each time n doubles.
+TEST(SolidProperties, ATorusAsItsPolyhedraConverge) {
+  const double R = 1.0, r = 0.3, pi = 3.14159265358979323846;
+  SolidProperties want;
+  want.volume = 2 * pi * pi * R * r * r;
+  want.inertia = {want.volume * (R * R / 2 + 5 * r * r / 8), want.volume * (R * R / 2 + 5 * r * r / 8),
+                  want.volume * (R * R + 0.75 * r * r), 0, 0, 0};
+  double previous = 1.0;
+  for (int n : {64, 128, 256}) {
+    const int m = n / 2;
+    std::vector<V> vs;
+    std::vector<Tri> ts;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) {
+        const double u = 2 * pi * i / n, v = 2 * pi * j / m;
+        vs.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+      }
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) {
+        const int a = i * m + j, b = ((i + 1) % n) * m + j, c = ((i + 1) % n) * m + (j + 1) % m, d = i * m + (j + 1) % m;
+        ts.push_back({a, b, c});
+        ts.push_back({a, c, d});
+      }
+    const SolidProperties got = tumble::solidProperties(objMesh(vs, ts));
+    const double error = std::max({std::fabs(got.volume / want.volume - 1), std::fabs(got.inertia[0] / want.inertia[0] - 1),
+                                   std::fabs(got.inertia[2] / want.inertia[2] - 1)});
+    std::printf("torus n = %d: %zu triangles, largest relative error %.3e\n", n, ts.size(), error);
+    EXPECT_LT(error, previous / 3.5) << "n = " << n;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(got.centroid[k], 0.0, 1e-12);
+    for (int k = 3; k < 6; ++k) EXPECT_NEAR(got.inertia[k], 0.0, 1e-12);
+    previous = error;
+  }
+  EXPECT_LT(previous, 1e-3);
+}
+
+// Meshes that bound no solid: refused at the first triangle of the bad edge, with the edge.
+TEST(SolidProperties, MeshesThatBoundNoSolidAreRefused) {
+  const auto refused = [](const std::vector<V>& vs, const std::vector<Tri>& ts, const std::string& where,
+                          const std::string& what) {
+    try {
+      tumble::solidProperties(objMesh(vs, ts));
+      ADD_FAILURE() << "accepted; expected " << what;
+    } catch (const tumble::InputError& e) {
+      const std::string m = e.what();
+      std::printf("refused: %s\n", m.c_str());
+      EXPECT_NE(m.find(where), std::string::npos) << m;
+      EXPECT_NE(m.find(what), std::string::npos) << m;
+      EXPECT_NE(m.find("its edge from ("), std::string::npos) << m;
+    }
+  };
+  std::vector<V> vs;
+  std::vector<Tri> ts;
+  addBox({0, 0, 0}, {1, 1, 1}, vs, ts);
+  // Open: the last face's two triangles missing (the first triangle on an open edge is the
+  // first that borders the hole). OBJ lines: 8 vertices, then face k on line 9 + k.
+  std::vector<Tri> open(ts.begin(), ts.end() - 2);
+  refused(vs, open, "solid.obj:", "is open");
+  // One triangle reversed: its edges are run the same way as its neighbours'.
+  std::vector<Tri> flipped = ts;
+  std::swap(flipped[5][1], flipped[5][2]);
+  refused(vs, flipped, "solid.obj:", "orientations disagree");
+  // Two boxes sharing an edge: four triangles on it.
+  std::vector<V> two = vs;
+  std::vector<Tri> both = ts;
+  addBox({1, 1, 0}, {2, 2, 1}, two, both);
+  refused(two, both, "solid.obj:", "is not manifold");
+}
