@@ -198,7 +198,8 @@ SizeDistribution SceneParser::readSize(const TableReader& placement, const toml:
         sizes.push_back(double(r.single(*sa.get(i), "each size", Rule::Positive)));
         cumulative.push_back(r.number(*ca.get(i), "each cumulative fraction", Rule::NonNegative));
         if (i > 0 && !(sizes[i] > sizes[i - 1]))
-          r.fail(sourceOf(*sa.get(i)), "sizes must increase (entry " + std::to_string(i + 1) + " is not above the one before)");
+          r.fail(sourceOf(*sa.get(i)), "sizes must increase (entry " + std::to_string(i + 1) +
+                                           " is not above the one before in single precision)");
         if (i > 0 && !(cumulative[i] >= cumulative[i - 1]))
           r.fail(sourceOf(*ca.get(i)), "cumulative must not decrease (entry " + std::to_string(i + 1) + " is below the one before)");
       }
@@ -222,12 +223,14 @@ SizeDistribution SceneParser::readSize(const TableReader& placement, const toml:
     const toml::node& wn = normal ? r.require("sd", "the standard deviation, e.g. sd = 0.1")
                                   : r.require("sigma", "the standard deviation of ln(size), e.g. sigma = 0.25");
     const double width = r.number(wn, normal ? "sd" : "sigma", Rule::Positive);
-    const double lo0 = normal ? centre - 3.0 * width : centre * std::exp(-3.0 * width);
-    const double hi0 = normal ? centre + 3.0 * width : centre * std::exp(3.0 * width);
+    const auto [lo0, hi0] = SizeDistribution::defaultBounds(
+        normal ? SizeDistribution::Kind::Normal : SizeDistribution::Kind::LogNormal, centre, width);
     const toml::node* ln = r.find("min");
     const toml::node* hn = r.find("max");
     if (ln == nullptr && !(lo0 > 0.0))
-      r.fail(sourceOf(wn), "the default lower bound, mean - 3 sd, is not above 0: give min (> 0)");
+      r.fail(sourceOf(wn), normal ? "the default lower bound, mean - 3 sd, is not above 0: give min (> 0)"
+                                  : "the default lower bound, median e^(-3 sigma), is not above 0 in double "
+                                    "precision: give min and max (> 0)");
     const float lo = ln != nullptr ? r.single(*ln, "min", Rule::Positive) : float(lo0);
     const float hi = hn != nullptr ? r.single(*hn, "max", Rule::Positive) : float(hi0);
     if (!(lo < hi) || !std::isfinite(hi) || !(lo > 0.0f))

@@ -12,15 +12,19 @@ namespace tumble {
 namespace {
 
 /// Intervals of the normal's and log-normal's table, even in ln s.
-constexpr int kIntervals = 2048;
+constexpr int kIntervals = 4096;
 
-// exp and log of our own, a fixed sequence of IEEE operations (with -ffp-contract=off): the
-// tables, and so the sizes, are the same bits with any C library (docs/scenes.md#randomness).
-// ln 2 split as fdlibm does (its high part ends in 21 zero bits: k ln2_hi is exact for every k
-// here, |k| < 1100).
+/// ln 2 split as fdlibm does (its high part ends in 21 zero bits: k ln2_hi is exact for every k
+/// here, |k| < 1100).
 constexpr double kLn2Hi = 6.93147180369123816490e-01, kLn2Lo = 1.90821492927058770002e-10;
 
-/// e^x to about 1 ulp: x = k ln 2 + r, |r| <= ln2 / 2, e^r by Taylor to r^14 / 14! (< 4e-18).
+/// What a body of size s weighs in the number density: 1 by number, 1/s³ by volume.
+double numberWeight(SizeDistribution::Weight by, double s) {
+  return by == SizeDistribution::Weight::Volume ? 1.0 / (s * s * s) : 1.0;
+}
+
+}  // namespace
+
 double portableExp(double x) {
   if (!(x > -746.0)) return x != x ? x : 0.0;
   if (!(x < 710.0)) return HUGE_VAL;
@@ -31,8 +35,8 @@ double portableExp(double x) {
   return std::ldexp(p, int(k));
 }
 
-/// ln x (x > 0, finite) to about 1 ulp: x = m 2^e with m in [√½, √2), ln m = 2 atanh f,
-/// f = (m − 1)/(m + 1) (|f| ≤ 0.172), its series to f^25 / 25 (< 1e-19).
+// ln x: x = m 2^e with m in [√½, √2), ln m = 2 atanh f, f = (m − 1)/(m + 1) (|f| ≤ 0.172),
+// its series to f^25 / 25 (< 1e-19).
 double portableLog(double x) {
   int e = 0;
   double m = std::frexp(x, &e);
@@ -43,13 +47,6 @@ double portableLog(double x) {
   const double logm = 2.0 * f * (1.0 + series);
   return e * kLn2Hi + (e * kLn2Lo + logm);
 }
-
-/// What a body of size s weighs in the number density: 1 by number, 1/s³ by volume.
-double numberWeight(SizeDistribution::Weight by, double s) {
-  return by == SizeDistribution::Weight::Volume ? 1.0 / (s * s * s) : 1.0;
-}
-
-}  // namespace
 
 SizeDistribution SizeDistribution::fixed(float s) {
   SizeDistribution d;
@@ -72,13 +69,22 @@ SizeDistribution SizeDistribution::uniform(float lo, float hi, Weight by) {
 }
 
 template <class Density>
-void SizeDistribution::tabulate(const Density& density) {
-  const double a = portableLog(double(m_lo)), b = portableLog(double(m_hi));
+void SizeDistribution::tabulate(const Density& density, double lo, double hi) {
+  // lo, hi: the bounds within 40 of its σ of its centre (beyond, its density is below e^-800).
+  if (!(lo <= hi))
+    throw Error("the distribution puts no sizes between min and max (its centre is more than 40 of its standard "
+                "deviations outside them): move the bounds towards its centre");
+  if (float(lo) == float(hi)) {  // narrower than a float's step: every size is that float
+    m_s = {double(float(lo))};
+    m_c = {0.0};
+    return;
+  }
+  const double a = portableLog(lo), b = portableLog(hi);
   m_s.resize(kIntervals + 1);
   m_f.resize(kIntervals + 1);
   m_c.assign(kIntervals + 1, 0.0);
   for (int i = 0; i <= kIntervals; ++i) m_s[i] = portableExp(a + (b - a) * i / kIntervals);
-  m_s.front() = m_lo, m_s.back() = m_hi;
+  m_s.front() = lo, m_s.back() = hi;
   for (int i = 0; i <= kIntervals; ++i) m_f[i] = density(m_s[i]);
   for (int i = 0; i < kIntervals; ++i) {
     const double s0 = m_s[i], s1 = m_s[i + 1];
@@ -89,15 +95,22 @@ void SizeDistribution::tabulate(const Density& density) {
     throw Error("the distribution puts (next to) no sizes between min and max: move the bounds towards its centre");
 }
 
+std::array<double, 2> SizeDistribution::defaultBounds(Kind kind, double centre, double width) {
+  if (kind == Kind::LogNormal) return {centre * portableExp(-3.0 * width), centre * portableExp(3.0 * width)};
+  return {centre - 3.0 * width, centre + 3.0 * width};
+}
+
 SizeDistribution SizeDistribution::normal(double mean, double sd, float lo, float hi, Weight by) {
   SizeDistribution d = fixed(lo);
   d.m_kind = Kind::Normal;
   d.m_weight = by;
   d.m_hi = hi;
-  d.tabulate([&](double s) {
-    const double z = (s - mean) / sd;
-    return portableExp(-0.5 * z * z) * numberWeight(by, s);
-  });
+  d.tabulate(
+      [&](double s) {
+        const double z = (s - mean) / sd;
+        return portableExp(-0.5 * z * z) * numberWeight(by, s);
+      },
+      std::max(double(lo), mean - 40.0 * sd), std::min(double(hi), mean + 40.0 * sd));
   return d;
 }
 
@@ -107,10 +120,12 @@ SizeDistribution SizeDistribution::logNormal(double median, double sigma, float 
   d.m_weight = by;
   d.m_hi = hi;
   const double mu = portableLog(median);
-  d.tabulate([&](double s) {
-    const double z = (portableLog(s) - mu) / sigma;
-    return portableExp(-0.5 * z * z) / s * numberWeight(by, s);
-  });
+  d.tabulate(
+      [&](double s) {
+        const double z = (portableLog(s) - mu) / sigma;
+        return portableExp(-0.5 * z * z) / s * numberWeight(by, s);
+      },
+      std::max(double(lo), median * portableExp(-40.0 * sigma)), std::min(double(hi), median * portableExp(40.0 * sigma)));
   return d;
 }
 
@@ -133,6 +148,7 @@ SizeDistribution SizeDistribution::table(std::vector<double> sizes, std::vector<
 
 float SizeDistribution::at(double u) const {
   if (m_s.empty()) return m_lo + (m_hi - m_lo) * float(u);  // fixed, or uniform by number
+  if (m_s.size() == 1) return float(m_s[0]);                // narrower than a float's step
   const double target = u * m_c.back();
   // The interval [s_i, s_i+1) whose cumulative mass holds the target (never one of no mass).
   const std::size_t i = std::min<std::size_t>(

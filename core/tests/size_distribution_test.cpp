@@ -183,6 +183,36 @@ TEST(SizeDistribution, TheInversionIsAccurate) {
   }
   std::printf("log-normal inversion: largest |F(at(u)) - u| %.2e\n", worst);
   EXPECT_LT(worst, 3e-7);
+  // A distribution far narrower than its bounds (the table spans 40 sigma of it, not the
+  // bounds: 2048 intervals over the bounds drew a normal of sd 1e-3 in [0.1, 10] 9.6 % too wide),
+  // and one far wider.
+  const auto worstOf = [](const SizeDistribution& x, const std::function<double(double)>& F) {
+    double w = 0.0;
+    for (int k = 1; k < 1000; ++k) w = std::max(w, std::fabs(F(double(x.at(k / 1000.0))) - k / 1000.0));
+    return w;
+  };
+  const double narrow = worstOf(SizeDistribution::normal(1.0, 1e-3, 0.1f, 10.0f, Weight::Number),
+                                [](double s) { return Phi((s - 1.0) / 1e-3); });
+  const double wide = worstOf(SizeDistribution::logNormal(1.0, 0.1, 1e-6f, 1e6f, Weight::Number),
+                              [](double s) { return Phi(std::log(s) / 0.1); });
+  std::printf("normal sd 1e-3 in [0.1, 10]: %.2e; log-normal sigma 0.1 in [1e-6, 1e6]: %.2e\n", narrow, wide);
+  EXPECT_LT(narrow, 1e-4) << "sizes near 1 are floats 6e-8 apart: F moves by up to 2.4e-5 between them";
+  EXPECT_LT(wide, 3e-7);
+  // Narrower than a float's step: every size is the float at the centre.
+  const SizeDistribution point = SizeDistribution::normal(1.5, 1e-300, 0.5f, 2.0f, Weight::Number);
+  EXPECT_EQ(point.at(0.1), 1.5f);
+  EXPECT_EQ(point.at(0.9), 1.5f);
+  // tumble's exp and log against the C library's, within a few ulp (an exp cut at r^5 is 2e-6 off).
+  double worstExp = 0.0, worstLog = 0.0;
+  for (int k = -7000; k <= 7000; ++k) {
+    const double x = k * 0.1003;
+    worstExp = std::max(worstExp, std::fabs(tumble::portableExp(x) / std::exp(x) - 1.0));
+    const double y = std::exp(k * 0.0137);
+    worstLog = std::max(worstLog, std::fabs(tumble::portableLog(y) - std::log(y)) / std::max(1.0, std::fabs(std::log(y))));
+  }
+  std::printf("portableExp: largest relative difference %.2e; portableLog %.2e\n", worstExp, worstLog);
+  EXPECT_LT(worstExp, 1e-15);
+  EXPECT_LT(worstLog, 1e-15);
   // A uniform by number is Rng::uniform(lo, hi), as scale = [min, max] drew it.
   const SizeDistribution u = SizeDistribution::uniform(0.3f, 1.7f, Weight::Number);
   tumble::Rng a(7), b(7);
@@ -234,6 +264,34 @@ TEST(SceneIo, SizeDistributionsInFillsAndPours) {
   EXPECT_EQ(countInitialOverlaps(particlesOf(one)), 0u);
 }
 
+// Through the scene reader: a fill by mass (the same as by volume) of a log-normal draws, by
+// number, the log-normal of median e^(-3 sigma^2) (KS at 0.001 on its 3000 sizes), and scale =
+// [min, max] draws the bodies of a uniform by number bit for bit.
+TEST(SceneIo, SizeDistributionsAsRead) {
+  const std::string fill = "[[fill]]\nshape = \"ball\"\ncount = 3000\nregion = \"box\"\nmin = [-40, -40, 2]\n"
+                           "max = [40, 40, 12]\n";
+  const Scene s = tumble::parseScene(
+      withExtra(fill + "size = { distribution = \"lognormal\", median = 1, sigma = 0.3, min = 0.5, max = 2, by = \"mass\" }\n"),
+      "test.toml");
+  std::vector<double> sizes;
+  for (std::size_t b = 1; b < s.bodies.size(); ++b) sizes.push_back(s.shapes[s.bodies[b].shape].spheres[0].radius / 0.5);
+  std::sort(sizes.begin(), sizes.end());
+  const double median = std::exp(-3.0 * 0.09);
+  const auto F = [&](double x) {
+    const auto z = [&](double v) { return Phi(std::log(v / median) / 0.3); };
+    return (z(std::clamp(x, 0.5, 2.0)) - z(0.5)) / (z(2.0) - z(0.5));
+  };
+  const double D = ksStatistic(sizes, F), critical = 1.949 / std::sqrt(double(sizes.size()));
+  std::printf("fill of 3000 by mass (scene seed): D = %.4f, critical %.4f\n", D, critical);
+  EXPECT_LT(D, critical);
+  const Scene a = tumble::parseScene(withExtra(fill + "scale = [0.5, 1]\n"), "test.toml");
+  const Scene b = tumble::parseScene(withExtra(fill + "size = { distribution = \"uniform\", min = 0.5, max = 1 }\n"),
+                                     "test.toml");
+  EXPECT_TRUE(sameBits(a, b));
+  ASSERT_EQ(a.shapes.size(), b.shapes.size());
+  for (std::size_t k = 0; k < a.shapes.size(); ++k) EXPECT_EQ(a.shapes[k].spheres[0].radius, b.shapes[k].spheres[0].radius);
+}
+
 TEST(SceneIoErrors, SizeDistributions) {
   const std::string f = "[[fill]]\nshape = \"ball\"\ncount = 2\nregion = \"box\"\nmin = [0, 0, 2]\nmax = [9, 9, 9]\n";
   // lines 12-17; the size on line 18
@@ -251,10 +309,12 @@ TEST(SceneIoErrors, SizeDistributions) {
               {"mean - 3 sd, is not above 0: give min"});
   expectError(withExtra(f + "size = { distribution = \"normal\", mean = 1, sd = 0.001, min = 2, max = 3 }\n"), 18,
               {"no sizes between min and max"});
+  expectError(withExtra(f + "size = { distribution = \"lognormal\", median = 1, sigma = 300 }\n"), 18,
+              {"median e^(-3 sigma), is not above 0"});
   expectError(withExtra(f + "size = { distribution = \"lognormal\", median = 1, sigma = 0.2, min = 1, max = 1 }\n"), 18,
               {"0 < min < max"});
   expectError(withExtra(f + "size = { distribution = \"table\", sizes = [1, 1, 2], cumulative = [0, 0.5, 1] }\n"), 18,
-              {"sizes must increase (entry 2"});
+              {"sizes must increase (entry 2 is not above the one before in single precision)"});
   expectError(withExtra(f + "size = { distribution = \"table\", sizes = [1, 2], cumulative = [0, 0.9] }\n"), 18,
               {"cumulative must start at 0 and end at 1"});
   expectError(withExtra(f + "size = { distribution = \"table\", sizes = [1, 2, 3], cumulative = [0, 1] }\n"), 18,

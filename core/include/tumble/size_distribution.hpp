@@ -11,11 +11,13 @@
 /// the volume of one of size 1). The inversion is a table made once, in double: a tabulated
 /// distribution's exactly (number: linear in each interval; volume: the number density ∝ s⁻³
 /// in each interval, integrated in closed form); a normal's and a log-normal's from the density
-/// integrated by Simpson's rule on 2048 intervals even in ln s, taken as linear within each (the
-/// cumulative distribution within about 1e-7 of the exact one, what rounding a size to float
-/// moves it). The same draws on every thread
+/// integrated by Simpson's rule on 4096 intervals even in ln s over the bounds within 40 σ of its
+/// centre, taken as linear within each (the cumulative distribution within about 1e-7 of the
+/// exact one, what rounding a size to float moves it; one narrower than a float's step gives that
+/// float). The same draws on every thread
 /// count: a group's draws are made in order, by one thread.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,6 +25,11 @@
 #include "tumble/random.hpp"
 
 namespace tumble {
+
+/// e^x and ln x (x > 0) of tumble's own, a fixed sequence of IEEE operations (with
+/// -ffp-contract=off), within a few ulp of the C library's: the same bits with any C library.
+double portableExp(double x);
+double portableLog(double x);
 
 class SizeDistribution {
  public:
@@ -39,6 +46,8 @@ class SizeDistribution {
   static SizeDistribution normal(double mean, double sd, float lo, float hi, Weight by);
   /// A log-normal of `median` (e^μ, > 0) and `sigma` (σ of ln s, > 0) truncated to [lo, hi].
   static SizeDistribution logNormal(double median, double sigma, float lo, float hi, Weight by);
+  /// The bounds of a normal (mean ∓ 3 sd) or a log-normal (median e^∓3σ) where none are given.
+  static std::array<double, 2> defaultBounds(Kind kind, double centre, double width);
   /// A cumulative distribution through the points (sizes[i], cumulative[i]), linear between
   /// them: sizes > 0 strictly increasing, cumulative non-decreasing from 0 to 1, at least two.
   static SizeDistribution table(std::vector<double> sizes, std::vector<double> cumulative, Weight by);
@@ -59,7 +68,7 @@ class SizeDistribution {
   SizeDistribution() = default;
   /// The inversion table from the number density at s (normal, log-normal: grid and Simpson).
   template <class Density>
-  void tabulate(const Density& density);
+  void tabulate(const Density& density, double lo, double hi);
 
   Kind m_kind = Kind::Fixed;
   Weight m_weight = Weight::Number;
