@@ -4,6 +4,7 @@
 #include "tumble/fill.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
@@ -19,15 +20,10 @@ namespace tumble {
 namespace detail {
 
 std::vector<Ball> ballsOf(const ShapeDef& sh) {
-  double m = 0.0, c[3] = {0, 0, 0};
-  for (const SphereDef& s : sh.spheres) {
-    m += s.mass;
-    c[0] += double(s.mass) * s.offset.x, c[1] += double(s.mass) * s.offset.y, c[2] += double(s.mass) * s.offset.z;
-  }
+  const std::array<double, 3> c = shapeMassProperties(sh).centre;
   std::vector<Ball> out;
   for (const SphereDef& s : sh.spheres)
-    out.push_back(Ball{Vec3f{float(s.offset.x - c[0] / m), float(s.offset.y - c[1] / m), float(s.offset.z - c[2] / m)},
-                       s.radius});
+    out.push_back(Ball{Vec3f{float(s.offset.x - c[0]), float(s.offset.y - c[1]), float(s.offset.z - c[2])}, s.radius});
   return out;
 }
 
@@ -241,6 +237,7 @@ std::uint32_t drawShape(Scene& scene, Rng& rng, const std::vector<std::uint32_t>
       s.radius *= factor;
       s.mass *= m;
     }
+    if (sh.solid) sh.solid = sh.solid->scaled(double(factor));
     if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres(), scene.gravity); !why.empty())
       throw Error(where + ": shape '" + printable(sh.name) + "': " + why);
     scene.shapes.push_back(sh);

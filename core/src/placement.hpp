@@ -26,7 +26,7 @@ struct Ball {
   float r;
 };
 
-/// A shape's spheres about its centre of mass (the mass-weighted mean of the offsets, in double).
+/// A shape's spheres about its centre of mass (shapeMassProperties()).
 std::vector<Ball> ballsOf(const ShapeDef& shape);
 
 /// Spheres placed so far, hashed on a uniform grid of cells as wide as the largest sphere to be

@@ -22,7 +22,8 @@ void SceneParser::readShapes(Scene& scene) {
   if (n == nullptr) return;
   const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'shape'", "[[shape]]");
   for (std::size_t s = 0; s < tables.size(); ++s) {
-    const TableReader r(m_file, *tables[s], "[[shape]] #" + std::to_string(s + 1), {"name", "sphere"});
+    const TableReader r(m_file, *tables[s], "[[shape]] #" + std::to_string(s + 1),
+                        {"name", "sphere", "mass", "centre_of_mass", "inertia"});
     ShapeDef shape;
     const toml::node& nameNode = r.require("name", "the name that bodies and groups use, e.g. name = \"dimer\"");
     shape.name = r.string(nameNode, "name");
@@ -40,6 +41,7 @@ void SceneParser::readShapes(Scene& scene) {
       r.fail(spheres != nullptr ? sourceOf(*spheres) : r.header(),
              where + " has no spheres; add at least one [[shape.sphere]] with offset, radius and mass");
     }
+    shape.solid = readSolid(r);
     for (std::size_t i = 0; i < sphereTables.size(); ++i) {
       const TableReader sr(m_file, *sphereTables[i],
                            where + ", [[shape.sphere]] #" + std::to_string(i + 1),
@@ -48,11 +50,23 @@ void SceneParser::readShapes(Scene& scene) {
       sd.offset = sr.vec3("offset", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Coordinate);
       sd.radius = sr.single(sr.require("radius", "sphere radius in m, e.g. radius = 0.5"), "radius",
                             Rule::Radius);
-      readSphereMaterial(scene, sr, &sd);
-      for (const WallDef& plane : scene.planes())
+      readSphereMaterial(scene, sr, &sd, shape.solid.has_value());
+      for (const WallDef& plane : shape.solid ? std::vector<WallDef>{} : scene.planes())  // (a solid's: below)
         if (const std::string why = groundDampingOutOfRange(sd, plane.contact, plane.where); !why.empty())
           sr.fail(sr.header(), why);  // sr names the shape and the sphere
       shape.spheres.push_back(sd);
+    }
+    if (shape.solid) {  // each sphere its share of the solid's mass, by volume (r³)
+      shareMassByVolume(shape);
+      for (std::size_t i = 0; i < shape.spheres.size(); ++i) {
+        const SphereDef& sd = shape.spheres[i];
+        if (!(sd.mass >= std::numeric_limits<float>::min() && sd.mass <= std::numeric_limits<float>::max()))
+          r.fail(r.header(), where + ": sphere " + std::to_string(i + 1) + "'s share of the mass (" +
+                                 fmt(double(sd.mass)) + " kg) is beyond single precision");
+        for (const WallDef& plane : scene.planes())
+          if (const std::string why = groundDampingOutOfRange(sd, plane.contact, plane.where); !why.empty())
+            r.fail(r.header(), where + ", sphere " + std::to_string(i + 1) + ": " + why);
+      }
     }
     if (const std::string why = shapeOutOfRange(shape, scene.contact.rotatesSpheres(), scene.gravity); !why.empty()) r.fail(r.header(), where + ": " + why);
     m_shapeIndex.emplace(shape.name, static_cast<std::uint32_t>(scene.shapes.size()));
@@ -60,11 +74,30 @@ void SceneParser::readShapes(Scene& scene) {
   }
 }
 
+/// A shape's own mass properties (`mass`, `centre_of_mass`, `inertia`: all three or none), as
+/// `tumble clump` writes them for a shape made from a mesh; nothing when the shape has none.
+std::optional<ShapeSolid> SceneParser::readSolid(const TableReader& r) const {
+  const toml::node* mass = r.find("mass");
+  const toml::node* centre = r.find("centre_of_mass");
+  const toml::node* inertia = r.find("inertia");
+  if (mass == nullptr && centre == nullptr && inertia == nullptr) return std::nullopt;
+  if (mass == nullptr || centre == nullptr || inertia == nullptr)
+    r.fail(r.header(), "give the shape's mass, centre_of_mass and inertia together (a solid's mass properties, as "
+                       "tumble clump writes them), or none (the spheres' own)");
+  ShapeSolid s;
+  s.mass = double(r.single(*mass, "mass", Rule::Positive));
+  const auto c = r.numbers<3>(*centre, "centre_of_mass", Rule::Coordinate);
+  s.centre = {c[0], c[1], c[2]};
+  const auto i = r.numbers<6>(*inertia, "inertia", Rule::Any);
+  for (int k = 0; k < 6; ++k) s.inertia[k] = i[k];
+  return s;
+}
+
 /// A sphere's material, mass and elasticity (after its radius): `material` names a
 /// [[material]] (default: the only one, if the scene has exactly one); the mass is `mass`, or
 /// the volume 4/3 π r³ times `density` or the material's density. Under hertz-mindlin the
 /// elasticity is the material's restitution.
-void SceneParser::readSphereMaterial(const Scene& scene, const TableReader& sr, SphereDef* sd) const {
+void SceneParser::readSphereMaterial(const Scene& scene, const TableReader& sr, SphereDef* sd, bool shapeMass) const {
   const bool hertz = scene.contact.usesMaterials();
   const MaterialDef* md = nullptr;
   if (const toml::node* n = sr.find("material")) {
@@ -83,7 +116,12 @@ void SceneParser::readSphereMaterial(const Scene& scene, const TableReader& sr, 
   const toml::node* density = sr.find("density");
   if (mass != nullptr && density != nullptr)
     sr.fail(sourceOf(*density), "give mass or density, not both");
-  if (mass != nullptr) {
+  if (shapeMass) {  // the shape's mass, shared out by volume later
+    if (mass != nullptr || density != nullptr)
+      sr.fail(sourceOf(mass != nullptr ? *mass : *density),
+              "the shape gives the mass (its mass, centre_of_mass and inertia): a sphere's share is its volume's; "
+              "remove this sphere's " + std::string(mass != nullptr ? "mass" : "density"));
+  } else if (mass != nullptr) {
     sd->mass = sr.single(*mass, "mass", Rule::Positive);
   } else {
     const float rho = density != nullptr ? sr.single(*density, "density", Rule::Positive)

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -194,11 +195,14 @@ class TableReader {
     return *a;
   }
 
-  /// An array of exactly N elements (N = 3: [x, y, z]; N = 4: [w, x, y, z]).
+  /// An array of exactly N elements (N = 3: [x, y, z]; N = 4: [w, x, y, z]; N = 6: a symmetric
+  /// tensor [xx, yy, zz, xy, xz, yz]).
   template <std::size_t N>
   const toml::array& fixedArray(const toml::node& n, const std::string& what) const {
-    static_assert(N == 3 || N == 4);
-    const std::string_view form = N == 3 ? "of 3 numbers [x, y, z]" : "of 4 numbers [w, x, y, z]";
+    static_assert(N == 3 || N == 4 || N == 6);
+    const std::string_view form = N == 3   ? "of 3 numbers [x, y, z]"
+                                  : N == 4 ? "of 4 numbers [w, x, y, z]"
+                                           : "of 6 numbers [xx, yy, zz, xy, xz, yz]";
     const toml::array& a = array(n, what, form);
     if (a.size() != N) {
       fail(sourceOf(n), what + " must be an array " + std::string(form) + " (got " +
@@ -210,7 +214,8 @@ class TableReader {
   static std::string component(std::size_t n, std::size_t c, const std::string& what) {
     static constexpr std::string_view kNames3[] = {"x", "y", "z"};
     static constexpr std::string_view kNames4[] = {"w", "x", "y", "z"};
-    return "component " + std::string(n == 3 ? kNames3[c] : kNames4[c]) + " of " + what;
+    static constexpr std::string_view kNames6[] = {"xx", "yy", "zz", "xy", "xz", "yz"};
+    return "component " + std::string(n == 3 ? kNames3[c] : n == 4 ? kNames4[c] : kNames6[c]) + " of " + what;
   }
 
   /// An array of exactly N finite numbers, each checked against `rule`, in double precision.
@@ -337,7 +342,8 @@ class SceneParser {
 
   // [[shape]], [[body]] and [[group]] (scene_bodies.cpp).
   void readShapes(Scene& scene);
-  void readSphereMaterial(const Scene& scene, const TableReader& sr, SphereDef* sd) const;
+  std::optional<ShapeSolid> readSolid(const TableReader& r) const;
+  void readSphereMaterial(const Scene& scene, const TableReader& sr, SphereDef* sd, bool shapeMass) const;
   std::uint32_t shapeNamed(const TableReader& r, const toml::node& n, const std::string& what,
                            const Scene& scene) const;
   void addParticles(const TableReader& r, const toml::source_region& at, std::uint64_t count);

@@ -259,16 +259,13 @@ World World::fromScene(const Scene& scene, bool checkPlacement) {
       if (!(sp.mass > 0.0f) || !std::isfinite(sp.mass)) throw Error("shape '" + sh.name + "': mass must be > 0");
       if (!(sp.elasticity > 0.0f) || sp.elasticity > 1.0f) throw Error("shape '" + sh.name + "': elasticity must be in (0, 1]");
       if (!finite(sp.offset)) throw Error("shape '" + sh.name + "': offset is not finite");
-      p.mass += sp.mass;
-      p.com += sp.mass * Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z);
     }
     if (const std::string why = shapeOutOfRange(sh, scene.contact.rotatesSpheres(), scene.gravity); !why.empty()) throw Error("shape '" + sh.name + "': " + why);
-    p.com /= p.mass;
-    for (const auto& sp : sh.spheres) {
-      const Eigen::Vector3d u = Eigen::Vector3d(sp.offset.x, sp.offset.y, sp.offset.z) - p.com;
-      const double r = sp.radius;
-      p.inertia += sp.mass * ((0.4 * r * r + u.squaredNorm()) * Eigen::Matrix3d::Identity() - u * u.transpose());
-    }
+    const ShapeSolid solid = shapeMassProperties(sh);
+    p.mass = solid.mass;
+    p.com = Eigen::Vector3d(solid.centre[0], solid.centre[1], solid.centre[2]);
+    const auto& I = solid.inertia;
+    p.inertia << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
     p.shapeInertia = p.inertia;
     if (principal && sh.spheres.size() > 1) {
       // The splitting integrator rotates about the principal axes: use them as the body frame.

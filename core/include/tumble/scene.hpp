@@ -3,6 +3,7 @@
 /// Scene description: physical parameters, the bodies to create, and run settings. Read from
 /// TOML by readSceneFile() (docs/scenes.md) or built in code (validation/scenes.hpp).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -208,11 +209,42 @@ struct SphereDef {
   std::uint32_t material = 0;  ///< index into Scene::materials (read only when it has some)
 };
 
-/// A rigid body shape: one or more spheres.
+/// The mass properties of a shape that has its own (a solid: `[[shape]]` with `mass`,
+/// `centre_of_mass` and `inertia`, as `tumble clump` writes them from a mesh), in the shape's
+/// frame: the body's mass, centre of mass and inertia are these instead of its spheres' sums.
+/// The spheres then give the contacts, and each its share of the mass by volume (its `mass`)
+/// for what is per particle (the ground's damping, the pulls).
+struct ShapeSolid {
+  double mass = 0.0;                                           ///< kg
+  std::array<double, 3> centre{0.0, 0.0, 0.0};                 ///< m
+  std::array<double, 6> inertia{0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; ///< kg m², about the centre: xx, yy, zz, xy, xz, yz (tensor entries, I_xy = −∫ x y dm)
+  /// The same solid `factor` times as large (a fill's or pour's size): mass × f³, centre × f,
+  /// inertia × f⁵.
+  ShapeSolid scaled(double factor) const {
+    ShapeSolid s = *this;
+    const double f3 = factor * factor * factor;
+    s.mass *= f3;
+    for (double& c : s.centre) c *= factor;
+    for (double& i : s.inertia) i *= f3 * factor * factor;
+    return s;
+  }
+};
+
+/// A rigid body shape: one or more spheres, and the mass properties of a solid where it has its own.
 struct ShapeDef {
   std::string name;
   std::vector<SphereDef> spheres;
+  std::optional<ShapeSolid> solid{};
 };
+
+/// A shape's mass (kg), centre of mass (m) and inertia about it (kg m², xx, yy, zz, xy, xz, yz),
+/// in its frame and in double: its solid's where it has one, else its spheres' (each a solid
+/// sphere: Σ m, Σ m u / M, Σ m (0.4 r² + |u − c|²) 1 − m (u − c)(u − c)ᵀ).
+ShapeSolid shapeMassProperties(const ShapeDef& shape);
+
+/// A solid shape's spheres given their shares of its mass, by volume: m_i = M r_i³ / Σ r³ (what
+/// is per particle: the ground's damping, the pulls). Nothing for a shape without a solid.
+void shareMassByVolume(ShapeDef& shape);
 
 /// One body to create: shape index, centre-of-mass position, velocities, orientation.
 struct BodyDef {
