@@ -966,5 +966,42 @@ if command -v gnuplot >/dev/null; then
 fi
 expect_status "record and thermo to /dev/null" 0 "$bin" run small.toml --steps 10 --record /dev/null --thermo /dev/null -q
 
+# tumble clump (issue 36): a closed mesh as a [[shape]] table with the mesh's mass properties,
+# which a scene reads and runs; an open mesh, no stopping rule and -o over the mesh refused.
+cat > brick.obj <<'OBJ'
+v 0 0 0
+v 0.2 0 0
+v 0 0.1 0
+v 0.2 0.1 0
+v 0 0 0.05
+v 0.2 0 0.05
+v 0 0.1 0.05
+v 0.2 0.1 0.05
+f 1 3 4 2
+f 5 6 8 7
+f 1 2 6 5
+f 3 7 8 4
+f 1 5 7 3
+f 2 4 8 6
+OBJ
+expect_status "clump a brick" 0 "$bin" clump brick.obj --spheres 6 --density 2000 -o brick.toml
+expect_msg "clump a brick" "brick.obj: [1-6] spheres? \(at most 6\)"
+expect_msg "clump a brick's mass" "^volume 0.001 m\^3, mass 2 kg at 2000 kg/m\^3"
+# (the float vertices: 0.2, 0.1 and 0.05 each a few 1e-9 above)
+grep -Eq '^mass = 2(\.0000000[0-9]*)?$' brick.toml &&
+  grep -Eq '^centre_of_mass = \[0\.1(0000000[0-9]*)?, 0\.05(00000[0-9]*)?, 0\.025(00000[0-9]*)?\]$' brick.toml &&
+  ok "brick.toml has the brick's mass properties" ||
+  bad "brick.toml: $(cat brick.toml)"
+{ printf '[scene]\ndt = 1e-4\nsteps = 200\n[ground]\n'; cat brick.toml; printf '[[body]]\nshape = "brick"\nposition = [0, 0, 0.2]\n'; } > bricks.toml
+expect_status "run the clump" 0 "$bin" run bricks.toml --state-out bricks.csv -q
+head -n 13 brick.obj > open.obj
+expect_status "clump an open mesh" 2 "$bin" clump open.obj --spheres 3 -o open.toml
+expect_msg "clump an open mesh" "open.obj:[0-9]+: triangle [0-9]+: its edge .* is open"
+[ ! -e open.toml ] && ok "no table for an open mesh" || bad "open.toml written"
+expect_status "clump without a rule" 2 "$bin" clump brick.obj
+expect_msg "clump without a rule" "give --spheres N, --tolerance D or both"
+expect_status "clump over its mesh" 2 "$bin" clump brick.obj --spheres 2 -o brick.obj
+grep -q '^v 0 0 0$' brick.obj && ok "the mesh is untouched" || bad "brick.obj overwritten"
+
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

@@ -26,6 +26,7 @@ void addRender(CLI::App& app);
 void addPlot(CLI::App& app);
 void addExport(CLI::App& app);
 void addRepair(CLI::App& app);
+void addClump(CLI::App& app);
 
 /// Debian packages the viewer (view, play, render) needs at build time.
 inline constexpr const char* kViewerPackages =

@@ -171,6 +171,7 @@ int main(int argc, char** argv) {
   tumble::cli::addPlot(app);
   tumble::cli::addExport(app);
   tumble::cli::addRepair(app);
+  tumble::cli::addClump(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: MIT
+// Tests of clumps of spheres from closed meshes (tumble/clump.hpp): a mesh of a sphere gives one
+// sphere; every sphere lies inside the solid (a box: in closed form); the surface deviation
+// shrinks as spheres are added; the same spheres every time and on 1 and 2 threads; the shape
+// table written is read back bit for bit with the mesh's mass properties; bad requests refused.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "tumble/clump.hpp"
+#include "tumble/error.hpp"
+#include "tumble/mesh.hpp"
+#include "tumble/scene_io.hpp"
+
+namespace {
+
+using V = std::array<double, 3>;
+
+/// An OBJ of the vertices and triangles (0-based), read by tumble's reader.
+tumble::TriangleMesh objMesh(const std::vector<V>& vs, const std::vector<std::array<int, 3>>& ts, const char* name) {
+  std::string text;
+  char line[128];
+  for (const V& v : vs) {
+    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", v[0], v[1], v[2]);
+    text += line;
+  }
+  for (const auto& t : ts) text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  return tumble::parseMesh(text, name);
+}
+
+/// A UV sphere of radius R about c: n segments around, n/2 from pole to pole.
+tumble::TriangleMesh uvSphere(double R, V c, int n) {
+  const double pi = 3.14159265358979323846;
+  std::vector<V> vs{{c[0], c[1], c[2] + R}, {c[0], c[1], c[2] - R}};
+  const int rings = n / 2 - 1;
+  for (int i = 1; i <= rings; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double th = pi * i / (n / 2), ph = 2 * pi * j / n;
+      vs.push_back({c[0] + R * std::sin(th) * std::cos(ph), c[1] + R * std::sin(th) * std::sin(ph), c[2] + R * std::cos(th)});
+    }
+  const auto at = [&](int i, int j) { return 2 + (i - 1) * n + (j % n); };
+  std::vector<std::array<int, 3>> ts;
+  for (int j = 0; j < n; ++j) {
+    ts.push_back({0, at(1, j), at(1, j + 1)});
+    ts.push_back({1, at(rings, j + 1), at(rings, j)});
+    for (int i = 1; i < rings; ++i) {
+      ts.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      ts.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return objMesh(vs, ts, "ball.obj");
+}
+
+/// A box [0, a] x [0, b] x [0, c].
+tumble::TriangleMesh box(double a, double b, double c) {
+  std::vector<V> vs;
+  for (int k = 0; k < 8; ++k) vs.push_back({k & 1 ? a : 0.0, k & 2 ? b : 0.0, k & 4 ? c : 0.0});
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  std::vector<std::array<int, 3>> ts;
+  for (const auto& f : faces) {
+    ts.push_back({f[0], f[1], f[2]});
+    ts.push_back({f[0], f[2], f[3]});
+  }
+  return objMesh(vs, ts, "box.obj");
+}
+
+}  // namespace
+
+// A mesh of a sphere (radius 0.5, 64 x 32 facets) with a tolerance of 5 % of its radius: one
+// sphere, at the centre within a voxel, its radius the polyhedron's inscribed one (within 0.3 %
+// of 0.5), and the surface within the tolerance of it.
+TEST(Clump, AMeshOfASphereGivesOneSphere) {
+  const V c{0.2, -0.1, 0.3};
+  tumble::ClumpOptions o;
+  o.tolerance = 0.025;
+  const tumble::Clump k = tumble::clumpFromMesh(uvSphere(0.5, c, 64), o);
+  ASSERT_EQ(k.spheres.size(), 1u);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(k.spheres[0].centre[a], c[a], k.voxel);
+  EXPECT_NEAR(k.spheres[0].radius, 0.5, 0.0015 + k.voxel);
+  EXPECT_LT(k.quality.largestDeviation, o.tolerance);
+  std::printf("sphere: radius %.5f, surface deviation largest %.5f mean %.5f, volume ratio %.4f\n", k.spheres[0].radius,
+              k.quality.largestDeviation, k.quality.meanDeviation, k.quality.volumeRatio);
+}
+
+// A box 1 x 0.375 x 0.25 with more and more spheres: each inside the box (c ± r within it, in
+// closed form), the largest and the mean surface deviation never larger with more spheres and
+// the union's share of the volume never smaller; at 32 spheres the mean deviation is below a
+// quarter of the one-sphere clump's. The same spheres again, and on 1 and 2 threads.
+TEST(Clump, MoreSpheresFitTheSurfaceCloser) {
+  const double dims[3] = {1.0, 0.375, 0.25};  // exact in float, as the mesh keeps them
+  const tumble::TriangleMesh mesh = box(dims[0], dims[1], dims[2]);
+  double lastLargest = 1e30, lastMean = 1e30, lastVolume = 0.0, firstMean = 0.0;
+  for (std::uint32_t n : {1u, 2u, 4u, 8u, 16u, 32u}) {
+    tumble::ClumpOptions o;
+    o.spheres = n;
+    const tumble::Clump k = tumble::clumpFromMesh(mesh, o);
+    ASSERT_EQ(k.spheres.size(), n);
+    for (const tumble::ClumpSphere& s : k.spheres)
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_GE(s.centre[a] - s.radius, -1e-12) << n << " spheres";
+        EXPECT_LE(s.centre[a] + s.radius, dims[a] + 1e-12) << n << " spheres";
+      }
+    std::printf("box, %2u spheres: surface deviation largest %.4f mean %.4f, volume ratio %.3f\n", n,
+                k.quality.largestDeviation, k.quality.meanDeviation, k.quality.volumeRatio);
+    EXPECT_LE(k.quality.largestDeviation, lastLargest + 1e-12);
+    EXPECT_LE(k.quality.meanDeviation, lastMean + 1e-12);
+    EXPECT_GE(k.quality.volumeRatio, lastVolume - 1e-12);
+    if (n == 1) firstMean = k.quality.meanDeviation;
+    lastLargest = k.quality.largestDeviation, lastMean = k.quality.meanDeviation, lastVolume = k.quality.volumeRatio;
+  }
+  EXPECT_LT(lastMean, 0.25 * firstMean);
+  tumble::ClumpOptions o;
+  o.spheres = 12;
+  std::vector<tumble::ClumpSphere> one, two;
+  {
+    tbb::global_control g(tbb::global_control::max_allowed_parallelism, 1);
+    one = tumble::clumpFromMesh(mesh, o).spheres;
+  }
+  {
+    tbb::global_control g(tbb::global_control::max_allowed_parallelism, 2);
+    two = tumble::clumpFromMesh(mesh, o).spheres;
+  }
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].radius, two[i].radius);
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(one[i].centre[a], two[i].centre[a]);
+  }
+}
+
+// The table tumble clump writes, read back as a scene's shape: the same spheres (bit for bit in
+// float) and the mesh's mass properties at the density (a box of 2500 kg/m^3: m = 2500 a b c,
+// I_xx = m (b² + c²) / 12), the spheres sharing the mass by volume.
+TEST(Clump, TheShapeTableReadsBack) {
+  tumble::ClumpOptions o;
+  o.spheres = 6;
+  const tumble::Clump k = tumble::clumpFromMesh(box(1.0, 0.4, 0.25), o);
+  const tumble::ShapeDef shape = tumble::clumpShape(k, "brick \"B\"", 2500.0);
+  const std::string text = "[scene]\ndt = 1e-4\nsteps = 1\n" + tumble::shapeToml(shape, "a comment\nof two lines") +
+                           "[[body]]\nshape = \"brick \\\"B\\\"\"\nposition = [0, 0, 1]\n";
+  const tumble::Scene s = tumble::parseScene(text, "brick.toml");
+  ASSERT_EQ(s.shapes.size(), 1u);
+  const tumble::ShapeDef& back = s.shapes[0];
+  EXPECT_EQ(back.name, "brick \"B\"");
+  ASSERT_EQ(back.spheres.size(), shape.spheres.size());
+  for (std::size_t i = 0; i < back.spheres.size(); ++i) {
+    EXPECT_EQ(back.spheres[i].radius, shape.spheres[i].radius);
+    EXPECT_EQ(back.spheres[i].offset.x, shape.spheres[i].offset.x);
+    EXPECT_EQ(back.spheres[i].offset.z, shape.spheres[i].offset.z);
+    EXPECT_EQ(back.spheres[i].mass, shape.spheres[i].mass);
+  }
+  ASSERT_TRUE(back.solid.has_value());
+  const double m = 2500.0 * 1.0 * 0.4 * 0.25;
+  EXPECT_NEAR(back.solid->mass, m, 1e-6 * m);
+  EXPECT_NEAR(back.solid->centre[0], 0.5, 1e-9);
+  EXPECT_NEAR(back.solid->inertia[0], m * (0.16 + 0.0625) / 12, 1e-6 * m);
+  EXPECT_NEAR(back.solid->inertia[2], m * (1.0 + 0.16) / 12, 1e-6 * m);
+}
+
+TEST(Clump, BadRequestsAreRefused) {
+  const tumble::TriangleMesh mesh = box(1, 1, 1);
+  EXPECT_THROW(tumble::clumpFromMesh(mesh, tumble::ClumpOptions{}), tumble::Error);
+  tumble::ClumpOptions o;
+  o.spheres = 3;
+  o.resolution = 4;
+  EXPECT_THROW(tumble::clumpFromMesh(mesh, o), tumble::Error);
+  // An open box: refused by the solid's checks, with the file.
+  const std::string open = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n";
+  o.resolution = 32;
+  try {
+    tumble::clumpFromMesh(tumble::parseMesh(open, "open.obj"), o);
+    ADD_FAILURE() << "an open mesh was accepted";
+  } catch (const tumble::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("open.obj:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is open"), std::string::npos) << e.what();
+  }
+}
