@@ -296,9 +296,11 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
       g.markBall(p, r, covered);
       continue;
     }
-    // The centre moved to where the sphere is largest near it (the medial axis; a voxel's point
-    // is up to half a voxel off): steps along ±x, ±y, ±z, the best taken, halved when none
+    // The centre moved to where the sphere is largest near it, within a voxel of its point (a
+    // voxel's point is up to half a voxel off the medial axis; further, it would climb out of a
+    // tip into the sphere of the bulk): steps along ±x, ±y, ±z, the best taken, halved when none
     // grows the sphere, none longer than half the radius (the sphere stays in the solid).
+    const D3 start = p;
     for (double step = 0.5 * out.voxel; step > out.voxel / 64.0;) {
       const double len = std::min(step, 0.5 * r);
       D3 best = p;
@@ -307,6 +309,8 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
         for (const double sign : {-1.0, 1.0}) {
           D3 q = p;
           q[a] += sign * len;
+          const D3 moved = sub(q, start);
+          if (dot(moved, moved) > out.voxel * out.voxel) continue;
           const double rq = distanceToMesh(q, tris);
           if (rq > bestR) best = q, bestR = rq;
         }
@@ -355,11 +359,13 @@ std::string shapeToml(const ShapeDef& shape, const std::string& comment) {
     at = end + 1;
   }
   char line[256];
-  const auto g = [](double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.9g", v + 0.0);  // (-0 as 0)
+  const auto text = [](double v, int digits) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.*g", digits, v + 0.0);  // (-0 as 0)
     return std::string(b);
   };
+  const auto g = [&](float v) { return text(v, 9); };   // a float, read back bit for bit
+  const auto d = [&](double v) { return text(v, 17); };  // a double, read back bit for bit
   out += "[[shape]]\nname = \"";
   for (const char c : shape.name) {  // a TOML basic string
     if (c == '"' || c == '\\') out.push_back('\\');
@@ -368,10 +374,10 @@ std::string shapeToml(const ShapeDef& shape, const std::string& comment) {
   out += "\"\n";
   if (shape.solid) {
     const ShapeSolid& s = *shape.solid;
-    out += "mass = " + g(s.mass) + "\n";
-    out += "centre_of_mass = [" + g(s.centre[0]) + ", " + g(s.centre[1]) + ", " + g(s.centre[2]) + "]\n";
-    out += "inertia = [" + g(s.inertia[0]) + ", " + g(s.inertia[1]) + ", " + g(s.inertia[2]) + ", " + g(s.inertia[3]) +
-           ", " + g(s.inertia[4]) + ", " + g(s.inertia[5]) + "]  # kg m^2 about the centre of mass: xx, yy, zz, xy, xz, yz\n";
+    out += "mass = " + d(s.mass) + "\n";
+    out += "centre_of_mass = [" + d(s.centre[0]) + ", " + d(s.centre[1]) + ", " + d(s.centre[2]) + "]\n";
+    out += "inertia = [" + d(s.inertia[0]) + ", " + d(s.inertia[1]) + ", " + d(s.inertia[2]) + ", " + d(s.inertia[3]) +
+           ", " + d(s.inertia[4]) + ", " + d(s.inertia[5]) + "]  # kg m^2 about the centre of mass: xx, yy, zz, xy, xz, yz\n";
   }
   for (const SphereDef& sd : shape.spheres) {
     std::snprintf(line, sizeof line, "[[shape.sphere]]\noffset = [%s, %s, %s]\nradius = %s\n", g(sd.offset.x).c_str(),

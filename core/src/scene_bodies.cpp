@@ -3,6 +3,8 @@
 // from tumble::Rng) and the particle and memory budget: SceneParser members (scene_reader.hpp).
 #include "scene_reader.hpp"
 
+#include "tumble/clump.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -23,7 +25,8 @@ void SceneParser::readShapes(Scene& scene) {
   const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'shape'", "[[shape]]");
   for (std::size_t s = 0; s < tables.size(); ++s) {
     const TableReader r(m_file, *tables[s], "[[shape]] #" + std::to_string(s + 1),
-                        {"name", "sphere", "mass", "centre_of_mass", "inertia"});
+                        {"name", "sphere", "mass", "centre_of_mass", "inertia", "mesh", "spheres", "tolerance",
+                         "resolution", "scale", "density", "material", "elasticity"});
     ShapeDef shape;
     const toml::node& nameNode = r.require("name", "the name that bodies and groups use, e.g. name = \"dimer\"");
     shape.name = r.string(nameNode, "name");
@@ -33,6 +36,20 @@ void SceneParser::readShapes(Scene& scene) {
                                      "\" is already used by another [[shape]]; give each shape its own name");
     }
     const std::string where = "shape \"" + shape.name + "\"";
+    // A shape made from a mesh, or of the spheres written out: each has keys the other has not.
+    const bool fromMesh = r.has("mesh");
+    static const std::vector<const char*> kSpheresOnly{"sphere", "mass", "centre_of_mass", "inertia"};
+    static const std::vector<const char*> kMeshOnly{"spheres", "tolerance", "resolution", "scale",
+                                                    "density",  "material",  "elasticity"};
+    for (const char* key : fromMesh ? kSpheresOnly : kMeshOnly)
+      if (const toml::node* k = r.find(key))
+        r.fail(sourceOf(*k), fromMesh ? std::string(key) + " is not a key of a shape made from a mesh (its spheres and "
+                                                           "mass properties come from the mesh)"
+                                      : std::string(key) + " is a key of a shape made from a mesh: give mesh = "
+                                                           "\"FILE.stl\" too, or write the spheres as [[shape.sphere]]");
+    if (fromMesh) {
+      shape = readMeshShape(scene, r, shape.name);
+    } else {
     const toml::node* spheres = r.find("sphere");
     const std::vector<const toml::table*> sphereTables =
         spheres != nullptr ? tablesOf(m_file, *spheres, where + ": 'sphere'", "[[shape.sphere]]")
@@ -56,6 +73,7 @@ void SceneParser::readShapes(Scene& scene) {
           sr.fail(sr.header(), why);  // sr names the shape and the sphere
       shape.spheres.push_back(sd);
     }
+    }
     if (shape.solid) {  // each sphere its share of the solid's mass, by volume (r³)
       shareMassByVolume(shape);
       for (std::size_t i = 0; i < shape.spheres.size(); ++i) {
@@ -74,6 +92,53 @@ void SceneParser::readShapes(Scene& scene) {
   }
 }
 
+/// A [[shape]] made from a closed mesh (`mesh`, docs/scenes.md): the clump of clumpFromMesh()
+/// (`spheres`, `tolerance`, `resolution`) of the mesh times `scale`, its mass properties the
+/// solid's at `density` (or its material's), its spheres' elasticity and material the shape's.
+ShapeDef SceneParser::readMeshShape(const Scene& scene, const TableReader& r, const std::string& name) const {
+  const toml::node& mn = *r.find("mesh");
+  std::string bytes;
+  const std::string resolved = readMeshFileOf(r, mn, "mesh", &bytes);
+  ClumpOptions o;
+  const toml::node* sn = r.find("spheres");
+  const toml::node* tn = r.find("tolerance");
+  if (sn == nullptr && tn == nullptr)
+    r.fail(r.header(), "a shape made from a mesh needs spheres = N (the most spheres) or tolerance = D (m: how deep the "
+                       "solid may stay uncovered), or both");
+  if (sn != nullptr) {
+    const std::int64_t n = r.integer(*sn, "spheres", 1);
+    if (n > 100000) r.fail(sourceOf(*sn), "spheres must be at most 100000 (got " + std::to_string(n) + ")");
+    o.spheres = std::uint32_t(n);
+  }
+  if (tn != nullptr) o.tolerance = r.number(*tn, "tolerance", Rule::Positive);
+  if (const toml::node* rn = r.find("resolution")) {
+    const std::int64_t n = r.integer(*rn, "resolution", 8);
+    if (n > 512) r.fail(sourceOf(*rn), "resolution must be from 8 to 512 voxels along the longest side (got " +
+                                           std::to_string(n) + ")");
+    o.resolution = std::uint32_t(n);
+  }
+  const Vec3f scale = readMeshScale(r);
+  SphereDef sphere;  // the spheres' elasticity and material
+  const MaterialDef* md = readMaterialAndElasticity(scene, r, &sphere);
+  const toml::node* dn = r.find("density");
+  const double density = dn != nullptr ? r.number(*dn, "density", Rule::Positive) : md != nullptr ? md->density : 0.0;
+  if (!(density > 0.0))
+    r.fail(r.header(), "a shape made from a mesh needs its density (density = 2500, in kg/m³, here or in its "
+                       "[[material]]): its mass is the mesh's volume times it");
+  Clump clump;
+  try {
+    clump = clumpFromMesh(parseMesh(bytes, resolved), o, {double(scale.x), double(scale.y), double(scale.z)});
+  } catch (const InputError& e) {
+    throw InputError(e.file(), e.line(), e.problem() + " (the mesh of " + r.where() + ")");
+  } catch (const Error& e) {
+    r.fail(sourceOf(mn), e.what());
+  }
+  ShapeDef shape = clumpShape(clump, name, density);
+  for (SphereDef& sd : shape.spheres) sd.elasticity = sphere.elasticity, sd.material = sphere.material;
+  shape.meshFile = resolved;
+  return shape;
+}
+
 /// A shape's own mass properties (`mass`, `centre_of_mass`, `inertia`: all three or none), as
 /// `tumble clump` writes them for a shape made from a mesh; nothing when the shape has none.
 std::optional<ShapeSolid> SceneParser::readSolid(const TableReader& r) const {
@@ -85,7 +150,7 @@ std::optional<ShapeSolid> SceneParser::readSolid(const TableReader& r) const {
     r.fail(r.header(), "give the shape's mass, centre_of_mass and inertia together (a solid's mass properties, as "
                        "tumble clump writes them), or none (the spheres' own)");
   ShapeSolid s;
-  s.mass = double(r.single(*mass, "mass", Rule::Positive));
+  s.mass = r.number(*mass, "mass", Rule::Positive);  // (its range: shapeOutOfRange())
   const auto c = r.numbers<3>(*centre, "centre_of_mass", Rule::Coordinate);
   s.centre = {c[0], c[1], c[2]};
   const auto i = r.numbers<6>(*inertia, "inertia", Rule::Any);
@@ -98,20 +163,7 @@ std::optional<ShapeSolid> SceneParser::readSolid(const TableReader& r) const {
 /// the volume 4/3 π r³ times `density` or the material's density. Under hertz-mindlin the
 /// elasticity is the material's restitution.
 void SceneParser::readSphereMaterial(const Scene& scene, const TableReader& sr, SphereDef* sd, bool shapeMass) const {
-  const bool hertz = scene.contact.usesMaterials();
-  const MaterialDef* md = nullptr;
-  if (const toml::node* n = sr.find("material")) {
-    sd->material = materialNamed(sr, *n, "material");
-    md = &scene.materials[sd->material];
-  } else if (scene.materials.size() == 1) {
-    md = &scene.materials[0];
-  } else if (hertz) {
-    sr.fail(sr.header(), scene.materials.empty()
-                             ? "law = \"hertz-mindlin\" needs a [[material]] (name, youngs_modulus, poisson_ratio, "
-                               "restitution) for the spheres"
-                             : "the scene has several [[material]] tables: say which this sphere is made of, e.g. "
-                               "material = \"" + scene.materials[0].name + "\"");
-  }
+  const MaterialDef* md = readMaterialAndElasticity(scene, sr, sd);
   const toml::node* mass = sr.find("mass");
   const toml::node* density = sr.find("density");
   if (mass != nullptr && density != nullptr)
@@ -135,6 +187,27 @@ void SceneParser::readSphereMaterial(const Scene& scene, const TableReader& sr, 
               "density × volume gives a mass beyond single precision (" + fmt(m) + " kg)");
     sd->mass = static_cast<float>(m);
   }
+}
+
+/// A sphere's (or a mesh shape's) material and elasticity: `material` names a [[material]]
+/// (default: the only one, if the scene has exactly one); the elasticity is `elasticity`, or
+/// under hertz-mindlin the material's restitution. Returns the material (null: none).
+const MaterialDef* SceneParser::readMaterialAndElasticity(const Scene& scene, const TableReader& sr,
+                                                          SphereDef* sd) const {
+  const bool hertz = scene.contact.usesMaterials();
+  const MaterialDef* md = nullptr;
+  if (const toml::node* n = sr.find("material")) {
+    sd->material = materialNamed(sr, *n, "material");
+    md = &scene.materials[sd->material];
+  } else if (scene.materials.size() == 1) {
+    md = &scene.materials[0];
+  } else if (hertz) {
+    sr.fail(sr.header(), scene.materials.empty()
+                             ? "law = \"hertz-mindlin\" needs a [[material]] (name, youngs_modulus, poisson_ratio, "
+                               "restitution) for the spheres"
+                             : "the scene has several [[material]] tables: say which this sphere is made of, e.g. "
+                               "material = \"" + scene.materials[0].name + "\"");
+  }
   if (hertz) {
     if (const toml::node* e = sr.find("elasticity"))
       sr.fail(sourceOf(*e), "elasticity is not read under law = \"hertz-mindlin\": the restitution is the "
@@ -143,6 +216,7 @@ void SceneParser::readSphereMaterial(const Scene& scene, const TableReader& sr, 
   } else {
     sd->elasticity = sr.single("elasticity", 0.5f, Rule::Elasticity);
   }
+  return md;
 }
 
 /// Index of a named shape, or an error at the node that names it.

@@ -450,6 +450,7 @@ void refuseSceneInput(const Scene& scene, const std::string& path, const std::st
   refuse(scene.sourceFile, "the scene file");
   for (const WallDef& w : scene.walls)
     if (w.shape == WallDef::Shape::Mesh) refuse(w.meshFile, "the mesh of " + w.where);
+  for (const ShapeDef& s : scene.shapes) refuse(s.meshFile, "the mesh of shape \"" + s.name + "\"");
 }
 
 }  // namespace tumble

@@ -344,6 +344,11 @@ class SceneParser {
   void readShapes(Scene& scene);
   std::optional<ShapeSolid> readSolid(const TableReader& r) const;
   void readSphereMaterial(const Scene& scene, const TableReader& sr, SphereDef* sd, bool shapeMass) const;
+  const MaterialDef* readMaterialAndElasticity(const Scene& scene, const TableReader& sr, SphereDef* sd) const;
+  ShapeDef readMeshShape(const Scene& scene, const TableReader& r, const std::string& name) const;
+  std::string readMeshFileOf(const TableReader& r, const toml::node& fileNode, const std::string& key,
+                             std::string* bytes) const;
+  Vec3f readMeshScale(const TableReader& r) const;
   std::uint32_t shapeNamed(const TableReader& r, const toml::node& n, const std::string& what,
                            const Scene& scene) const;
   void addParticles(const TableReader& r, const toml::source_region& at, std::uint64_t count);

@@ -186,36 +186,47 @@ void SceneParser::readRevolvedWall(const TableReader& r, const std::string& type
 // A triangle mesh (file, scale, position, orientation): the file is read here, relative to
 // the scene file's folder (or the base folder given to parseScene); its problems are reported
 // at its own lines, naming the wall.
-void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
-  wall->shape = WallDef::Shape::Mesh;
-  const toml::node& fn = r.require("file", "the mesh's STL or OBJ file, relative to the scene file's folder, e.g. "
-                                           "file = \"hopper.stl\"");
-  const std::string file = r.string(fn, "file");
-  if (file.empty()) r.fail(sourceOf(fn), "file must name an STL or OBJ file (got \"\")");
+/// The mesh file a key names (`fn`, a path relative to the scene file's folder or the base
+/// folder), read into *bytes (within the mesh files' limit); returns its resolved path. Refused
+/// at the key's line with where it was looked for.
+std::string SceneParser::readMeshFileOf(const TableReader& r, const toml::node& fn, const std::string& key,
+                                        std::string* bytes) const {
+  const std::string file = r.string(fn, key);
+  if (file.empty()) r.fail(sourceOf(fn), key + " must name an STL or OBJ file (got \"\")");
   const std::filesystem::path folder =
       m_base.empty() ? std::filesystem::path(m_file).parent_path() : std::filesystem::path(m_base);
   std::filesystem::path path(file);
   if (path.is_relative()) path = folder / path;
   const std::string resolved = path.lexically_normal().string();
-  std::string bytes;
   try {
-    bytes = detail::readWholeFile(resolved, "the mesh file", detail::kMeshFileLimit);
+    *bytes = detail::readWholeFile(resolved, "the mesh file", detail::kMeshFileLimit);
   } catch (const InputError& e) {
     const std::string from = m_base.empty() ? std::string("the scene file's folder") : "the base folder " + m_base;
     r.fail(sourceOf(fn), e.problem() + (std::filesystem::path(file).is_relative()
-                                            ? " (file = \"" + file + "\", looked for at " + resolved +
+                                            ? " (" + key + " = \"" + file + "\", looked for at " + resolved +
                                                   "); a relative file is found from " + from
-                                            : " (file = \"" + file + "\")"));
+                                            : " (" + key + " = \"" + file + "\")"));
   }
+  return resolved;
+}
+
+/// A mesh's `scale`: a number, or [sx, sy, sz], each > 0 (default 1).
+Vec3f SceneParser::readMeshScale(const TableReader& r) const {
+  const toml::node* sn = r.find("scale");
+  if (sn == nullptr) return Vec3f{1.0f, 1.0f, 1.0f};
+  if (sn->is_array()) return r.vec3(*sn, "scale", Rule::Positive);
+  const float k = r.single(*sn, "scale", Rule::Positive);
+  return Vec3f{k, k, k};
+}
+
+void SceneParser::readMeshWall(const TableReader& r, WallDef* wall) {
+  wall->shape = WallDef::Shape::Mesh;
+  const toml::node& fn = r.require("file", "the mesh's STL or OBJ file, relative to the scene file's folder, e.g. "
+                                           "file = \"hopper.stl\"");
+  std::string bytes;
+  const std::string resolved = readMeshFileOf(r, fn, "file", &bytes);
   wall->meshFile = resolved;
-  if (const toml::node* sn = r.find("scale")) {
-    if (sn->is_array()) {
-      wall->scale = r.vec3(*sn, "scale", Rule::Positive);
-    } else {
-      const float k = r.single(*sn, "scale", Rule::Positive);
-      wall->scale = Vec3f{k, k, k};
-    }
-  }
+  wall->scale = readMeshScale(r);
   wall->point = r.vec3("position", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Coordinate);
   if (const toml::node* q = r.find("orientation")) wall->orientation = r.orientation(*q);
   try {

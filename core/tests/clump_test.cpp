@@ -9,13 +9,17 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include "tumble/clump.hpp"
 #include "tumble/error.hpp"
 #include "tumble/mesh.hpp"
 #include "tumble/scene_io.hpp"
+#include "tumble/world.hpp"
 
 namespace {
 
@@ -178,4 +182,81 @@ TEST(Clump, BadRequestsAreRefused) {
     EXPECT_NE(std::string(e.what()).find("open.obj:"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("is open"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+// A scratch folder of this test binary, with the brick [0, 0.25] x [0, 0.125] x [0, 0.0625] (exact in float).
+std::string brickFolder() {
+  static const std::string d = [] {
+    const std::string p = ::testing::TempDir() + "tumble_clump_" + std::to_string(::getpid());
+    std::filesystem::create_directories(p);
+    std::ofstream out(p + "/brick.obj");
+    out << "v 0 0 0\nv 0.25 0 0\nv 0 0.125 0\nv 0.25 0.125 0\nv 0 0 0.0625\nv 0.25 0 0.0625\nv 0 0.125 0.0625\n"
+           "v 0.25 0.125 0.0625\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    std::ofstream open(p + "/open.obj");
+    open << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n";
+    return p;
+  }();
+  return d;
+}
+const char* kHead = "[scene]\ndt = 1e-4\nsteps = 10\n[ground]\n";  // lines 1-4
+const char* kBody = "[[body]]\nshape = \"brick\"\nposition = [0, 0, 1]\n";
+}  // namespace
+
+// [[shape]] mesh = "FILE": the clump tumble clump writes, made at load: the same spheres, the
+// mesh's mass properties at the density (m = 2000 a b c, I_zz = m (a² + b²) / 12), the shape's
+// elasticity on every sphere, twice scaled: 8 times the mass.
+TEST(Clump, AShapeFromAMeshFile) {
+  const std::string shape = "[[shape]]\nname = \"brick\"\nmesh = \"brick.obj\"\nspheres = 5\ndensity = 2000\nelasticity = 0.3\n";
+  const tumble::Scene s =
+      tumble::parseScene(std::string(kHead) + shape + kBody, "bricks.toml", {}, tumble::OverrideSource::CommandLine,
+                         brickFolder());
+  ASSERT_EQ(s.shapes.size(), 1u);
+  const tumble::ShapeDef& sh = s.shapes[0];
+  tumble::ClumpOptions o;
+  o.spheres = 5;
+  const tumble::ShapeDef want =
+      tumble::clumpShape(tumble::clumpFromMesh(tumble::readMeshFile(brickFolder() + "/brick.obj"), o), "brick", 2000.0);
+  ASSERT_EQ(sh.spheres.size(), want.spheres.size());
+  for (std::size_t i = 0; i < sh.spheres.size(); ++i) {
+    EXPECT_EQ(sh.spheres[i].radius, want.spheres[i].radius);
+    EXPECT_EQ(sh.spheres[i].offset.y, want.spheres[i].offset.y);
+    EXPECT_EQ(sh.spheres[i].elasticity, 0.3f);
+  }
+  ASSERT_TRUE(sh.solid.has_value());
+  const double m = 2000.0 * 0.25 * 0.125 * 0.0625;
+  EXPECT_NEAR(sh.solid->mass, m, 1e-12);
+  EXPECT_NEAR(sh.solid->inertia[2], m * (0.0625 + 0.015625) / 12, 1e-12);
+  EXPECT_EQ(sh.meshFile, brickFolder() + "/brick.obj");
+  const tumble::Scene big = tumble::parseScene(std::string(kHead) + shape + "scale = 2\n" + kBody, "bricks.toml", {},
+                                               tumble::OverrideSource::CommandLine, brickFolder());
+  EXPECT_NEAR(big.shapes[0].solid->mass, 8 * m, 1e-12);
+  const tumble::World w = tumble::World::fromScene(s);
+  EXPECT_FLOAT_EQ(w.bodyMass[0], float(m));
+}
+
+TEST(ClumpErrors, AShapeFromAMeshFile) {
+  const auto refused = [](const std::string& shape, long line, const std::string& needle) {
+    try {
+      (void)tumble::parseScene(std::string(kHead) + shape + kBody, "bricks.toml", {}, tumble::OverrideSource::CommandLine,
+                               brickFolder());
+      ADD_FAILURE() << "accepted: " << shape;
+    } catch (const tumble::InputError& e) {
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  const std::string head = "[[shape]]\nname = \"brick\"\nmesh = \"brick.obj\"\n";  // lines 5-7
+  refused(head + "density = 2000\n", 5, "needs spheres = N");
+  refused(head + "spheres = 3\n", 5, "needs its density");
+  refused(head + "spheres = 3\ndensity = 2000\nmass = 1\n", 10, "mass is not a key of a shape made from a mesh");
+  refused("[[shape]]\nname = \"brick\"\nspheres = 3\n[[shape.sphere]]\nradius = 0.1\nmass = 1\n", 7,
+          "spheres is a key of a shape made from a mesh");
+  refused("[[shape]]\nname = \"brick\"\nmesh = \"nope.obj\"\nspheres = 3\ndensity = 1\n", 7, "looked for at");
+  refused("[[shape]]\nname = \"brick\"\nmesh = \"open.obj\"\nspheres = 3\ndensity = 1\n", 5, "is open");
+  refused(head + "spheres = 3\ndensity = 2000\nresolution = 4\n", 10, "resolution");
+  // An output over the mesh a shape reads is refused (tumble run --state-out brick.obj).
+  const tumble::Scene s = tumble::parseScene(std::string(kHead) + head + "spheres = 2\ndensity = 2000\n" + kBody,
+                                             "bricks.toml", {}, tumble::OverrideSource::CommandLine, brickFolder());
+  EXPECT_THROW(tumble::refuseSceneInput(s, brickFolder() + "/brick.obj", "--state-out"), tumble::Error);
 }

@@ -14,8 +14,8 @@
 ///    in whole voxels: each inside voxel's distance to the nearest outside one, its depth.
 /// 3. Greedily, the deepest voxel not yet covered (ties: the lowest index) gets a sphere: from
 ///    its sample point, the centre climbs to where the exact distance to the mesh's triangles is
-///    largest nearby (steps along the axes, from half a voxel down to 1/64, none longer than half
-///    the radius), and the radius is that distance (so every sphere lies inside the solid and
+///    largest within a voxel of it (steps along the axes, from half a voxel down to 1/64, none
+///    longer than half the radius), and the radius is that distance (so every sphere lies inside the solid and
 ///    touches its surface); the voxels inside the sphere are covered. Until `spheres` spheres
 ///    are placed, or (`tolerance`) no uncovered voxel is deeper than the tolerance (its depth in
 ///    voxels bounds its distance to the surface from above), or every voxel is covered. No
@@ -87,8 +87,9 @@ ShapeDef clumpShape(const Clump& clump, const std::string& name, double density)
 
 /// A shape as the [[shape]] table of a scene file (what `tumble clump` writes): its name, its
 /// solid's mass, centre_of_mass and inertia (a shape with one), then each sphere's offset and
-/// radius (and mass, a shape without a solid), every number to 9 significant digits (floats
-/// read back bit for bit); `comment`'s lines first, each as a TOML comment.
+/// radius (and mass, a shape without a solid), the floats to 9 significant digits and the
+/// solid's doubles to 17 (each read back bit for bit: the table gives the shape `mesh = ` makes);
+/// `comment`'s lines first, each as a TOML comment.
 std::string shapeToml(const ShapeDef& shape, const std::string& comment);
 
 }  // namespace tumble

@@ -235,6 +235,7 @@ struct ShapeDef {
   std::string name;
   std::vector<SphereDef> spheres;
   std::optional<ShapeSolid> solid{};
+  std::string meshFile{};  ///< a shape made from a mesh: the file it was read from (an input of the run)
 };
 
 /// A shape's mass (kg), centre of mass (m) and inertia about it (kg m², xx, yy, zz, xy, xz, yz),
