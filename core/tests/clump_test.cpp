@@ -20,22 +20,12 @@
 #include "tumble/mesh.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/world.hpp"
+#include "mesh_test_util.hpp"
 
 namespace {
 
-using V = std::array<double, 3>;
-
-/// An OBJ of the vertices and triangles (0-based), read by tumble's reader.
-tumble::TriangleMesh objMesh(const std::vector<V>& vs, const std::vector<std::array<int, 3>>& ts, const char* name) {
-  std::string text;
-  char line[128];
-  for (const V& v : vs) {
-    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", v[0], v[1], v[2]);
-    text += line;
-  }
-  for (const auto& t : ts) text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
-  return tumble::parseMesh(text, name);
-}
+using mesh_test::objMesh;
+using mesh_test::V;
 
 /// A UV sphere of radius R about c: n segments around, n/2 from pole to pole.
 tumble::TriangleMesh uvSphere(double R, V c, int n) {
@@ -63,13 +53,8 @@ tumble::TriangleMesh uvSphere(double R, V c, int n) {
 /// A box [0, a] x [0, b] x [0, c].
 tumble::TriangleMesh box(double a, double b, double c) {
   std::vector<V> vs;
-  for (int k = 0; k < 8; ++k) vs.push_back({k & 1 ? a : 0.0, k & 2 ? b : 0.0, k & 4 ? c : 0.0});
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  std::vector<std::array<int, 3>> ts;
-  for (const auto& f : faces) {
-    ts.push_back({f[0], f[1], f[2]});
-    ts.push_back({f[0], f[2], f[3]});
-  }
+  std::vector<mesh_test::Tri> ts;
+  mesh_test::addBox({0, 0, 0}, {a, b, c}, vs, ts);
   return objMesh(vs, ts, "box.obj");
 }
 
