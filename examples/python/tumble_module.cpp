@@ -507,6 +507,20 @@ class RecordingFile {
 
 PYBIND11_MODULE(_tumble, m) {
   m.doc() = "tumble: rigid bodies made of spheres (the compiled part; import tumble)";
+  // pybind11 before 2.12 reads NumPy 2's array descriptors at the wrong offsets: every array it
+  // makes repeats its first element (a pip-installed NumPy 2 beside Debian 12's pybind11 2.10
+  // gave particles()["radius"] = [0.1, 0.1, 0.1] for [0.1, 0.06, 0.06], silently). Refused here.
+#if PYBIND11_VERSION_MAJOR < 3 && PYBIND11_VERSION_MINOR < 12
+  {
+    const std::string numpy = py::str(py::module_::import("numpy").attr("__version__"));
+    if (!numpy.empty() && numpy[0] >= '2' && numpy[0] <= '9' && numpy[1] == '.')
+      throw py::import_error("tumble was built with pybind11 " + std::to_string(PYBIND11_VERSION_MAJOR) + "." +
+                             std::to_string(PYBIND11_VERSION_MINOR) + ", which reads the arrays of NumPy " + numpy +
+                             " wrong; use NumPy 1 (Debian 12's python3-numpy: remove a NumPy 2 installed by pip, e.g. "
+                             "pip uninstall numpy, or run in a virtual environment with numpy<2), or build tumble with "
+                             "pybind11 2.12 or later");
+  }
+#endif
   m.attr("__version__") = TUMBLE_VERSION_STRING;
   m.attr("PULL_X") = std::uint32_t{kPullX};
   m.attr("PULL_Y") = std::uint32_t{kPullY};
