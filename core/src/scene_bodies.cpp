@@ -50,29 +50,29 @@ void SceneParser::readShapes(Scene& scene) {
     if (fromMesh) {
       shape = readMeshShape(scene, r, shape.name);
     } else {
-    const toml::node* spheres = r.find("sphere");
-    const std::vector<const toml::table*> sphereTables =
-        spheres != nullptr ? tablesOf(m_file, *spheres, where + ": 'sphere'", "[[shape.sphere]]")
-                           : std::vector<const toml::table*>{};
-    if (sphereTables.empty()) {
-      r.fail(spheres != nullptr ? sourceOf(*spheres) : r.header(),
-             where + " has no spheres; add at least one [[shape.sphere]] with offset, radius and mass");
-    }
-    shape.solid = readSolid(r);
-    for (std::size_t i = 0; i < sphereTables.size(); ++i) {
-      const TableReader sr(m_file, *sphereTables[i],
-                           where + ", [[shape.sphere]] #" + std::to_string(i + 1),
-                           {"offset", "radius", "mass", "density", "elasticity", "material"});
-      SphereDef sd;
-      sd.offset = sr.vec3("offset", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Coordinate);
-      sd.radius = sr.single(sr.require("radius", "sphere radius in m, e.g. radius = 0.5"), "radius",
-                            Rule::Radius);
-      readSphereMaterial(scene, sr, &sd, shape.solid.has_value());
-      for (const WallDef& plane : shape.solid ? std::vector<WallDef>{} : scene.planes())  // (a solid's: below)
-        if (const std::string why = groundDampingOutOfRange(sd, plane.contact, plane.where); !why.empty())
-          sr.fail(sr.header(), why);  // sr names the shape and the sphere
-      shape.spheres.push_back(sd);
-    }
+      const toml::node* spheres = r.find("sphere");
+      const std::vector<const toml::table*> sphereTables =
+          spheres != nullptr ? tablesOf(m_file, *spheres, where + ": 'sphere'", "[[shape.sphere]]")
+                             : std::vector<const toml::table*>{};
+      if (sphereTables.empty()) {
+        r.fail(spheres != nullptr ? sourceOf(*spheres) : r.header(),
+               where + " has no spheres; add at least one [[shape.sphere]] with offset, radius and mass");
+      }
+      shape.solid = readSolid(r);
+      for (std::size_t i = 0; i < sphereTables.size(); ++i) {
+        const TableReader sr(m_file, *sphereTables[i],
+                             where + ", [[shape.sphere]] #" + std::to_string(i + 1),
+                             {"offset", "radius", "mass", "density", "elasticity", "material"});
+        SphereDef sd;
+        sd.offset = sr.vec3("offset", Vec3f{0.0f, 0.0f, 0.0f}, Rule::Coordinate);
+        sd.radius = sr.single(sr.require("radius", "sphere radius in m, e.g. radius = 0.5"), "radius",
+                              Rule::Radius);
+        readSphereMaterial(scene, sr, &sd, shape.solid.has_value());
+        for (const WallDef& plane : shape.solid ? std::vector<WallDef>{} : scene.planes())  // (a solid's: below)
+          if (const std::string why = groundDampingOutOfRange(sd, plane.contact, plane.where); !why.empty())
+            sr.fail(sr.header(), why);  // sr names the shape and the sphere
+        shape.spheres.push_back(sd);
+      }
     }
     if (shape.solid) {  // each sphere its share of the solid's mass, by volume (r³)
       shareMassByVolume(shape);
