@@ -278,21 +278,28 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
     if (options.spheres != 0 && out.spheres.size() == options.spheres) break;
     // Its depth in voxels is at least its point's distance to the surface (the segment to the
     // nearest outside point crosses it): below the tolerance, so is every uncovered point's.
-    if (options.tolerance > 0.0 && std::sqrt(d2[v]) * out.voxel <= options.tolerance) break;
+    const double depth = std::sqrt(d2[v]) * out.voxel;
+    if (options.tolerance > 0.0 && depth <= options.tolerance) break;
     covered[v] = 1;
     D3 p = g.point(v);
+    // A sphere that reaches less than a quarter voxel out of one placed before adds nothing: its
+    // voxels are covered with it (the shell a sphere leaves under a curved surface, in one go).
+    const auto contained = [&](double radius) {
+      return std::any_of(out.spheres.begin(), out.spheres.end(), [&](const ClumpSphere& s) {
+        const D3 d = sub(p, s.centre);
+        return std::sqrt(dot(d, d)) + radius <= s.radius + 0.25 * out.voxel;
+      });
+    };
+    // First by its depth, which bounds its distance to the surface from above: most of such a
+    // shell is passed over without a look at the triangles.
+    if (contained(depth)) {
+      g.markBall(p, depth, covered);
+      continue;
+    }
     double r = distanceToMesh(p, tris);
     if (r < 0.5 * out.voxel) continue;                               // a sliver of the surface: too small a sphere
     if (options.tolerance > 0.0 && r <= options.tolerance) continue;  // within the tolerance of the surface
-    // A sphere that reaches less than a quarter voxel out of one placed before adds nothing: its
-    // voxels are covered with it (the shell a sphere leaves under a curved surface, in one go).
-    const auto contained = [&] {
-      return std::any_of(out.spheres.begin(), out.spheres.end(), [&](const ClumpSphere& s) {
-        const D3 d = sub(p, s.centre);
-        return std::sqrt(dot(d, d)) + r <= s.radius + 0.25 * out.voxel;
-      });
-    };
-    if (contained()) {
+    if (contained(r)) {
       g.markBall(p, r, covered);
       continue;
     }
@@ -319,7 +326,7 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
       else
         step *= 0.5;
     }
-    if (contained()) {  // it climbed back into one
+    if (contained(r)) {  // it climbed back into one
       g.markBall(p, r, covered);
       continue;
     }
