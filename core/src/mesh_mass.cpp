@@ -86,12 +86,17 @@ Sub subexpressions(double w0, double w1, double w2) {
 SolidProperties solidProperties(const TriangleMesh& mesh, std::array<double, 3> scale) {
   checkClosed(mesh);
   // The integrals of 1, x, y, z, x², y², z², xy, yz, zx over the solid (times 6, 24, 60, 120).
+  // About the first vertex (a point of the solid): about the origin, a solid far from it loses
+  // its inertia to cancellation (1e5 m out, a 1-m ellipsoid's came out negative).
   double in[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  const Vec3f o = mesh.vertices[mesh.triangles[0]];
+  const double ref[3] = {double(o.x) * scale[0], double(o.y) * scale[1], double(o.z) * scale[2]};
   for (std::size_t t = 0; t < mesh.numTriangles(); ++t) {
     double p[3][3];
     for (int k = 0; k < 3; ++k) {
       const Vec3f v = mesh.vertices[mesh.triangles[3 * t + k]];
-      p[k][0] = double(v.x) * scale[0], p[k][1] = double(v.y) * scale[1], p[k][2] = double(v.z) * scale[2];
+      p[k][0] = double(v.x) * scale[0] - ref[0], p[k][1] = double(v.y) * scale[1] - ref[1];
+      p[k][2] = double(v.z) * scale[2] - ref[2];
     }
     const double a1 = p[1][0] - p[0][0], b1 = p[1][1] - p[0][1], c1 = p[1][2] - p[0][2];
     const double a2 = p[2][0] - p[0][0], b2 = p[2][1] - p[0][1], c2 = p[2][2] - p[0][2];
@@ -115,8 +120,8 @@ SolidProperties solidProperties(const TriangleMesh& mesh, std::array<double, 3> 
     throw InputError(mesh.file, 0, "the closed mesh bounds no volume (its triangles enclose nothing)");
   SolidProperties s;
   s.volume = in[0];
-  const double cx = in[1] / in[0], cy = in[2] / in[0], cz = in[3] / in[0];
-  s.centroid = {cx, cy, cz};
+  const double cx = in[1] / in[0], cy = in[2] / in[0], cz = in[3] / in[0];  // about ref
+  s.centroid = {cx + ref[0], cy + ref[1], cz + ref[2]};
   const double m = in[0];
   s.inertia = {in[5] + in[6] - m * (cy * cy + cz * cz), in[4] + in[6] - m * (cz * cz + cx * cx),
                in[4] + in[5] - m * (cx * cx + cy * cy), -(in[7] - m * cx * cy),

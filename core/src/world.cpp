@@ -267,15 +267,16 @@ World World::fromScene(const Scene& scene, bool checkPlacement) {
     const auto& I = solid.inertia;
     p.inertia << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
     p.shapeInertia = p.inertia;
-    if (principal && sh.spheres.size() > 1) {
-      // The splitting integrator rotates about the principal axes: use them as the body frame.
+    if (principal && (sh.spheres.size() > 1 || sh.solid)) {
+      // The splitting integrator rotates about the principal axes: use them as the body frame
+      // (a solid of one sphere too: its inertia need not be diagonal).
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(p.inertia);
       p.frame = eig.eigenvectors();
       if (p.frame.determinant() < 0.0) p.frame.col(2) = -p.frame.col(2);
       p.inertia = eig.eigenvalues().asDiagonal();
     }
     p.invInertia = p.inertia.inverse();
-    if (principal && sh.spheres.size() > 1) {  // exact zeros off the diagonal
+    if (principal && (sh.spheres.size() > 1 || sh.solid)) {  // exact zeros off the diagonal
       p.invInertia = p.inertia.diagonal().cwiseInverse().asDiagonal();
     }
     props[s] = p;

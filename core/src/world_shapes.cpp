@@ -104,20 +104,33 @@ std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate, Vec3f gra
                   m * g, kMax);
     return buf;
   }
-  // The largest moment of inertia is at most Σ m (0.4 r² + |u|²); the smallest at least Σ 0.4 m r².
-  // Single-sphere bodies do not rotate under the report's law: their inertia is never used.
-  if (shape.spheres.size() == 1 && !spheresRotate) return shapeExtent(shape) <= 0.5 * kMax ? std::string() : std::string(
-      "its sphere reaches beyond single-precision range");
-  const double most = shapeInertiaBound(shape);
-  double least = 0.0;
-  if (shape.solid) {  // a solid's inertia: positive, and each principal moment at most the sum of the other two
+  // A solid's inertia: positive, and each principal moment at most the sum of the other two; a
+  // solid of one sphere has its centre of mass at the sphere's centre (a one-sphere body's
+  // particle sits at its centre of mass in the pipelines).
+  if (shape.solid) {
     const Eigen::Vector3d l = principalMoments(*shape.solid);
     if (!(l[0] > 0.0) || !(l[2] <= (l[0] + l[1]) * (1.0 + 1e-6))) {
       std::snprintf(buf, sizeof buf, "its inertia's principal moments (%.6g, %.6g, %.6g kg m^2) are not a solid's: "
                     "each must be positive and at most the sum of the other two", l[0], l[1], l[2]);
       return buf;
     }
-    least = l[0];
+    const SphereDef& sp = shape.spheres[0];
+    const double d[3] = {sp.offset.x - shape.solid->centre[0], sp.offset.y - shape.solid->centre[1],
+                         sp.offset.z - shape.solid->centre[2]};
+    if (shape.spheres.size() == 1 && !(std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) <= 1e-3 * sp.radius)) {
+      std::snprintf(buf, sizeof buf, "its one sphere's centre lies %.6g m from its centre_of_mass: a body of one "
+                    "sphere has it there; put the centre there, or add spheres", std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+      return buf;
+    }
+  }
+  // The largest moment of inertia is at most Σ m (0.4 r² + |u|²); the smallest at least Σ 0.4 m r².
+  // Single-sphere bodies do not rotate under the report's law: their inertia is never used.
+  if (shape.spheres.size() == 1 && !spheresRotate) return shapeExtent(shape) <= 0.5 * kMax ? std::string() : std::string(
+      "its sphere reaches beyond single-precision range");
+  const double most = shapeInertiaBound(shape);
+  double least = 0.0;
+  if (shape.solid) {
+    least = principalMoments(*shape.solid)[0];
   } else {
     for (const SphereDef& sp : shape.spheres) least += 0.4 * double(sp.mass) * double(sp.radius) * sp.radius;
   }

@@ -72,4 +72,12 @@ TEST(SceneIoErrors, SolidShapes) {
   expectError(replaced("radius = 0.2\n", "radius = 0.2\nmass = 19.2\n"), 23,
               {"the shape gives the mass", "remove this sphere's mass"});
   expectError(replaced("mass = 24\n", "mass = -1\n"), 14, {"mass"});
+  // One sphere: a body of one sphere has its particle at its centre of mass (the pipelines'), so
+  // a solid of one sphere must have it there; its inertia is checked under every law.
+  const std::string one = "[[shape]]\nname = \"one\"\nmass = 4\ncentre_of_mass = [0, 0, 0.05]\n"
+                          "inertia = [0.02, 0.02, 0.02, 0, 0, 0]\n[[shape.sphere]]\nradius = 0.1\n";
+  expectError(withExtra(one), 12, {"its one sphere's centre lies 0.05 m from its centre_of_mass"});
+  std::string bad = one;
+  bad.replace(bad.find("[0, 0, 0.05]"), 12, "[0, 0, 0]").replace(bad.find("[0.02, 0.02, 0.02"), 17, "[1, 1, 5");
+  expectError(withExtra(bad), 12, {"are not a solid's"});
 }
