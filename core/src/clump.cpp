@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numeric>
 #include <string>
 
 #include "tumble/error.hpp"
@@ -334,7 +333,9 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
     g.markBall(p, r, covered);
   }
   if (out.spheres.empty())
-    throw Error(mesh.file + ": no sphere of at least half a voxel fits in the solid; use a finer resolution");
+    throw Error(mesh.file + (options.tolerance > 0.0
+                                 ? ": the whole solid lies within the tolerance of its surface: give a smaller tolerance"
+                                 : ": no sphere of at least half a voxel fits in the solid; use a finer resolution"));
   out.quality = clumpQuality(mesh, out.spheres, out.voxel, out.solid.volume, scale);
   return out;
 }

@@ -117,9 +117,10 @@ std::string shapeOutOfRange(const ShapeDef& shape, bool spheresRotate, Vec3f gra
     const SphereDef& sp = shape.spheres[0];
     const double d[3] = {sp.offset.x - shape.solid->centre[0], sp.offset.y - shape.solid->centre[1],
                          sp.offset.z - shape.solid->centre[2]};
-    if (shape.spheres.size() == 1 && !(std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) <= 1e-3 * sp.radius)) {
+    const double off = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (shape.spheres.size() == 1 && !(off <= 1e-3 * sp.radius)) {
       std::snprintf(buf, sizeof buf, "its one sphere's centre lies %.6g m from its centre_of_mass: a body of one "
-                    "sphere has it there; put the centre there, or add spheres", std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+                    "sphere has it there; put the centre there, or add spheres", off);
       return buf;
     }
   }
