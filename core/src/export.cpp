@@ -17,6 +17,7 @@
 #include <system_error>
 
 #include "binary_io.hpp"
+#include "vtk_xml.hpp"
 #include "tumble/error.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
@@ -25,77 +26,11 @@
 namespace tumble {
 namespace {
 
-std::string xmlEscaped(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-// A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180).
-std::string csvField(const std::string& v) {
-  if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
-  std::string out = "\"";
-  for (const char c : v) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
-// The shortest text that reads back to the same value (std::to_chars): a float as a float.
-template <class T>
-std::string number(T v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-void writeAll(OutputFile& out, const void* data, std::size_t size) {
-  if (!writeFully(out.file(), data, size))
-    throw Error(out.path() + ": cannot write: " + detail::errnoText(errno));
-}
-
-void writeAll(OutputFile& out, const std::string& s) { writeAll(out, s.data(), s.size()); }
-
-// One .vtp file: the XML head lists each array with its offset into the appended block, which
-// holds for each array a UInt64 byte count and then the values (header_type="UInt64").
-class VtpFile {
- public:
-  void array(const char* type, const std::string& name, int components,
-             const std::function<void(detail::Encoder&)>& values) {
-    m_xml += "        <DataArray type=\"" + std::string(type) + "\" Name=\"" + xmlEscaped(name) + "\"";
-    if (components > 1) m_xml += " NumberOfComponents=\"" + std::to_string(components) + "\"";
-    m_xml += " format=\"appended\" offset=\"" + std::to_string(m_data.size()) + "\"/>\n";
-    const std::size_t at = m_data.size();
-    detail::Encoder enc(m_data);
-    enc.u64(0);
-    values(enc);
-    const std::uint64_t bytes = m_data.size() - at - 8;
-    for (int k = 0; k < 8; ++k) m_data[at + k] = static_cast<std::uint8_t>(bytes >> (8 * k));
-  }
-  void xml(const std::string& s) { m_xml += s; }
-  void write(const std::string& path) {
-    OutputFile out(path);
-    writeAll(out,
-             "<?xml version=\"1.0\"?>\n"
-             "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-             "  <PolyData>\n" +
-                 m_xml + "  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _");
-    writeAll(out, m_data.data(), m_data.size());
-    writeAll(out, "\n  </AppendedData>\n</VTKFile>\n");
-    out.commit();
-  }
-
- private:
-  std::string m_xml;
-  std::vector<std::uint8_t> m_data;
-};
+using detail::csvField;
+using detail::number;
+using detail::VtkXmlFile;
+using detail::writeAll;
+using detail::xmlEscaped;
 
 void f32s(detail::Encoder& e, const std::vector<float>& v) {
   for (const float x : v) e.f32(x);
@@ -108,7 +43,7 @@ std::string pieceHead(std::size_t points, std::size_t verts, std::size_t lines, 
 }
 
 // Cells of one kind: `cells` cells of `size` points each, point indices from `point(k)`.
-void cellBlock(VtpFile& f, const char* tag, std::size_t cells, int size, const std::function<std::int64_t(std::size_t)>& point) {
+void cellBlock(VtkXmlFile& f, const char* tag, std::size_t cells, int size, const std::function<std::int64_t(std::size_t)>& point) {
   f.xml("      <" + std::string(tag) + ">\n");
   f.array("Int64", "connectivity", 1, [&](detail::Encoder& e) {
     for (std::size_t k = 0; k < cells * static_cast<std::size_t>(size); ++k) e.u64(static_cast<std::uint64_t>(point(k)));
@@ -124,7 +59,7 @@ void writeFrameVtp(const std::string& path, const Recording& table, const Record
   const std::size_t n = table.particlesOf(frame.numBodies());  // those present
   const bool debug = frame.debug.v.size() == 3 * n;
   const std::size_t contacts = debug ? frame.debug.contacts.size() : 0;
-  VtpFile f;
+  VtkXmlFile f("PolyData");
   // The data set's field data (before its piece): ParaView takes "TimeValue" as the time of a
   // file opened on its own.
   f.xml("    <FieldData>\n");
@@ -159,12 +94,88 @@ void writeFrameVtp(const std::string& path, const Recording& table, const Record
   f.write(path);
 }
 
+// The contacts of a frame with their forces: a line per contact from particle i's centre to j's
+// (two points of its own each), with the forces on i, their magnitudes, the overlap and the two
+// particles as cell data.
+void writeContactsVtp(const std::string& path, const RecordedFrame& frame, const std::vector<float>& x) {
+  const std::vector<ContactForce>& cf = frame.debug.contactForces;
+  const std::size_t c = cf.size();
+  VtkXmlFile f("PolyData");
+  f.xml(pieceHead(2 * c, 0, c, 0));
+  f.xml("      <CellData Scalars=\"normal_magnitude\" Vectors=\"normal_force\">\n");
+  const auto vectors = [&](const char* name, Vec3f ContactForce::*v) {
+    f.array("Float32", name, 3, [&](detail::Encoder& e) {
+      for (const ContactForce& k : cf) {
+        e.f32((k.*v).x);
+        e.f32((k.*v).y);
+        e.f32((k.*v).z);
+      }
+    });
+  };
+  const auto scalars = [&](const char* name, const std::function<float(const ContactForce&)>& value) {
+    f.array("Float32", name, 1, [&](detail::Encoder& e) {
+      for (const ContactForce& k : cf) e.f32(value(k));
+    });
+  };
+  vectors("normal_force", &ContactForce::normal);
+  vectors("tangential_force", &ContactForce::tangential);
+  scalars("normal_magnitude", [](const ContactForce& k) { return norm(k.normal); });
+  scalars("tangential_magnitude", [](const ContactForce& k) { return norm(k.tangential); });
+  scalars("overlap", [](const ContactForce& k) { return k.overlap; });
+  for (const bool first : {true, false})
+    f.array("UInt32", first ? "particle_i" : "particle_j", 1, [&](detail::Encoder& e) {
+      for (const ContactForce& k : cf) e.u32(first ? k.i : k.j);
+    });
+  f.xml("      </CellData>\n      <Points>\n");
+  f.array("Float32", "Points", 3, [&](detail::Encoder& e) {
+    for (const ContactForce& k : cf)
+      for (const std::uint32_t p : {k.i, k.j})
+        for (int a = 0; a < 3; ++a) e.f32(x[3 * std::size_t(p) + a]);
+  });
+  f.xml("      </Points>\n");
+  cellBlock(f, "Lines", c, 2, [](std::size_t k) { return static_cast<std::int64_t>(k); });
+  f.xml("    </Piece>\n");
+  f.write(path);
+}
+
+// The same as CSV: a row per contact.
+void writeContactsCsv(const std::string& path, const Recording& table, const RecordedFrame& frame,
+                      const std::vector<float>& x) {
+  std::string s =
+      "i,j,body_i,body_j,normal_x,normal_y,normal_z,tangential_x,tangential_y,tangential_z,overlap,"
+      "xi,yi,zi,xj,yj,zj\n";
+  OutputFile out(path);
+  const auto field = [&s](float v) {
+    s += ',';
+    s += number(v);
+  };
+  for (const ContactForce& k : frame.debug.contactForces) {
+    s += std::to_string(k.i) + "," + std::to_string(k.j) + "," + std::to_string(table.body[k.i]) + "," +
+         std::to_string(table.body[k.j]);
+    for (const Vec3f& v : {k.normal, k.tangential}) {
+      field(v.x);
+      field(v.y);
+      field(v.z);
+    }
+    field(k.overlap);
+    for (const std::uint32_t p : {k.i, k.j})
+      for (int a = 0; a < 3; ++a) field(x[3 * std::size_t(p) + a]);
+    s += "\n";
+    if (s.size() > (1u << 20)) {
+      writeAll(out, s);
+      s.clear();
+    }
+  }
+  writeAll(out, s);
+  out.commit();
+}
+
 // The ground as one square at z = height under everything exported, with a margin.
 void writeGroundVtp(const std::string& path, float height, const float lo[2], const float hi[2]) {
   const float span = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-3f});
   const float m = 0.25f * span;
   const float corners[4][2] = {{lo[0] - m, lo[1] - m}, {hi[0] + m, lo[1] - m}, {hi[0] + m, hi[1] + m}, {lo[0] - m, hi[1] + m}};
-  VtpFile f;
+  VtkXmlFile f("PolyData");
   f.xml(pieceHead(4, 0, 0, 1));
   f.xml("      <Points>\n");
   f.array("Float32", "Points", 3, [&](detail::Encoder& e) {
@@ -185,7 +196,7 @@ void writeGroundVtp(const std::string& path, float height, const float lo[2], co
 void writeWallsVtp(const std::string& path, const std::vector<WallSurface>& walls, double t) {
   std::size_t triangles = 0;
   for (const WallSurface& w : walls) triangles += w.numTriangles();
-  VtpFile f;
+  VtkXmlFile f("PolyData");
   f.xml(pieceHead(3 * triangles, 0, 0, triangles));
   f.xml("      <CellData Scalars=\"wall\">\n");
   f.array("UInt32", "wall", 1, [&](detail::Encoder& e) {
@@ -292,6 +303,9 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
   if (options.every < 1) throw Error("export: every must be at least 1");
   const std::string name = options.name.empty() ? "frame" : options.name;
   if (const std::string why = exportNameProblem(name); !why.empty()) throw Error("export: the name '" + name + "' " + why);
+  if (options.contacts && !reader.info().contactForces)
+    throw Error("export: the recording holds no contact forces: record the run with them (tumble run "
+                "--record-contacts, [output] contacts = true, or record(..., contacts=True) in Python)");
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir))
@@ -319,7 +333,7 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
   const bool wallsMove = std::any_of(walls.begin(), walls.end(), [](const WallSurface& w) { return w.motion.moves(); });
   struct Set {
     double time;
-    std::string file, walls;
+    std::string file, walls, contacts;
   };
   std::vector<Set> sets;  // the .pvd's: per time the frame's file and its walls' file
   std::string rows;       // the CSV index's
@@ -330,18 +344,20 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
       const std::string groundFile = name + "_ground.vtp";
       if (ground) writeGroundVtp((folder / groundFile).string(), reader.info().groundHeight, lo, hi);
       const std::string wallsPart = ground ? "2" : "1";
+      const std::string contactsPart = std::to_string((ground ? 2 : 1) + (anyWall ? 1 : 0));
       std::string xml;
       for (const Set& set : sets) {
         const std::string at = "    <DataSet timestep=\"" + number(set.time) + "\" part=\"";
         xml += at + "0\" file=\"" + xmlEscaped(set.file) + "\"/>\n";
         if (ground) xml += at + "1\" file=\"" + xmlEscaped(groundFile) + "\"/>\n";
         if (!set.walls.empty()) xml += at + wallsPart + "\" file=\"" + xmlEscaped(set.walls) + "\"/>\n";
+        if (!set.contacts.empty()) xml += at + contactsPart + "\" file=\"" + xmlEscaped(set.contacts) + "\"/>\n";
       }
       writeText(indexPath, "<?xml version=\"1.0\"?>\n"
                            "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
                            "  <Collection>\n" + xml + "  </Collection>\n</VTKFile>\n");
     } else {
-      writeText(indexPath, "frame,step,time,file\n" + rows);
+      writeText(indexPath, std::string("frame,step,time,file") + (options.contacts ? ",contacts_file" : "") + "\n" + rows);
     }
   };
   try {
@@ -365,17 +381,22 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
         hi[1] = std::max(hi[1], p.y + table.radius[i]);
       }
       const std::string file = exportFrameName(name, result.frames, total, options.format);
+      const std::string contactsFile =
+          options.contacts ? exportFrameName(name + "_contacts", result.frames, total, options.format) : "";
       if (options.format == ExportFormat::Vtk) {
         writeFrameVtp((folder / file).string(), table, frame, x);
+        if (options.contacts) writeContactsVtp((folder / contactsFile).string(), frame, x);
         std::string wallsFile;
         if (anyWall) {
           wallsFile = wallsMove ? exportFrameName(name + "_walls", result.frames, total, options.format) : name + "_walls.vtp";
           if (wallsMove || result.frames == 0) writeWallsVtp((folder / wallsFile).string(), walls, frame.time);
         }
-        sets.push_back({frame.time, file, wallsFile});
+        sets.push_back({frame.time, file, wallsFile, contactsFile});
       } else {
         writeFrameCsv((folder / file).string(), table, frame, x);
-        rows += std::to_string(k) + "," + std::to_string(frame.step) + "," + number(frame.time) + "," + csvField(file) + "\n";
+        if (options.contacts) writeContactsCsv((folder / contactsFile).string(), table, frame, x);
+        rows += std::to_string(k) + "," + std::to_string(frame.step) + "," + number(frame.time) + "," + csvField(file) +
+                (options.contacts ? "," + csvField(contactsFile) : "") + "\n";
       }
       ++result.frames;
       if (options.progress) options.progress(result.frames, total);

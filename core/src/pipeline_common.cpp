@@ -36,6 +36,14 @@ void requireReady(const CudaStatus& s) {
   if (s.state != CudaState::Ready) throw Error("the CUDA pipeline cannot run: " + s.message + "; use --pipeline cpu");
 }
 
+std::vector<ContactForce> capturedContacts(const ContactForce* capture, std::size_t entries) {
+  std::vector<ContactForce> out;
+  for (std::size_t e = 0; e < entries; ++e)
+    if (capture[e].i != kNoContact && capture[e].i < capture[e].j) out.push_back(capture[e]);
+  std::sort(out.begin(), out.end());  // the keys are unique
+  return out;
+}
+
 const char* toString(Phase p) {
   switch (p) {
     case Phase::Reorder: return "reorder";

@@ -20,6 +20,9 @@
 //   covered by a checksum. Decoding runs only on buffers whose size was checked first, and the
 //   decoder checks its bounds again anyway.
 // - Checksum. FNV-1a, 32 bit, per block (binary_io.hpp, shared with the checkpoint format).
+// - Contact forces (version 3, flag bit 3). A block after the debug block: the contacts with
+//   their forces, the same set as the debug block's pairs when both are there (one count, so a
+//   frame's size is its bodies' and particles' bytes plus a fixed number per contact).
 // - Walls (version 2). One block between the particle table and the frames, so the frames keep
 //   their fixed size and arithmetic index. The writer records what sceneWallSurfaces() draws
 //   from the world's scene and bodiesExtent, both of which a resumed run has too, so a continued
@@ -55,7 +58,8 @@ constexpr std::uint64_t kUnfinished = std::numeric_limits<std::uint64_t>::max();
 constexpr std::uint32_t kFlagDebug = 1u;
 constexpr std::uint32_t kFlagGround = 2u;
 constexpr std::uint32_t kFlagGrows = 4u;  // version 2: bodies enter during the run
-constexpr std::uint32_t kKnownFlags = kFlagDebug | kFlagGround | kFlagGrows;
+constexpr std::uint32_t kFlagContactForces = 8u;  // version 3: each frame's contacts with their forces
+constexpr std::uint32_t kKnownFlags = kFlagDebug | kFlagGround | kFlagGrows | kFlagContactForces;
 constexpr std::uint32_t kMaxNameBytes = 65535;
 
 // Header layout (offsets from the start of the file); L = scene name length.
@@ -81,12 +85,27 @@ constexpr std::uint64_t kBodyBytes = 28;           // px, py, pz, qw, qx, qy, qz
 constexpr std::uint64_t kFramePrefixBytes = 20;    // step u64, time f64, pulls u32
 constexpr std::uint64_t kDebugParticleBytes = 72;  // v and five forces, 3 × f32 each
 constexpr std::uint64_t kContactBytes = 8;         // i, j
+constexpr std::uint64_t kContactForceBytes = 36;   // i, j, normal, tangential (3 × f32 each), overlap
 // The wall block (version 2): W and S, then W records of 60 + 36 T bytes, then a checksum.
 constexpr std::uint64_t kWallHeadBytes = 8;        // W, S
 constexpr std::uint64_t kWallRecordBytes = 60;     // kind, v, ω, pivot (3 × f32 each), start, stop (f64), T
 constexpr std::uint64_t kTriangleBytes = 36;       // 3 corners × 3 f32
 
 const char* const kForceNames[5] = {"repulsion", "damping", "shear", "ground", "friction"};
+
+// A frame's payload bytes: `min` without its contacts (nb bodies, np particles present), and
+// `perContact` more per contact (its pair in a debug frame, its record in one with contact forces).
+struct FrameSizes {
+  std::uint64_t min, perContact;
+};
+FrameSizes frameSizes(const RecordingInfo& info, std::uint64_t nb, std::uint64_t np) {
+  return {kFramePrefixBytes + (info.grows ? 4 : 0) + kBodyBytes * nb +
+              (info.debug ? kDebugParticleBytes * np + 4 : 0) + (info.contactForces ? 4 : 0),
+          (info.debug ? kContactBytes : 0) + (info.contactForces ? kContactForceBytes : 0)};
+}
+
+// Whether frames differ in size (and are indexed by walking their size fields).
+bool variableFrames(const RecordingInfo& info) { return info.debug || info.grows || info.contactForces; }
 
 bool allFinite(const std::vector<float>& v, std::size_t count, std::size_t* bad) {
   for (std::size_t k = 0; k < count; ++k) {
@@ -202,10 +221,9 @@ void readWalls(InFile& in, std::vector<std::uint8_t>& buf, std::vector<WallSurfa
 
 struct RecordingReader::File {
   InFile in;
-  std::uint64_t basePayload = 0;      // a plain frame's payload bytes
-  std::uint64_t minDebugPayload = 0;  // a debug frame's payload bytes without contacts
+  FrameSizes sizes;  // of a frame of all the bodies
   // Where frame k starts: framesOffset + k * frameBytes in a plain recording (all frames have
-  // the same size), frameOffsets[k] in a debug one.
+  // the same size), frameOffsets[k] in one of variableFrames().
   std::uint64_t framesOffset = 0, frameBytes = 0;
   std::vector<std::uint64_t> frameOffsets;
   std::vector<std::uint32_t> firstParticle;  // a recording that grows: of each body, and N
@@ -231,9 +249,9 @@ RecordingReader::RecordingReader(const std::string& path, TornEnd tornEnd) : m_f
             "header truncated: the file is only " + std::to_string(in.size()) + " bytes");
   }
   info.version = getU32(buf.data() + kOffVersion);
-  if (info.version != 1 && info.version != kRecordingVersion) {
+  if (info.version < 1 || info.version > kRecordingVersion) {
     in.fail(kOffVersion, "unsupported recording version " + std::to_string(info.version) +
-                             " (this build of tumble reads versions 1 and " + std::to_string(kRecordingVersion) + ")");
+                             " (this build of tumble reads versions 1 to " + std::to_string(kRecordingVersion) + ")");
   }
   const std::uint64_t headerBytes = getU32(buf.data() + kOffHeaderBytes);
   if (headerBytes < kFixedHeaderBytes || headerBytes > kFixedHeaderBytes + kMaxNameBytes) {
@@ -275,13 +293,18 @@ RecordingReader::RecordingReader(const std::string& path, TornEnd tornEnd) : m_f
   if (!std::isfinite(info.fps) || info.fps <= 0.0f) {
     in.fail(kOffFps, "frames per second is not a positive number");
   }
-  if ((flags & ~kKnownFlags) != 0 || (info.version < 2 && (flags & kFlagGrows) != 0)) {
-    in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~(info.version < 2 ? kFlagDebug | kFlagGround : kKnownFlags)) +
-                           " (version 1 defines bit 0 debug, bit 1 ground; version 2 also bit 2 bodies entering)");
+  const std::uint32_t known = info.version < 2   ? kFlagDebug | kFlagGround
+                              : info.version < 3 ? kFlagDebug | kFlagGround | kFlagGrows
+                                                 : kKnownFlags;
+  if ((flags & ~known) != 0) {
+    in.fail(kOffFlags, "unknown flag bits " + hex32(flags & ~known) + " for version " + std::to_string(info.version) +
+                           " (version 1 defines bit 0 debug, bit 1 ground; version 2 also bit 2 bodies entering; "
+                           "version 3 also bit 3 contact forces)");
   }
   info.debug = (flags & kFlagDebug) != 0;
   info.groundEnabled = (flags & kFlagGround) != 0;
   info.grows = (flags & kFlagGrows) != 0;
+  info.contactForces = (flags & kFlagContactForces) != 0;
   if (!std::isfinite(info.groundHeight)) in.fail(kOffGroundHeight, "ground height is not finite");
   if (!std::isfinite(info.gravity.x) || !std::isfinite(info.gravity.y) ||
       !std::isfinite(info.gravity.z)) {
@@ -340,10 +363,8 @@ RecordingReader::RecordingReader(const std::string& path, TornEnd tornEnd) : m_f
   if (info.version >= 2) readWalls(in, buf, rec.walls);
 
   // The frame index. Frame k starts with its payload size; the frame is size + 8 bytes.
-  const std::uint64_t basePayload = kFramePrefixBytes + kBodyBytes * numBodies;
-  const std::uint64_t minDebugPayload = basePayload + kDebugParticleBytes * numParticles + 4;
-  m_file->basePayload = basePayload;
-  m_file->minDebugPayload = minDebugPayload;
+  const FrameSizes sizes = frameSizes(info, numBodies, numParticles);
+  m_file->sizes = sizes;
   // A torn end: refused (with the way out), or where the kept frames end.
   const bool keep = tornEnd == TornEnd::KeepWholeFrames;
   bool cut = false;
@@ -363,8 +384,8 @@ RecordingReader::RecordingReader(const std::string& path, TornEnd tornEnd) : m_f
                                  std::to_string(held));
   };
   const std::uint64_t framesOffset = in.offset();
-  if (!info.debug && !info.grows) {
-    const std::uint64_t frameBytes = basePayload + 8;
+  if (!variableFrames(info)) {
+    const std::uint64_t frameBytes = sizes.min + 8;
     const std::uint64_t whole = (in.size() - framesOffset) / frameBytes;
     const std::uint64_t tail = framesOffset + whole * frameBytes;
     if (tail < in.size()) truncated(whole, tail, in.size() - tail < 4 ? 4 : frameBytes);
@@ -388,9 +409,9 @@ RecordingReader::RecordingReader(const std::string& path, TornEnd tornEnd) : m_f
       if (info.grows && payloadBytes < kFramePrefixBytes + 4)
         torn(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) +
                      ", less than the " + std::to_string(kFramePrefixBytes + 4) + " bytes before its bodies");
-      else if (!info.grows && (payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0))
+      else if (!info.grows && (payloadBytes < sizes.min || (payloadBytes - sizes.min) % sizes.perContact != 0))
         torn(at, "frame " + std::to_string(k) + " has payload size " + std::to_string(payloadBytes) + ", expected " +
-                     std::to_string(minDebugPayload) + " + 8 per contact");
+                     std::to_string(sizes.min) + " + " + std::to_string(sizes.perContact) + " per contact");
       else if (payloadBytes + 8 > in.size() - at)
         truncated(k, at, payloadBytes + 8);
       if (cut) break;
@@ -413,22 +434,21 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
   InFile& in = m_file->in;
   const RecordingInfo& info = m_header.info;
   std::vector<std::uint8_t>& buf = m_buffer;
-  std::uint64_t basePayload = m_file->basePayload;
-  std::uint64_t minDebugPayload = m_file->minDebugPayload;
+  FrameSizes sizes = m_file->sizes;
   std::uint64_t numParticles = info.numParticles;
   std::size_t nb = info.numBodies;
   const std::string frameName = "frame " + std::to_string(k);
-  const std::uint64_t frameOffset = info.debug || info.grows ? m_file->frameOffsets[k]
-                                                             : m_file->framesOffset + k * m_file->frameBytes;
+  const std::uint64_t frameOffset =
+      variableFrames(info) ? m_file->frameOffsets[k] : m_file->framesOffset + k * m_file->frameBytes;
   in.seek(frameOffset);
   buf.clear();
   in.read(buf, 4, "frame size");
   const std::uint64_t payloadBytes = getU32(buf.data());
-  // The index checked a debug frame's size and that every frame fits; a plain frame's size
+  // The index checked a variable frame's size and that every frame fits; a plain frame's size
   // field is checked here (that of a frame of a recording that grows once its size is read).
-  if (!info.debug && !info.grows && payloadBytes != basePayload) {
+  if (!variableFrames(info) && payloadBytes != sizes.min) {
     in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) +
-                             ", expected " + std::to_string(basePayload));
+                             ", expected " + std::to_string(sizes.min));
   }
   const std::uint64_t payloadOffset = in.offset();
   buf.clear();
@@ -450,14 +470,22 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
       in.fail(at, frameName + " holds " + std::to_string(present) + " bodies, the recording " + std::to_string(nb));
     nb = static_cast<std::size_t>(present);
     numParticles = m_file->firstParticle[nb];
-    basePayload = kFramePrefixBytes + 4 + kBodyBytes * nb;
-    minDebugPayload = basePayload + kDebugParticleBytes * numParticles + 4;
-    if (info.debug ? payloadBytes < minDebugPayload || (payloadBytes - minDebugPayload) % kContactBytes != 0
-                   : payloadBytes != basePayload)
+    sizes = frameSizes(info, nb, numParticles);
+    if (sizes.perContact != 0 ? payloadBytes < sizes.min || (payloadBytes - sizes.min) % sizes.perContact != 0
+                              : payloadBytes != sizes.min)
       in.fail(frameOffset, frameName + " has payload size " + std::to_string(payloadBytes) + ", expected " +
-                               std::to_string(info.debug ? minDebugPayload : basePayload) +
-                               (info.debug ? " + 8 per contact" : "") + " for its " + std::to_string(nb) + " bodies");
+                               std::to_string(sizes.min) +
+                               (sizes.perContact != 0 ? " + " + std::to_string(sizes.perContact) + " per contact" : "") +
+                               " for its " + std::to_string(nb) + " bodies");
   }
+  // Every contact block holds the same count (the debug pairs and the contact forces: the same contacts).
+  const std::uint64_t numContacts = sizes.perContact != 0 ? (payloadBytes - sizes.min) / sizes.perContact : 0;
+  const auto checkCount = [&](const char* block) {
+    const std::uint64_t at = fd.fileOffset();
+    if (const std::uint32_t count = fd.u32(); count != numContacts)
+      in.fail(at, frameName + " " + block + " count " + std::to_string(count) + " does not match its payload size " +
+                      std::to_string(payloadBytes) + " (" + std::to_string(numContacts) + " contacts)");
+  };
   const std::size_t n3 = 3 * static_cast<std::size_t>(numParticles);
   fd.finiteColumn(f.px, nb, frameName + " px");
   fd.finiteColumn(f.py, nb, frameName + " py");
@@ -471,13 +499,7 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
     for (int c = 0; c < 5; ++c) {
       fd.finiteColumn(f.debug.force[c], n3, frameName + " " + kForceNames[c] + " force");
     }
-    const std::uint64_t countOffset = fd.fileOffset();
-    const std::uint64_t numContacts = fd.u32();
-    if (numContacts != (payloadBytes - minDebugPayload) / kContactBytes) {
-      in.fail(countOffset, frameName + " contact count " + std::to_string(numContacts) +
-                               " does not match its payload size " +
-                               std::to_string(payloadBytes));
-    }
+    checkCount("contact");
     f.debug.contacts.resize(static_cast<std::size_t>(numContacts));
     for (Pair& p : f.debug.contacts) {
       const std::uint64_t at = fd.fileOffset();
@@ -488,6 +510,29 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
                         ") is not a pair i < j < " + std::to_string(numParticles));
       }
     }
+  }
+  if (info.contactForces) {
+    checkCount("contact force");
+    std::vector<ContactForce>& cf = f.debug.contactForces;
+    cf.resize(static_cast<std::size_t>(numContacts));
+    for (std::size_t c = 0; c < cf.size(); ++c) {
+      ContactForce& x = cf[c];
+      const std::uint64_t at = fd.fileOffset();
+      x.i = fd.u32();
+      x.j = fd.u32();
+      if (!(x.i < x.j && x.j < numParticles) || (c > 0 && !(cf[c - 1] < x)))
+        in.fail(at, frameName + " contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) +
+                        ") is not a pair i < j < " + std::to_string(numParticles) + " after the one before it");
+      if (info.debug && (f.debug.contacts[c].i != x.i || f.debug.contacts[c].j != x.j))
+        in.fail(at, frameName + " contact force " + std::to_string(c) + " is not for the debug block's contact " +
+                        std::to_string(c));
+      const std::string what = frameName + " contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) + ")";
+      for (float* v : {&x.normal.x, &x.normal.y, &x.normal.z, &x.tangential.x, &x.tangential.y, &x.tangential.z,
+                       &x.overlap})
+        *v = fd.finite(what);
+    }
+  } else {
+    f.debug.contactForces.clear();
   }
 }
 
@@ -511,12 +556,13 @@ Recording Recording::read(const std::string& path) {
 // ---- RecordingWriter -----------------------------------------------------------------------
 
 RecordingWriter::RecordingWriter(const std::string& path, const World& world, bool debug,
-                                 int stepsPerFrame, float fps, bool grows)
+                                 int stepsPerFrame, float fps, bool grows, bool contactForces)
     : m_path(path),
       m_numParticles(world.numParticles()),
       m_numBodies(world.numBodies()),
       m_grows(grows),
-      m_debug(debug) {
+      m_debug(debug),
+      m_contactForces(contactForces) {
   const std::string where = "recording '" + path + "': ";
   const Scene& params = world.params;
   if (stepsPerFrame < 1) throw Error(where + "steps per frame must be at least 1");
@@ -552,17 +598,15 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, bo
     m_firstParticle.push_back(static_cast<std::uint32_t>(n));
   }
   // Payloads are sized by a u32: refuse worlds whose frames could not be described.
-  const std::uint64_t basePayload = kFramePrefixBytes + kBodyBytes * std::uint64_t{m_numBodies} +
-                                    (debug ? kDebugParticleBytes * n + 4 : 0);
-  if (basePayload > std::numeric_limits<std::uint32_t>::max()) {
+  if (frameSizes(contents(), m_numBodies, n).min > std::numeric_limits<std::uint32_t>::max()) {
     throw Error(where + "too many bodies or particles for one frame of the format");
   }
 
   const std::vector<std::uint8_t> walls = encodeWalls(sceneWallSurfaces(params, world.bodiesExtent), where);
 
   // Header (docs/recording.md), with the frame count at the sentinel until close().
-  const std::uint32_t flags =
-      (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u) | (grows ? kFlagGrows : 0u);
+  const std::uint32_t flags = (debug ? kFlagDebug : 0u) | (params.ground.enabled ? kFlagGround : 0u) |
+                              (grows ? kFlagGrows : 0u) | (contactForces ? kFlagContactForces : 0u);
   Encoder h(m_header);
   h.bytes(kMagic, sizeof kMagic);
   h.u32(kRecordingVersion);
@@ -629,15 +673,23 @@ void RecordingWriter::writeBytes(const std::uint8_t* data, std::size_t size, con
   }
 }
 
+RecordingInfo RecordingWriter::contents() const {
+  RecordingInfo i;
+  i.debug = m_debug;
+  i.grows = m_grows;
+  i.contactForces = m_contactForces;
+  return i;
+}
+
 std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& path, const World& world, bool debug,
                                                              int stepsPerFrame, std::uint64_t step, float fps,
-                                                             bool grows) {
+                                                             bool grows, bool contactForces) {
   // Nothing to continue where there is no file, where the target is a device or a FIFO, or
   // where it is a descriptor the process was given (`--record /dev/stdout > rec.bin`: the shell
   // has emptied the file, or appends to it; either way the output is a stream of its own).
   std::error_code ec;
   if (namesDescriptor(path) || !std::filesystem::is_regular_file(path, ec))
-    return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps, grows);
+    return std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps, grows, contactForces);
   RecordingReader reader(path);
   const Recording& old = reader.header();
   const RecordingInfo& i = old.info;
@@ -649,8 +701,8 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
   if (i.numParticles != world.numParticles() || i.numBodies != world.numBodies() || i.sceneName != p.name)
     differs("the scene name, bodies or particles");
   if (i.stepsPerFrame != std::uint32_t(stepsPerFrame) || i.dt != p.dt || i.fps != fps || i.debug != debug ||
-      i.grows != grows)
-    differs("the steps per frame, dt, frame rate, debug setting or bodies entering");
+      i.grows != grows || i.contactForces != contactForces)
+    differs("the steps per frame, dt, frame rate, debug or contact-force setting or bodies entering");
   if (i.groundEnabled != p.ground.enabled || i.groundHeight != p.ground.height || i.gravity.x != p.gravity.x ||
       i.gravity.y != p.gravity.y || i.gravity.z != p.gravity.z)
     differs("the ground or gravity");
@@ -659,7 +711,7 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
     differs("the particle tables");
   if (i.version >= 2 && encodeWalls(old.walls, "") != encodeWalls(sceneWallSurfaces(p, world.bodiesExtent), ""))
     differs("the walls");
-  auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps, grows);
+  auto w = std::make_unique<RecordingWriter>(path, world, debug, stepsPerFrame, fps, grows, contactForces);
   BodyState s;
   RecordedFrame f;
   w->m_copyOf = reader.numFrames();  // a failed write says that `path` keeps these
@@ -669,7 +721,7 @@ std::unique_ptr<RecordingWriter> RecordingWriter::continueAt(const std::string& 
       if (f.step > step) break;
       s.px = f.px; s.py = f.py; s.pz = f.pz;
       s.qw = f.qw; s.qx = f.qx; s.qy = f.qy; s.qz = f.qz;
-      w->writeFrame(f.step, f.time, f.pulls, s, debug ? &f.debug : nullptr);
+      w->writeFrame(f.step, f.time, f.pulls, s, debug || contactForces ? &f.debug : nullptr);
     }
   } catch (...) {
     w->abandon();  // a copy cut short (a full disk) must not replace the recording it copies
@@ -684,9 +736,9 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
   const std::string where = "recording '" + m_path + "', step " + std::to_string(step) + ": ";
   if (m_file == nullptr) throw Error(where + "the recording is closed");
   if (m_failed) throw Error(where + "an earlier write failed");
-  if ((debug != nullptr) != m_debug) {
-    throw Error(where + (m_debug ? "a debug recording needs debug data for every frame"
-                                 : "debug data given to a recording opened without debug"));
+  if ((debug != nullptr) != (m_debug || m_contactForces)) {
+    throw Error(where + (debug == nullptr ? "a debug or contact-force recording needs debug data for every frame"
+                                          : "debug data given to a recording opened without debug or contact forces"));
   }
   // The bodies present: all of them, or in a recording that grows a prefix.
   const std::size_t nb = m_grows ? std::min<std::size_t>(state.size(), m_numBodies) : m_numBodies;
@@ -710,7 +762,7 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
                   " is not finite (NaN is never recorded); frame not written");
     }
   }
-  if (debug != nullptr) {
+  if (m_debug) {
     const std::vector<float>* dcols[6] = {&debug->v,        &debug->force[0], &debug->force[1],
                                           &debug->force[2], &debug->force[3], &debug->force[4]};
     for (int c = 0; c < 6; ++c) {
@@ -733,12 +785,30 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
       }
     }
   }
-  std::uint64_t payloadBytes = kFramePrefixBytes + (m_grows ? 4 : 0) + kBodyBytes * nb;
-  if (debug != nullptr) {
-    payloadBytes += kDebugParticleBytes * np + 4 + kContactBytes * debug->contacts.size();
+  if (m_contactForces) {
+    const std::vector<ContactForce>& cf = debug->contactForces;
+    for (std::size_t c = 0; c < cf.size(); ++c) {
+      const ContactForce& x = cf[c];
+      const std::string name = "contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) + ")";
+      if (!(x.i < x.j && x.j < np) || (c > 0 && !(cf[c - 1] < x)))
+        throw Error(where + name + " is not a pair i < j < " + std::to_string(np) + " after the one before it");
+      if (m_debug && (c >= debug->contacts.size() || debug->contacts[c].i != x.i || debug->contacts[c].j != x.j))
+        throw Error(where + name + " is not the debug data's contact " + std::to_string(c));
+      const std::vector<float> values = {x.normal.x,     x.normal.y,     x.normal.z, x.tangential.x,
+                                         x.tangential.y, x.tangential.z, x.overlap};
+      std::size_t bad = 0;
+      if (!allFinite(values, values.size(), &bad))
+        throw Error(where + name + " is not finite (NaN is never recorded); frame not written");
+    }
+    if (m_debug && cf.size() != debug->contacts.size())
+      throw Error(where + "the debug data has " + std::to_string(debug->contacts.size()) + " contacts and " +
+                  std::to_string(cf.size()) + " contact forces");
   }
-  if (payloadBytes > std::numeric_limits<std::uint32_t>::max() ||
-      (debug != nullptr && debug->contacts.size() > std::numeric_limits<std::uint32_t>::max())) {
+  const FrameSizes sizes = frameSizes(contents(), nb, np);
+  const std::size_t numContacts =
+      m_contactForces ? debug->contactForces.size() : m_debug ? debug->contacts.size() : 0;
+  const std::uint64_t payloadBytes = sizes.min + sizes.perContact * numContacts;
+  if (payloadBytes > std::numeric_limits<std::uint32_t>::max() || numContacts > std::numeric_limits<std::uint32_t>::max()) {
     throw Error(where + "frame of " + std::to_string(payloadBytes) +
                 " bytes is too large for the format");
   }
@@ -752,13 +822,23 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
   e.u32(pulls);
   if (m_grows) e.u32(static_cast<std::uint32_t>(nb));
   for (int c = 0; c < 7; ++c) e.f32s(*columns[c], nb);
-  if (debug != nullptr) {
+  if (m_debug) {
     e.f32s(debug->v, n3);
     for (int c = 0; c < 5; ++c) e.f32s(debug->force[c], n3);
     e.u32(static_cast<std::uint32_t>(debug->contacts.size()));
     for (const Pair& p : debug->contacts) {
       e.u32(p.i);
       e.u32(p.j);
+    }
+  }
+  if (m_contactForces) {
+    e.u32(static_cast<std::uint32_t>(debug->contactForces.size()));
+    for (const ContactForce& x : debug->contactForces) {
+      e.u32(x.i);
+      e.u32(x.j);
+      for (const float v : {x.normal.x, x.normal.y, x.normal.z, x.tangential.x, x.tangential.y, x.tangential.z,
+                            x.overlap})
+        e.f32(v);
     }
   }
   e.u32(fnv1a(m_buffer.data() + 4, m_buffer.size() - 4));
@@ -818,7 +898,7 @@ void RecordingWriter::close() {
 struct RecordingRepair {
   static std::uint64_t frameStart(const RecordingReader& r, std::size_t k) {
     const RecordingInfo& info = r.m_header.info;
-    return info.debug || info.grows ? r.m_file->frameOffsets[k] : r.m_file->framesOffset + k * r.m_file->frameBytes;
+    return variableFrames(info) ? r.m_file->frameOffsets[k] : r.m_file->framesOffset + k * r.m_file->frameBytes;
   }
   static std::uint64_t framesEnd(const RecordingReader& r) { return r.m_file->framesEnd; }
   static std::uint64_t frameCountOffset(const RecordingReader& r) { return r.m_file->frameCountOffset; }

@@ -364,7 +364,16 @@ Advanced Run::advance(std::uint64_t n) {
     if (m_checkpointEvery) chunk = std::min(chunk, m_checkpointEvery - done % m_checkpointEvery);
     if (m_endStep && done < *m_endStep) chunk = std::min(chunk, *m_endStep - done);
     chunk = std::min(chunk, m_pouring->nextBatch(done + 1, m_world.numBodies()) - done);
-    m_hooks->stepping([&] { pipeline.step(chunk); });
+    // A recording of contact forces without the debug block captures only the step before each frame.
+    const bool frameAhead = m_recOn && done + chunk <= m_recSettings.lastStep && (done + chunk) % perFrame == 0;
+    const bool captureLast = frameAhead && m_recSettings.contactForces && !m_recSettings.debug && !m_captureForces;
+    m_hooks->stepping([&] {
+      if (!captureLast) return pipeline.step(chunk);
+      if (chunk > 1) pipeline.step(chunk - 1);
+      pipeline.setDebugCapture(true);
+      pipeline.step(1);
+      pipeline.setDebugCapture(false);
+    });
     done += chunk;
     a.steps = done - start;
     const bool atEnd = m_endStep && done == *m_endStep;
@@ -382,7 +391,7 @@ Advanced Run::advance(std::uint64_t n) {
     }
     if (frameDue) {
       pipeline.readState(m_state);
-      const bool debug = m_recSettings.debug;
+      const bool debug = m_recSettings.debug || m_recSettings.contactForces;
       if (debug) pipeline.readDebug(m_debug);
       if (writeOrGiveUp([&] {
             m_rec->writeFrame(done, pipeline.time(), pipeline.pulls(), m_state, debug ? &m_debug : nullptr);
@@ -411,7 +420,7 @@ namespace {
 void checkContinues(const RecordingWriter& rec, std::uint64_t start, const RecordSettings& s) {
   const std::uint64_t perFrame = static_cast<std::uint64_t>(s.stepsPerFrame);
   const std::uint64_t due = (std::min(start, s.lastStep) / perFrame) * perFrame;  // the last frame due by now
-  const bool any = !(s.debug && due == 0);  // a debug recording has no step-0 frame
+  const bool any = !(s.afterSteps() && due == 0);  // a debug recording has no step-0 frame
   if (any ? rec.lastStep() != due : rec.numFrames() != 0)
     throw Error("recording '" + rec.path() + "' ends at step " + std::to_string(rec.lastStep()) +
                 " but the checkpoint is at step " + std::to_string(start) +
@@ -432,10 +441,10 @@ void Run::record(const RecordSettings& s) {
     const World grown = grows ? finalWorld() : World{};
     const World& table = grows ? grown : m_world;
     if (s.continues && step > 0) {
-      rec = RecordingWriter::continueAt(s.path, table, s.debug, s.stepsPerFrame, step, 60.0f, grows);
+      rec = RecordingWriter::continueAt(s.path, table, s.debug, s.stepsPerFrame, step, 60.0f, grows, s.contactForces);
       if (rec->numFrames() > 0) checkContinues(*rec, step, s);
     } else {
-      rec = std::make_unique<RecordingWriter>(s.path, table, s.debug, s.stepsPerFrame, 60.0f, grows);
+      rec = std::make_unique<RecordingWriter>(s.path, table, s.debug, s.stepsPerFrame, 60.0f, grows, s.contactForces);
     }
   });
   closeRecording();  // the new file is open: the one under way ends
@@ -443,10 +452,11 @@ void Run::record(const RecordSettings& s) {
   m_recSettings = s;
   m_recOn = true;
   m_pipeline->setDebugCapture(s.debug || m_captureForces);
-  // The first frame: the state now (debug frames start after a step).
+  // The first frame: the state now (debug and contact-force frames start after a step).
   m_pipeline->readState(m_state);
   m_hooks->write([&] {
-    if (m_rec->numFrames() == 0 && !s.debug) m_rec->writeFrame(step, m_pipeline->time(), m_pipeline->pulls(), m_state);
+    if (m_rec->numFrames() == 0 && !s.afterSteps())
+      m_rec->writeFrame(step, m_pipeline->time(), m_pipeline->pulls(), m_state);
   });
 }
 

@@ -228,10 +228,11 @@ void SceneParser::readOutput(Scene& scene) {
   const toml::table* t = sectionOf(m_file, m_root, "output");
   if (t == nullptr) return;
   const TableReader r(m_file, *t, "[output]",
-                      {"record", "record_steps", "debug", "steps_per_frame", "thermo", "thermo_every"});
+                      {"record", "record_steps", "debug", "contacts", "steps_per_frame", "thermo", "thermo_every"});
   scene.recordFile = r.string("record", "");
   scene.recordSteps = static_cast<std::uint64_t>(r.integer("record_steps", 0, 0));
   scene.recordDebug = r.boolean("debug", false);
+  scene.recordContacts = r.boolean("contacts", false);
   const std::int64_t spf = r.integer("steps_per_frame", 10, 1);
   if (spf > std::numeric_limits<int>::max()) {
     r.fail(sourceOf(*r.find("steps_per_frame")),

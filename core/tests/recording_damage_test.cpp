@@ -23,19 +23,19 @@ TEST_F(RecordingTest, FutureVersionIsRejectedByName) {
   const std::string path = file("rec.bin");
   writeRecording(path, false, 2);
   std::vector<std::uint8_t> bytes = readAll(path);
-  putU32(bytes, 8, 3);
+  putU32(bytes, 8, 4);
   writeAll(path, bytes);
   const std::string problem = readError(path);
-  EXPECT_TRUE(contains(problem, "byte 8: unsupported recording version 3")) << problem;
-  EXPECT_TRUE(contains(problem, "reads versions 1 and 2")) << problem;
+  EXPECT_TRUE(contains(problem, "byte 8: unsupported recording version 4")) << problem;
+  EXPECT_TRUE(contains(problem, "reads versions 1 to 3")) << problem;
   // Even with its header checksum fixed up, a future version is refused before anything else.
   putU32(bytes, kHeaderBytes - 4, fnv1a(bytes.data(), kHeaderBytes - 4));
   writeAll(path, bytes);
-  EXPECT_TRUE(contains(readError(path), "unsupported recording version 3"));
+  EXPECT_TRUE(contains(readError(path), "unsupported recording version 4"));
 }
 
-void truncatedEverywhere(const std::string& path, const std::string& cut, bool debug) {
-  writeRecording(path, debug, 3);
+void truncatedEverywhere(const std::string& path, const std::string& cut, bool debug, bool contactForces = false) {
+  writeRecording(path, debug, 3, makeWorld(), contactForces);
   const std::vector<std::uint8_t> bytes = readAll(path);
   ASSERT_GT(bytes.size(), kFramesAt);
   for (std::size_t n = 0; n < bytes.size(); ++n) {
@@ -59,9 +59,14 @@ TEST_F(RecordingTest, DebugTruncatedAtEveryByteIsAnError) {
   truncatedEverywhere(file("debug.bin"), file("cut.bin"), true);
 }
 
-void flippedEverywhere(const std::string& path, const std::string& bad, bool debug) {
+TEST_F(RecordingTest, ContactForcesTruncatedAtEveryByteIsAnError) {
+  truncatedEverywhere(file("forces.bin"), file("cut.bin"), false, true);
+  truncatedEverywhere(file("both.bin"), file("cut.bin"), true, true);
+}
+
+void flippedEverywhere(const std::string& path, const std::string& bad, bool debug, bool contactForces = false) {
   // FNV-1a detects any single changed byte, so two masks per byte are enough to exercise it.
-  writeRecording(path, debug, 3);
+  writeRecording(path, debug, 3, makeWorld(), contactForces);
   const std::vector<std::uint8_t> bytes = readAll(path);
   for (std::size_t k = 0; k < bytes.size(); ++k) {
     for (const std::uint8_t mask : {std::uint8_t{0x01}, std::uint8_t{0xFF}}) {
@@ -81,6 +86,11 @@ TEST_F(RecordingTest, AnyFlippedByteIsAnError) {
 
 TEST_F(RecordingTest, DebugAnyFlippedByteIsAnError) {
   flippedEverywhere(file("debug.bin"), file("bad.bin"), true);
+}
+
+TEST_F(RecordingTest, ContactForcesAnyFlippedByteIsAnError) {
+  flippedEverywhere(file("forces.bin"), file("bad.bin"), false, true);
+  flippedEverywhere(file("both.bin"), file("bad.bin"), true, true);
 }
 
 TEST_F(RecordingTest, EachRegionReportsItsProblem) {
@@ -250,6 +260,42 @@ TEST_F(RecordingTest, NonFiniteOrBadPairWithValidChecksumIsRejected) {
   EXPECT_TRUE(contains(problem, "frame 1 contact (2, 2) is not a pair")) << problem;
   problem = patched(frame1, pair1 + 4, 5);  // (0, 5): particle 5 does not exist
   EXPECT_TRUE(contains(problem, "frame 1 contact (0, 5) is not a pair")) << problem;
+}
+
+TEST_F(RecordingTest, BadContactForceWithValidChecksumIsRejected) {
+  // Frame 3 holds (0, 2), (1, 4), (3, 4) with their forces, after the bodies (and the count).
+  for (const bool debug : {false, true}) {
+    SCOPED_TRACE(debug ? "with the debug block" : "contact forces alone");
+    const std::string path = file("forces.bin"), bad = file("bad.bin");
+    writeRecording(path, debug, 4, makeWorld(), true);
+    const std::vector<std::uint8_t> bytes = readAll(path);
+    std::size_t frame3 = kFramesAt;
+    for (int k = 0; k < 3; ++k) frame3 += 4 + getU32(bytes, frame3) + 4;
+    const std::uint32_t payloadBytes = getU32(bytes, frame3);
+    const std::size_t first = payloadBytes - 3 * 36;  // the first contact's i, in the payload
+    auto patched = [&](std::size_t offset, std::uint32_t v) {
+      std::vector<std::uint8_t> copy = bytes;
+      putU32(copy, frame3 + 4 + offset, v);
+      putU32(copy, frame3 + 4 + payloadBytes, fnv1a(copy.data() + frame3 + 4, payloadBytes));
+      writeAll(bad, copy);
+      return readError(bad);
+    };
+    std::string problem = patched(first + 8 + 4, bits(std::numeric_limits<float>::infinity()));  // normal.y
+    EXPECT_TRUE(contains(problem, "frame 3 contact force (0, 2) is not finite")) << problem;
+    problem = patched(first + 36 + 32, bits(std::numeric_limits<float>::quiet_NaN()));  // the second's overlap
+    EXPECT_TRUE(contains(problem, "frame 3 contact force (1, 4) is not finite")) << problem;
+    if (debug) {  // (1, 4) becomes (0, 4): after (0, 2), in order, but not the debug block's pair
+      problem = patched(first + 36, 0);
+      EXPECT_TRUE(contains(problem, "contact force 1 is not for the debug block's contact 1")) << problem;
+    }
+    problem = patched(first + 2 * 36, 0);  // (3, 4) becomes (0, 4): before (1, 4)
+    EXPECT_TRUE(contains(problem, "frame 3 contact force (0, 4) is not a pair i < j < 5 after the one before it"))
+        << problem;
+    problem = patched(first + 4, 9);  // (0, 9)
+    EXPECT_TRUE(contains(problem, "contact force (0, 9) is not a pair")) << problem;
+    problem = patched(payloadBytes - 3 * 36 - 4, 2);  // the count
+    EXPECT_TRUE(contains(problem, "frame 3 contact force count 2 does not match")) << problem;
+  }
 }
 
 TEST_F(RecordingTest, RandomDamageNeverCrashes) {

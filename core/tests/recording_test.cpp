@@ -21,6 +21,21 @@ TEST_F(RecordingTest, DebugRoundTripIsBitwise) {
   expectRecording(Recording::read(path), true, 6);
 }
 
+TEST_F(RecordingTest, ContactForcesRoundTripIsBitwise) {
+  for (const bool debug : {false, true}) {
+    const std::string path = file(debug ? "both.bin" : "forces.bin");
+    writeRecording(path, debug, 6, makeWorld(), true);
+    expectRecording(Recording::read(path), debug, 6, true);
+    tumble::RecordingReader reader(path);  // frame by frame, out of order: the index of sizes
+    tumble::RecordedFrame f;
+    for (const std::size_t k : {5u, 0u, 3u}) {
+      reader.readFrame(k, f);
+      EXPECT_EQ(f.step, 10u * k);
+      EXPECT_EQ(f.debug.contactForces.size(), k % 4);
+    }
+  }
+}
+
 TEST_F(RecordingTest, ZeroFrames) {
   const std::string path = file("empty.bin");
   writeRecording(path, true, 0);
@@ -171,6 +186,38 @@ TEST_F(RecordingTest, WriterRejectsMisuse) {
   debug.close();
   EXPECT_EQ(Recording::read(path).frames.size(), 0u);
   EXPECT_EQ(Recording::read(debugPath).frames.size(), 0u);
+
+  // Contact forces: in order, of particles that exist, finite, the debug block's pairs when there
+  // is one; each refusal leaves the file as it was.
+  for (const bool withDebug : {false, true}) {
+    const std::string forcesPath = file(withDebug ? "both.bin" : "forces.bin");
+    RecordingWriter forces(forcesPath, world, withDebug, 10, 60.0f, false, true);
+    EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0)), tumble::Error);
+    const ParticleDebug good = makeDebug(3);  // (0, 2), (1, 4), (3, 4)
+    ParticleDebug c = good;
+    std::swap(c.contactForces[0], c.contactForces[1]);
+    if (!withDebug) {
+      EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "out of order";
+    }
+    c = good;
+    c.contactForces[2].j = 5;
+    EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "particle 5";
+    c = good;
+    c.contactForces[1].tangential.z = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "NaN";
+    c = good;
+    c.contactForces.pop_back();
+    if (withDebug) {
+      EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "2 of 3 pairs";
+    }
+    c = good;
+    c.contactForces[1].i = 0;  // (0, 4): in order, not the debug pair
+    if (withDebug) {
+      EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "another pair";
+    }
+    forces.close();
+    EXPECT_EQ(Recording::read(forcesPath).frames.size(), 0u);
+  }
 }
 
 // A full disk (here a file size limit, which fails writes the same way) in the middle of a frame:

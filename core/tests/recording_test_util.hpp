@@ -126,6 +126,11 @@ inline ParticleDebug makeDebug(std::uint32_t frame) {
   }
   const std::vector<tumble::Pair> all = {{0, 2}, {1, 4}, {3, 4}};
   d.contacts.assign(all.begin(), all.begin() + frame % 4);  // 0, 1, 2, 3 contacts
+  for (std::uint32_t c = 0; c < d.contacts.size(); ++c) {  // the same pairs with their forces
+    const auto v = [&](std::uint32_t k) { return value(frame, 30, 7 * c + k); };
+    d.contactForces.push_back(tumble::ContactForce{d.contacts[c].i, d.contacts[c].j, {v(0), v(1), v(2)},
+                                                   {v(3), v(4), v(5)}, v(6)});
+  }
   return d;
 }
 
@@ -133,11 +138,13 @@ inline constexpr std::uint32_t kPulls[] = {0, tumble::kPullX, tumble::kPullY | t
                                     tumble::kPullX | tumble::kPullY | tumble::kPullSwirl};
 
 /// Writes `numFrames` frames (and closes) into `path`.
-inline void writeRecording(const std::string& path, bool debug, std::uint32_t numFrames, const World& world = makeWorld()) {
-  RecordingWriter w(path, world, debug, 10, 60.0f);
+/// `contactForces`: with makeDebug()'s contact forces in every frame (version 3).
+inline void writeRecording(const std::string& path, bool debug, std::uint32_t numFrames, const World& world = makeWorld(),
+                           bool contactForces = false) {
+  RecordingWriter w(path, world, debug, 10, 60.0f, false, contactForces);
   for (std::uint32_t f = 0; f < numFrames; ++f) {
     const ParticleDebug d = makeDebug(f);
-    w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f), debug ? &d : nullptr);
+    w.writeFrame(10u * f, 10.0 * f * 2.5e-4, kPulls[f % 4], makeState(f), debug || contactForces ? &d : nullptr);
   }
   EXPECT_EQ(w.numFrames(), numFrames);
   w.close();
@@ -150,7 +157,7 @@ inline void expectSameBits(const std::vector<float>& a, const std::vector<float>
     EXPECT_EQ(bits(a[k]), bits(b[k])) << what << "[" << k << "]";
 }
 
-inline void expectRecording(const Recording& r, bool debug, std::uint32_t numFrames) {
+inline void expectRecording(const Recording& r, bool debug, std::uint32_t numFrames, bool contactForces = false) {
   const World w = makeWorld();
   EXPECT_EQ(r.info.version, tumble::kRecordingVersion);
   EXPECT_EQ(r.info.numParticles, kNumParticles);
@@ -159,6 +166,7 @@ inline void expectRecording(const Recording& r, bool debug, std::uint32_t numFra
   EXPECT_EQ(bits(r.info.dt), bits(w.params.dt));
   EXPECT_EQ(bits(r.info.fps), bits(60.0f));
   EXPECT_EQ(r.info.debug, debug);
+  EXPECT_EQ(r.info.contactForces, contactForces);
   EXPECT_TRUE(r.info.groundEnabled);
   EXPECT_EQ(bits(r.info.groundHeight), bits(w.params.ground.height));
   EXPECT_EQ(bits(r.info.gravity.x), bits(w.params.gravity.x));
@@ -197,6 +205,16 @@ inline void expectRecording(const Recording& r, bool debug, std::uint32_t numFra
     } else {
       EXPECT_TRUE(fr.debug.v.empty());
       EXPECT_TRUE(fr.debug.contacts.empty());
+    }
+    const std::vector<tumble::ContactForce> want = contactForces ? makeDebug(f).contactForces
+                                                                 : std::vector<tumble::ContactForce>{};
+    ASSERT_EQ(fr.debug.contactForces.size(), want.size());
+    for (std::size_t c = 0; c < want.size(); ++c) {
+      const tumble::ContactForce &a = fr.debug.contactForces[c], &b = want[c];
+      EXPECT_TRUE(a.i == b.i && a.j == b.j) << "contact force " << c;
+      expectSameBits({a.normal.x, a.normal.y, a.normal.z, a.tangential.x, a.tangential.y, a.tangential.z, a.overlap},
+                     {b.normal.x, b.normal.y, b.normal.z, b.tangential.x, b.tangential.y, b.tangential.z, b.overlap},
+                     "contact force " + std::to_string(c));
     }
   }
 }

@@ -58,7 +58,7 @@ TEST_F(RecordingTest, WallsOfEveryKindRoundTripBitwise) {
     const std::string path = file(debug ? "debug.bin" : "plain.bin");
     writeRecording(path, debug, 3, world);
     const Recording r = Recording::read(path);
-    EXPECT_EQ(r.info.version, 2u);
+    EXPECT_EQ(r.info.version, tumble::kRecordingVersion);
     const std::vector<tumble::WallSurface> expected = tumble::sceneWallSurfaces(world.params, world.bodiesExtent);
     expectSameWalls(r.walls, expected);
     ASSERT_EQ(r.walls.size(), 9u);
@@ -118,6 +118,38 @@ TEST_F(RecordingTest, Version1RecordingsStillRead) {
     tumble::RecordingReader reader(old);
     EXPECT_EQ(reader.numFrames(), 4u);
   }
+}
+
+// Version 2 is version 3 without flag bit 3: a file of the new writer relabelled 2 reads the
+// same, and a version 2 file with that bit is refused.
+TEST_F(RecordingTest, Version2RecordingsStillRead) {
+  for (const bool debug : {false, true}) {
+    SCOPED_TRACE(debug ? "debug" : "plain");
+    const std::string path = file("v3.bin"), old = file("v2.bin");
+    writeRecording(path, debug, 4, wallWorld(true));
+    std::vector<std::uint8_t> v2 = readAll(path);
+    ASSERT_EQ(getU32(v2, 8), 3u);
+    putU32(v2, 8, 2);
+    putU32(v2, kHeaderBytes - 4, fnv1a(v2.data(), kHeaderBytes - 4));
+    writeAll(old, v2);
+    const Recording a = Recording::read(path), b = Recording::read(old);
+    EXPECT_EQ(b.info.version, 2u);
+    EXPECT_FALSE(b.info.contactForces);
+    EXPECT_EQ(b.walls.size(), a.walls.size());
+    ASSERT_EQ(b.frames.size(), 4u);
+    for (std::size_t k = 0; k < 4; ++k) {
+      expectSameBits(b.frames[k].px, a.frames[k].px, "px");
+      expectSameBits(b.frames[k].debug.v, a.frames[k].debug.v, "v");
+    }
+  }
+  const std::string path = file("v3.bin");
+  writeRecording(path, false, 2, wallWorld(true), true);
+  std::vector<std::uint8_t> bytes = readAll(path);
+  putU32(bytes, 8, 2);
+  putU32(bytes, kHeaderBytes - 4, fnv1a(bytes.data(), kHeaderBytes - 4));
+  writeAll(path, bytes);
+  const std::string problem = readError(path);
+  EXPECT_TRUE(contains(problem, "byte 36: unknown flag bits 0x00000008 for version 2")) << problem;
 }
 
 TEST_F(RecordingTest, WallBlockTruncatedOrFlippedAnywhereIsAnError) {

@@ -177,7 +177,7 @@ TEST(SceneIo, AllSections) {
                        "height = -1", "friction = 0.3", "tangential_stiffness = 7", "[pulls]",
                        "x = 1", "y = 2", "swirl = -3", "on = [\"x\", \"swirl\"]", "[broadphase]",
                        "cell_size = 2.5", "pca_every = 1", "[output]", "record = \"out/r.bin\"",
-                       "record_steps = 600", "debug = true", "steps_per_frame = 5"})),
+                       "record_steps = 600", "debug = true", "contacts = true", "steps_per_frame = 5"})),
       "t.toml");
   EXPECT_EQ(s.contact.stiffness, 1e5f);
   EXPECT_EQ(s.contact.damping, 3.0f);
@@ -195,6 +195,7 @@ TEST(SceneIo, AllSections) {
   EXPECT_EQ(s.recordFile, "out/r.bin");
   EXPECT_EQ(s.recordSteps, 600u);
   EXPECT_TRUE(s.recordDebug);
+  EXPECT_TRUE(s.recordContacts);
   EXPECT_EQ(s.stepsPerFrame, 5);
 
   const Scene off = tumble::parseScene(withExtra("[ground]\nenabled = false\n"), "t.toml");

@@ -298,6 +298,7 @@ void CpuPipeline::readDebug(ParticleDebug& out) const {
       for (int c = 0; c < 3; ++c) out.force[k][o + c] = m_dbg[k][s + c];
   }
   out.contacts = pairs();
+  out.contactForces = capturedContacts(m_dbgContact.data(), contactListView().begin[n]);
 }
 
 void CpuPipeline::resetStats() {

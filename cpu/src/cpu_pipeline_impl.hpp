@@ -262,6 +262,7 @@ class CpuPipeline final : public HaloPipeline {
   std::vector<std::uint16_t> m_materialTmp;
   std::vector<std::uint32_t> m_origTmp, m_bodyOfTmp;
   std::vector<float> m_dbg[5], m_dbgVel;
+  std::vector<ContactForce> m_dbgContact;  // per entry of contactListView() (debug capture)
   struct PairChunk {
     std::vector<std::uint32_t> i, j;
   };

@@ -34,6 +34,7 @@ void CpuPipeline::stepOnce() {
   if (m_debug) {
     for (auto& d : m_dbg) tumble::detail::grow(d, 3 * std::size_t(m_world.numParticles()));
     tumble::detail::grow(m_dbgVel, 3 * std::size_t(m_world.numParticles()));
+    tumble::detail::grow(m_dbgContact, contactListView().begin[m_world.numParticles()]);  // an entry each (compact)
     tot = advanceAs<true>();
   } else {
     tot = advanceAs<false>();
@@ -74,10 +75,11 @@ template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPose
 StepTotals CpuPipeline::advance() {
   const StepView v = stepView();
   const ForceParams fp = makeForceParams(m_world.params, m_pulls);
-  DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr};
+  DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr, nullptr};
   if constexpr (kDebug) {
     for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].data();
     dbg.v = m_dbgVel.data();
+    dbg.contact = m_dbgContact.data();
   }
   const float dt = m_world.params.dt;
   const Vec3f g = m_world.params.gravity;

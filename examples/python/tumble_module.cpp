@@ -76,6 +76,30 @@ py::array_t<std::uint32_t> pairArray(const std::vector<Pair>& pairs) {
   return a;
 }
 
+// Contacts with their forces (ContactForce) as arrays: pairs (C,2) uint32, normal and
+// tangential (C,3), overlap (C,).
+py::dict contactForceDict(const std::vector<ContactForce>& cf) {
+  std::vector<Pair> pairs(cf.size());
+  const auto c = static_cast<py::ssize_t>(cf.size());
+  py::array_t<float> normal({c, py::ssize_t{3}}), tangential({c, py::ssize_t{3}}), overlap(c);
+  float* n = normal.mutable_data();
+  float* t = tangential.mutable_data();
+  float* o = overlap.mutable_data();
+  for (std::size_t k = 0; k < cf.size(); ++k) {
+    const ContactForce& x = cf[k];
+    pairs[k] = Pair{x.i, x.j};
+    n[3 * k] = x.normal.x, n[3 * k + 1] = x.normal.y, n[3 * k + 2] = x.normal.z;
+    t[3 * k] = x.tangential.x, t[3 * k + 1] = x.tangential.y, t[3 * k + 2] = x.tangential.z;
+    o[k] = x.overlap;
+  }
+  py::dict d;
+  d["pairs"] = pairArray(pairs);
+  d["normal"] = normal;
+  d["tangential"] = tangential;
+  d["overlap"] = overlap;
+  return d;
+}
+
 // A float column from a 1-D array-like of n values.
 std::vector<float> floatColumn(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, std::size_t n,
                                const char* what) {
@@ -253,9 +277,24 @@ class Simulation {
     return d;
   }
 
-  py::array_t<std::uint32_t> contacts() const {
+  py::object contacts(bool forces) const {
     const auto lock = exclusive();
-    return pairArray(m_run.pipeline().pairs());
+    if (!forces) return pairArray(m_run.pipeline().pairs());
+    return contactForceDict(debugOfLastStep("contacts(forces=True)").contactForces);
+  }
+
+  // Pipeline::readDebug() of the last step, which capture_forces must have kept (`what` names the call).
+  ParticleDebug debugOfLastStep(const std::string& what) const {
+    if (!m_run.capturingForces())
+      throw Error(what + ": set capture_forces = True first; the steps after that keep their forces");
+    ParticleDebug dbg;
+    try {
+      m_run.pipeline().readDebug(dbg);
+    } catch (const Error&) {
+      throw Error(what + ": no step has run since capture_forces was set (or since set_bodies or set_parameters); "
+                  "step first");
+    }
+    return dbg;
   }
 
   // The quantities now, measured on a copy of the guard (the run's own checks stay where they fall).
@@ -271,12 +310,13 @@ class Simulation {
     m_run.writeCheckpoint(p);
   }
 
-  void record(const py::object& pathArg, std::optional<int> perFrame, bool debug) {
+  void record(const py::object& pathArg, std::optional<int> perFrame, bool debug, bool contacts) {
     const auto lock = exclusive();
     RecordSettings rs;
     rs.path = pathOf(pathArg);
     rs.stepsPerFrame = perFrame.value_or(m_run.world().params.stepsPerFrame);
     rs.debug = debug;
+    rs.contactForces = contacts;
     if (m_run.thermoOn() && sameFile(rs.path, m_run.thermo()->path()))
       throw Error("record: " + rs.path + " is the time series' file (write_thermo): name another file");
     m_run.record(rs);  // when the new file cannot be opened, the recording under way goes on
@@ -352,15 +392,7 @@ class Simulation {
   // The five forces of the last step per particle (Pipeline::readDebug).
   py::dict forces() const {
     const auto lock = exclusive();
-    if (!m_run.capturingForces())
-      throw Error("forces(): set capture_forces = True first; the steps after that keep their forces");
-    ParticleDebug dbg;
-    try {
-      m_run.pipeline().readDebug(dbg);
-    } catch (const Error&) {
-      throw Error("forces(): no step has run since capture_forces was set (or since set_bodies or set_parameters); "
-                  "step first");
-    }
+    const ParticleDebug dbg = debugOfLastStep("forces()");
     py::dict d;
     const std::size_t n = m_run.world().numParticles();
     for (int c = 0; c < 5; ++c) {
@@ -470,6 +502,7 @@ class RecordingFile {
       d["forces"] = forces;
       d["contacts"] = pairArray(f.debug.contacts);
     }
+    if (info().contactForces) d["contact_forces"] = contactForceDict(f.debug.contactForces);
     return d;
   }
 
@@ -599,13 +632,17 @@ PYBIND11_MODULE(_tumble, m) {
                     "Keep the forces of each step for forces() (off by default; changes no result)")
       .def("forces", &Simulation::forces,
            "The forces of the last step on each particle: repulsion, damping, shear, ground, friction (N,3) each")
-      .def("contacts", &Simulation::contacts, "The touching pairs (i, j), i < j, of the last step: (C,2) uint32")
+      .def("contacts", &Simulation::contacts, py::arg("forces") = false,
+           "The touching pairs (i, j), i < j, of the last step: (C,2) uint32; forces=True (needs capture_forces): a "
+           "dict of those pairs with the force on i from j split along the normal and across it, normal and "
+           "tangential (C,3), and the overlap (C,)")
       .def("thermo", &Simulation::thermo, "The time-series quantities now (docs/thermo.md) as a dict")
       .def("checkpoint", &Simulation::checkpoint, py::arg("path"), "Writes a checkpoint (resume with resume=path)")
       .def("record", &Simulation::record, py::arg("path"), py::arg("steps_per_frame") = py::none(),
-           py::arg("debug") = false,
+           py::arg("debug") = false, py::arg("contacts") = false,
            "Starts a recording: a frame every steps_per_frame steps (default: the scene's), counted from the start "
-           "of the run")
+           "of the run; debug: velocities, the five forces and the contacts in each frame; contacts: the contacts "
+           "with their forces (frame()['contact_forces'])")
       .def("close_recording", &Simulation::closeRecording)
       .def("write_thermo", &Simulation::writeThermo, py::arg("path"), py::arg("every") = py::none(),
            "Writes the time series to a CSV file, a row now and every `every` steps (default: the scene's "
@@ -647,6 +684,8 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("fps", [](const RecordingFile& r) { return r.info().fps; })
       .def_property_readonly("debug", [](const RecordingFile& r) { return r.info().debug; })
       .def_property_readonly("grows", [](const RecordingFile& r) { return r.info().grows; })
+      .def_property_readonly("contact_forces", [](const RecordingFile& r) { return r.info().contactForces; },
+                             "Each frame holds its contacts with their forces (frame(k)['contact_forces'])")
       .def_property_readonly("ground",
                              [](const RecordingFile& r) -> py::object {
                                if (!r.info().groundEnabled) return py::none();

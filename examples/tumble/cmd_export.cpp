@@ -22,6 +22,7 @@ struct ExportCliOptions {
   std::string format = "vtk";
   std::string name;
   std::uint64_t every = 1;
+  bool contacts = false;
   bool quiet = false;
 };
 
@@ -31,6 +32,7 @@ void run(const ExportCliOptions& o) {
   else if (o.format == "csv") opts.format = ExportFormat::Csv;
   else throw Error("--format " + o.format + ": expected vtk or csv");
   opts.every = static_cast<std::size_t>(o.every);
+  opts.contacts = o.contacts;
   if (!o.name.empty())
     if (const std::string why = exportNameProblem(o.name); !why.empty()) throw Error("--name '" + o.name + "' " + why);
 
@@ -82,6 +84,8 @@ void run(const ExportCliOptions& o) {
                  o.recording.c_str(), shownDir.c_str(), r.index.c_str());
     if (!reader.info().debug)
       std::fprintf(stderr, "  (velocities, forces and contacts are in debug recordings only: tumble run --debug-record)\n");
+    if (reader.info().contactForces && !o.contacts)
+      std::fprintf(stderr, "  (the recording holds the contacts with their forces: --contacts exports them)\n");
     if (opts.format == ExportFormat::Csv && !reader.header().walls.empty())
       std::fprintf(stderr, "  (the walls are in the VTK export only: --format vtk)\n");
     if (opts.format == ExportFormat::Vtk) std::fprintf(stderr, "  open in ParaView: paraview %s\n", r.index.c_str());
@@ -103,6 +107,11 @@ void addExport(CLI::App& app) {
                 "(NAME_walls.vtp, or NAME_walls_000000.vtp … per frame when a wall turns) and the collection NAME.pvd; "
                 "csv: NAME_000000.csv … one row per particle (no walls) and the index NAME_frames.csv")
       ->check(CLI::IsMember({"vtk", "csv"}));
+  c->add_flag("--contacts", o->contacts,
+              "Also the contacts with their forces, from a recording made with them (tumble run --record-contacts): "
+              "NAME_contacts_000000.vtp … (a line per contact between the two particles' centres, with normal_force, "
+              "tangential_force, their magnitudes, overlap, particle_i and particle_j per line; a part of the .pvd) "
+              "or NAME_contacts_000000.csv … (a row per contact; a column of the index)");
   c->add_option("--every", o->every, "Export every N-th frame, from the first (default 1)")->check(countIn(1, kMaxSteps));
   c->add_option("--name", o->name, "File name prefix (default: the recording's name without its extension)");
   c->add_flag("-q,--quiet", o->quiet, "No progress and no summary");

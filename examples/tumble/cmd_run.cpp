@@ -33,6 +33,7 @@ struct RunOptions {
   std::string record;
   std::optional<std::uint64_t> recordSteps;
   bool debug = false;
+  bool contacts = false;
   std::string stateOut;
   std::optional<float> cellSize;
   std::optional<int> pcaEvery;
@@ -284,6 +285,7 @@ void run(RunOptions o) {
     rs.path = o.record;
     rs.stepsPerFrame = std::max(1, scene.stepsPerFrame);
     rs.debug = debug;
+    rs.contactForces = o.contacts || scene.recordContacts;
     rs.lastStep = recSteps;
     rs.continues = true;  // a resumed run continues the recording of the first part
     openOrStop(run, [&] { run.record(rs); }, start, scene.steps, writes);
@@ -420,6 +422,9 @@ void addRun(CLI::App& app) {
   c->add_option("--record-steps", o->recordSteps, "Record only the first N steps (default: all)")
       ->check(countIn(1, kMaxSteps));
   c->add_flag("--debug-record", o->debug, "Add velocities, the five forces and the contacts to every frame");
+  c->add_flag("--record-contacts", o->contacts,
+              "Add the contacts of the step before each frame with their forces (force chains: tumble export "
+              "--contacts; docs/recording.md)");
   c->add_option("--state-out", o->stateOut, "Write the final body state as CSV (exact float round trip)");
   c->add_option("--checkpoint", o->checkpoint,
                 "Write a checkpoint to FILE at the end of the run (docs/checkpoint.md); --resume continues it");

@@ -38,6 +38,7 @@ struct ViewOptions {
   std::string record;
   bool recordOn = false;
   bool debug = false;
+  bool contacts = false;
   std::string size = "1280x720";
   std::string color = "plain";
   bool paused = false;
@@ -151,6 +152,7 @@ void view(const ViewOptions& o) {
       rs.path = numbered(recordPath, ++recordings);
       rs.stepsPerFrame = static_cast<int>(perFrame);
       rs.debug = debug;
+      rs.contactForces = o.contacts || scene.recordContacts;
       run.record(rs);  // the state now as its first frame (a debug recording's follows a step)
     } else if (!controls.recording() && run.recordingOn()) {
       run.closeRecording();
@@ -273,6 +275,7 @@ void addView(CLI::App& app) {
                 "new start writes FILE-2, FILE-3, ...)");
   c->add_flag("--record-on", o->recordOn, "Start with recording on (into view.bin)");
   c->add_flag("--debug-record", o->debug, "Recordings include velocities, the five forces and the contacts");
+  c->add_flag("--record-contacts", o->contacts, "Recordings include each frame's contacts with their forces");
   c->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
   c->add_option("--color", o->color, "Initial colouring: plain, mass or elasticity (0 cycles)")
       ->check(CLI::IsMember({"plain", "mass", "elasticity"}));

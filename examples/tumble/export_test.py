@@ -48,14 +48,14 @@ def run(*args):
 
 
 def read_recording(path):
-    """The recording per docs/recording.md, version 1 or 2."""
+    """The recording per docs/recording.md, version 1, 2 or 3."""
     b = open(path, "rb").read()
     assert b[:8] == b"TUMBLREC", "magic"
     version, H, N, B, spf = struct.unpack_from("<5I", b, 8)
     dt, fps = struct.unpack_from("<2f", b, 28)
     flags, = struct.unpack_from("<I", b, 36)
     ground_h, = struct.unpack_from("<f", b, 40)
-    assert version in (1, 2)
+    assert version in (1, 2, 3)
     at = H
     f32 = lambda count: np.frombuffer(b, "<f4", count, at)
     table = {}
@@ -69,7 +69,7 @@ def read_recording(path):
         at += 4 * N
     at += 4  # table checksum
     walls = []
-    if version == 2:  # the wall block: W, S, W records, a checksum
+    if version >= 2:  # the wall block: W, S, W records, a checksum
         W, S = struct.unpack_from("<2I", b, at)
         p = at + 8
         for _ in range(W):
@@ -84,6 +84,7 @@ def read_recording(path):
         assert p == at + 8 + S, "wall records fill S"
         at = p + 4
     debug = bool(flags & 1)
+    contact_forces = bool(flags & 8)
     frames = []
     while at < len(b):
         S, = struct.unpack_from("<I", b, at)
@@ -103,10 +104,17 @@ def read_recording(path):
                 p += 12 * N
             C, = struct.unpack_from("<I", b, p)
             fr["contacts"] = np.frombuffer(b, "<u4", 2 * C, p + 4).reshape(C, 2).copy()
+            p += 4 + 8 * C
+        if contact_forces:  # C, then per contact i, j (u32), normal, tangential (3 f32 each), overlap
+            C, = struct.unpack_from("<I", b, p)
+            rows = np.frombuffer(b, np.dtype([("ij", "<u4", 2), ("f", "<f4", 7)]), C, p + 4)
+            fr["cf_pairs"] = rows["ij"].copy()
+            fr["cf_normal"], fr["cf_tangential"] = rows["f"][:, 0:3].copy(), rows["f"][:, 3:6].copy()
+            fr["cf_overlap"] = rows["f"][:, 6].copy()
         frames.append(fr)
         at += 4 + S + 4
     return {"N": N, "B": B, "ground": bool(flags & 2), "ground_h": ground_h, "debug": debug, "table": table,
-            "walls": walls, "frames": frames}
+            "walls": walls, "frames": frames, "contact_forces": contact_forces}
 
 
 def positions(rec, fr):
@@ -162,7 +170,8 @@ def check_walls(rec, out, parts, want):
     ntri = sum(len(w["tri"]) for w in walls)
     part = "2" if rec["ground"] else "1"
     if ntri == 0:
-        check(part not in parts, "no walls part without walls")
+        check(part not in parts or all("_contacts_" in s.get("file") for s in parts[part]),
+              "no walls part without walls (the contacts' part, when exported, takes its number)")
         return
     check(len(parts.get(part, [])) == len(want), f"the walls are part {part} of every time step")
     moving = any((np.any(w["w"] != 0) or np.any(w["v"] != 0)) and w["stop"] > w["start"] for w in walls)
@@ -231,6 +240,53 @@ def check_vtk(rec, out, name, every=1):
             check(pd.GetPointData().GetArray("velocity") is None, "no velocity without a debug recording")
 
 
+def check_contacts_vtk(rec, out, name):
+    """The contacts part of every time step (after the ground and the walls): a line per contact
+    from particle i's centre to j's, the recorded forces as cell data, bit for bit."""
+    pvd = ET.parse(os.path.join(out, name + ".pvd")).getroot()
+    part = str(1 + rec["ground"] + (sum(len(w["tri"]) for w in rec["walls"]) > 0))
+    sets = [s for s in pvd.find("Collection").findall("DataSet") if s.get("part") == part]
+    check(len(sets) == len(rec["frames"]), f"the contacts are part {part} of every time step")
+    for s, fr in zip(sets, rec["frames"]):
+        pd = read_vtp(os.path.join(out, s.get("file")))
+        C = len(fr["cf_pairs"])
+        check(pd.GetNumberOfLines() == C and pd.GetNumberOfPoints() == 2 * C, f"{s.get('file')}: {C} lines")
+        x = positions(rec, fr)
+        if C == 0:
+            continue
+        got = vtk_to_numpy(pd.GetPoints().GetData()).reshape(C, 2, 3)
+        check(np.array_equal(got[:, 0], x[fr["cf_pairs"][:, 0]]) and np.array_equal(got[:, 1], x[fr["cf_pairs"][:, 1]]),
+              f"{s.get('file')}: each line joins its two particles' centres")
+        cell = lambda n: vtk_to_numpy(pd.GetCellData().GetArray(n))
+        check(np.array_equal(cell("normal_force"), fr["cf_normal"]), "normal_force")
+        check(np.array_equal(cell("tangential_force"), fr["cf_tangential"]), "tangential_force")
+        check(np.array_equal(cell("overlap"), fr["cf_overlap"]), "overlap")
+        check(np.array_equal(cell("particle_i"), fr["cf_pairs"][:, 0]) and
+              np.array_equal(cell("particle_j"), fr["cf_pairs"][:, 1]), "particle_i, particle_j")
+        check(np.allclose(cell("normal_magnitude"), np.linalg.norm(fr["cf_normal"], axis=1), rtol=1e-6),
+              "normal_magnitude")
+
+
+def check_contacts_csv(rec, out, name):
+    with open(os.path.join(out, name + "_frames.csv")) as f:
+        index = list(csv.DictReader(f))
+    check(len(index) == len(rec["frames"]), "the CSV index lists every frame")
+    for row, fr in zip(index, rec["frames"]):
+        with open(os.path.join(out, row["contacts_file"])) as f:
+            rows = list(csv.DictReader(f))
+        check(len(rows) == len(fr["cf_pairs"]), f"{row['contacts_file']}: a row per contact")
+        if not rows:
+            continue
+        col = lambda *names: np.array([[float(r[n]) for n in names] for r in rows], dtype=np.float32)
+        check(np.array_equal(np.array([[int(r["i"]), int(r["j"])] for r in rows]), fr["cf_pairs"]), "i, j")
+        check(np.array_equal(col("normal_x", "normal_y", "normal_z"), fr["cf_normal"]), "normal_x,y,z")
+        check(np.array_equal(col("tangential_x", "tangential_y", "tangential_z"), fr["cf_tangential"]),
+              "tangential_x,y,z")
+        check(np.array_equal(col("overlap")[:, 0], fr["cf_overlap"]), "overlap")
+        x = positions(rec, fr)
+        check(np.array_equal(col("xi", "yi", "zi"), x[fr["cf_pairs"][:, 0]]), "xi, yi, zi")
+
+
 def check_csv(rec, out, name):
     with open(os.path.join(out, name + "_frames.csv")) as f:
         index = list(csv.DictReader(f))
@@ -270,6 +326,22 @@ run("export", plain, os.path.join(work, "csv"), "--format", "csv", "-q")
 check_csv(rec, os.path.join(work, "csv"), "mol")
 run("export", debug, os.path.join(work, "dcsv"), "--format", "csv", "-q")
 check_csv(drec, os.path.join(work, "dcsv"), "dbg")
+
+# Contact forces (version 3): with the debug block (the same pairs) and the forces exported.
+forces = os.path.join(work, "cf.bin")
+run("run", scene, "--steps", "200", "--record", forces, "--debug-record", "--record-contacts", "-q")
+crec = read_recording(forces)
+check(crec["contact_forces"] and all(np.array_equal(f["cf_pairs"], f["contacts"]) for f in crec["frames"]),
+      "the contact forces' pairs are the debug block's")
+check(sum(len(f["cf_pairs"]) for f in crec["frames"]) > 0, "the recording has contact forces to export")
+run("export", forces, os.path.join(work, "cvtk"), "--contacts", "-q")
+check_vtk(crec, os.path.join(work, "cvtk"), "cf")
+check_contacts_vtk(crec, os.path.join(work, "cvtk"), "cf")
+run("export", forces, os.path.join(work, "ccsv"), "--format", "csv", "--contacts", "-q")
+check_contacts_csv(crec, os.path.join(work, "ccsv"), "cf")
+p = subprocess.run([tumble, "export", debug, os.path.join(work, "none"), "--contacts"], capture_output=True, text=True)
+check(p.returncode != 0 and "no contact forces" in p.stderr and not os.path.exists(os.path.join(work, "none")),
+      f"--contacts of a recording without them is refused before anything is written: {p.stderr.strip()}")
 
 # Walls (recording version 2): a box open at both ends around a cone that turns for a while and
 # a tilted belt under them; then the box alone, whose walls stand still (one file for all).

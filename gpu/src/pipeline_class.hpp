@@ -282,10 +282,11 @@ class CudaPipeline final : public HaloPipeline {
 
     m_timer.mark(Phase::Forces, s);
     const ForceParams fp = makeForceParams(p, m_pulls);
-    DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr};
+    DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr, nullptr};
     if (m_debug) {
       for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].grow(3 * std::size_t(n));
       dbg.v = m_dbgVel.grow(3 * std::size_t(n));
+      dbg.contact = m_dbgContact.grow(m_numCand);  // an entry each of the candidate list
     }
     for (std::uint32_t k = 0; k < count; ++k) {
       if (m_wallsMove) setWallsOfStep(k);
@@ -544,6 +545,7 @@ class CudaPipeline final : public HaloPipeline {
   Buffer<float> m_radiusTmp, m_massTmp, m_txTmp, m_tyTmp;
   Buffer<std::uint32_t> m_origTmp, m_bodyOfTmp;
   Buffer<float> m_dbg[5], m_dbgVel;
+  Buffer<ContactForce> m_dbgContact;
   StepStats m_stats;
   std::uint32_t m_pulls = 0;
   double m_time = 0.0;

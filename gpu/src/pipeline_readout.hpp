@@ -270,6 +270,10 @@ void CudaPipeline<Exec>::readDebug(ParticleDebug& out) const {
       for (int k = 0; k < 5; ++k) out.force[k][o] = f[k][a];
     }
   out.contacts = pairs();
+  std::vector<ContactForce> capture(m_numCand);
+  m_dbgContact.download(capture.data(), capture.size(), s);
+  s.synchronize();
+  out.contactForces = capturedContacts(capture.data(), capture.size());
 }
 
 // The contacts of the rows `list` at the positions pos (touching: the particles to walk, nullptr

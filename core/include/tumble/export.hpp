@@ -2,7 +2,8 @@
 /// @file export.hpp
 /// A recording as files other tools read (docs/export.md): one VTK XML PolyData file (.vtp) per
 /// frame plus a ParaView collection (.pvd), with the ground and the walls as parts of their own,
-/// or one CSV per frame plus an index (particles only).
+/// or one CSV per frame plus an index (particles only); and optionally the contacts with their
+/// forces, a file per frame of their own.
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -21,6 +22,10 @@ struct ExportOptions {
   /// File names start with this (default "frame"; `tumble export` passes the recording's name
   /// without its extension).
   std::string name;
+  /// Also the contacts with their forces (a recording with contact forces): NAME_contacts_K.vtp
+  /// (a line per contact between the two particles' centres, its forces as cell data) or
+  /// NAME_contacts_K.csv per frame.
+  bool contacts = false;
   /// Called after each frame file with (frames written, frames to write).
   std::function<void(std::size_t, std::size_t)> progress;
   /// Polled before each frame; true stops the export (the files written so far stay, the
@@ -55,7 +60,8 @@ std::string exportFrameName(const std::string& name, std::size_t k, std::size_t 
 /// alone. An index of the same name from an earlier export is removed first; it is written for
 /// this export's frames at the end, and also when a frame fails (for the frames written before),
 /// so it never lists another recording's frames. Throws tumble::Error (a frame the reader rejects:
-/// tumble::InputError).
+/// tumble::InputError; options.contacts for a recording without contact forces, before any file
+/// is written).
 ExportResult exportRecording(RecordingReader& reader, const std::string& dir, const ExportOptions& options);
 
 }  // namespace tumble

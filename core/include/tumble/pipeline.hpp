@@ -120,7 +120,16 @@ struct ParticleDebug {
   std::vector<float> v;          ///< 3 per particle
   std::vector<float> force[5];   ///< kDebugForceNames: repulsion, damping, shear, ground, friction; 3 per particle
   std::vector<Pair> contacts;    ///< sorted pairs
+  /// The same contacts, in the same order, with their forces (soa.hpp): per particle, the
+  /// repulsion, damping and shear of debug are the sums of `normal + tangential` over its
+  /// contacts (with the sign of its side), within rounding.
+  std::vector<ContactForce> contactForces;
 };
+
+/// The contacts of a debug capture (DebugForcesView::contact, `entries` entries of the list the
+/// step read, each contact once from either side): those from the side of the lower scene index,
+/// sorted by (i, j), as Pipeline::pairs().
+std::vector<ContactForce> capturedContacts(const ContactForce* capture, std::size_t entries);
 
 /// Input of the stand-alone broadphase (`tumble pairs`).
 struct ParticleCloud {
@@ -189,11 +198,13 @@ class Pipeline {
   /// |x_i − x_j| < r_i + r_j, sorted. Throws tumble::Error on NaN/inf or radius ≤ 0.
   virtual std::vector<Pair> findPairs(const ParticleCloud& cloud, const BroadphaseParams& bp) = 0;
   /// Velocities (at the start of the last step) and the five force kinds of the last step, per
-  /// particle in scene order (debug recording).
+  /// particle in scene order, and its contacts with their forces (debug recording, contact
+  /// forces).
   /// Requires setDebugCapture(true) before the step; throws tumble::Error otherwise.
   virtual void readDebug(ParticleDebug& out) const = 0;
   /// Keeps the per-particle force components of each step for readDebug() (costs 15 floats
-  /// per particle of memory traffic per step; off by default).
+  /// per particle and 7 words per entry of the contact list of memory traffic per step; off by
+  /// default). Changes no bit of the state.
   virtual void setDebugCapture(bool on) = 0;
   /// Switches the user pulls (PullBits) on or off from the next step on.
   virtual void setPulls(std::uint32_t mask) = 0;

@@ -3,7 +3,8 @@
 /// The versioned binary recording format (docs/recording.md): a header, the static particle
 /// table, the walls as triangles with their motion (version 2), then one frame per
 /// `stepsPerFrame` steps with each body's X and Q; optionally a debug block per frame
-/// (velocities, the five forces per particle, the contact pairs).
+/// (velocities, the five forces per particle, the contact pairs) and a block of the contacts
+/// with their forces (version 3).
 #pragma once
 #include <cstdint>
 #include <cstdio>
@@ -18,8 +19,9 @@
 
 namespace tumble {
 
-/// The version the writer writes; the reader reads it and version 1 (no walls).
-inline constexpr std::uint32_t kRecordingVersion = 2;
+/// The version the writer writes; the reader reads it and versions 1 (no walls) and 2 (no
+/// contact forces).
+inline constexpr std::uint32_t kRecordingVersion = 3;
 
 /// Scene-level facts a player needs.
 struct RecordingInfo {
@@ -34,6 +36,9 @@ struct RecordingInfo {
   /// Bodies enter during the run ([[pour]]): the table holds every body that may, and each frame
   /// the first RecordedFrame::numBodies() of them, those present (flag bit 2).
   bool grows = false;
+  /// Each frame holds the contacts of the step before it with their forces
+  /// (RecordedFrame::debug.contactForces; version 3).
+  bool contactForces = false;
   float groundHeight = 0.0f;
   Vec3f gravity{0, 0, 0};
   std::string sceneName;
@@ -46,7 +51,9 @@ struct RecordedFrame {
   std::uint32_t pulls = 0;                  ///< PullBits on during this frame
   std::vector<float> px, py, pz;            ///< per body present: the first numBodies() of the table
   std::vector<float> qw, qx, qy, qz;        ///< per body
-  ParticleDebug debug;                      ///< filled only in debug recordings (the particles present)
+  /// In a debug recording: v, force and contacts (the particles present); in one with contact
+  /// forces: contactForces. Empty otherwise.
+  ParticleDebug debug;
   /// Bodies in this frame: all of the table's, or in a recording that grows the first so many.
   std::size_t numBodies() const { return px.size(); }
 };
@@ -145,8 +152,10 @@ class RecordingWriter {
   /// positive, or the table is inconsistent or non-finite.
   /// `grows`: bodies enter during the run (tumble/pour.hpp): `world` holds every body that may,
   /// and each frame the bodies present, a prefix of them.
+  /// `contactForces`: each frame also holds the contacts of the step before it with their forces
+  /// (ParticleDebug::contactForces).
   RecordingWriter(const std::string& path, const World& world, bool debug, int stepsPerFrame,
-                  float fps = 60.0f, bool grows = false);
+                  float fps = 60.0f, bool grows = false, bool contactForces = false);
   /// Continues the recording at `path` for a run resumed at `step` (tumble run --resume): its
   /// frames up to that step are written again, with the same bytes, to a temporary and
   /// the writer appends from there, so that the finished file equals the uninterrupted run's;
@@ -159,14 +168,16 @@ class RecordingWriter {
   /// was, with its frames.
   static std::unique_ptr<RecordingWriter> continueAt(const std::string& path, const World& world, bool debug,
                                                      int stepsPerFrame, std::uint64_t step, float fps = 60.0f,
-                                                     bool grows = false);
+                                                     bool grows = false, bool contactForces = false);
   /// Calls close(), swallowing its exceptions.
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
 
-  /// Appends a frame. `debug` must be given iff the recording was opened with debug = true. In a
-  /// recording that grows, `state` (and `debug`) hold the first bodies (particles) present.
+  /// Appends a frame. `debug` must be given iff the recording was opened with debug or
+  /// contactForces (the writer writes the parts the recording has: v, force and contacts, and
+  /// contactForces, sorted, the same pairs as contacts in a debug recording). In a recording
+  /// that grows, `state` (and `debug`) hold the first bodies (particles) present.
   /// Throws tumble::Error if the state holds a non-finite value (NaN is never recorded), if
   /// sizes do not match the world, or on a write error. Values are checked before anything is
   /// written, so a frame rejected for its values leaves the file unchanged and the writer usable.
@@ -201,6 +212,7 @@ class RecordingWriter {
   bool m_grows = false;
   std::vector<std::uint32_t> m_firstParticle;  ///< grows: the first particle of each body, and N
   bool m_debug = false;
+  bool m_contactForces = false;
   bool m_failed = false;                 ///< a failed frame could not be cut off: close() keeps the temporary
   std::uint64_t m_copyOf = 0;            ///< continueAt() copying: the frames `path` keeps if a write fails
   long m_frameCountOffset = 0;           ///< byte offset of the header's frame count
@@ -208,6 +220,8 @@ class RecordingWriter {
   std::vector<std::uint8_t> m_buffer;    ///< one frame, encoded before it is written
 
   void writeBytes(const std::uint8_t* data, std::size_t size, const char* what);
+  /// The frames' contents (debug, grows, contactForces) as a RecordingInfo says them.
+  RecordingInfo contents() const;
 };
 
 }  // namespace tumble

@@ -74,10 +74,16 @@ struct RecordSettings {
   std::string path;
   int stepsPerFrame = 10;
   bool debug = false;             ///< velocities, the five forces and the contacts in every frame
+  /// The contacts of the step before each frame with their forces (force chains; version 3).
+  /// Only that step is captured (unless debug): the run's speed is kept.
+  bool contactForces = false;
   std::uint64_t lastStep = std::numeric_limits<std::uint64_t>::max();  ///< no frame after it
   /// A resumed run continues the recording at `path` (RecordingWriter::continueAt), which must
   /// end with the last frame due by the checkpoint's step.
   bool continues = false;
+  /// Whether frames come only after a step (debug, contact forces: forces exist once a step has
+  /// run), with no frame of the state at the start.
+  bool afterSteps() const { return debug || contactForces; }
 };
 
 /// A change of some bodies' motion between steps (Run::setBodies()): for each of `bodies` (scene

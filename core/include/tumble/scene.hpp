@@ -344,6 +344,7 @@ struct Scene {
   std::string recordFile;          ///< empty = no recording
   std::uint64_t recordSteps = 0;   ///< 0 = the whole run
   bool recordDebug = false;
+  bool recordContacts = false;     ///< [output] contacts: each frame's contacts with their forces
   int stepsPerFrame = 10;
   std::string thermoFile;          ///< time series (docs/thermo.md); empty = none
   /// The ground's rolling resistance as the kernels use it: 0 unless the law turns spheres.

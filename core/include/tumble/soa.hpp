@@ -110,6 +110,22 @@ struct CandidateListView {
   const std::uint32_t* cand;
 };
 
+/// One contact between particles as the debug capture keeps it (Pipeline::readDebug(),
+/// ParticleDebug::contactForces): particles i < j (scene indices), the force on i from j in the
+/// step split along the normal n = (x_i − x_j) / |x_i − x_j| (`normal`, (F · n) n) and across it
+/// (`tangential`, F − (F · n) n), F being what the step added to i's force for this contact
+/// (j received −F), and the overlap r_i + r_j − |x_i − x_j| at the step's positions. In the
+/// capture itself (per entry of the list the step read) an entry that did not touch has
+/// i = kNoContact.
+struct ContactForce {
+  std::uint32_t i, j;
+  Vec3f normal, tangential;
+  float overlap;
+  /// By (i, j), as Pair: the order of Pipeline::pairs().
+  friend bool operator<(const ContactForce& a, const ContactForce& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
+};
+inline constexpr std::uint32_t kNoContact = 0xffffffffu;
+
 /// The view of a list stored compactly: row i is cand[offsets[i] .. offsets[i+1]).
 TUMBLE_HD_INLINE CandidateListView compactList(const std::uint32_t* offsets, const std::uint32_t* cand) {
   return CandidateListView{offsets, offsets + 1, cand};

@@ -263,9 +263,16 @@ class MpiPipelineImpl final : public MpiPipeline {
   void readDebug(ParticleDebug& out) const override {
     if (!m_hasDebug) throw Error("readDebug(): enable setDebugCapture(true) and run a step first");
     std::vector<float> mine;
+    std::vector<ContactForce> myContacts;  // of the contacts whose particle i this rank owns, as pairs()
     if (m_local) {
       ParticleDebug d;
       m_local->readDebug(d);
+      for (ContactForce c : d.contactForces)
+        if (m_particleOwned[c.i]) {
+          c.i = m_particleGlobal[c.i];
+          c.j = m_particleGlobal[c.j];
+          myContacts.push_back(c);
+        }
       mine.reserve(18 * m_ownedParticles.size());
       for (const std::uint32_t p : m_ownedParticles) {
         const float* v = &d.v[3 * std::size_t(p)];
@@ -284,6 +291,8 @@ class MpiPipelineImpl final : public MpiPipeline {
       at += 18;
     });
     out.contacts = pairs();
+    out.contactForces = allGather(m_comm, m_size, myContacts, &m_mpi.counts.readBytes);
+    std::sort(out.contactForces.begin(), out.contactForces.end());  // each rank's are sorted; the keys are unique
   }
 
   void setDebugCapture(bool on) override {

@@ -229,19 +229,22 @@ TOML
 } > pour.toml
 ranks_equal "a pour" "2 3" pour.toml --skin 0.005
 
-# --- Outputs: a debug recording, the time series, checkpoints; continuing on the other side.
+# --- Outputs: a debug recording (with the contact forces), the time series, checkpoints; continuing on the other side.
 heap=("$src/scenes/heap.toml" --threads 1 -q --skin 0.002)
-"$bin" run "${heap[@]}" --steps 300 --record ref.bin --debug-record --checkpoint ref.ck --checkpoint-every 150 \
+"$bin" run "${heap[@]}" --steps 300 --record ref.bin --debug-record --record-contacts --checkpoint ref.ck --checkpoint-every 150 \
        --state-out ref.csv 2>err.txt || bad "heap recorded: $(cat err.txt)"
-mpi 3 run "${heap[@]}" --steps 300 --record np.bin --debug-record --checkpoint np.ck --checkpoint-every 150 \
+mpi 3 run "${heap[@]}" --steps 300 --record np.bin --debug-record --record-contacts --checkpoint np.ck --checkpoint-every 150 \
        --state-out np.csv 2>err.txt || bad "heap recorded on 3 ranks: $(cat err.txt)"
 same "debug recording on 3 ranks" ref.bin np.bin
 same "checkpoint on 3 ranks" ref.ck np.ck
-"$bin" run "${heap[@]}" --steps 150 --checkpoint one.ck --record cont.bin --debug-record 2>err.txt
-mpi 4 run "${heap[@]}" --steps 300 --resume one.ck --state-out r1.csv --record cont.bin --debug-record 2>err.txt \
+"$bin" run "${heap[@]}" --steps 150 --checkpoint one.ck --record cont.bin --debug-record --record-contacts 2>err.txt
+mpi 4 run "${heap[@]}" --steps 300 --resume one.ck --state-out r1.csv --record cont.bin --debug-record --record-contacts 2>err.txt \
   || bad "resume on 4 ranks: $(cat err.txt)"
 same "one process's checkpoint continued on 4 ranks" ref.csv r1.csv
 same "its recording continued on 4 ranks" ref.bin cont.bin
+"$bin" run "${heap[@]}" --steps 300 --record c1.bin --record-contacts 2>err.txt || bad "contact forces: $(cat err.txt)"
+mpi 2 run "${heap[@]}" --steps 300 --record c2.bin --record-contacts 2>err.txt || bad "contact forces on 2 ranks: $(cat err.txt)"
+same "a recording of contact forces on 2 ranks" c1.bin c2.bin
 mpi 2 run "${heap[@]}" --steps 150 --checkpoint two.ck 2>err.txt
 same "checkpoint of 2 ranks" one.ck two.ck
 "$bin" run "${heap[@]}" --steps 300 --resume two.ck --state-out r2.csv 2>err.txt

@@ -26,7 +26,7 @@ def test_frames_are_the_states_of_the_run(tmp_path):
         seen.append((sim.step_count, sim.time, sim.bodies(), sim.particles()))
     sim.close()
     with tumble.Recording(tmp_path / "r.bin") as rec:
-        assert len(rec) == 7 and rec.steps_per_frame == 10 and not rec.debug and rec.version == 2
+        assert len(rec) == 7 and rec.steps_per_frame == 10 and not rec.debug and rec.version == 3
         assert rec.num_bodies == sim.num_bodies and rec.num_particles == sim.num_particles
         assert rec.scene_name == "molecules" and rec.dt == pytest.approx(tumble.Scene.load(MOLECULES).dt)
         assert rec.ground is not None and rec.gravity[2] < 0
@@ -63,6 +63,40 @@ def test_a_debug_recording_has_velocities_forces_and_contacts(tmp_path):
         assert all(v.shape == (n, 3) for v in f["forces"].values())
         assert f["step"] > 290 and len(c) > 0 and np.array_equal(f["contacts"], c)
         assert np.abs(f["forces"]["repulsion"]).max() > 0
+
+
+def test_contact_forces_in_a_recording_and_from_the_simulation(tmp_path):
+    """record(contacts=True) keeps each frame's contacts with their forces: the arrays that
+    contacts(forces=True) hands out after the same step, bit for bit; per particle they sum to the
+    repulsion + damping + shear that forces() reports (float rounding apart)."""
+    sim = tumble.Simulation(tumble.Scene.load(SPHERES))
+    sim.step(290)  # the spheres touch by now
+    sim.record(tmp_path / "c.bin", steps_per_frame=5, contacts=True)
+    sim.capture_forces = True
+    seen = []
+    for _ in range(4):
+        sim.step(5)
+        seen.append((sim.contacts(forces=True), sim.forces()))
+    sim.close()
+    rec = tumble.Recording(str(tmp_path / "c.bin"))
+    assert rec.contact_forces and not rec.debug and rec.version == 3 and len(rec) == 4
+    n = sim.num_particles
+    for f, (c, forces) in zip(rec, seen):
+        got = f["contact_forces"]
+        assert "v" not in f and len(c["pairs"]) > 0
+        for key in ("pairs", "normal", "tangential", "overlap"):
+            assert got[key].shape == c[key].shape and np.array_equal(got[key], c[key]), key
+        assert np.all(c["pairs"][:, 0] < c["pairs"][:, 1]) and np.all(c["overlap"] > 0)
+        total = (c["normal"] + c["tangential"]).astype(np.float64)
+        per_particle = np.zeros((n, 3))
+        np.add.at(per_particle, c["pairs"][:, 0], total)
+        np.add.at(per_particle, c["pairs"][:, 1], -total)
+        want = sum(forces[k].astype(np.float64) for k in ("repulsion", "damping", "shear"))
+        scale = np.zeros(n)
+        np.add.at(scale, c["pairs"].ravel(), np.repeat(np.abs(total).sum(axis=1), 2))
+        assert np.all(np.abs(per_particle - want).max(axis=1) <= 1e-5 * scale + 1e-30)
+    with pytest.raises(tumble.Error, match="capture_forces"):
+        tumble.Simulation(tumble.Scene.load(SPHERES)).contacts(forces=True)
 
 
 def test_bad_files_raise_input_errors(tmp_path):

@@ -142,7 +142,7 @@ def test_recordings_carry_the_walls_as_tumble_run_writes_them(tmp_path, name, wa
     assert data == (tmp_path / "cli.bin").read_bytes()
     version, header = np.frombuffer(data, "<u4", 2, 8)
     particles = int(np.frombuffer(data, "<u4", 1, 16)[0])
-    assert version == 2
+    assert version == 3
     assert int(np.frombuffer(data, "<u4", 1, header + 28 * particles + 4)[0]) == walls  # W, the wall count
 
 

@@ -67,11 +67,23 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
 
 /// Debug capture (internal numbering, 3 floats per particle each): the five forces
 /// (repulsion, damping, shear, ground, friction) and the velocity of the particle's centre at
-/// the start of the step.
+/// the start of the step; and per entry of the list the step reads, its contact (ContactForce,
+/// scene indices; kNoContact where the entry did not touch).
 struct DebugForcesView {
   float* f[5];
   float* v;
+  ContactForce* contact;
 };
+
+/// Entry e's capture of the contact (i at pi, j at pj; d = x_i − x_j, |d|² = d2 as the predicate
+/// computed them) whose force on i was f.
+TUMBLE_HD_INLINE ContactForce capturedContact(const StepView& v, std::uint32_t i, const PosRow& pi, std::uint32_t j,
+                                              Vec3f d, float d2, Vec3f f) {
+  const float dist = sqrtf(d2);
+  const Vec3f n = dist > 0.0f ? (1.0f / dist) * d : Vec3f{0.0f, 0.0f, 0.0f};  // coincident centres: all of f is "normal"
+  const Vec3f fn = dist > 0.0f ? dot(f, n) * n : f;
+  return ContactForce{v.orig[i], v.orig[j], fn, f - fn, pi.r + v.pos[j].r - dist};
+}
 
 /// Particle positions from their body's state (SPEC §2.1), x = X + R u (R = b.rot), for the
 /// particles first..first+count of body b, with their radii; their displacements since the
@@ -301,8 +313,9 @@ TUMBLE_HD_INLINE ParticleSums<kDebug> zeroSums() {
 /// The contact of particle i (at pi, of body `self`) with particle j of another body, entry e of
 /// i's row, that touches: d = x_i − x_j and |d|² as the predicate computed them. Its force and
 /// torque (and rolling torque) are added to *sum; a law with history updates its ξ (historyOf()).
+/// Returns the force on i.
 template <bool kDebug, bool kClumps, ContactLaw kLaw>
-TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
+TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                  const PosRow& pi, std::uint32_t e, std::uint32_t j, Vec3f d, float d2,
                                  LazySide<kClumps>& side, ParticleSums<kDebug>* sum) {
   const float rj = v.pos[j].r;
@@ -338,6 +351,7 @@ TUMBLE_HD_INLINE void addContact(const StepView& v, const ForceParams& fp, const
     sum->shr += cf.shear;
   }
   ++out.contacts;
+  return fc;
 }
 
 /// After its contacts, the rest of particle i's step: its count of contacts (v.touching), the
@@ -431,9 +445,15 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     float d2;
     if (!touches<kPeriodic>(v, pi, v.pos[j], &d, &d2)) {
       if constexpr (kLaw != ContactLaw::Report) forgetHistory(v, e);
+      if constexpr (kDebug) {
+        if (dbg.contact != nullptr) dbg.contact[e].i = kNoContact;
+      }
       continue;
     }
-    addContact<kDebug, kClumps, kLaw>(v, fp, self, i, pi, e, j, d, d2, side, &sum);
+    const Vec3f f = addContact<kDebug, kClumps, kLaw>(v, fp, self, i, pi, e, j, d, d2, side, &sum);
+    if constexpr (kDebug) {
+      if (dbg.contact != nullptr) dbg.contact[e] = capturedContact(v, i, pi, j, d, d2, f);
+    }
   }
   return finishParticle<kDebug, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, pi, side, sum);
 }

@@ -75,7 +75,7 @@ struct StepDifference {
 /// Loads a with worldA and b with worldB (the same world, but for the tests of this function) and
 /// steps them side by side for `steps` steps, comparing after every step the pair lists, the
 /// mesh contacts (Pipeline::meshContacts()), every bit of the state (bodies, plane springs, contact histories: firstDifference()) and, with
-/// `debug`, every bit of the per-particle debug velocities and forces (readDebug()); stops at the
+/// `debug`, every bit of the per-particle debug velocities and forces and of the contact forces (readDebug()); stops at the
 /// first difference. nullopt: identical throughout. With `pouring` (the scene's pours), each
 /// pipeline steps through Pouring::step, so that the bodies due enter both at the batch steps.
 std::optional<StepDifference> firstStepDifference(Pipeline& a, const World& worldA, Pipeline& b, const World& worldB,
