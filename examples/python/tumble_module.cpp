@@ -24,6 +24,7 @@
 #include "tumble/error.hpp"
 #include "tumble/exact_range.hpp"
 #include "tumble/factory.hpp"
+#include "tumble/fields.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/output_file.hpp"
@@ -97,6 +98,94 @@ py::dict contactForceDict(const std::vector<ContactForce>& cf) {
   d["normal"] = normal;
   d["tangential"] = tangential;
   d["overlap"] = overlap;
+  return d;
+}
+
+// tumble.fields(): coarseGrainRecording() as arrays, per point: (P,) scalars, (P,3) vectors and
+// (P,3,3) symmetric tensors, with the points (P,3) and the grid's shape (nx, ny, nz).
+py::dict fieldsOf(const py::object& pathArg, double width, const std::optional<std::vector<int>>& grid,
+                  const std::optional<std::string>& axis, const std::optional<std::vector<double>>& box, long first,
+                  long last, std::size_t every) {
+  FieldOptions o;
+  o.width = width;
+  o.every = every;
+  FieldGrid& g = o.grid;
+  if (axis) {
+    if (*axis != "x" && *axis != "y" && *axis != "z") throw Error("fields: axis must be 'x', 'y' or 'z'");
+    g.axis = (*axis)[0] - 'x';
+  }
+  g.n = {0, 0, 0};
+  if (grid) {
+    const std::size_t want = g.axis >= 0 ? 1 : 3;
+    if (grid->size() != want)
+      throw Error("fields: grid must be " + std::string(want == 1 ? "one count (along the axis)" : "three counts (nx, ny, nz)"));
+    for (int c : *grid)
+      if (c < 1 || c > 4096) throw Error("fields: each grid count must be from 1 to 4096");
+    if (g.axis >= 0) g.n[std::size_t(g.axis)] = (*grid)[0];
+    else g.n = {(*grid)[0], (*grid)[1], (*grid)[2]};
+  }
+  if (box) {
+    if (box->size() != 6) throw Error("fields: box must be (xmin, ymin, zmin, xmax, ymax, zmax)");
+    for (std::size_t a = 0; a < 3; ++a) {
+      g.lo[a] = (*box)[a];
+      g.hi[a] = (*box)[a + 3];
+      if (!(g.hi[a] > g.lo[a])) throw Error("fields: box's upper corner must be above its lower one on every axis");
+    }
+  }
+  RecordingReader reader(pathOf(pathArg));
+  const long frames = static_cast<long>(reader.numFrames());
+  const long a = first < 0 ? first + frames : first, b = last < 0 ? last + frames : last;
+  if (frames == 0 || a < 0 || b >= frames || a > b)
+    throw Error("fields: frames " + std::to_string(first) + " to " + std::to_string(last) + " of a recording of " +
+                std::to_string(frames) + " frames");
+  o.first = static_cast<std::size_t>(a);
+  o.last = static_cast<std::size_t>(b);
+  Fields f;
+  {
+    py::gil_scoped_release release;
+    f = coarseGrainRecording(reader, o);
+  }
+  const FieldGrid& fg = f.grid;
+  const auto p = static_cast<py::ssize_t>(fg.size());
+  py::array_t<double> points({p, py::ssize_t{3}});
+  for (py::ssize_t k = 0; k < p; ++k) {
+    const int ix = int(k % fg.points(0)), iy = int(k / fg.points(0) % fg.points(1)), iz = int(k / (fg.points(0) * fg.points(1)));
+    double* row = points.mutable_data(k);
+    row[0] = fg.at(0, ix), row[1] = fg.at(1, iy), row[2] = fg.at(2, iz);
+  }
+  const auto scalars = [&](const std::vector<double>& v) {
+    py::array_t<double> out(p);
+    std::copy(v.begin(), v.end(), out.mutable_data());
+    return out;
+  };
+  const auto vectors = [&](const std::vector<double>& v) {
+    py::array_t<double> out({p, py::ssize_t{3}});
+    std::copy(v.begin(), v.end(), out.mutable_data());
+    return out;
+  };
+  const auto tensors = [&](const std::vector<double>& v) {  // xx, yy, zz, xy, xz, yz → 3 × 3
+    py::array_t<double> out({p, py::ssize_t{3}, py::ssize_t{3}});
+    static const int kAt[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+    for (py::ssize_t k = 0; k < p; ++k)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) *out.mutable_data(k, r, c) = v[6 * std::size_t(k) + std::size_t(kAt[r][c])];
+    return out;
+  };
+  py::dict d;
+  d["points"] = points;
+  d["shape"] = py::make_tuple(fg.points(0), fg.points(1), fg.points(2));
+  d["width"] = f.width;
+  d["frames"] = f.frames;
+  d["box"] = py::make_tuple(fg.lo[0], fg.lo[1], fg.lo[2], fg.hi[0], fg.hi[1], fg.hi[2]);
+  d["density"] = scalars(f.density);
+  d["packing_fraction"] = scalars(f.packing);
+  if (f.velocities) {
+    d["momentum"] = vectors(f.momentum);
+    d["velocity"] = vectors(f.velocity);
+    d["temperature"] = scalars(f.temperature);
+    d["kinetic_stress"] = tensors(f.kineticStress);
+  }
+  if (f.contacts) d["contact_stress"] = tensors(f.contactStress);
   return d;
 }
 
@@ -699,6 +788,15 @@ PYBIND11_MODULE(_tumble, m) {
                              })
       .def_property_readonly("scene_name", [](const RecordingFile& r) { return r.info().sceneName; });
 
+  m.def("fields", &fieldsOf, py::arg("path"), py::arg("width"), py::arg("grid") = py::none(),
+        py::arg("axis") = py::none(), py::arg("box") = py::none(), py::arg("first") = 0, py::arg("last") = -1,
+        py::arg("every") = 1,
+        "Continuum fields of a recording by coarse-graining (docs/fields.md), as tumble fields: width (the "
+        "kernel's standard deviation, m), grid (nx, ny, nz), or (n,) with axis 'x'/'y'/'z' for a profile; box "
+        "(xmin, ymin, zmin, xmax, ymax, zmax; default the particles' bounds); frames first..last (negative from "
+        "the end), every k-th. Returns a dict: points (P,3), shape, density, packing_fraction (P,), and with "
+        "velocities (a debug recording) momentum, velocity (P,3), temperature (P,), kinetic_stress (P,3,3); with "
+        "contact forces contact_stress (P,3,3); stresses positive in compression");
   m.def(
       "find_pairs",
       [](const py::array_t<float, py::array::c_style | py::array::forcecast>& x,

@@ -27,6 +27,7 @@ void addPlot(CLI::App& app);
 void addExport(CLI::App& app);
 void addRepair(CLI::App& app);
 void addClump(CLI::App& app);
+void addFields(CLI::App& app);
 
 /// Debian packages the viewer (view, play, render) needs at build time.
 inline constexpr const char* kViewerPackages =

@@ -339,6 +339,26 @@ check_vtk(crec, os.path.join(work, "cvtk"), "cf")
 check_contacts_vtk(crec, os.path.join(work, "cvtk"), "cf")
 run("export", forces, os.path.join(work, "ccsv"), "--format", "csv", "--contacts", "-q")
 check_contacts_csv(crec, os.path.join(work, "ccsv"), "cf")
+# tumble fields: the .vti read by VTK holds what the CSV holds (tensors in VTK's order xx yy zz xy yz xz).
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+run("fields", forces, "-o", os.path.join(work, "f.vti"), "--width", "0.2", "--grid", "6,5,4", "--from", "-3", "-q")
+run("fields", forces, "-o", os.path.join(work, "f.csv"), "--width", "0.2", "--grid", "6,5,4", "--from", "-3", "-q")
+r = vtkXMLImageDataReader()
+r.SetFileName(os.path.join(work, "f.vti"))
+r.Update()
+img = r.GetOutput()
+rows = np.genfromtxt(os.path.join(work, "f.csv"), delimiter=",", names=True)
+check(img.GetDimensions() == (6, 5, 4) and img.GetNumberOfPoints() == len(rows), "fields: a 6 x 5 x 4 image")
+pts = np.array([img.GetPoint(k) for k in range(img.GetNumberOfPoints())])
+check(np.allclose(pts, np.stack([rows["x"], rows["y"], rows["z"]], axis=1), rtol=1e-12, atol=1e-12),
+      "fields: the image's points are the CSV's")
+pdata = img.GetPointData()
+check(np.array_equal(vtk_to_numpy(pdata.GetArray("density")), rows["density"]), "fields: density")
+cs = vtk_to_numpy(pdata.GetArray("contact_stress"))
+check(np.array_equal(cs[:, [0, 1, 2, 3, 4, 5]],
+                     np.stack([rows["contact_stress_" + c] for c in ("xx", "yy", "zz", "xy", "yz", "xz")], axis=1)),
+      "fields: contact stress in VTK's component order")
+check(np.abs(cs).max() > 0, "fields: the molecules press on each other")
 p = subprocess.run([tumble, "export", debug, os.path.join(work, "none"), "--contacts"], capture_output=True, text=True)
 check(p.returncode != 0 and "no contact forces" in p.stderr and not os.path.exists(os.path.join(work, "none")),
       f"--contacts of a recording without them is refused before anything is written: {p.stderr.strip()}")

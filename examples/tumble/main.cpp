@@ -172,6 +172,7 @@ int main(int argc, char** argv) {
   tumble::cli::addExport(app);
   tumble::cli::addRepair(app);
   tumble::cli::addClump(app);
+  tumble::cli::addFields(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

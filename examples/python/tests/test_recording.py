@@ -99,6 +99,36 @@ def test_contact_forces_in_a_recording_and_from_the_simulation(tmp_path):
         tumble.Simulation(tumble.Scene.load(SPHERES)).contacts(forces=True)
 
 
+def test_fields_equal_tumble_fields_and_hold_the_mass(tmp_path):
+    """tumble.fields() is `tumble fields`: the CSV the command writes holds the same numbers (the
+    shortest text of each double reads back to it); over a box that holds every kernel the density
+    integrates to the particles' mass, and the momentum to theirs."""
+    import subprocess
+    sim = tumble.Simulation(tumble.Scene.load(SPHERES))
+    sim.step(290)
+    sim.record(tmp_path / "f.bin", steps_per_frame=5, debug=True, contacts=True)
+    sim.step(20)
+    mass = sim.particles()["mass"].astype(np.float64).sum()
+    sim.close()
+    x = tumble.Recording(str(tmp_path / "f.bin"))[-1]["particles"]
+    lo, hi = x.min(axis=0) - 0.5, x.max(axis=0) + 0.5
+    box = (*lo, *hi)
+    f = tumble.fields(tmp_path / "f.bin", 0.05, grid=(40, 40, 40), box=box, first=-1)
+    assert f["shape"] == (40, 40, 40) and f["frames"] == 1 and f["kinetic_stress"].shape == (40 ** 3, 3, 3)
+    cell = np.prod((hi - lo) / 40)
+    assert f["density"].sum() * cell == pytest.approx(mass, rel=1e-3)
+    binary = os.environ.get("TUMBLE_BIN")  # the ctest's (test_tumble.py's too)
+    if binary:
+        out = tmp_path / "f.csv"
+        subprocess.run([binary, "fields", str(tmp_path / "f.bin"), "-o", str(out), "--width", "0.05", "--grid", "40,40,40",
+                        "--box", ",".join(repr(float(v)) for v in box), "--from", "-1", "-q"], check=True)
+        rows = np.genfromtxt(out, delimiter=",", names=True)
+        assert np.array_equal(rows["density"], f["density"]) and np.array_equal(rows["x"], f["points"][:, 0])
+        assert np.array_equal(rows["contact_stress_xz"], f["contact_stress"][:, 0, 2])
+    with pytest.raises(tumble.Error, match="width"):
+        tumble.fields(tmp_path / "f.bin", 0.0)
+
+
 def test_bad_files_raise_input_errors(tmp_path):
     with pytest.raises(tumble.InputError, match="nope.bin"):
         tumble.Recording(tmp_path / "nope.bin")

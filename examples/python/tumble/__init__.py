@@ -15,12 +15,12 @@ A scene can also be built from Python objects: scene_from_dict({...}) takes the 
 scene file as dicts and lists (the layout of docs/scenes.md) and checks them as the file is.
 """
 from ._tumble import (PULL_SWIRL, PULL_X, PULL_Y, Error, InputError, Recording, Scene, Simulation,
-                      SimulationError, __version__, find_pairs)
+                      SimulationError, __version__, fields, find_pairs)
 
 for _e in (Error, InputError, SimulationError):
     _e.__module__ = "tumble"
 
-__all__ = ["Scene", "Simulation", "Recording", "find_pairs", "scene_from_dict", "to_toml", "Error", "InputError",
+__all__ = ["Scene", "Simulation", "Recording", "fields", "find_pairs", "scene_from_dict", "to_toml", "Error", "InputError",
            "SimulationError", "PULL_X", "PULL_Y", "PULL_SWIRL", "__version__"]
 
 
