@@ -2,15 +2,18 @@
 # SPDX-License-Identifier: MIT
 """Render one frame of `tumble export` with VTK's Python (no ParaView needed), as ParaView's
 Glyph filter would: a sphere of the particle's radius at each point, coloured by body, the
-ground square and, with --walls, the walls see-through. docs/export.md; Debian: apt-get install
-python3-vtk9 (an X display or Xvfb: xvfb-run -a python3 examples/vtk_render.py …).
+ground square and, with --walls, the walls see-through; with --contacts (tumble export --contacts)
+the force chains: each contact a tube between the two centres, its radius and colour by the
+normal force, the spheres then faint. docs/export.md; Debian: apt-get install python3-vtk9 (an X
+display or Xvfb: xvfb-run -a python3 examples/vtk_render.py …).
 
-usage: vtk_render.py FRAME.vtp [GROUND.vtp] [--walls WALLS.vtp] -o OUT.png [--size 1200x800]
+usage: vtk_render.py FRAME.vtp [GROUND.vtp] [--walls WALLS.vtp] [--contacts CONTACTS.vtp] [--view iso|side] -o OUT.png
+                    [--size 1200x800]
 """
 import argparse
 
 from vtkmodules.vtkCommonColor import vtkNamedColors
-from vtkmodules.vtkFiltersCore import vtkGlyph3D
+from vtkmodules.vtkFiltersCore import vtkGlyph3D, vtkTubeFilter
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
@@ -22,6 +25,9 @@ ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 ap.add_argument("frame")
 ap.add_argument("ground", nargs="?")
 ap.add_argument("--walls", help="the frame's walls (NAME_walls.vtp or NAME_walls_K.vtp), drawn see-through")
+ap.add_argument("--contacts", help="the frame's contacts (NAME_contacts_K.vtp of tumble export --contacts): force chains")
+ap.add_argument("--view", choices=("iso", "side"), default="iso",
+                help="iso: from the side and above (default); side: along +y, level (a slab, a column's wall)")
 ap.add_argument("-o", "--output", required=True)
 ap.add_argument("--size", default="1200x800")
 a = ap.parse_args()
@@ -66,6 +72,46 @@ actor.SetMapper(mapper)
 
 ren = vtkRenderer()
 ren.AddActor(actor)
+if a.contacts:
+    # Tubes of radius up to a third of the mean particle radius, by the normal force (its square
+    # root: the tube's cross-section grows with the force), coloured by the force.
+    chains = read(a.contacts)
+    force = chains.GetCellData().GetArray("normal_magnitude")
+    fmax = max(force.GetRange()[1], 1e-30) if force is not None else 1.0
+    from vtkmodules.vtkCommonCore import vtkFloatArray
+    from vtkmodules.vtkFiltersCore import vtkCellDataToPointData
+    to_points = vtkCellDataToPointData()
+    to_points.SetInputData(chains)
+    to_points.Update()
+    lines = to_points.GetOutput()
+    root = vtkFloatArray()
+    root.SetName("size")
+    src = lines.GetPointData().GetArray("normal_magnitude")
+    for k in range(lines.GetNumberOfPoints()):
+        root.InsertNextValue((src.GetValue(k) / fmax) ** 0.5 if src is not None else 1.0)
+    lines.GetPointData().AddArray(root)
+    lines.GetPointData().SetActiveScalars("size")
+    rmean = sum(frame.GetPointData().GetArray("radius").GetRange()) / 2
+    tube = vtkTubeFilter()
+    tube.SetInputData(lines)
+    tube.SetRadius(0.02 * rmean)
+    tube.SetRadiusFactor(15.0)  # up to 0.3 of the radius
+    tube.SetVaryRadiusToVaryRadiusByScalar()
+    tube.SetNumberOfSides(8)
+    tm = vtkPolyDataMapper()
+    tm.SetInputConnection(tube.GetOutputPort())
+    tm.SetScalarModeToUsePointFieldData()
+    tm.SelectColorArray("size")
+    tm.SetScalarRange(0.0, 1.0)
+    tl = tm.GetLookupTable()
+    tl.SetHueRange(0.66, 0.0)  # blue (weak) to red (strong)
+    tl.Build()
+    ta = vtkActor()
+    ta.SetMapper(tm)
+    ren.AddActor(ta)
+    actor.GetProperty().SetOpacity(0.12)
+    mapper.ScalarVisibilityOff()
+    actor.GetProperty().SetColor(0.6, 0.6, 0.6)
 colors = vtkNamedColors()
 if a.ground:
     gm = vtkPolyDataMapper()
@@ -90,7 +136,10 @@ c = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
 d = max(x1 - x0, y1 - y0, z1 - z0)
 cam = ren.GetActiveCamera()
 cam.SetFocalPoint(*c)
-cam.SetPosition(c[0] + 0.7 * d, c[1] - 1.3 * d, c[2] + 0.9 * d)
+if a.view == "side":
+    cam.SetPosition(c[0], c[1] - 2.2 * d, c[2])
+else:
+    cam.SetPosition(c[0] + 0.7 * d, c[1] - 1.3 * d, c[2] + 0.9 * d)
 cam.SetViewUp(0, 0, 1)
 ren.ResetCameraClippingRange()
 
@@ -106,4 +155,4 @@ png = vtkPNGWriter()
 png.SetFileName(a.output)
 png.SetInputConnection(grab.GetOutputPort())
 png.Write()
-print(f"vtk_render: {frame.GetNumberOfPoints()} particles to {a.output}")
+print(f"vtk_render: {frame.GetNumberOfPoints()} particles{' and their contacts' if a.contacts else ''} to {a.output}")

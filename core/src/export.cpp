@@ -95,9 +95,10 @@ void writeFrameVtp(const std::string& path, const Recording& table, const Record
 }
 
 // The contacts of a frame with their forces: a line per contact from particle i's centre to j's
-// (two points of its own each), with the forces on i, their magnitudes, the overlap and the two
-// particles as cell data.
-void writeContactsVtp(const std::string& path, const RecordedFrame& frame, const std::vector<float>& x) {
+// (across a periodic boundary to j's image beside i: contactBranch()), two points of its own
+// each, with the forces on i, their magnitudes, the overlap and the two particles as cell data.
+void writeContactsVtp(const std::string& path, const Recording& table, const RecordedFrame& frame,
+                      const std::vector<float>& x) {
   const std::vector<ContactForce>& cf = frame.debug.contactForces;
   const std::size_t c = cf.size();
   VtkXmlFile f("PolyData");
@@ -128,9 +129,12 @@ void writeContactsVtp(const std::string& path, const RecordedFrame& frame, const
     });
   f.xml("      </CellData>\n      <Points>\n");
   f.array("Float32", "Points", 3, [&](detail::Encoder& e) {
-    for (const ContactForce& k : cf)
-      for (const std::uint32_t p : {k.i, k.j})
-        for (int a = 0; a < 3; ++a) e.f32(x[3 * std::size_t(p) + a]);
+    for (const ContactForce& k : cf) {
+      const float* xi = &x[3 * std::size_t(k.i)];
+      const std::array<double, 3> l = contactBranch(k, xi, &x[3 * std::size_t(k.j)], table.radius[k.i], table.radius[k.j]);
+      for (int a = 0; a < 3; ++a) e.f32(xi[a]);
+      for (int a = 0; a < 3; ++a) e.f32(float(double(xi[a]) - l[std::size_t(a)]));  // x_j itself, or its image
+    }
   });
   f.xml("      </Points>\n");
   cellBlock(f, "Lines", c, 2, [](std::size_t k) { return static_cast<std::int64_t>(k); });
@@ -385,7 +389,7 @@ ExportResult exportRecording(RecordingReader& reader, const std::string& dir, co
           options.contacts ? exportFrameName(name + "_contacts", result.frames, total, options.format) : "";
       if (options.format == ExportFormat::Vtk) {
         writeFrameVtp((folder / file).string(), table, frame, x);
-        if (options.contacts) writeContactsVtp((folder / contactsFile).string(), frame, x);
+        if (options.contacts) writeContactsVtp((folder / contactsFile).string(), table, frame, x);
         std::string wallsFile;
         if (anyWall) {
           wallsFile = wallsMove ? exportFrameName(name + "_walls", result.frames, total, options.format) : name + "_walls.vtp";

@@ -163,16 +163,8 @@ void CoarseGraining::add(const FieldFrame& frame) {
     const ContactForce& k = frame.contact[c];
     const float* xi = frame.x + 3 * std::size_t(k.i);
     const float* xj = frame.x + 3 * std::size_t(k.j);
-    // The branch l = x_i − x_j; across a periodic boundary (the centres further apart than the
-    // contact allows) from the contact itself: along its normal force, |l| = r_i + r_j − δ.
-    double l[3] = {double(xi[0]) - xj[0], double(xi[1]) - xj[1], double(xi[2]) - xj[2]};
-    const double reach = double(frame.radius[k.i]) + frame.radius[k.j];
-    const double fn = std::sqrt(double(k.normal.x) * k.normal.x + double(k.normal.y) * k.normal.y +
-                                double(k.normal.z) * k.normal.z);
-    if (std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) > 1.5 * reach && fn > 0.0) {
-      const double s = (reach - k.overlap) / fn;
-      l[0] = k.normal.x * s, l[1] = k.normal.y * s, l[2] = k.normal.z * s;
-    }
+    // The branch l = x_i − x_j (across a periodic boundary, to j's image beside i).
+    const std::array<double, 3> l = contactBranch(k, xi, xj, frame.radius[k.i], frame.radius[k.j]);
     const double f[3] = {double(k.normal.x) + k.tangential.x, double(k.normal.y) + k.tangential.y,
                          double(k.normal.z) + k.tangential.z};
     const double fl[6] = {f[0] * l[0], f[1] * l[1], f[2] * l[2], 0.5 * (f[0] * l[1] + f[1] * l[0]),

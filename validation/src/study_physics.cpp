@@ -21,7 +21,7 @@ std::vector<Case> physicsCases() {
       {"resting_penetration", restingCase},     {"block_sliding", blockSliding},  {"slope", slopeCase},
       {"sphere_slope", sphereSlope},            {"torque_free", torqueFreeCase},  {"chung_ooi", chungOoi},
       {"hooke_oblique", hookeOblique},          {"hertz_chung_ooi", hertzChungOoi},
-      {"angle_of_repose", angleOfRepose},       {"beverloo", beverloo},
+      {"angle_of_repose", angleOfRepose},       {"beverloo", beverloo},       {"column_stress", columnStress},
   };
 }
 

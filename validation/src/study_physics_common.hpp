@@ -224,5 +224,6 @@ CaseResult hertzChungOoi(const CaseContext& ctx);
 // study_physics_granular.cpp
 CaseResult angleOfRepose(const CaseContext& ctx);
 CaseResult beverloo(const CaseContext& ctx);
+CaseResult columnStress(const CaseContext& ctx);
 
 }  // namespace tumble::validation::study::physics

@@ -6,6 +6,7 @@
 /// the list, ground, pulls) → integrate (body totals, gravity, integration, the next particle
 /// positions and the skin test).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -130,6 +131,12 @@ struct ParticleDebug {
 /// step read, each contact once from either side): those from the side of the lower scene index,
 /// sorted by (i, j), as Pipeline::pairs().
 std::vector<ContactForce> capturedContacts(const ContactForce* capture, std::size_t entries);
+
+/// The branch l = x_i − x_j of contact c between particles at xi and xj of radii ri and rj; for
+/// centres further apart than the contact allows (1.5 (r_i + r_j): across a periodic boundary,
+/// whose box a recording does not hold) the branch to j's image beside i, along c's normal force
+/// with |l| = r_i + r_j − δ (zero when that force is zero).
+std::array<double, 3> contactBranch(const ContactForce& c, const float* xi, const float* xj, float ri, float rj);
 
 /// Input of the stand-alone broadphase (`tumble pairs`).
 struct ParticleCloud {
