@@ -274,11 +274,14 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
   std::vector<std::uint8_t> covered(g.size(), 0);
   for (std::size_t v : order) {
     if (covered[v]) continue;
-    if (options.spheres != 0 && out.spheres.size() == options.spheres) break;
     // Its depth in voxels is at least its point's distance to the surface (the segment to the
     // nearest outside point crosses it): below the tolerance, so is every uncovered point's.
     const double depth = std::sqrt(d2[v]) * out.voxel;
     if (options.tolerance > 0.0 && depth <= options.tolerance) break;
+    if (options.spheres != 0 && out.spheres.size() == options.spheres) {
+      out.uncoveredDepth = depth;  // the deepest voxel left: the order is by depth
+      break;
+    }
     covered[v] = 1;
     D3 p = g.point(v);
     // A sphere that reaches less than a quarter voxel out of one placed before adds nothing: its
@@ -363,7 +366,12 @@ std::string shapeToml(const ShapeDef& shape, const std::string& comment) {
   std::size_t at = 0;
   while (at < comment.size()) {
     const std::size_t end = std::min(comment.find('\n', at), comment.size());
-    out.append("# ").append(comment, at, end - at).push_back('\n');
+    out += "# ";
+    for (std::size_t k = at; k < end; ++k) {  // TOML comments take no control character but tab
+      const auto c = static_cast<unsigned char>(comment[k]);
+      out.push_back((c < 0x20 && c != '\t') || c == 0x7f ? '?' : comment[k]);
+    }
+    out.push_back('\n');
     at = end + 1;
   }
   char line[256];
@@ -375,9 +383,18 @@ std::string shapeToml(const ShapeDef& shape, const std::string& comment) {
   const auto g = [&](float v) { return text(v, 9); };   // a float, read back bit for bit
   const auto d = [&](double v) { return text(v, 17); };  // a double, read back bit for bit
   out += "[[shape]]\nname = \"";
-  for (const char c : shape.name) {  // a TOML basic string
-    if (c == '"' || c == '\\') out.push_back('\\');
-    out.push_back(c);
+  for (const char c : shape.name) {  // a TOML basic string: quotes, backslashes and control characters escaped
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out.push_back('\\');
+      out.push_back(c);
+    } else if (u < 0x20 || u == 0x7f) {
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\u%04x", unsigned(u));
+      out += esc;
+    } else {
+      out.push_back(c);
+    }
   }
   out += "\"\n";
   if (shape.solid) {

@@ -128,13 +128,17 @@ TEST(Clump, TheShapeTableReadsBack) {
   tumble::ClumpOptions o;
   o.spheres = 6;
   const tumble::Clump k = tumble::clumpFromMesh(box(1.0, 0.4, 0.25), o);
-  const tumble::ShapeDef shape = tumble::clumpShape(k, "brick \"B\"", 2500.0);
-  const std::string text = "[scene]\ndt = 1e-4\nsteps = 1\n" + tumble::shapeToml(shape, "a comment\nof two lines") +
-                           "[[body]]\nshape = \"brick \\\"B\\\"\"\nposition = [0, 0, 1]\n";
+  // A name with quotes, a backslash and control characters, a comment with a carriage return
+  // and a delete: TOML takes neither raw (a basic string escapes them, a comment cannot hold them).
+  const std::string name = "brick \"B\" \\ tab\tbell\x07" "del\x7f";
+  const tumble::ShapeDef shape = tumble::clumpShape(k, name, 2500.0);
+  const std::string text = "[scene]\ndt = 1e-4\nsteps = 1\n" +
+                           tumble::shapeToml(shape, "a comment\r\nof two lines \x7f and a path") +
+                           "[[body]]\nshape = \"brick \\\"B\\\" \\\\ tab\\tbell\\u0007del\\u007f\"\nposition = [0, 0, 1]\n";
   const tumble::Scene s = tumble::parseScene(text, "brick.toml");
   ASSERT_EQ(s.shapes.size(), 1u);
   const tumble::ShapeDef& back = s.shapes[0];
-  EXPECT_EQ(back.name, "brick \"B\"");
+  EXPECT_EQ(back.name, name);
   ASSERT_EQ(back.spheres.size(), shape.spheres.size());
   for (std::size_t i = 0; i < back.spheres.size(); ++i) {
     EXPECT_EQ(back.spheres[i].radius, shape.spheres[i].radius);
@@ -148,6 +152,23 @@ TEST(Clump, TheShapeTableReadsBack) {
   EXPECT_NEAR(back.solid->centre[0], 0.5, 1e-9);
   EXPECT_NEAR(back.solid->inertia[0], m * (0.16 + 0.0625) / 12, 1e-6 * m);
   EXPECT_NEAR(back.solid->inertia[2], m * (1.0 + 0.16) / 12, 1e-6 * m);
+}
+
+// A sphere count that ends the placement says how deep the part it leaves uncovered is: more than
+// the tolerance asked for, or 0 when the tolerance is reached first.
+TEST(Clump, SaysWhatTheSphereCountLeavesUncovered) {
+  const tumble::TriangleMesh mesh = box(1.0, 0.25, 0.25);
+  tumble::ClumpOptions o;
+  o.spheres = 1;
+  o.tolerance = 0.01;
+  const tumble::Clump one = tumble::clumpFromMesh(mesh, o);
+  ASSERT_EQ(one.spheres.size(), 1u);
+  std::printf("a 1 x 0.25 x 0.25 box, 1 sphere: a part %.4f m deep left uncovered\n", one.uncoveredDepth);
+  EXPECT_GT(one.uncoveredDepth, 0.1) << "the box's ends, a half-width deep";
+  o.spheres = 200;
+  const tumble::Clump many = tumble::clumpFromMesh(mesh, o);
+  EXPECT_LT(many.spheres.size(), 200u);
+  EXPECT_EQ(many.uncoveredDepth, 0.0) << "the tolerance ended it";
 }
 
 TEST(Clump, BadRequestsAreRefused) {

@@ -1002,6 +1002,16 @@ expect_status "clump without a rule" 2 "$bin" clump brick.obj
 expect_msg "clump without a rule" "give --spheres N, --tolerance D or both"
 expect_status "clump over its mesh" 2 "$bin" clump brick.obj --spheres 2 -o brick.obj
 grep -q '^v 0 0 0$' brick.obj && ok "the mesh is untouched" || bad "brick.obj overwritten"
+# A path longer than the summary's numbers, whole in the message and the table's comment; and a
+# sphere count that ends before the tolerance, said.
+long=$(printf 'd%.0s' $(seq 1 200))
+mkdir -p "$long/$long/$long" && cp brick.obj "$long/$long/$long/brick.obj"
+expect_status "clump a brick by a long path" 0 "$bin" clump "$long/$long/$long/brick.obj" --spheres 1 --tolerance 0.001 \
+  -o long.toml
+expect_msg "clump a brick by a long path" "^tumble clump $long/$long/$long/brick.obj: 1 sphere \(at most 1, tolerance"
+expect_msg "clump a brick by a long path" "quality: the spheres' union holds"
+expect_msg "a sphere count short of the tolerance" "the tolerance is not reached: with 1 sphere a part of the solid"
+grep -q "^# quality: " long.toml && ok "the table's comment keeps the quality line" || bad "long.toml: $(head -c 300 long.toml)"
 
 echo "$passes passed, $fails failed"
 [ "$fails" = 0 ]

@@ -46,15 +46,30 @@ void clump(const ClumpCommand& o) {
     std::snprintf(limits, sizeof limits, "at most %u", o.options.spheres);
   else
     std::snprintf(limits, sizeof limits, "tolerance %g m", o.options.tolerance);
-  char head[640];
-  std::snprintf(head, sizeof head,
-                "tumble clump %s: %zu sphere%s (%s), %zu triangles, voxels of %.4g m (resolution %u)\n"
+  char numbers[640];  // (the mesh's path, of any length, outside it)
+  std::snprintf(numbers, sizeof numbers,
+                ": %zu sphere%s (%s), %zu triangles, voxels of %.4g m (resolution %u)\n"
                 "volume %.6g m^3, mass %.6g kg at %.6g kg/m^3 (the mesh's solid, not the spheres')\n"
                 "quality: the spheres' union holds %.1f %% of the volume; the mesh's surface lies at most %.4g m and on "
                 "average %.4g m from the spheres (%zu points)",
-                o.mesh.c_str(), c.spheres.size(), c.spheres.size() == 1 ? "" : "s", limits, mesh.numTriangles(), c.voxel, o.options.resolution, c.solid.volume, shape.solid->mass, o.density,
-                100.0 * c.quality.volumeRatio, c.quality.largestDeviation, c.quality.meanDeviation, c.quality.samples);
-  std::fprintf(stderr, "%s\n", head);
+                c.spheres.size(), c.spheres.size() == 1 ? "" : "s", limits, mesh.numTriangles(), c.voxel,
+                o.options.resolution, c.solid.volume, shape.solid->mass, o.density, 100.0 * c.quality.volumeRatio,
+                c.quality.largestDeviation, c.quality.meanDeviation, c.quality.samples);
+  std::string head = "tumble clump " + o.mesh + numbers;
+  if (c.uncoveredDepth > 0.0) {  // the sphere count ended it
+    char left[320];
+    const char* plural = c.spheres.size() == 1 ? "" : "s";
+    if (o.options.tolerance > 0.0)
+      std::snprintf(left, sizeof left,
+                    "\nthe tolerance is not reached: with %zu sphere%s a part of the solid %.4g m deep is left uncovered "
+                    "(more than %g m); allow more spheres or give a larger tolerance",
+                    c.spheres.size(), plural, c.uncoveredDepth, o.options.tolerance);
+    else
+      std::snprintf(left, sizeof left, "\nwith %zu sphere%s a part of the solid %.4g m deep is left uncovered",
+                    c.spheres.size(), plural, c.uncoveredDepth);
+    head += left;
+  }
+  std::fprintf(stderr, "%s\n", head.c_str());
   const std::string text = shapeToml(shape, head);
   if (o.out.empty()) {
     std::fputs(text.c_str(), stdout);

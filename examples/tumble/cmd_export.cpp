@@ -83,7 +83,10 @@ void run(const ExportCliOptions& o) {
     std::fprintf(stderr, "tumble export: %zu frame%s of %s into %s/, %s\n", r.frames, r.frames == 1 ? "" : "s",
                  o.recording.c_str(), shownDir.c_str(), r.index.c_str());
     if (!reader.info().debug)
-      std::fprintf(stderr, "  (velocities, forces and contacts are in debug recordings only: tumble run --debug-record)\n");
+      std::fprintf(stderr, reader.info().contactForces
+                               ? "  (velocities and the forces per particle are in debug recordings only: tumble run --debug-record)\n"
+                               : "  (velocities, forces and contacts are in debug recordings only: tumble run --debug-record, "
+                                 "or the contacts with their forces: --record-contacts)\n");
     if (reader.info().contactForces && !o.contacts)
       std::fprintf(stderr, "  (the recording holds the contacts with their forces: --contacts exports them)\n");
     if (opts.format == ExportFormat::Csv && !reader.header().walls.empty())

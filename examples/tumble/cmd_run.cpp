@@ -280,6 +280,9 @@ void run(RunOptions o) {
   }
 
   const std::uint64_t recSteps = o.recordSteps ? std::min<std::uint64_t>(*o.recordSteps, scene.steps) : scene.steps;
+  if (o.record.empty() && (o.debug || o.contacts) && writes && !o.quiet)
+    std::fprintf(stderr, "tumble run: warning: %s adds to a recording, and there is none: add --record FILE (or REC=, "
+                         "[output] record)\n", o.contacts ? "--record-contacts" : "--debug-record");
   if (!o.record.empty() && start < recSteps) {
     RecordSettings rs;
     rs.path = o.record;

@@ -67,6 +67,10 @@ struct Clump {
   SolidProperties solid;             ///< the mesh's solid at density 1 (solidProperties())
   ClumpQuality quality;
   double voxel = 0.0;                ///< the voxel's edge (m)
+  /// Where the sphere count ended the placement: the depth (m, in voxels, as the tolerance
+  /// compares it) of the deepest part of the solid left uncovered; 0 when the spheres cover the
+  /// solid to within the tolerance (or to half a voxel).
+  double uncoveredDepth = 0.0;
 };
 
 /// The clump of `mesh` (its vertices times `scale` per axis). Throws tumble::InputError for a

@@ -112,7 +112,8 @@ struct CandidateListView {
 
 /// One contact between particles as the debug capture keeps it (Pipeline::readDebug(),
 /// ParticleDebug::contactForces): particles i < j (scene indices), the force on i from j in the
-/// step split along the normal n = (x_i − x_j) / |x_i − x_j| (`normal`, (F · n) n) and across it
+/// step split along the normal n = (x_i − x_j) / |x_i − x_j| (+z at coincident centres, the
+/// contact law's) (`normal`, (F · n) n) and across it
 /// (`tangential`, F − (F · n) n), F being what the step added to i's force for this contact
 /// (j received −F), and the overlap r_i + r_j − |x_i − x_j| at the step's positions. In the
 /// capture itself (per entry of the list the step read) an entry that did not touch has

@@ -76,12 +76,13 @@ struct DebugForcesView {
 };
 
 /// Entry e's capture of the contact (i at pi, j at pj; d = x_i − x_j, |d|² = d2 as the predicate
-/// computed them) whose force on i was f.
+/// computed them) whose force on i was f, split along the contact law's normal (at coincident
+/// centres ±z, + for the lower scene index: contactKinematics()).
 TUMBLE_HD_INLINE ContactForce capturedContact(const StepView& v, std::uint32_t i, const PosRow& pi, std::uint32_t j,
                                               Vec3f d, float d2, Vec3f f) {
   const float dist = sqrtf(d2);
-  const Vec3f n = dist > 0.0f ? (1.0f / dist) * d : Vec3f{0.0f, 0.0f, 0.0f};  // coincident centres: all of f is "normal"
-  const Vec3f fn = dist > 0.0f ? dot(f, n) * n : f;
+  const Vec3f n = dist > 0.0f ? d * (1.0f / dist) : Vec3f{0.0f, 0.0f, v.orig[i] < v.orig[j] ? 1.0f : -1.0f};
+  const Vec3f fn = dot(f, n) * n;
   return ContactForce{v.orig[i], v.orig[j], fn, f - fn, pi.r + v.pos[j].r - dist};
 }
 
