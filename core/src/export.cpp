@@ -27,6 +27,7 @@ namespace tumble {
 namespace {
 
 using detail::csvField;
+using detail::CsvFile;
 using detail::number;
 using detail::VtkXmlFile;
 using detail::writeAll;
@@ -145,32 +146,18 @@ void writeContactsVtp(const std::string& path, const Recording& table, const Rec
 // The same as CSV: a row per contact.
 void writeContactsCsv(const std::string& path, const Recording& table, const RecordedFrame& frame,
                       const std::vector<float>& x) {
-  std::string s =
-      "i,j,body_i,body_j,normal_x,normal_y,normal_z,tangential_x,tangential_y,tangential_z,overlap,"
-      "xi,yi,zi,xj,yj,zj\n";
-  OutputFile out(path);
-  const auto field = [&s](float v) {
-    s += ',';
-    s += number(v);
-  };
+  CsvFile out(path,
+              "i,j,body_i,body_j,normal_x,normal_y,normal_z,tangential_x,tangential_y,tangential_z,overlap,"
+              "xi,yi,zi,xj,yj,zj");
   for (const ContactForce& k : frame.debug.contactForces) {
-    s += std::to_string(k.i) + "," + std::to_string(k.j) + "," + std::to_string(table.body[k.i]) + "," +
-         std::to_string(table.body[k.j]);
-    for (const Vec3f& v : {k.normal, k.tangential}) {
-      field(v.x);
-      field(v.y);
-      field(v.z);
-    }
-    field(k.overlap);
+    for (const std::uint32_t id : {k.i, k.j, table.body[k.i], table.body[k.j]}) out.text(std::to_string(id));
+    for (const Vec3f& v : {k.normal, k.tangential})
+      for (const float c : {v.x, v.y, v.z}) out.number(c);
+    out.number(k.overlap);
     for (const std::uint32_t p : {k.i, k.j})
-      for (int a = 0; a < 3; ++a) field(x[3 * std::size_t(p) + a]);
-    s += "\n";
-    if (s.size() > (1u << 20)) {
-      writeAll(out, s);
-      s.clear();
-    }
+      for (int a = 0; a < 3; ++a) out.number(x[3 * std::size_t(p) + a]);
+    out.endRow();
   }
-  writeAll(out, s);
   out.commit();
 }
 
@@ -233,37 +220,26 @@ void writeFrameCsv(const std::string& path, const Recording& table, const Record
                    const std::vector<float>& x) {
   const std::size_t n = table.particlesOf(frame.numBodies());  // those present
   const bool debug = frame.debug.v.size() == 3 * n;
-  std::string s = "particle,body,x,y,z,r,mass,elasticity";
+  std::string header = "particle,body,x,y,z,r,mass,elasticity";
   if (debug) {
-    s += ",vx,vy,vz";
-    for (const char* name : kDebugForceNames) s += std::string(",") + name + "_x," + name + "_y," + name + "_z";
+    header += ",vx,vy,vz";
+    for (const char* name : kDebugForceNames) header += std::string(",") + name + "_x," + name + "_y," + name + "_z";
   }
-  s += "\n";
-  OutputFile out(path);
-  const auto field = [&s](float v) {
-    s += ',';
-    s += number(v);
-  };
+  CsvFile out(path, header);
   for (std::size_t i = 0; i < n; ++i) {
-    s += std::to_string(i);
-    s += ',';
-    s += std::to_string(table.body[i]);
-    for (int c = 0; c < 3; ++c) field(x[3 * i + c]);
-    field(table.radius[i]);
-    field(table.mass[i]);
-    field(table.elasticity[i]);
+    out.text(std::to_string(i));
+    out.text(std::to_string(table.body[i]));
+    for (int c = 0; c < 3; ++c) out.number(x[3 * i + c]);
+    out.number(table.radius[i]);
+    out.number(table.mass[i]);
+    out.number(table.elasticity[i]);
     if (debug) {
-      for (int c = 0; c < 3; ++c) field(frame.debug.v[3 * i + c]);
+      for (int c = 0; c < 3; ++c) out.number(frame.debug.v[3 * i + c]);
       for (const auto& force : frame.debug.force)
-        for (int c = 0; c < 3; ++c) field(force[3 * i + c]);
+        for (int c = 0; c < 3; ++c) out.number(force[3 * i + c]);
     }
-    s += "\n";
-    if (s.size() > (1u << 20)) {
-      writeAll(out, s);
-      s.clear();
-    }
+    out.endRow();
   }
-  writeAll(out, s);
   out.commit();
 }
 

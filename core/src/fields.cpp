@@ -289,28 +289,20 @@ void writeFields(const Fields& fields, const std::string& path) {
   if (csv) {
     static const char* const kVector[3] = {"_x", "_y", "_z"};
     static const char* const kTensor[6] = {"_xx", "_yy", "_zz", "_xy", "_xz", "_yz"};
-    std::string s = "x,y,z";
+    std::string header = "x,y,z";
     for (const Column& c : columns)
       for (int e = 0; e < c.components; ++e)
-        s += std::string(",") + c.name + (c.components == 3 ? kVector[e] : c.components == 6 ? kTensor[e] : "");
-    s += "\n";
-    OutputFile out(path);
+        header += std::string(",") + c.name + (c.components == 3 ? kVector[e] : c.components == 6 ? kTensor[e] : "");
+    detail::CsvFile out(path, header);
     const int nx = g.points(0), ny = g.points(1);
     for (std::size_t k = 0; k < p; ++k) {
-      const int ix = int(k % std::size_t(nx)), iy = int(k / std::size_t(nx) % std::size_t(ny)),
-                iz = int(k / (std::size_t(nx) * std::size_t(ny)));
-      s.append(detail::number(g.at(0, ix))).append(",").append(detail::number(g.at(1, iy)));
-      s.append(",").append(detail::number(g.at(2, iz)));
+      out.number(g.at(0, int(k % std::size_t(nx))));
+      out.number(g.at(1, int(k / std::size_t(nx) % std::size_t(ny))));
+      out.number(g.at(2, int(k / (std::size_t(nx) * std::size_t(ny)))));
       for (const Column& c : columns)
-        for (int e = 0; e < c.components; ++e)
-          s.append(",").append(detail::number((*c.v)[std::size_t(c.components) * k + e]));
-      s += "\n";
-      if (s.size() > (1u << 20)) {
-        detail::writeAll(out, s);
-        s.clear();
-      }
+        for (int e = 0; e < c.components; ++e) out.number((*c.v)[std::size_t(c.components) * k + e]);
+      out.endRow();
     }
-    detail::writeAll(out, s);
     out.commit();
     return;
   }

@@ -54,6 +54,39 @@ inline void writeAll(OutputFile& out, const void* data, std::size_t size) {
 
 inline void writeAll(OutputFile& out, const std::string& s) { writeAll(out, s.data(), s.size()); }
 
+// A CSV file written in chunks of about a megabyte: its header, then rows of fields (numbers in
+// their shortest exact text, number()).
+class CsvFile {
+ public:
+  CsvFile(const std::string& path, const std::string& header) : m_out(path), m_s(header + "\n") {}
+  template <class T>
+  void number(T v) {
+    text(detail::number(v));
+  }
+  void text(const std::string& t) {
+    if (!m_rowStart) m_s += ',';
+    m_s += t;
+    m_rowStart = false;
+  }
+  void endRow() {
+    m_s += '\n';
+    m_rowStart = true;
+    if (m_s.size() > (1u << 20)) {
+      writeAll(m_out, m_s);
+      m_s.clear();
+    }
+  }
+  void commit() {
+    writeAll(m_out, m_s);
+    m_out.commit();
+  }
+
+ private:
+  OutputFile m_out;
+  std::string m_s;
+  bool m_rowStart = true;
+};
+
 // One VTK XML file of a data set type (PolyData, ImageData): the XML head lists each array with
 // its offset into the appended block, which holds for each array a UInt64 byte count and then the
 // values (header_type="UInt64"). `attributes`: the data set element's (ImageData's extent,

@@ -384,20 +384,26 @@ CaseResult columnStress(const CaseContext& ctx) {
     prof.rows.push_back({z, f.contactStress[6 * k + 2], above[k], f.kineticStress[6 * k + 2], f.packing[k]});
     if (f.packing[k] > 0.3) top = z;
   }
-  double worst = 0.0, rho = 0.0, sz = 0.0, szz = 0.0, ss = 0.0, sxs = 0.0;
+  double worst = 0.0, kinetic = 0.0, rho = 0.0, sz = 0.0, szz = 0.0, ss = 0.0, sxs = 0.0;
   int m = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const double z = o.grid.at(2, int(k)), s = f.contactStress[6 * k + 2];
     if (z < 0.02 || z > top - 0.02) continue;
     worst = std::max(worst, std::fabs(s - above[k]));
+    kinetic = std::max(kinetic, std::fabs(f.kineticStress[6 * k + 2]));
     rho += f.density[k], sz += z, szz += z * z, ss += s, sxs += z * s, ++m;
   }
   rho /= m;
   const double slope = (m * sxs - sz * ss) / (m * szz - sz * sz), bottom = above[std::size_t(0.02 / h)];
+  const double nu = f.packing[std::size_t(0.05 / h)];
   r.checks.push_back(absCheck("σ_zz against g ∫ρ dz above, worst from 4 radii above the ground to 4 below the top",
                               "0 (the momentum balance at rest), within 10⁻³ of the stress at the bottom", worst / bottom,
                               0.0, 1e-3, " of it"));
   r.checks.push_back(relCheck("slope of σ_zz in the bulk", "−ρ_b g", slope, -rho * kG, 0.01));
+  r.checks.push_back(absCheck("kinetic σ_zz in the bulk, largest", "0 (at rest), within 10⁻⁴ of the stress at the bottom",
+                              kinetic / bottom, 0.0, 1e-4, " of it"));
+  r.checks.push_back(absCheck("packing fraction at z = 0.05 m", "a random packing of spheres, 0.54–0.65", nu, 0.595,
+                              0.055, ""));
   r.tables.push_back(prof);
   r.plots.push_back(Plot{"profile", "vertical contact stress and the weight above, along z", "profile", "z",
                          "height z (m)", "stress (Pa)", {"contact_szz", "weight_above"}, false, false, ""});
