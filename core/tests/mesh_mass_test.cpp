@@ -178,3 +178,52 @@ TEST(SolidProperties, MeshesThatBoundNoSolidAreRefused) {
   addBox({1, 1, 0}, {2, 2, 1}, two, both);
   refused(two, both, "solid.obj:", "is not manifold");
 }
+
+// A mesh of several pieces bounds one solid when they do not cross and each is wound as its
+// place says: outward where it lies inside an even number of the others (a part), inward where
+// an odd number (a cavity). Overlapping pieces, a cavity wound outward (its volume would count
+// twice) and a separate part wound inward (it would be subtracted) are refused.
+TEST(SolidProperties, PiecesMustBoundOneSolid) {
+  const auto inward = [](std::vector<Tri> ts, std::size_t from) {
+    for (std::size_t k = from; k < ts.size(); ++k) std::swap(ts[k][1], ts[k][2]);
+    return ts;
+  };
+  const auto refusedWith = [](const std::vector<V>& vs, const std::vector<Tri>& ts, const std::string& what) {
+    try {
+      tumble::solidProperties(objMesh(vs, ts));
+      ADD_FAILURE() << "accepted; expected " << what;
+    } catch (const tumble::InputError& e) {
+      const std::string m = e.what();
+      std::printf("refused: %s\n", m.c_str());
+      EXPECT_NE(m.find(what), std::string::npos) << m;
+    }
+  };
+  // A hollow box: the cavity wound inward.
+  std::vector<V> vs;
+  std::vector<Tri> ts;
+  addBox({0, 0, 0}, {1, 1, 1}, vs, ts);
+  addBox({0.25, 0.25, 0.25}, {0.75, 0.75, 0.75}, vs, ts);
+  const SolidProperties outer = boxSolid({0, 0, 0}, {1, 1, 1}), inner = boxSolid({0.25, 0.25, 0.25}, {0.75, 0.75, 0.75});
+  SolidProperties hollow;
+  hollow.volume = outer.volume - inner.volume;
+  hollow.centroid = outer.centroid;
+  for (int k = 0; k < 6; ++k) hollow.inertia[k] = outer.inertia[k] - inner.inertia[k];
+  expectSolid(tumble::solidProperties(objMesh(vs, inward(ts, 12))), hollow, 1e-12, "hollow box");
+  // The same cavity wound outward, as a part of the solid: refused at its first triangle (line 29:
+  // 16 vertices, then the outer box's 12 triangles).
+  refusedWith(vs, ts, "solid.obj:29: the piece of triangle 13 (piece 2 of 2) is wound outward but lies inside 1 of");
+  // Two separate boxes, the second wound inward: refused; both outward: their sum.
+  std::vector<V> two;
+  std::vector<Tri> apart;
+  addBox({0, 0, 0}, {1, 1, 1}, two, apart);
+  addBox({2, 0, 0}, {2.5, 0.5, 0.5}, two, apart);
+  refusedWith(two, inward(apart, 12), "is wound inward but lies inside 0 of the others, so it is a part of the solid");
+  EXPECT_NEAR(tumble::solidProperties(objMesh(two, apart)).volume, 1.125, 1e-12);
+  // Two boxes that overlap: the first pair of crossing triangles.
+  std::vector<V> over;
+  std::vector<Tri> cross;
+  addBox({0, 0, 0}, {1, 1, 1}, over, cross);
+  addBox({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5}, over, cross);
+  refusedWith(over, cross, "crosses triangle");
+  refusedWith(over, cross, "the surface passes through itself");
+}

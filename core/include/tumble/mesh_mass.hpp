@@ -27,9 +27,11 @@ struct SolidProperties {
 /// tumble::InputError naming the file and the first triangle (in the file's order, at its line
 /// or byte) of an edge that bounds no solid: an open edge (one triangle), a non-manifold one
 /// (three or more), or one whose two triangles run it the same way (their orientations
-/// disagree). A mesh wound inward (a negative volume) is taken as its outward twin. Does not
-/// look for triangles that cross each other (a self-intersecting mesh passes and its integrals
-/// count the overlap twice).
+/// disagree); then the first pair of triangles that cross each other (pairs sharing a vertex
+/// untested; touching or coplanar ones do not count); then a piece (triangles joined by edges)
+/// wound against its place: outward inside an odd number of the other pieces (a cavity) or
+/// inward inside an even number (a part). A mesh wound inward as a whole (a negative volume) is
+/// taken as its outward twin.
 SolidProperties solidProperties(const TriangleMesh& mesh, std::array<double, 3> scale = {1.0, 1.0, 1.0});
 
 }  // namespace tumble
