@@ -26,7 +26,7 @@ void SceneParser::readShapes(Scene& scene) {
   for (std::size_t s = 0; s < tables.size(); ++s) {
     const TableReader r(m_file, *tables[s], "[[shape]] #" + std::to_string(s + 1),
                         {"name", "sphere", "mass", "centre_of_mass", "inertia", "mesh", "spheres", "tolerance",
-                         "resolution", "scale", "density", "material", "elasticity"});
+                         "resolution", "scale", "orientation", "density", "material", "elasticity"});
     ShapeDef shape;
     const toml::node& nameNode = r.require("name", "the name that bodies and groups use, e.g. name = \"dimer\"");
     shape.name = r.string(nameNode, "name");
@@ -39,7 +39,7 @@ void SceneParser::readShapes(Scene& scene) {
     // A shape made from a mesh, or of the spheres written out: each has keys the other has not.
     const bool fromMesh = r.has("mesh");
     static const std::vector<const char*> kSpheresOnly{"sphere", "mass", "centre_of_mass", "inertia"};
-    static const std::vector<const char*> kMeshOnly{"spheres", "tolerance", "resolution", "scale",
+    static const std::vector<const char*> kMeshOnly{"spheres", "tolerance", "resolution", "scale", "orientation",
                                                     "density",  "material",  "elasticity"};
     for (const char* key : fromMesh ? kSpheresOnly : kMeshOnly)
       if (const toml::node* k = r.find(key))
@@ -125,9 +125,22 @@ ShapeDef SceneParser::readMeshShape(const Scene& scene, const TableReader& r, co
   if (!(density > 0.0))
     r.fail(r.header(), "a shape made from a mesh needs its density (density = 2500, in kg/m³, here or in its "
                        "[[material]]): its mass is the mesh's volume times it");
+  const toml::node* qn = r.find("orientation");
+  const std::optional<Quatf> turn = qn != nullptr ? std::optional<Quatf>(r.orientation(*qn)) : std::nullopt;
   Clump clump;
   try {
-    clump = clumpFromMesh(parseMesh(bytes, resolved), o, {double(scale.x), double(scale.y), double(scale.z)});
+    TriangleMesh mesh = parseMesh(bytes, resolved);
+    std::array<double, 3> clumpScale{double(scale.x), double(scale.y), double(scale.z)};
+    if (turn) {  // turned after the scale, as a mesh wall (rounded to float once)
+      WallDef placed;
+      placed.where = r.where();
+      placed.mesh = std::make_shared<const TriangleMesh>(mesh);
+      placed.scale = scale;
+      placed.orientation = *turn;
+      mesh.vertices = meshWallVertices(placed);
+      clumpScale = {1.0, 1.0, 1.0};
+    }
+    clump = clumpFromMesh(mesh, o, clumpScale);
   } catch (const InputError& e) {
     throw InputError(e.file(), e.line(), e.problem() + " (the mesh of " + r.where() + ")");
   } catch (const Error& e) {

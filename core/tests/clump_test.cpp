@@ -237,6 +237,17 @@ TEST(Clump, AShapeFromAMeshFile) {
   const tumble::Scene big = tumble::parseScene(std::string(kHead) + shape + "scale = 2\n" + kBody, "bricks.toml", {},
                                                tumble::OverrideSource::CommandLine, brickFolder());
   EXPECT_NEAR(big.shapes[0].solid->mass, 8 * m, 1e-12);
+  // Turned a quarter about z after the scale: the inertia about x and y trade places.
+  const tumble::Scene turned = tumble::parseScene(
+      std::string(kHead) + shape + "scale = 2\norientation = [0.7071067811865476, 0, 0, 0.7071067811865476]\n" + kBody,
+      "bricks.toml", {}, tumble::OverrideSource::CommandLine, brickFolder());
+  const tumble::ShapeSolid &a = *big.shapes[0].solid, &b = *turned.shapes[0].solid;
+  EXPECT_NEAR(b.mass, a.mass, 1e-6 * a.mass);
+  EXPECT_NEAR(b.inertia[0], a.inertia[1], 1e-6 * a.inertia[2]);
+  EXPECT_NEAR(b.inertia[1], a.inertia[0], 1e-6 * a.inertia[2]);
+  EXPECT_NEAR(b.inertia[2], a.inertia[2], 1e-6 * a.inertia[2]);
+  EXPECT_NEAR(b.centre[0], -a.centre[1], 1e-6);  // (x, y) → (−y, x)
+  EXPECT_NEAR(b.centre[1], a.centre[0], 1e-6);
   const tumble::World w = tumble::World::fromScene(s);
   EXPECT_FLOAT_EQ(w.bodyMass[0], float(m));
 }
@@ -261,6 +272,9 @@ TEST(ClumpErrors, AShapeFromAMeshFile) {
   refused("[[shape]]\nname = \"brick\"\nmesh = \"nope.obj\"\nspheres = 3\ndensity = 1\n", 7, "looked for at");
   refused("[[shape]]\nname = \"brick\"\nmesh = \"open.obj\"\nspheres = 3\ndensity = 1\n", 5, "is open");
   refused(head + "spheres = 3\ndensity = 2000\nresolution = 4\n", 10, "resolution");
+  refused(head + "spheres = 3\ndensity = 2000\norientation = [0, 0, 0, 0]\n", 10, "zero quaternion");
+  refused("[[shape]]\nname = \"brick\"\norientation = [1, 0, 0, 0]\n[[shape.sphere]]\nradius = 0.1\nmass = 1\n", 7,
+          "orientation is a key of a shape made from a mesh");
   // An output over the mesh a shape reads is refused (tumble run --state-out brick.obj).
   const tumble::Scene s = tumble::parseScene(std::string(kHead) + head + "spheres = 2\ndensity = 2000\n" + kBody,
                                              "bricks.toml", {}, tumble::OverrideSource::CommandLine, brickFolder());
