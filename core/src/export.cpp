@@ -95,9 +95,10 @@ void writeFrameVtp(const std::string& path, const Recording& table, const Record
   f.write(path);
 }
 
-// The contacts of a frame with their forces: a line per contact from particle i's centre to j's
-// (across a periodic boundary to j's image beside i: contactBranch()), two points of its own
-// each, with the forces on i, their magnitudes, the overlap and the two particles as cell data.
+// The contacts of a frame with their forces: a line per contact from particle i's centre along
+// its branch (contactBranch(): to j, or across a periodic boundary to j's image beside i), two
+// points of its own each, with the forces on i, their magnitudes, the normal, the overlap and
+// the two particles as cell data.
 void writeContactsVtp(const std::string& path, const Recording& table, const RecordedFrame& frame,
                       const std::vector<float>& x) {
   const std::vector<ContactForce>& cf = frame.debug.contactForces;
@@ -105,12 +106,13 @@ void writeContactsVtp(const std::string& path, const Recording& table, const Rec
   VtkXmlFile f("PolyData");
   f.xml(pieceHead(2 * c, 0, c, 0));
   f.xml("      <CellData Scalars=\"normal_magnitude\" Vectors=\"normal_force\">\n");
-  const auto vectors = [&](const char* name, Vec3f ContactForce::*v) {
+  const auto vectors = [&](const char* name, const std::function<Vec3f(const ContactForce&)>& value) {
     f.array("Float32", name, 3, [&](detail::Encoder& e) {
       for (const ContactForce& k : cf) {
-        e.f32((k.*v).x);
-        e.f32((k.*v).y);
-        e.f32((k.*v).z);
+        const Vec3f v = value(k);
+        e.f32(v.x);
+        e.f32(v.y);
+        e.f32(v.z);
       }
     });
   };
@@ -119,9 +121,11 @@ void writeContactsVtp(const std::string& path, const Recording& table, const Rec
       for (const ContactForce& k : cf) e.f32(value(k));
     });
   };
-  vectors("normal_force", &ContactForce::normal);
-  vectors("tangential_force", &ContactForce::tangential);
-  scalars("normal_magnitude", [](const ContactForce& k) { return norm(k.normal); });
+  vectors("normal_force", [](const ContactForce& k) { return k.normal(); });
+  vectors("tangential_force", [](const ContactForce& k) { return k.tangential; });
+  vectors("unit_normal", [](const ContactForce& k) { return k.n; });
+  scalars("fn", [](const ContactForce& k) { return k.fn; });
+  scalars("normal_magnitude", [](const ContactForce& k) { return std::fabs(k.fn); });
   scalars("tangential_magnitude", [](const ContactForce& k) { return norm(k.tangential); });
   scalars("overlap", [](const ContactForce& k) { return k.overlap; });
   for (const bool first : {true, false})
@@ -132,9 +136,9 @@ void writeContactsVtp(const std::string& path, const Recording& table, const Rec
   f.array("Float32", "Points", 3, [&](detail::Encoder& e) {
     for (const ContactForce& k : cf) {
       const float* xi = &x[3 * std::size_t(k.i)];
-      const std::array<double, 3> l = contactBranch(k, xi, &x[3 * std::size_t(k.j)], table.radius[k.i], table.radius[k.j]);
+      const std::array<double, 3> l = contactBranch(k, table.radius[k.i], table.radius[k.j]);
       for (int a = 0; a < 3; ++a) e.f32(xi[a]);
-      for (int a = 0; a < 3; ++a) e.f32(float(double(xi[a]) - l[std::size_t(a)]));  // x_j itself, or its image
+      for (int a = 0; a < 3; ++a) e.f32(float(double(xi[a]) - l[std::size_t(a)]));  // j's centre (or image) at the step
     }
   });
   f.xml("      </Points>\n");
@@ -147,13 +151,14 @@ void writeContactsVtp(const std::string& path, const Recording& table, const Rec
 void writeContactsCsv(const std::string& path, const Recording& table, const RecordedFrame& frame,
                       const std::vector<float>& x) {
   CsvFile out(path,
-              "i,j,body_i,body_j,normal_x,normal_y,normal_z,tangential_x,tangential_y,tangential_z,overlap,"
+              "i,j,body_i,body_j,normal_x,normal_y,normal_z,tangential_x,tangential_y,tangential_z,overlap,nx,ny,nz,fn,"
               "xi,yi,zi,xj,yj,zj");
   for (const ContactForce& k : frame.debug.contactForces) {
     for (const std::uint32_t id : {k.i, k.j, table.body[k.i], table.body[k.j]}) out.text(std::to_string(id));
-    for (const Vec3f& v : {k.normal, k.tangential})
+    for (const Vec3f& v : {k.normal(), k.tangential})
       for (const float c : {v.x, v.y, v.z}) out.number(c);
     out.number(k.overlap);
+    for (const float c : {k.n.x, k.n.y, k.n.z, k.fn}) out.number(c);
     for (const std::uint32_t p : {k.i, k.j})
       for (int a = 0; a < 3; ++a) out.number(x[3 * std::size_t(p) + a]);
     out.endRow();

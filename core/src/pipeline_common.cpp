@@ -44,14 +44,9 @@ std::vector<ContactForce> capturedContacts(const ContactForce* capture, std::siz
   return out;
 }
 
-std::array<double, 3> contactBranch(const ContactForce& c, const float* xi, const float* xj, float ri, float rj) {
-  const std::array<double, 3> l{double(xi[0]) - xj[0], double(xi[1]) - xj[1], double(xi[2]) - xj[2]};
-  const double reach = double(ri) + rj;
-  if (std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) <= 1.5 * reach) return l;
-  const double fn = std::sqrt(double(c.normal.x) * c.normal.x + double(c.normal.y) * c.normal.y +
-                              double(c.normal.z) * c.normal.z);
-  const double s = fn > 0.0 ? (reach - c.overlap) / fn : 0.0;
-  return {c.normal.x * s, c.normal.y * s, c.normal.z * s};
+std::array<double, 3> contactBranch(const ContactForce& c, float ri, float rj) {
+  const double length = (double(ri) + rj) - c.overlap;
+  return {c.n.x * length, c.n.y * length, c.n.z * length};
 }
 
 const char* toString(Phase p) {

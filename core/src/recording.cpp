@@ -85,7 +85,7 @@ constexpr std::uint64_t kBodyBytes = 28;           // px, py, pz, qw, qx, qy, qz
 constexpr std::uint64_t kFramePrefixBytes = 20;    // step u64, time f64, pulls u32
 constexpr std::uint64_t kDebugParticleBytes = 72;  // v and five forces, 3 × f32 each
 constexpr std::uint64_t kContactBytes = 8;         // i, j
-constexpr std::uint64_t kContactForceBytes = 36;   // i, j, normal, tangential (3 × f32 each), overlap
+constexpr std::uint64_t kContactForceBytes = 40;   // i, j, n (3 × f32), fn, tangential (3 × f32), overlap
 // The wall block (version 2): W and S, then W records of 60 + 36 T bytes, then a checksum.
 constexpr std::uint64_t kWallHeadBytes = 8;        // W, S
 constexpr std::uint64_t kWallRecordBytes = 60;     // kind, v, ω, pivot (3 × f32 each), start, stop (f64), T
@@ -527,9 +527,10 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
         in.fail(at, frameName + " contact force " + std::to_string(c) + " is not for the debug block's contact " +
                         std::to_string(c));
       const std::string what = frameName + " contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) + ")";
-      for (float* v : {&x.normal.x, &x.normal.y, &x.normal.z, &x.tangential.x, &x.tangential.y, &x.tangential.z,
-                       &x.overlap})
+      for (float* v : {&x.n.x, &x.n.y, &x.n.z, &x.fn, &x.tangential.x, &x.tangential.y, &x.tangential.z, &x.overlap})
         *v = fd.finite(what);
+      if (!(std::fabs(x.n.x * x.n.x + x.n.y * x.n.y + x.n.z * x.n.z - 1.0f) < 1e-3f))
+        in.fail(at, what + ": its normal is not a unit vector");
     }
   } else {
     f.debug.contactForces.clear();
@@ -794,8 +795,8 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
         throw Error(where + name + " is not a pair i < j < " + std::to_string(np) + " after the one before it");
       if (m_debug && (c >= debug->contacts.size() || debug->contacts[c].i != x.i || debug->contacts[c].j != x.j))
         throw Error(where + name + " is not the debug data's contact " + std::to_string(c));
-      const std::vector<float> values = {x.normal.x,     x.normal.y,     x.normal.z, x.tangential.x,
-                                         x.tangential.y, x.tangential.z, x.overlap};
+      const std::vector<float> values = {x.n.x, x.n.y, x.n.z, x.fn, x.tangential.x, x.tangential.y, x.tangential.z,
+                                         x.overlap};
       std::size_t bad = 0;
       if (!allFinite(values, values.size(), &bad))
         throw Error(where + name + " is not finite (NaN is never recorded); frame not written");
@@ -836,8 +837,7 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
     for (const ContactForce& x : debug->contactForces) {
       e.u32(x.i);
       e.u32(x.j);
-      for (const float v : {x.normal.x, x.normal.y, x.normal.z, x.tangential.x, x.tangential.y, x.tangential.z,
-                            x.overlap})
+      for (const float v : {x.n.x, x.n.y, x.n.z, x.fn, x.tangential.x, x.tangential.y, x.tangential.z, x.overlap})
         e.f32(v);
     }
   }

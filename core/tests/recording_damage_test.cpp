@@ -272,7 +272,7 @@ TEST_F(RecordingTest, BadContactForceWithValidChecksumIsRejected) {
     std::size_t frame3 = kFramesAt;
     for (int k = 0; k < 3; ++k) frame3 += 4 + getU32(bytes, frame3) + 4;
     const std::uint32_t payloadBytes = getU32(bytes, frame3);
-    const std::size_t first = payloadBytes - 3 * 36;  // the first contact's i, in the payload
+    const std::size_t first = payloadBytes - 3 * 40;  // the first contact's i, in the payload
     auto patched = [&](std::size_t offset, std::uint32_t v) {
       std::vector<std::uint8_t> copy = bytes;
       putU32(copy, frame3 + 4 + offset, v);
@@ -280,20 +280,22 @@ TEST_F(RecordingTest, BadContactForceWithValidChecksumIsRejected) {
       writeAll(bad, copy);
       return readError(bad);
     };
-    std::string problem = patched(first + 8 + 4, bits(std::numeric_limits<float>::infinity()));  // normal.y
+    std::string problem = patched(first + 8 + 4, bits(std::numeric_limits<float>::infinity()));  // n.y
     EXPECT_TRUE(contains(problem, "frame 3 contact force (0, 2) is not finite")) << problem;
-    problem = patched(first + 36 + 32, bits(std::numeric_limits<float>::quiet_NaN()));  // the second's overlap
+    problem = patched(first + 40 + 36, bits(std::numeric_limits<float>::quiet_NaN()));  // the second's overlap
     EXPECT_TRUE(contains(problem, "frame 3 contact force (1, 4) is not finite")) << problem;
     if (debug) {  // (1, 4) becomes (0, 4): after (0, 2), in order, but not the debug block's pair
-      problem = patched(first + 36, 0);
+      problem = patched(first + 40, 0);
       EXPECT_TRUE(contains(problem, "contact force 1 is not for the debug block's contact 1")) << problem;
     }
-    problem = patched(first + 2 * 36, 0);  // (3, 4) becomes (0, 4): before (1, 4)
+    problem = patched(first + 2 * 40, 0);  // (3, 4) becomes (0, 4): before (1, 4)
     EXPECT_TRUE(contains(problem, "frame 3 contact force (0, 4) is not a pair i < j < 5 after the one before it"))
         << problem;
     problem = patched(first + 4, 9);  // (0, 9)
     EXPECT_TRUE(contains(problem, "contact force (0, 9) is not a pair")) << problem;
-    problem = patched(payloadBytes - 3 * 36 - 4, 2);  // the count
+    problem = patched(first + 40 + 8, bits(2.0f));  // the second's n.x: not a unit vector any more
+    EXPECT_TRUE(contains(problem, "frame 3 contact force (1, 4): its normal is not a unit vector")) << problem;
+    problem = patched(payloadBytes - 3 * 40 - 4, 2);  // the count
     EXPECT_TRUE(contains(problem, "frame 3 contact force count 2 does not match")) << problem;
   }
 }

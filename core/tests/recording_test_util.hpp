@@ -127,9 +127,10 @@ inline ParticleDebug makeDebug(std::uint32_t frame) {
   const std::vector<tumble::Pair> all = {{0, 2}, {1, 4}, {3, 4}};
   d.contacts.assign(all.begin(), all.begin() + frame % 4);  // 0, 1, 2, 3 contacts
   for (std::uint32_t c = 0; c < d.contacts.size(); ++c) {  // the same pairs with their forces
-    const auto v = [&](std::uint32_t k) { return value(frame, 30, 7 * c + k); };
-    d.contactForces.push_back(tumble::ContactForce{d.contacts[c].i, d.contacts[c].j, {v(0), v(1), v(2)},
-                                                   {v(3), v(4), v(5)}, v(6)});
+    const auto v = [&](std::uint32_t k) { return value(frame, 30, 8 * c + k); };
+    const float t = 0.1f * float(c + frame);  // a unit normal (the reader checks it is one)
+    d.contactForces.push_back(tumble::ContactForce{d.contacts[c].i, d.contacts[c].j, {std::cos(t), std::sin(t), 0.0f},
+                                                   v(3), {v(4), v(5), v(6)}, v(7)});
   }
   return d;
 }
@@ -212,8 +213,8 @@ inline void expectRecording(const Recording& r, bool debug, std::uint32_t numFra
     for (std::size_t c = 0; c < want.size(); ++c) {
       const tumble::ContactForce &a = fr.debug.contactForces[c], &b = want[c];
       EXPECT_TRUE(a.i == b.i && a.j == b.j) << "contact force " << c;
-      expectSameBits({a.normal.x, a.normal.y, a.normal.z, a.tangential.x, a.tangential.y, a.tangential.z, a.overlap},
-                     {b.normal.x, b.normal.y, b.normal.z, b.tangential.x, b.tangential.y, b.tangential.z, b.overlap},
+      expectSameBits({a.n.x, a.n.y, a.n.z, a.fn, a.tangential.x, a.tangential.y, a.tangential.z, a.overlap},
+                     {b.n.x, b.n.y, b.n.z, b.fn, b.tangential.x, b.tangential.y, b.tangential.z, b.overlap},
                      "contact force " + std::to_string(c));
     }
   }

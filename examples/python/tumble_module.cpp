@@ -77,26 +77,32 @@ py::array_t<std::uint32_t> pairArray(const std::vector<Pair>& pairs) {
   return a;
 }
 
-// Contacts with their forces (ContactForce) as arrays: pairs (C,2) uint32, normal and
-// tangential (C,3), overlap (C,).
+// Contacts with their forces (ContactForce) as arrays: pairs (C,2) uint32, the normal force
+// fn n and the tangential force (C,3), the unit normal n (C,3), fn and the overlap (C,).
 py::dict contactForceDict(const std::vector<ContactForce>& cf) {
   std::vector<Pair> pairs(cf.size());
   const auto c = static_cast<py::ssize_t>(cf.size());
-  py::array_t<float> normal({c, py::ssize_t{3}}), tangential({c, py::ssize_t{3}}), overlap(c);
-  float* n = normal.mutable_data();
-  float* t = tangential.mutable_data();
-  float* o = overlap.mutable_data();
+  py::array_t<float> normal({c, py::ssize_t{3}}), tangential({c, py::ssize_t{3}}), unit({c, py::ssize_t{3}}), fn(c),
+      overlap(c);
+  const auto put = [](py::array_t<float>& a, std::size_t k, Vec3f v) {
+    float* p = a.mutable_data() + 3 * k;
+    p[0] = v.x, p[1] = v.y, p[2] = v.z;
+  };
   for (std::size_t k = 0; k < cf.size(); ++k) {
     const ContactForce& x = cf[k];
     pairs[k] = Pair{x.i, x.j};
-    n[3 * k] = x.normal.x, n[3 * k + 1] = x.normal.y, n[3 * k + 2] = x.normal.z;
-    t[3 * k] = x.tangential.x, t[3 * k + 1] = x.tangential.y, t[3 * k + 2] = x.tangential.z;
-    o[k] = x.overlap;
+    put(normal, k, x.normal());
+    put(tangential, k, x.tangential);
+    put(unit, k, x.n);
+    fn.mutable_data()[k] = x.fn;
+    overlap.mutable_data()[k] = x.overlap;
   }
   py::dict d;
   d["pairs"] = pairArray(pairs);
   d["normal"] = normal;
   d["tangential"] = tangential;
+  d["n"] = unit;
+  d["fn"] = fn;
   d["overlap"] = overlap;
   return d;
 }
@@ -104,8 +110,8 @@ py::dict contactForceDict(const std::vector<ContactForce>& cf) {
 // tumble.fields(): coarseGrainRecording() as arrays, per point: (P,) scalars, (P,3) vectors and
 // (P,3,3) symmetric tensors, with the points (P,3) and the grid's shape (nx, ny, nz).
 py::dict fieldsOf(const py::object& pathArg, double width, const std::optional<std::vector<int>>& grid,
-                  const std::optional<std::string>& axis, const std::optional<std::vector<double>>& box, long first,
-                  long last, std::size_t every) {
+                  const std::optional<std::string>& axis, const std::optional<std::vector<double>>& box,
+                  std::optional<double> area, long first, long last, std::size_t every) {
   FieldOptions o;
   o.width = width;
   o.every = every;
@@ -113,6 +119,11 @@ py::dict fieldsOf(const py::object& pathArg, double width, const std::optional<s
   if (axis) {
     if (*axis != "x" && *axis != "y" && *axis != "z") throw Error("fields: axis must be 'x', 'y' or 'z'");
     g.axis = (*axis)[0] - 'x';
+  }
+  if (area) {
+    if (g.axis < 0) throw Error("fields: area is a profile's: give axis too");
+    if (!(*area > 0.0) || !std::isfinite(*area)) throw Error("fields: area must be a positive number");
+    g.area = *area;
   }
   g.n = {0, 0, 0};
   if (grid) {
@@ -789,12 +800,12 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("scene_name", [](const RecordingFile& r) { return r.info().sceneName; });
 
   m.def("fields", &fieldsOf, py::arg("path"), py::arg("width"), py::arg("grid") = py::none(),
-        py::arg("axis") = py::none(), py::arg("box") = py::none(), py::arg("first") = 0, py::arg("last") = -1,
-        py::arg("every") = 1,
+        py::arg("axis") = py::none(), py::arg("box") = py::none(), py::arg("area") = py::none(), py::arg("first") = 0,
+        py::arg("last") = -1, py::arg("every") = 1,
         "Continuum fields of a recording by coarse-graining (docs/fields.md), as tumble fields: width (the "
         "kernel's standard deviation, m), grid (nx, ny, nz), or (n,) with axis 'x'/'y'/'z' for a profile; box "
-        "(xmin, ymin, zmin, xmax, ymax, zmax; default the particles' bounds); frames first..last (negative from "
-        "the end), every k-th. Returns a dict: points (P,3), shape, density, packing_fraction (P,), and with "
+        "(xmin, ymin, zmin, xmax, ymax, zmax; default the particles' bounds); area: a profile's fields per this area "
+        "instead of the box's cross-section; frames first..last (negative from the end), every k-th. Returns a dict: points (P,3), shape, density, packing_fraction (P,), and with "
         "velocities (a debug recording) momentum, velocity (P,3), temperature (P,), kinetic_stress (P,3,3); with "
         "contact forces contact_stress (P,3,3); stresses positive in compression");
   m.def(

@@ -23,6 +23,7 @@ struct FieldsCliOptions {
   std::string grid;
   std::string axis;
   std::string box;
+  double area = 0.0;
   FrameRangeOptions range;
   std::uint64_t every = 1;
   bool quiet = false;
@@ -51,10 +52,13 @@ std::vector<double> numbers(const std::string& text, std::size_t count, const ch
 }
 
 void run(const FieldsCliOptions& o) {
+  if (const std::string why = fieldsOutputProblem(o.out); !why.empty()) throw Error("-o " + why);
   FieldOptions opts;
   opts.width = o.width;
   FieldGrid& g = opts.grid;
   if (!o.axis.empty()) g.axis = o.axis == "x" ? 0 : o.axis == "y" ? 1 : 2;
+  if (o.area > 0.0 && g.axis < 0) throw Error("--area is a profile's: give --axis too");
+  g.area = o.area;
   if (!o.box.empty()) {
     const std::vector<double> b = numbers(o.box, 6, "--box");
     for (int a = 0; a < 3; ++a) {
@@ -90,13 +94,20 @@ void run(const FieldsCliOptions& o) {
   if (o.grid.empty()) g.n = {0, 0, 0};  // cells about a width wide
   const Fields f = coarseGrainRecording(reader, opts);
   if (tty) std::fprintf(stderr, "\n");
-  if (g_stopSignal != 0) {
+  if (g_stopSignal != 0 || f.frames == 0) {
     std::fprintf(stderr, "tumble fields: interrupted; nothing written\n");
     dieOfSignal(g_stopSignal);
   }
   writeFields(f, o.out);
   if (!o.quiet) {
     const FieldGrid& fg = f.grid;
+    if (fg.axis >= 0 && o.box.empty() && o.area == 0.0) {
+      const int a = (fg.axis + 1) % 3, b = (fg.axis + 2) % 3;
+      std::fprintf(stderr,
+                   "tumble fields: note: the profile's fields are per the area of the particles' bounds across %c, "
+                   "%.4g x %.4g m: give --box (the container, the periodic box) or --area for the area they fill\n",
+                   "xyz"[fg.axis], fg.hi[std::size_t(a)] - fg.lo[std::size_t(a)], fg.hi[std::size_t(b)] - fg.lo[std::size_t(b)]);
+    }
     std::fprintf(stderr, "tumble fields: %zu frame%s of %s, width %g m, %d x %d x %d points%s in [%g, %g] x [%g, %g] x [%g, %g] -> %s\n",
                  f.frames, f.frames == 1 ? "" : "s", o.recording.c_str(), f.width, fg.points(0), fg.points(1),
                  fg.points(2), fg.axis >= 0 ? (std::string(" (a profile along ") + "xyz"[fg.axis] + ")").c_str() : "",
@@ -129,7 +140,11 @@ void addFields(CLI::App& app) {
   c->add_option("--axis", o->axis, "A profile along x, y or z: the fields averaged over the box across that axis")
       ->check(CLI::IsMember({"x", "y", "z"}));
   c->add_option("--box", o->box, "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX [m]: where the points are (default: the particles' "
-                                 "bounds over the frames); a profile's fields are per volume of this box's cross-section");
+                                 "bounds over the frames); a profile takes the particles in this box's cross-section "
+                                 "and its fields are per its area");
+  c->add_option("--area", o->area, "A profile's fields per this area [m^2] instead of the box's cross-section (a "
+                                   "silo's circle, pi R^2, in the square box around it)")
+      ->check(CLI::PositiveNumber);
   addFrameRangeOptions(c, o->range, "");
   c->add_option("--every", o->every, "Every N-th frame of the range, from its first (default 1)")
       ->check(countIn(1, kMaxSteps));

@@ -105,12 +105,13 @@ def read_recording(path):
             C, = struct.unpack_from("<I", b, p)
             fr["contacts"] = np.frombuffer(b, "<u4", 2 * C, p + 4).reshape(C, 2).copy()
             p += 4 + 8 * C
-        if contact_forces:  # C, then per contact i, j (u32), normal, tangential (3 f32 each), overlap
+        if contact_forces:  # C, then per contact i, j (u32), n (3 f32), fn, tangential (3 f32), overlap
             C, = struct.unpack_from("<I", b, p)
-            rows = np.frombuffer(b, np.dtype([("ij", "<u4", 2), ("f", "<f4", 7)]), C, p + 4)
+            rows = np.frombuffer(b, np.dtype([("ij", "<u4", 2), ("f", "<f4", 8)]), C, p + 4)
             fr["cf_pairs"] = rows["ij"].copy()
-            fr["cf_normal"], fr["cf_tangential"] = rows["f"][:, 0:3].copy(), rows["f"][:, 3:6].copy()
-            fr["cf_overlap"] = rows["f"][:, 6].copy()
+            fr["cf_n"], fr["cf_fn"] = rows["f"][:, 0:3].copy(), rows["f"][:, 3].copy()
+            fr["cf_normal"] = fr["cf_fn"][:, None] * fr["cf_n"]  # float32: the C++ product's bits
+            fr["cf_tangential"], fr["cf_overlap"] = rows["f"][:, 4:7].copy(), rows["f"][:, 7].copy()
         frames.append(fr)
         at += 4 + S + 4
     return {"N": N, "B": B, "ground": bool(flags & 2), "ground_h": ground_h, "debug": debug, "table": table,
@@ -242,7 +243,8 @@ def check_vtk(rec, out, name, every=1):
 
 def check_contacts_vtk(rec, out, name):
     """The contacts part of every time step (after the ground and the walls): a line per contact
-    from particle i's centre to j's, the recorded forces as cell data, bit for bit."""
+    from particle i's centre along its branch n (r_i + r_j - overlap) (in double, rounded to float),
+    the recorded forces as cell data, bit for bit."""
     pvd = ET.parse(os.path.join(out, name + ".pvd")).getroot()
     part = str(1 + rec["ground"] + (sum(len(w["tri"]) for w in rec["walls"]) > 0))
     sets = [s for s in pvd.find("Collection").findall("DataSet") if s.get("part") == part]
@@ -255,16 +257,22 @@ def check_contacts_vtk(rec, out, name):
         if C == 0:
             continue
         got = vtk_to_numpy(pd.GetPoints().GetData()).reshape(C, 2, 3)
-        check(np.array_equal(got[:, 0], x[fr["cf_pairs"][:, 0]]) and np.array_equal(got[:, 1], x[fr["cf_pairs"][:, 1]]),
-              f"{s.get('file')}: each line joins its two particles' centres")
+        xi = x[fr["cf_pairs"][:, 0]]
+        r = rec["table"]["radius"].astype(np.float64)
+        length = (r[fr["cf_pairs"][:, 0]] + r[fr["cf_pairs"][:, 1]]) - fr["cf_overlap"].astype(np.float64)
+        end = (xi.astype(np.float64) - fr["cf_n"].astype(np.float64) * length[:, None]).astype(np.float32)
+        check(np.array_equal(got[:, 0], xi) and np.array_equal(got[:, 1], end),
+              f"{s.get('file')}: each line runs from i's centre along its branch")
+        gap = np.abs(got[:, 1] - x[fr["cf_pairs"][:, 1]]).max()
+        check(gap < 0.05 * r.min(), f"the branch ends at j's centre (a step before the frame): {gap}")
         cell = lambda n: vtk_to_numpy(pd.GetCellData().GetArray(n))
         check(np.array_equal(cell("normal_force"), fr["cf_normal"]), "normal_force")
         check(np.array_equal(cell("tangential_force"), fr["cf_tangential"]), "tangential_force")
         check(np.array_equal(cell("overlap"), fr["cf_overlap"]), "overlap")
         check(np.array_equal(cell("particle_i"), fr["cf_pairs"][:, 0]) and
               np.array_equal(cell("particle_j"), fr["cf_pairs"][:, 1]), "particle_i, particle_j")
-        check(np.allclose(cell("normal_magnitude"), np.linalg.norm(fr["cf_normal"], axis=1), rtol=1e-6),
-              "normal_magnitude")
+        check(np.array_equal(cell("unit_normal"), fr["cf_n"]) and np.array_equal(cell("fn"), fr["cf_fn"]), "unit_normal, fn")
+        check(np.array_equal(cell("normal_magnitude"), np.abs(fr["cf_fn"])), "normal_magnitude")
 
 
 def check_contacts_csv(rec, out, name):
@@ -280,6 +288,7 @@ def check_contacts_csv(rec, out, name):
         col = lambda *names: np.array([[float(r[n]) for n in names] for r in rows], dtype=np.float32)
         check(np.array_equal(np.array([[int(r["i"]), int(r["j"])] for r in rows]), fr["cf_pairs"]), "i, j")
         check(np.array_equal(col("normal_x", "normal_y", "normal_z"), fr["cf_normal"]), "normal_x,y,z")
+        check(np.array_equal(col("nx", "ny", "nz"), fr["cf_n"]) and np.array_equal(col("fn")[:, 0], fr["cf_fn"]), "nx,ny,nz, fn")
         check(np.array_equal(col("tangential_x", "tangential_y", "tangential_z"), fr["cf_tangential"]),
               "tangential_x,y,z")
         check(np.array_equal(col("overlap")[:, 0], fr["cf_overlap"]), "overlap")
@@ -343,6 +352,10 @@ check_contacts_csv(crec, os.path.join(work, "ccsv"), "cf")
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 run("fields", forces, "-o", os.path.join(work, "f.vti"), "--width", "0.2", "--grid", "6,5,4", "--from", "-3", "-q")
 run("fields", forces, "-o", os.path.join(work, "f.csv"), "--width", "0.2", "--grid", "6,5,4", "--from", "-3", "-q")
+p = subprocess.run([tumble, "fields", forces, "-o", os.path.join(work, "f.txt"), "--width", "0.2"], capture_output=True,
+                   text=True)
+check(p.returncode == 2 and ".vti" in p.stderr and not os.path.exists(os.path.join(work, "f.txt")),
+      f"fields: an output neither .vti nor .csv is refused first: {p.stderr.strip()}")
 r = vtkXMLImageDataReader()
 r.SetFileName(os.path.join(work, "f.vti"))
 r.Update()

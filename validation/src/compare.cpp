@@ -186,10 +186,10 @@ std::optional<StepDifference> firstStepDifference(Pipeline& a, const World& worl
                                    std::to_string(db.contactForces.size())};
     for (std::size_t c = 0; c < da.contactForces.size(); ++c) {
       const ContactForce &x = da.contactForces[c], &y = db.contactForces[c];
-      const float vx[7] = {x.normal.x, x.normal.y, x.normal.z, x.tangential.x, x.tangential.y, x.tangential.z, x.overlap};
-      const float vy[7] = {y.normal.x, y.normal.y, y.normal.z, y.tangential.x, y.tangential.y, y.tangential.z, y.overlap};
+      const float vx[8] = {x.n.x, x.n.y, x.n.z, x.fn, x.tangential.x, x.tangential.y, x.tangential.z, x.overlap};
+      const float vy[8] = {y.n.x, y.n.y, y.n.z, y.fn, y.tangential.x, y.tangential.y, y.tangential.z, y.overlap};
       bool same = x.i == y.i && x.j == y.j;
-      for (int k = 0; k < 7; ++k) same = same && sameBits(vx[k], vy[k]);
+      for (int k = 0; k < 8; ++k) same = same && sameBits(vx[k], vy[k]);
       if (!same)
         return StepDifference{s, at + "debug contact force " + std::to_string(c) + " (" + std::to_string(x.i) + ", " +
                                      std::to_string(x.j) + ") differs"};

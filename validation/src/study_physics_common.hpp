@@ -225,5 +225,6 @@ CaseResult hertzChungOoi(const CaseContext& ctx);
 CaseResult angleOfRepose(const CaseContext& ctx);
 CaseResult beverloo(const CaseContext& ctx);
 CaseResult columnStress(const CaseContext& ctx);
+CaseResult janssen(const CaseContext& ctx);
 
 }  // namespace tumble::validation::study::physics

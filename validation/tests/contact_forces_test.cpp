@@ -12,6 +12,7 @@
 // it, and the overlap is r_i + r_j − |x_i − x_j| of the positions the step started from.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -123,9 +124,10 @@ std::size_t checkStep(const Pipeline& p, const World& w, const std::vector<float
   for (std::size_t c = 0; c < d.contactForces.size(); ++c) {
     const ContactForce& k = d.contactForces[c];
     EXPECT_TRUE(k.i == d.contacts[c].i && k.j == d.contacts[c].j) << at << ": contact " << c << " is not pairs()'";
-    const double f[3] = {double(k.normal.x) + k.tangential.x, double(k.normal.y) + k.tangential.y,
-                         double(k.normal.z) + k.tangential.z};
-    const double fn[3] = {k.normal.x, k.normal.y, k.normal.z}, ft[3] = {k.tangential.x, k.tangential.y, k.tangential.z};
+    const Vec3f normal = k.normal();
+    const double f[3] = {double(normal.x) + k.tangential.x, double(normal.y) + k.tangential.y,
+                         double(normal.z) + k.tangential.z};
+    const double fn[3] = {normal.x, normal.y, normal.z}, ft[3] = {k.tangential.x, k.tangential.y, k.tangential.z};
     const double mag = norm3(fn) + norm3(ft);
     for (int a = 0; a < 3; ++a) {
       particleSum[3 * k.i + a] += f[a];
@@ -141,8 +143,13 @@ std::size_t checkStep(const Pipeline& p, const World& w, const std::vector<float
     const double cross[3] = {fn[1] * n3[2] - fn[2] * n3[1], fn[2] * n3[0] - fn[0] * n3[2], fn[0] * n3[1] - fn[1] * n3[0]};
     const double along = ft[0] * n3[0] + ft[1] * n3[1] + ft[2] * n3[2];
     const double overlap = double(w.radius[k.i]) + w.radius[k.j] - dist;
+    // The unit normal along x_i − x_j, and the branch contactBranch() gives from it.
+    const double nd[3] = {k.n.x - n3[0], k.n.y - n3[1], k.n.z - n3[2]};
+    const std::array<double, 3> l = contactBranch(k, w.radius[k.i], w.radius[k.j]);
+    const double ld[3] = {l[0] - dx[0], l[1] - dx[1], l[2] - dx[2]};
     const bool ok = norm3(cross) <= 1e-5 * mag + 1e-30 && std::fabs(along) <= 1e-5 * mag + 1e-30 &&
-                    std::fabs(k.overlap - overlap) <= 2e-6 * w.radius[k.i] && k.overlap > -1e-6f * w.radius[k.i];
+                    std::fabs(k.overlap - overlap) <= 2e-6 * w.radius[k.i] && k.overlap > -1e-6f * w.radius[k.i] &&
+                    norm3(nd) <= 1e-6 && norm3(ld) <= 4e-6 * w.radius[k.i];
     if (!ok && ++geometryFailures <= 3)
       ADD_FAILURE() << at << ": contact (" << k.i << ", " << k.j << "): |normal x n| " << norm3(cross)
                     << ", tangential . n " << along << " (forces " << mag << "), overlap " << k.overlap << " vs "
@@ -236,7 +243,7 @@ TEST_P(ContactForcesTest, RecordingHoldsTheCapture) {
     EXPECT_TRUE(a.debug.v.empty());
     for (std::size_t c = 0; c < a.debug.contactForces.size(); ++c) {
       const ContactForce &x = a.debug.contactForces[c], &y = b.debug.contactForces[c];
-      EXPECT_TRUE(x.i == y.i && x.j == y.j && x.normal.x == y.normal.x && x.normal.z == y.normal.z &&
+      EXPECT_TRUE(x.i == y.i && x.j == y.j && x.n.x == y.n.x && x.n.z == y.n.z && x.fn == y.fn &&
                   x.tangential.y == y.tangential.y && x.overlap == y.overlap)
           << "frame " << k << ", contact " << c;
     }
@@ -246,7 +253,8 @@ TEST_P(ContactForcesTest, RecordingHoldsTheCapture) {
     std::vector<double> sum(3 * both.info.numBodies, 0.0), dbg(3 * both.info.numBodies, 0.0),
         scale(both.info.numBodies, 0.0);
     for (const ContactForce& x : b.debug.contactForces) {
-      const float f[3] = {x.normal.x + x.tangential.x, x.normal.y + x.tangential.y, x.normal.z + x.tangential.z};
+      const Vec3f normal = x.normal();
+      const float f[3] = {normal.x + x.tangential.x, normal.y + x.tangential.y, normal.z + x.tangential.z};
       const double mag = std::fabs(f[0]) + std::fabs(f[1]) + std::fabs(f[2]);
       for (int a = 0; a < 3; ++a) {
         sum[3 * both.body[x.i] + a] += f[a];

@@ -46,6 +46,10 @@ struct FieldGrid {
   std::array<double, 3> lo{}, hi{};
   std::array<int, 3> n{1, 1, 1};
   int axis = -1;  ///< 0, 1, 2: a profile along x, y, z; −1: a 3-D grid
+  /// A profile: the area its fields are per (> 0), instead of the box's cross-section (a silo's
+  /// circle in the square box around it); 0: the box's. Particles and contacts outside the box's
+  /// cross-section are left out of a profile either way.
+  double area = 0.0;
   /// Points along each axis: n, or 1 across a profile's axis.
   int points(int a) const { return axis < 0 || a == axis ? n[a] : 1; }
   std::size_t size() const { return std::size_t(points(0)) * points(1) * points(2); }
@@ -86,7 +90,7 @@ struct Fields {
 
 /// Coarse-grains frames one after the other into their average. Throws tumble::Error for a
 /// width that is not positive and finite, a box that is empty or not finite, a grid of no point
-/// or more than 2^27 points, or a frame with velocities or contacts where the first had none
+/// or more than 2^22 points, or a frame with velocities or contacts where the first had none
 /// (or the other way round).
 class CoarseGraining {
  public:
@@ -102,12 +106,14 @@ class CoarseGraining {
   template <class F>
   void forPointsNear(const double lo[3], const double hi[3], F&& f) const;
   double kernel(const double d[3]) const;
+  bool inCrossSection(const double c[3]) const;
 };
 
 /// What `tumble fields` and the Python module ask of a recording.
 struct FieldOptions {
   /// Its box: when lo == hi on every axis, the particles' bounds (their spheres) over the frames
-  /// used. A count of 0 on an axis: cells about a width wide there (at most 256).
+  /// used. A count of 0 on an axis: cells about a width wide there (at most 256 per axis and
+  /// 2^22 points in all, fewer and wider cells where they would be more).
   FieldGrid grid;
   double width = 0.0;    ///< w, the kernel's standard deviation [m]
   std::size_t first = 0, last = SIZE_MAX, every = 1;  ///< the frames first, first + every, … ≤ last
@@ -119,12 +125,17 @@ struct FieldOptions {
 /// (x = X + R(Q) u), velocities from its debug block (the velocities at the start of the step
 /// before the frame) when it has one, the contact stress from its contact forces when it has them.
 /// Throws tumble::Error for a choice of no frame and what CoarseGraining throws; tumble::InputError
-/// for a damaged recording.
+/// for a damaged recording. Stopped (options.stop) before the first frame: fields of no frame
+/// (Fields::frames 0).
 Fields coarseGrainRecording(RecordingReader& reader, const FieldOptions& options);
 
-/// Writes the fields as VTK XML image data (.vti, point data on the grid's points; ParaView) or,
-/// for a name ending in .csv, as CSV (a row per point: x, y, z and the fields). Each file is
-/// written whole (OutputFile). Throws tumble::Error.
+/// Why `path` is not a name writeFields() takes (its extension neither .vti nor .csv, in any
+/// case), or "" when it is.
+std::string fieldsOutputProblem(const std::string& path);
+
+/// Writes the fields as VTK XML image data (a name ending in .vti, point data on the grid's
+/// points; ParaView) or CSV (.csv: a row per point, x, y, z and the fields). Each file is written
+/// whole (OutputFile). Throws tumble::Error (another extension: fieldsOutputProblem()).
 void writeFields(const Fields& fields, const std::string& path);
 
 }  // namespace tumble

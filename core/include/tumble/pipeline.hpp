@@ -132,11 +132,9 @@ struct ParticleDebug {
 /// sorted by (i, j), as Pipeline::pairs().
 std::vector<ContactForce> capturedContacts(const ContactForce* capture, std::size_t entries);
 
-/// The branch l = x_i − x_j of contact c between particles at xi and xj of radii ri and rj; for
-/// centres further apart than the contact allows (1.5 (r_i + r_j): across a periodic boundary,
-/// whose box a recording does not hold) the branch to j's image beside i, along c's normal force
-/// with |l| = r_i + r_j − δ (zero when that force is zero).
-std::array<double, 3> contactBranch(const ContactForce& c, const float* xi, const float* xj, float ri, float rj);
+/// The branch l = x_i − x_j of contact c between particles of radii ri and rj at the step's
+/// positions, n (r_i + r_j − δ) in double: across a periodic boundary, to j's image beside i.
+std::array<double, 3> contactBranch(const ContactForce& c, float ri, float rj);
 
 /// Input of the stand-alone broadphase (`tumble pairs`).
 struct ParticleCloud {

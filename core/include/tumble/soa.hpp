@@ -111,17 +111,21 @@ struct CandidateListView {
 };
 
 /// One contact between particles as the debug capture keeps it (Pipeline::readDebug(),
-/// ParticleDebug::contactForces): particles i < j (scene indices), the force on i from j in the
-/// step split along the normal n = (x_i − x_j) / |x_i − x_j| (+z at coincident centres, the
-/// contact law's) (`normal`, (F · n) n) and across it
-/// (`tangential`, F − (F · n) n), F being what the step added to i's force for this contact
-/// (j received −F), and the overlap r_i + r_j − |x_i − x_j| at the step's positions. In the
-/// capture itself (per entry of the list the step read) an entry that did not touch has
-/// i = kNoContact.
+/// ParticleDebug::contactForces): particles i < j (scene indices); the unit normal n = (x_i −
+/// x_j) / |x_i − x_j| of the step's positions (+z at coincident centres, the contact law's); the
+/// force F the step added to i's force for this contact (j received −F) split along n, fn = F · n
+/// (negative: a pull), and across it, `tangential` = F − fn n; and the overlap
+/// r_i + r_j − |x_i − x_j|. The branch x_i − x_j is n (r_i + r_j − overlap), across a periodic
+/// boundary too (contactBranch()). In the capture itself (per entry of the list the step read)
+/// an entry that did not touch has i = kNoContact.
 struct ContactForce {
   std::uint32_t i, j;
-  Vec3f normal, tangential;
+  Vec3f n;
+  float fn;
+  Vec3f tangential;
   float overlap;
+  /// The normal force on i, fn n.
+  TUMBLE_HD_INLINE Vec3f normal() const { return fn * n; }
   /// By (i, j), as Pair: the order of Pipeline::pairs().
   friend bool operator<(const ContactForce& a, const ContactForce& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
 };

@@ -87,6 +87,7 @@ def test_contact_forces_in_a_recording_and_from_the_simulation(tmp_path):
         for key in ("pairs", "normal", "tangential", "overlap"):
             assert got[key].shape == c[key].shape and np.array_equal(got[key], c[key]), key
         assert np.all(c["pairs"][:, 0] < c["pairs"][:, 1]) and np.all(c["overlap"] > 0)
+        assert np.array_equal(c["normal"], c["fn"][:, None] * c["n"]) and np.allclose(np.linalg.norm(c["n"], axis=1), 1)
         total = (c["normal"] + c["tangential"]).astype(np.float64)
         per_particle = np.zeros((n, 3))
         np.add.at(per_particle, c["pairs"][:, 0], total)
@@ -127,6 +128,7 @@ def test_fields_equal_tumble_fields_and_hold_the_mass(tmp_path):
         assert np.array_equal(rows["contact_stress_xz"], f["contact_stress"][:, 0, 2])
     with pytest.raises(tumble.Error, match="width"):
         tumble.fields(tmp_path / "f.bin", 0.0)
+    assert tumble.fields(tmp_path / "f.bin", 0.05, grid=(4, 4, 4), box=box, first=0, last=2, every=2 ** 64 - 10)["frames"] == 1
 
 
 def test_bad_files_raise_input_errors(tmp_path):

@@ -82,8 +82,8 @@ TUMBLE_HD_INLINE ContactForce capturedContact(const StepView& v, std::uint32_t i
                                               Vec3f d, float d2, Vec3f f) {
   const float dist = sqrtf(d2);
   const Vec3f n = dist > 0.0f ? d * (1.0f / dist) : Vec3f{0.0f, 0.0f, v.orig[i] < v.orig[j] ? 1.0f : -1.0f};
-  const Vec3f fn = dot(f, n) * n;
-  return ContactForce{v.orig[i], v.orig[j], fn, f - fn, pi.r + v.pos[j].r - dist};
+  const float fn = dot(f, n);
+  return ContactForce{v.orig[i], v.orig[j], n, fn, f - fn * n, pi.r + v.pos[j].r - dist};
 }
 
 /// Particle positions from their body's state (SPEC §2.1), x = X + R u (R = b.rot), for the
