@@ -152,6 +152,40 @@ WallDef revolvedWall(Vec3f point, Vec3f axis, float length, float r0, float r1, 
   return w;
 }
 
+// A flat-bottomed silo under hooke-history (k_n = kn, γ_n = gammaN, μ = 0.5 between the spheres,
+// no rolling resistance): a cylinder of radius R, `height` tall, closed by a disk (walls[1]), both
+// of stiffness kn and friction muWall; `count` spheres of radius r0 or r1 (2500 kg/m³, drawn at
+// random with the seed), placed on a square lattice of `spacing` inside the cylinder, layer by
+// layer from z0 up, each with a small random horizontal velocity. (beverloo and janssen.)
+Scene siloScene(const char* name, float R, float kn, float gammaN, float muWall, double r0, double r1, double e,
+                std::size_t count, double spacing, double z0, float height, std::uint64_t seed) {
+  Scene s;
+  s.name = name;
+  s.dt = 4.0e-5f;
+  s.contact.law = ContactLaw::HookeHistory;
+  s.contact.stiffness = kn;
+  s.contact.gammaN = gammaN;
+  s.contact.friction = 0.5f;
+  s.contact.rollingFriction = 0.0f;
+  s.ground.enabled = false;
+  s.shapes = {sphereShape(r0, 2500.0 * 4.0 / 3.0 * kPi * r0 * r0 * r0, e),
+              sphereShape(r1, 2500.0 * 4.0 / 3.0 * kPi * r1 * r1 * r1, e)};
+  Rng rng(seed);
+  const double reach = R - r1 - 0.002;
+  const int half = int(reach / spacing);
+  for (int layer = 0; s.bodies.size() < count; ++layer)
+    for (int i = -half; i <= half && s.bodies.size() < count; ++i)
+      for (int j = -half; j <= half && s.bodies.size() < count; ++j) {
+        const double x = i * spacing, y = j * spacing;
+        if (std::hypot(x, y) > reach) continue;
+        s.bodies.push_back(bodyAt(rng.uniform() < 0.5f ? 0u : 1u, x, y, z0 + layer * spacing,
+                                  rng.uniform(-0.02f, 0.02f), rng.uniform(-0.02f, 0.02f), 0.0));
+      }
+  s.walls = {revolvedWall(Vec3f{0, 0, 0}, Vec3f{0, 0, height}, height, R, R, kn, muWall),
+             revolvedWall(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.0f, 0.0f, R, kn, muWall)};
+  return s;
+}
+
 }  // namespace
 
 CaseResult beverloo(const CaseContext& ctx) {
@@ -188,35 +222,11 @@ CaseResult beverloo(const CaseContext& ctx) {
   // about 0.25 m deep, more than 2 orifices and 20 grains (the depth above which the rate no
   // longer depends on it: da Silva et al. 2025, arXiv:2512.03698), and the silo 3.4 orifices
   // wide at the largest.
-  const float R = 0.15f, kn = 1.0e4f, muWall = 0.3f;
-  Scene s;
-  s.name = "beverloo";
-  s.dt = 4.0e-5f;
-  s.contact.law = ContactLaw::HookeHistory;
-  s.contact.stiffness = kn;
-  s.contact.gammaN = 1500.0f;
-  s.contact.friction = 0.5f;
   // No rolling resistance: Beverloo's law and its constants are for smooth spheres (glass
   // beads); μ_r = 0.02 lowered C to 0.50 and 0.1 to 0.35 (docs/validation.md).
-  s.contact.rollingFriction = 0.0f;
-  s.ground.enabled = false;
-  s.shapes = {sphereShape(0.005, 2500.0 * 4.0 / 3.0 * kPi * 1.25e-7, 0.5),
-              sphereShape(0.006, 2500.0 * 4.0 / 3.0 * kPi * 2.16e-7, 0.5)};
+  const float R = 0.15f, kn = 1.0e4f, muWall = 0.3f;
   constexpr std::size_t kBodies = 14000;
-  Rng rng(ctx.seed);
-  const double spacing = 0.013, reach = R - 0.006 - 0.002;
-  const int half = int(reach / spacing);
-  for (int layer = 0; s.bodies.size() < kBodies; ++layer)
-    for (int i = -half; i <= half && s.bodies.size() < kBodies; ++i)
-      for (int j = -half; j <= half && s.bodies.size() < kBodies; ++j) {
-        const double x = i * spacing, y = j * spacing;
-        if (std::hypot(x, y) > reach) continue;
-        BodyDef b = bodyAt(rng.uniform() < 0.5f ? 0u : 1u, x, y, 0.01 + layer * spacing, rng.uniform(-0.02f, 0.02f),
-                           rng.uniform(-0.02f, 0.02f), 0.0);
-        s.bodies.push_back(b);
-      }
-  const WallDef side = revolvedWall(Vec3f{0, 0, 0}, Vec3f{0, 0, 0.8f}, 0.8f, R, R, kn, muWall);
-  s.walls = {side, revolvedWall(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.0f, 0.0f, R, kn, muWall)};
+  const Scene s = siloScene("beverloo", R, kn, 1500.0f, muWall, 0.005, 0.006, 0.5, kBodies, 0.013, 0.01, 0.8f, ctx.seed);
   const World closed = World::fromScene(s);
   BodyState settled;
   {
@@ -485,31 +495,9 @@ CaseResult janssen(const CaseContext& ctx) {
   // A silo: a cylinder of radius R = 6 cm, μ = 0.5 on the walls and between the spheres (radius
   // 4 and 5 mm, 2500 kg/m³, drawn at random), closed by a disk; 8000 spheres dropped from a
   // lattice settle into a bed about 7 R deep.
-  const float R = 0.06f, kn = 1.0e4f, muWall = 0.5f;
-  Scene s;
-  s.name = "janssen";
-  s.dt = 4.0e-5f;
-  s.contact.law = ContactLaw::HookeHistory;
-  s.contact.stiffness = kn;
-  s.contact.gammaN = 2000.0f;
-  s.contact.friction = 0.5f;
-  s.ground.enabled = false;
-  s.shapes = {sphereShape(0.004, 2500.0 * 4.0 / 3.0 * kPi * 6.4e-8, 0.3),
-              sphereShape(0.005, 2500.0 * 4.0 / 3.0 * kPi * 1.25e-7, 0.3)};
+  const float R = 0.06f, kn = 1.0e4f, muWall = 0.5f, top = 1.2f;  // (the lattice reaches 0.93 m)
   constexpr std::size_t kBodies = 8000;
-  Rng rng(ctx.seed);
-  const double spacing = 0.0105, reach = R - 0.005 - 0.001;
-  for (int layer = 0; s.bodies.size() < kBodies; ++layer)
-    for (int i = -6; i <= 6 && s.bodies.size() < kBodies; ++i)
-      for (int j = -6; j <= 6 && s.bodies.size() < kBodies; ++j) {
-        const double x = i * spacing + (layer % 2) * 0.25 * spacing, y = j * spacing;
-        if (std::hypot(x, y) > reach) continue;
-        s.bodies.push_back(bodyAt(rng.uniform() < 0.5f ? 0u : 1u, x, y, 0.006 + layer * spacing,
-                                  rng.uniform(-0.02f, 0.02f), rng.uniform(-0.02f, 0.02f), 0.0));
-      }
-  const float top = s.bodies.back().position.z + 0.05f;
-  s.walls = {revolvedWall(Vec3f{0, 0, 0}, Vec3f{0, 0, top}, top, R, R, kn, muWall),
-             revolvedWall(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.0f, 0.0f, R, kn, muWall)};
+  Scene s = siloScene("janssen", R, kn, 2000.0f, muWall, 0.004, 0.005, 0.3, kBodies, 0.0105, 0.006, top, ctx.seed);
   // Settled, the bed rests on its floor with the walls' friction only partly mobilised (its
   // stress then depends on how it was filled); the floor then sinks 2 mm at 1 cm/s, the bed
   // slides down the walls and their friction is fully mobilised, as Janssen assumes (and as
@@ -551,14 +539,15 @@ CaseResult janssen(const CaseContext& ctx) {
   double surface = 0.0;
   for (std::size_t k = 0; k < n; ++k)
     if (f.packing[k] > 0.3) surface = o.grid.at(2, int(k));
-  // The bed from 5 widths above the floor (the floor's contacts are not in the recording) up.
+  // The bed from two radii of the silo above the floor up: below, the sinking floor unloads the
+  // bed's foot (and within 5 widths the floor's contacts, not in the recording, are missing).
   double rho = 0.0;
   int m = 0;
   std::vector<double> depth, stress;
   Table prof{"profile", {"depth", "stress", "hydrostatic", "janssen"}, {}};
   for (std::size_t k = 0; k < n; ++k) {
     const double z = o.grid.at(2, int(k));
-    if (z < 0.025 || z > surface) continue;
+    if (z < 2.0 * double(R) || z > surface) continue;
     depth.push_back(surface - z);
     stress.push_back(f.contactStress[6 * k + 2] + f.kineticStress[6 * k + 2]);
     if (z < surface - 0.02) rho += f.density[k], ++m;
@@ -587,9 +576,8 @@ CaseResult janssen(const CaseContext& ctx) {
       "bed %.3f m deep (bulk density ρ_b = %.0f kg/m³); the floor then sinks at 1 cm/s, so that the bed slides down "
       "the walls and their friction is fully mobilised, as Janssen assumes. Ten frames 0.01 s apart while it sinks, "
       "with velocities and contact forces, coarse-grained along z over the silo's circle with w = 5 mm "
-      "(docs/fields.md), give the vertical stress "
-      "against the depth h below the free surface (from 5 widths above the floor, whose contacts the recording does "
-      "not hold). It falls below the weight of the bed above, ρ_b g h, and saturates as Janssen's "
+      "(docs/fields.md), give the vertical stress, from two silo radii above the floor up (below, the sinking floor "
+      "unloads the bed's foot), against the depth h below the free surface. It falls below the weight of the bed above, ρ_b g h, and saturates as Janssen's "
       "σ(h) = σ∞ (1 − exp(−h/λ)): the fit gives σ∞ = %.0f Pa and λ = %.3f m (r² = %.4f), so K = R / (2 μ_w λ) = %.2f "
       "from the length and R ρ_b g / (2 μ_w σ∞) = %.2f from the saturation (Janssen's model has one K; the top of "
       "the bed, hydrostatic for a few centimetres, pulls them apart). At the bottom the stress is %.2f of the "
