@@ -264,18 +264,18 @@ Fields coarseGrainRecording(RecordingReader& reader, const FieldOptions& o) {
     }
   }
   // Cells about a width wide where no count is given, at most 256 per axis and kMaxPoints in all.
-  double shrink = 1.0;
-  for (int pass = 0; pass < 2; ++pass) {
+  for (double shrink = 1.0;;) {  // each pass widens the cells until they fit (at most a few passes)
     std::size_t points = 1;
-    for (int a = 0; a < 3; ++a)
+    bool free = false;  // an axis whose count this may change
+    for (int a = 0; a < 3; ++a) {
       if (o.grid.n[a] == 0) {
         grid.n[a] = int(std::clamp(std::ceil((grid.hi[a] - grid.lo[a]) / o.width / shrink), 1.0, 256.0));
-        points *= std::size_t(grid.points(a));
-      } else {
-        points *= std::size_t(grid.points(a));
+        free = free || grid.n[a] > 1;
       }
-    if (points <= kMaxPoints) break;
-    shrink = std::cbrt(double(points) / double(kMaxPoints)) * 1.01;
+      points *= std::size_t(grid.points(a));
+    }
+    if (points <= kMaxPoints || !free) break;  // (counts given that are too many: CoarseGraining says so)
+    shrink *= std::cbrt(double(points) / double(kMaxPoints)) * 1.01;
   }
   CoarseGraining cg(grid, o.width);
   const std::size_t total = (last - o.first) / o.every + 1;

@@ -104,18 +104,19 @@ bool planeCrossing(const D3 p[3], const double s[3], const D3& d, double* lo, do
   return *hi > *lo;
 }
 
-// Whether triangles a and b (sharing no vertex) cross: each meets the other's plane along a
-// segment, and the two segments overlap on the planes' common line by more than a rounding
-// (Möller, "A Fast Triangle-Triangle Intersection Test", 1997). Triangles that only touch, or
-// lie in one plane, are not counted.
+// Whether triangles a and b (sharing no vertex) cross: each has corners strictly on both sides of
+// the other's plane, and the segments where they meet the other's plane overlap on the planes'
+// common line by more than a rounding (Möller, "A Fast Triangle-Triangle Intersection Test",
+// 1997). Triangles that only touch (a corner or an edge in the other's plane, one side
+// otherwise), or lie in one plane, are not counted: two solids resting on each other are one.
 bool trianglesCross(const D3 a[3], const D3 b[3]) {
   const D3 na = cross3(sub3(a[1], a[0]), sub3(a[2], a[0])), nb = cross3(sub3(b[1], b[0]), sub3(b[2], b[0]));
   double sa[3], sb[3];
   for (int k = 0; k < 3; ++k) sa[k] = dot3(nb, sub3(a[k], b[0])), sb[k] = dot3(na, sub3(b[k], a[0]));
-  const auto oneSide = [](const double s[3]) {
-    return (s[0] > 0.0 && s[1] > 0.0 && s[2] > 0.0) || (s[0] < 0.0 && s[1] < 0.0 && s[2] < 0.0);
+  const auto straddles = [](const double s[3]) {
+    return (s[0] > 0.0 || s[1] > 0.0 || s[2] > 0.0) && (s[0] < 0.0 || s[1] < 0.0 || s[2] < 0.0);
   };
-  if (oneSide(sa) || oneSide(sb)) return false;
+  if (!straddles(sa) || !straddles(sb)) return false;
   const D3 d = cross3(na, nb);
   const double dd = dot3(d, d);
   if (!(dd > 0.0)) return false;  // parallel planes: coplanar or apart
@@ -127,7 +128,9 @@ bool trianglesCross(const D3 a[3], const D3 b[3]) {
 
 /// Throws at the first pair of triangles (in the file's order) that cross each other: a surface
 /// that passes through itself counts the overlap twice. Pairs that share a vertex are not tested
-/// (a fold at a vertex goes unseen). Candidates by a sweep along x over the triangles' boxes.
+/// (a fold at a vertex goes unseen). Candidates by a sweep over the triangles' boxes along the
+/// axis where they are thinnest for the mesh's size (a cylinder's side along its axis would pair
+/// every triangle with every other along that axis).
 void checkNoSelfIntersection(const TriangleMesh& mesh) {
   const std::size_t n = mesh.numTriangles();
   struct Box {
@@ -144,13 +147,29 @@ void checkNoSelfIntersection(const TriangleMesh& mesh) {
       for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], p[a]), b.hi[a] = std::max(b.hi[a], p[a]);
     }
   }
-  std::sort(boxes.begin(), boxes.end(), [](const Box& p, const Box& q) { return p.lo[0] != q.lo[0] ? p.lo[0] < q.lo[0] : p.t < q.t; });
+  // The sweep's axis: the one along which the fewest pairs of boxes overlap (counted by a binary
+  // search per box in the boxes sorted along it).
+  int axis = 0;
+  std::uint64_t fewest = ~std::uint64_t{0};
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> lo(n);
+    for (std::size_t t = 0; t < n; ++t) lo[t] = boxes[t].lo[a];
+    std::sort(lo.begin(), lo.end());
+    std::uint64_t pairs = 0;
+    for (std::size_t t = 0; t < n; ++t)
+      pairs += std::uint64_t(std::upper_bound(lo.begin(), lo.end(), boxes[t].hi[a]) -
+                             std::lower_bound(lo.begin(), lo.end(), boxes[t].lo[a]));
+    if (pairs < fewest) fewest = pairs, axis = a;
+  }
+  const int u1 = (axis + 1) % 3, u2 = (axis + 2) % 3;
+  std::sort(boxes.begin(), boxes.end(),
+            [axis](const Box& p, const Box& q) { return p.lo[axis] != q.lo[axis] ? p.lo[axis] < q.lo[axis] : p.t < q.t; });
   std::size_t first = n, second = n;  // the first crossing pair, in file order
   for (std::size_t i = 0; i < n; ++i) {
     const Box& p = boxes[i];
-    for (std::size_t j = i + 1; j < n && boxes[j].lo[0] <= p.hi[0]; ++j) {
+    for (std::size_t j = i + 1; j < n && boxes[j].lo[axis] <= p.hi[axis]; ++j) {
       const Box& q = boxes[j];
-      if (q.lo[1] > p.hi[1] || q.hi[1] < p.lo[1] || q.lo[2] > p.hi[2] || q.hi[2] < p.lo[2]) continue;
+      if (q.lo[u1] > p.hi[u1] || q.hi[u1] < p.lo[u1] || q.lo[u2] > p.hi[u2] || q.hi[u2] < p.lo[u2]) continue;
       const std::size_t s = std::min(p.t, q.t), u = std::max(p.t, q.t);
       if (s > first || (s == first && u >= second)) continue;  // not before the one found
       bool shared = false;
@@ -205,13 +224,12 @@ std::vector<std::uint32_t> pieces(const TriangleMesh& mesh) {
   return piece;
 }
 
-/// Whether point p lies inside the triangles of piece `c` (the parity of the crossings of a ray
-/// from p in a direction no mesh of round coordinates lines up with).
-bool insidePiece(const TriangleMesh& mesh, const std::vector<std::uint32_t>& piece, std::uint32_t c, const D3& p) {
+/// Whether point p lies inside the triangles `tris` of one piece (the parity of the crossings of
+/// a ray from p in a direction no mesh of round coordinates lines up with).
+bool insidePiece(const TriangleMesh& mesh, const std::vector<std::uint32_t>& tris, const D3& p) {
   const D3 dir = {0.5773502691896258, 0.5773502691896257 * 1.0000001234567, 0.5773502691896256 * 0.99999987654321};
   bool inside = false;
-  for (std::size_t t = 0; t < mesh.numTriangles(); ++t) {
-    if (piece[t] != c) continue;
+  for (const std::uint32_t t : tris) {
     const D3 a = corner(mesh, t, 0), e1 = sub3(corner(mesh, t, 1), a), e2 = sub3(corner(mesh, t, 2), a);
     const D3 h = cross3(dir, e2);
     const double det = dot3(e1, h);
@@ -283,23 +301,39 @@ SolidProperties solidProperties(const TriangleMesh& mesh, std::array<double, 3> 
   // Pieces: each must be wound as its place says, outward (as the whole) where it lies inside an
   // even number of the others (a part of the solid), inward where an odd number (a cavity).
   if (numPieces > 1) {
-    std::vector<std::size_t> firstTriangle(numPieces, mesh.numTriangles());
-    for (std::size_t t = mesh.numTriangles(); t-- > 0;) firstTriangle[piece[t]] = t;
+    // Each piece's triangles and box; its test point the centroid of its first triangle (not a
+    // corner, which may lie on a piece it touches).
+    std::vector<std::vector<std::uint32_t>> tris(numPieces);
+    std::vector<std::array<double, 6>> box(numPieces, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+    for (std::size_t t = 0; t < mesh.numTriangles(); ++t) {
+      tris[piece[t]].push_back(std::uint32_t(t));
+      for (int k = 0; k < 3; ++k) {
+        const D3 p = corner(mesh, t, k);
+        for (int a = 0; a < 3; ++a)
+          box[piece[t]][a] = std::min(box[piece[t]][a], p[a]), box[piece[t]][a + 3] = std::max(box[piece[t]][a + 3], p[a]);
+      }
+    }
     for (std::uint32_t c = 0; c < numPieces; ++c) {
-      const D3 p = corner(mesh, firstTriangle[c], 0);
+      const std::size_t t = tris[c][0];
+      const D3 a = corner(mesh, t, 0), b = corner(mesh, t, 1), d = corner(mesh, t, 2);
+      const D3 p = {(a[0] + b[0] + d[0]) / 3.0, (a[1] + b[1] + d[1]) / 3.0, (a[2] + b[2] + d[2]) / 3.0};
       int depth = 0;
-      for (std::uint32_t o = 0; o < numPieces; ++o)
-        if (o != c && insidePiece(mesh, piece, o, p)) ++depth;
-      const bool outward = (pieceVolume[c] > 0.0) == woundOutward;  // as the whole is
-      if (outward != (depth % 2 == 0)) {
-        const std::size_t t = firstTriangle[c];
+      for (std::uint32_t o = 0; o < numPieces; ++o) {
+        if (o == c) continue;
+        bool inBox = true;
+        for (int k = 0; k < 3; ++k) inBox = inBox && p[k] >= box[o][k] && p[k] <= box[o][k + 3];
+        if (inBox && insidePiece(mesh, tris[o], p)) ++depth;
+      }
+      const bool asWhole = (pieceVolume[c] > 0.0) == woundOutward;  // wound as the mesh's outside is
+      if (asWhole != (depth % 2 == 0)) {
         throw InputError(mesh.file, mesh.binary ? 0L : static_cast<long>(mesh.source[t]),
                          (mesh.binary ? "byte " + std::to_string(mesh.source[t]) + ": " : std::string()) +
                              "the piece of triangle " + std::to_string(t + 1) + " (piece " + std::to_string(c + 1) +
-                             " of " + std::to_string(numPieces) + ") is wound " + (outward ? "outward" : "inward") +
-                             " but lies inside " + std::to_string(depth) + " of the others, so it is " +
-                             (depth % 2 == 0 ? "a part of the solid" : "a cavity") +
-                             ": turn its triangles the other way (a cavity's face inward, a part's outward)");
+                             " of " + std::to_string(numPieces) + ") lies inside " + std::to_string(depth) +
+                             " of the others, so it is " + (depth % 2 == 0 ? "a part of the solid" : "a cavity") +
+                             ", but it is wound " + (asWhole ? "as" : "against") +
+                             " the mesh's outside: turn its triangles the other way (a cavity is wound against the "
+                             "outside, a part as it)");
       }
     }
   }

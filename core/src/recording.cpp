@@ -104,6 +104,12 @@ FrameSizes frameSizes(const RecordingInfo& info, std::uint64_t nb, std::uint64_t
           (info.debug ? kContactBytes : 0) + (info.contactForces ? kContactForceBytes : 0)};
 }
 
+// Whether a contact force's normal is a unit vector (within 10⁻³ in its square: the capture's is, to
+// a few float roundings); the writer writes and the reader takes no other.
+bool unitNormal(const ContactForce& x) {
+  return std::fabs(x.n.x * x.n.x + x.n.y * x.n.y + x.n.z * x.n.z - 1.0f) < 1e-3f;
+}
+
 // Whether frames differ in size (and are indexed by walking their size fields).
 bool variableFrames(const RecordingInfo& info) { return info.debug || info.grows || info.contactForces; }
 
@@ -526,11 +532,15 @@ void RecordingReader::readFrame(std::size_t k, RecordedFrame& f) {
       if (info.debug && (f.debug.contacts[c].i != x.i || f.debug.contacts[c].j != x.j))
         in.fail(at, frameName + " contact force " + std::to_string(c) + " is not for the debug block's contact " +
                         std::to_string(c));
-      const std::string what = frameName + " contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) + ")";
-      for (float* v : {&x.n.x, &x.n.y, &x.n.z, &x.fn, &x.tangential.x, &x.tangential.y, &x.tangential.z, &x.overlap})
-        *v = fd.finite(what);
-      if (!(std::fabs(x.n.x * x.n.x + x.n.y * x.n.y + x.n.z * x.n.z - 1.0f) < 1e-3f))
-        in.fail(at, what + ": its normal is not a unit vector");
+      const auto what = [&] {  // (the message only: not a string per contact read)
+        return frameName + " contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) + ")";
+      };
+      for (float* v : {&x.n.x, &x.n.y, &x.n.z, &x.fn, &x.tangential.x, &x.tangential.y, &x.tangential.z, &x.overlap}) {
+        const std::uint64_t valueAt = fd.fileOffset();
+        *v = fd.f32();
+        if (!std::isfinite(*v)) in.fail(valueAt, what() + " is not finite");
+      }
+      if (!unitNormal(x)) in.fail(at, what() + ": its normal is not a unit vector");
     }
   } else {
     f.debug.contactForces.clear();
@@ -790,16 +800,14 @@ void RecordingWriter::writeFrame(std::uint64_t step, double time, std::uint32_t 
     const std::vector<ContactForce>& cf = debug->contactForces;
     for (std::size_t c = 0; c < cf.size(); ++c) {
       const ContactForce& x = cf[c];
-      const std::string name = "contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) + ")";
+      const auto name = [&] { return where + "contact force (" + std::to_string(x.i) + ", " + std::to_string(x.j) + ")"; };
       if (!(x.i < x.j && x.j < np) || (c > 0 && !(cf[c - 1] < x)))
-        throw Error(where + name + " is not a pair i < j < " + std::to_string(np) + " after the one before it");
+        throw Error(name() + " is not a pair i < j < " + std::to_string(np) + " after the one before it");
       if (m_debug && (c >= debug->contacts.size() || debug->contacts[c].i != x.i || debug->contacts[c].j != x.j))
-        throw Error(where + name + " is not the debug data's contact " + std::to_string(c));
-      const std::vector<float> values = {x.n.x, x.n.y, x.n.z, x.fn, x.tangential.x, x.tangential.y, x.tangential.z,
-                                         x.overlap};
-      std::size_t bad = 0;
-      if (!allFinite(values, values.size(), &bad))
-        throw Error(where + name + " is not finite (NaN is never recorded); frame not written");
+        throw Error(name() + " is not the debug data's contact " + std::to_string(c));
+      for (const float v : {x.n.x, x.n.y, x.n.z, x.fn, x.tangential.x, x.tangential.y, x.tangential.z, x.overlap})
+        if (!std::isfinite(v)) throw Error(name() + " is not finite (NaN is never recorded); frame not written");
+      if (!unitNormal(x)) throw Error(name() + ": its normal is not a unit vector; frame not written");
     }
     if (m_debug && cf.size() != debug->contacts.size())
       throw Error(where + "the debug data has " + std::to_string(debug->contacts.size()) + " contacts and " +

@@ -420,7 +420,7 @@ namespace {
 void checkContinues(const RecordingWriter& rec, std::uint64_t start, const RecordSettings& s) {
   const std::uint64_t perFrame = static_cast<std::uint64_t>(s.stepsPerFrame);
   const std::uint64_t due = (std::min(start, s.lastStep) / perFrame) * perFrame;  // the last frame due by now
-  const bool any = !(s.afterSteps() && due == 0);  // a debug recording has no step-0 frame
+  const bool any = !(s.afterSteps() && due == 0);  // debug and contact-force recordings have no step-0 frame
   if (any ? rec.lastStep() != due : rec.numFrames() != 0)
     throw Error("recording '" + rec.path() + "' ends at step " + std::to_string(rec.lastStep()) +
                 " but the checkpoint is at step " + std::to_string(start) +

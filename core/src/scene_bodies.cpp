@@ -131,7 +131,8 @@ ShapeDef SceneParser::readMeshShape(const Scene& scene, const TableReader& r, co
   try {
     TriangleMesh mesh = parseMesh(bytes, resolved);
     std::array<double, 3> clumpScale{double(scale.x), double(scale.y), double(scale.z)};
-    if (turn) {  // turned after the scale, as a mesh wall (rounded to float once)
+    if (turn && !(turn->w == 1.0f && turn->x == 0.0f && turn->y == 0.0f && turn->z == 0.0f)) {
+      // turned after the scale, as a mesh wall (rounded to float once; the identity turns nothing)
       WallDef placed;
       placed.where = r.where();
       placed.mesh = std::make_shared<const TriangleMesh>(mesh);

@@ -211,13 +211,14 @@ TEST(SolidProperties, PiecesMustBoundOneSolid) {
   expectSolid(tumble::solidProperties(objMesh(vs, inward(ts, 12))), hollow, 1e-12, "hollow box");
   // The same cavity wound outward, as a part of the solid: refused at its first triangle (line 29:
   // 16 vertices, then the outer box's 12 triangles).
-  refusedWith(vs, ts, "solid.obj:29: the piece of triangle 13 (piece 2 of 2) is wound outward but lies inside 1 of");
+  refusedWith(vs, ts, "solid.obj:29: the piece of triangle 13 (piece 2 of 2) lies inside 1 of the others, so it is a "
+                      "cavity, but it is wound as the mesh's outside");
   // Two separate boxes, the second wound inward: refused; both outward: their sum.
   std::vector<V> two;
   std::vector<Tri> apart;
   addBox({0, 0, 0}, {1, 1, 1}, two, apart);
   addBox({2, 0, 0}, {2.5, 0.5, 0.5}, two, apart);
-  refusedWith(two, inward(apart, 12), "is wound inward but lies inside 0 of the others, so it is a part of the solid");
+  refusedWith(two, inward(apart, 12), "lies inside 0 of the others, so it is a part of the solid, but it is wound against");
   EXPECT_NEAR(tumble::solidProperties(objMesh(two, apart)).volume, 1.125, 1e-12);
   // Two boxes that overlap: the first pair of crossing triangles.
   std::vector<V> over;
@@ -226,4 +227,47 @@ TEST(SolidProperties, PiecesMustBoundOneSolid) {
   addBox({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5}, over, cross);
   refusedWith(over, cross, "crosses triangle");
   refusedWith(over, cross, "the surface passes through itself");
+  // Pieces that only touch are one solid (a reviewer's cases): a box resting on another, offset
+  // (faces in one plane, edges on faces); two tetrahedra meeting at a vertex ("a bowtie");
+  // a cavity touching the box's face at its first corner, on either side (mirror images agree).
+  std::vector<V> stack;
+  std::vector<Tri> stacked;
+  addBox({0, 0, 0}, {1, 1, 1}, stack, stacked);
+  addBox({0.5, 0.5, 1}, {1.5, 1.5, 2}, stack, stacked);
+  EXPECT_NEAR(tumble::solidProperties(objMesh(stack, stacked)).volume, 2.0, 1e-12);
+  const std::vector<V> bow = {{0, 0, 0}, {-2, -1, -1}, {-1, -2, -1}, {-1, -1, -2}, {2, 1, 1}, {1, 2, 1}, {1, 1, 2}};
+  const std::vector<Tri> tie = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}};
+  EXPECT_NEAR(tumble::solidProperties(objMesh(bow, tie)).volume, 4.0 / 3.0, 1e-12) << "two tetrahedra of |det| / 6 = 2/3";
+  for (const double face : {0.0, 4.0}) {
+    std::vector<V> vs2;
+    std::vector<Tri> ts2;
+    addBox({0, 0, 0}, {4, 4, 4}, vs2, ts2);
+    const int o = int(vs2.size());
+    for (const V& v : std::vector<V>{{face, 2, 2}, {2, 1, 1}, {2, 3, 1}, {2, 2, 3}}) vs2.push_back(v);
+    // The cavity's four faces, wound against the outside (inward: seen from inside the tetrahedron).
+    std::vector<Tri> cav = {{o, o + 1, o + 2}, {o, o + 2, o + 3}, {o, o + 3, o + 1}, {o + 1, o + 3, o + 2}};
+    const double vol = tumble::solidProperties(objMesh(std::vector<V>(vs2.begin() + o, vs2.end()),
+                                                       {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}}))
+                           .volume;
+    std::vector<Tri> with = ts2;
+    // Orient the cavity against the outside whatever the corner order gives.
+    const bool outwardAsListed = [&] {
+      std::vector<Tri> alone = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+      const tumble::TriangleMesh m = objMesh(std::vector<V>(vs2.begin() + o, vs2.end()), alone);
+      // the signed volume of the listed winding: positive means outward
+      double sv = 0.0;
+      for (std::size_t t = 0; t < m.numTriangles(); ++t) {
+        const auto c = [&](int k) { const tumble::Vec3f p = m.vertices[m.triangles[3 * t + std::size_t(k)]]; return V{p.x, p.y, p.z}; };
+        const V a = c(0), bb = c(1), d = c(2);
+        sv += a[0] * (bb[1] * d[2] - bb[2] * d[1]) - a[1] * (bb[0] * d[2] - bb[2] * d[0]) + a[2] * (bb[0] * d[1] - bb[1] * d[0]);
+      }
+      return sv > 0.0;
+    }();
+    for (Tri t : cav) {
+      if (outwardAsListed) std::swap(t[1], t[2]);
+      with.push_back(t);
+    }
+    const SolidProperties h = tumble::solidProperties(objMesh(vs2, with));
+    EXPECT_NEAR(h.volume, 64.0 - vol, 1e-9) << "a cavity touching the face x = " << face;
+  }
 }

@@ -206,6 +206,9 @@ TEST_F(RecordingTest, WriterRejectsMisuse) {
     c.contactForces[1].tangential.z = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "NaN";
     c = good;
+    c.contactForces[0].n = {0.6f, 0.6f, 0.0f};
+    EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "a normal that is not a unit vector";
+    c = good;
     c.contactForces.pop_back();
     if (withDebug) {
       EXPECT_THROW(forces.writeFrame(0, 0.0, 0, makeState(0), &c), tumble::Error) << "2 of 3 pairs";

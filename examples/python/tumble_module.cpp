@@ -110,8 +110,8 @@ py::dict contactForceDict(const std::vector<ContactForce>& cf) {
 // tumble.fields(): coarseGrainRecording() as arrays, per point: (P,) scalars, (P,3) vectors and
 // (P,3,3) symmetric tensors, with the points (P,3) and the grid's shape (nx, ny, nz).
 py::dict fieldsOf(const py::object& pathArg, double width, const std::optional<std::vector<int>>& grid,
-                  const std::optional<std::string>& axis, const std::optional<std::vector<double>>& box,
-                  std::optional<double> area, long first, long last, std::size_t every) {
+                  const std::optional<std::string>& axis, const std::optional<std::vector<double>>& box, long first,
+                  long last, std::size_t every, std::optional<double> area) {
   FieldOptions o;
   o.width = width;
   o.every = every;
@@ -800,8 +800,8 @@ PYBIND11_MODULE(_tumble, m) {
       .def_property_readonly("scene_name", [](const RecordingFile& r) { return r.info().sceneName; });
 
   m.def("fields", &fieldsOf, py::arg("path"), py::arg("width"), py::arg("grid") = py::none(),
-        py::arg("axis") = py::none(), py::arg("box") = py::none(), py::arg("area") = py::none(), py::arg("first") = 0,
-        py::arg("last") = -1, py::arg("every") = 1,
+        py::arg("axis") = py::none(), py::arg("box") = py::none(), py::arg("first") = 0, py::arg("last") = -1,
+        py::arg("every") = 1, py::arg("area") = py::none(),
         "Continuum fields of a recording by coarse-graining (docs/fields.md), as tumble fields: width (the "
         "kernel's standard deviation, m), grid (nx, ny, nz), or (n,) with axis 'x'/'y'/'z' for a profile; box "
         "(xmin, ymin, zmin, xmax, ymax, zmax; default the particles' bounds); area: a profile's fields per this area "

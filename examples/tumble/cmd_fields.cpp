@@ -57,6 +57,7 @@ void run(const FieldsCliOptions& o) {
   opts.width = o.width;
   FieldGrid& g = opts.grid;
   if (!o.axis.empty()) g.axis = o.axis == "x" ? 0 : o.axis == "y" ? 1 : 2;
+  if (std::isnan(o.area)) throw Error("--area must be a positive number");
   if (o.area > 0.0 && g.axis < 0) throw Error("--area is a profile's: give --axis too");
   g.area = o.area;
   if (!o.box.empty()) {

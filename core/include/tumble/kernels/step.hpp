@@ -76,12 +76,15 @@ struct DebugForcesView {
 };
 
 /// Entry e's capture of the contact (i at pi, j at pj; d = x_i − x_j, |d|² = d2 as the predicate
-/// computed them) whose force on i was f, split along the contact law's normal (at coincident
-/// centres ±z, + for the lower scene index: contactKinematics()).
+/// computed them) whose force on i was f, split along the unit normal d / |d|, taken in double so
+/// that it is one to a float's rounding even where |d|² is a denormal float (at coincident
+/// centres the contact law's ±z, + for the lower scene index: contactKinematics()).
 TUMBLE_HD_INLINE ContactForce capturedContact(const StepView& v, std::uint32_t i, const PosRow& pi, std::uint32_t j,
                                               Vec3f d, float d2, Vec3f f) {
   const float dist = sqrtf(d2);
-  const Vec3f n = dist > 0.0f ? d * (1.0f / dist) : Vec3f{0.0f, 0.0f, v.orig[i] < v.orig[j] ? 1.0f : -1.0f};
+  const double len = sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+  const Vec3f n = len > 0.0 ? Vec3f{float(d.x / len), float(d.y / len), float(d.z / len)}
+                            : Vec3f{0.0f, 0.0f, v.orig[i] < v.orig[j] ? 1.0f : -1.0f};
   const float fn = dot(f, n);
   return ContactForce{v.orig[i], v.orig[j], n, fn, f - fn * n, pi.r + v.pos[j].r - dist};
 }
