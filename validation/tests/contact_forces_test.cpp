@@ -276,6 +276,34 @@ TEST_P(ContactForcesTest, RecordingHoldsTheCapture) {
   std::filesystem::remove_all(dir);
 }
 
+// Centres 1e-22 m apart: |d|² is a denormal float, and the capture's normal is still a unit
+// vector, so that the recording the run writes reads back (a reviewer's case).
+TEST_P(ContactForcesTest, NearlyCoincidentCentresRecordAUnitNormal) {
+  TUMBLE_NEED_BACKEND(GetParam());
+  const Scene scene = parseScene(
+      "[scene]\ndt = 1e-4\nsteps = 4\ngravity = [0, 0, 0]\n[[shape]]\nname = \"b\"\n[[shape.sphere]]\nradius = 0.01\n"
+      "mass = 0.01\n[[body]]\nshape = \"b\"\nposition = [0, 0, 0]\n[[body]]\nshape = \"b\"\nposition = [1e-22, 0, 0]\n",
+      "near (contact_forces_test.cpp)");
+  const std::string path = ::testing::TempDir() + "near_" + toString(GetParam()) + ".bin";
+  {
+    tumble::Run run(scene);
+    run.load(makePipeline(GetParam()));
+    RecordSettings rs;
+    rs.path = path;
+    rs.stepsPerFrame = 1;
+    rs.contactForces = true;
+    run.record(rs);
+    run.advance(2);
+    run.closeRecording();
+  }
+  const Recording r = Recording::read(path);
+  ASSERT_EQ(r.frames.size(), 2u);
+  ASSERT_EQ(r.frames[0].debug.contactForces.size(), 1u);
+  const Vec3f n = r.frames[0].debug.contactForces[0].n;
+  EXPECT_NEAR(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z, 1.0, 1e-6);
+  std::filesystem::remove(path);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, ContactForcesTest, ::testing::ValuesIn(compiledBackends()),
                          tumble_test::backendName);
 
