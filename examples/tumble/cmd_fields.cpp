@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <memory>
-#include <sstream>
 
 #include "commands.hpp"
 #include "stop_signal.hpp"
@@ -20,36 +19,14 @@ struct FieldsCliOptions {
   std::string recording;
   std::string out;
   double width = 0.0;
-  std::string grid;
+  std::vector<int> grid;
   std::string axis;
-  std::string box;
+  std::vector<double> box;
   double area = 0.0;
   FrameRangeOptions range;
   std::uint64_t every = 1;
   bool quiet = false;
 };
-
-// "a,b,c" (or "a,b,c,d,e,f") as numbers; throws naming the option.
-std::vector<double> numbers(const std::string& text, std::size_t count, const char* option) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(v))
-      throw Error(std::string(option) + " " + text + ": '" + item + "' is not a number");
-    out.push_back(v);
-  }
-  if (out.size() != count)
-    throw Error(std::string(option) + " " + text + ": expected " + std::to_string(count) + " numbers separated by commas");
-  return out;
-}
 
 void run(const FieldsCliOptions& o) {
   if (const std::string why = fieldsOutputProblem(o.out); !why.empty()) throw Error("-o " + why);
@@ -61,12 +38,11 @@ void run(const FieldsCliOptions& o) {
   if (o.area > 0.0 && g.axis < 0) throw Error("--area is a profile's: give --axis too");
   g.area = o.area;
   if (!o.box.empty()) {
-    const std::vector<double> b = numbers(o.box, 6, "--box");
-    for (int a = 0; a < 3; ++a) {
-      g.lo[std::size_t(a)] = b[std::size_t(a)];
-      g.hi[std::size_t(a)] = b[std::size_t(a) + 3];
-      if (!(g.hi[std::size_t(a)] > g.lo[std::size_t(a)]))
-        throw Error("--box " + o.box + ": its upper corner must be above its lower one on every axis");
+    for (std::size_t a = 0; a < 3; ++a) {
+      g.lo[a] = o.box[a];
+      g.hi[a] = o.box[a + 3];
+      if (!std::isfinite(g.lo[a]) || !std::isfinite(g.hi[a]) || !(g.hi[a] > g.lo[a]))
+        throw Error("--box: its corners must be finite and the upper above the lower on every axis");
     }
   }
   RecordingReader reader(o.recording);
@@ -77,14 +53,13 @@ void run(const FieldsCliOptions& o) {
   opts.every = static_cast<std::size_t>(o.every);
   // The grid: --grid, or cells about as wide as the kernel's standard deviation.
   if (!o.grid.empty()) {
-    const std::vector<double> n = numbers(o.grid, g.axis >= 0 ? 1 : 3, "--grid");
-    for (std::size_t a = 0; a < n.size(); ++a)
-      if (!(n[a] >= 1.0 && n[a] <= 4096.0 && n[a] == std::floor(n[a])))
-        throw Error("--grid " + o.grid + ": each count must be a whole number from 1 to 4096");
+    const std::vector<int>& n = o.grid;
+    if (n.size() != (g.axis >= 0 ? 1u : 3u))
+      throw Error(g.axis >= 0 ? "--grid takes one count along --axis" : "--grid takes three counts, NX,NY,NZ");
     if (g.axis >= 0)
-      g.n[std::size_t(g.axis)] = int(n[0]);
+      g.n[std::size_t(g.axis)] = n[0];
     else
-      for (int a = 0; a < 3; ++a) g.n[std::size_t(a)] = int(n[std::size_t(a)]);
+      for (std::size_t a = 0; a < 3; ++a) g.n[a] = n[a];
   }
   const bool tty = isatty(fileno(stderr)) && !o.quiet;
   opts.progress = [&](std::size_t done, std::size_t total) {
@@ -137,12 +112,17 @@ void addFields(CLI::App& app) {
       ->required()
       ->check(CLI::PositiveNumber);
   c->add_option("--grid", o->grid, "NX,NY,NZ points (or N along --axis); default: cells about w wide, at most 256 "
-                                   "per axis");
+                                   "per axis")
+      ->delimiter(',')
+      ->expected(1, 3)
+      ->check(CLI::Range(1, 4096));
   c->add_option("--axis", o->axis, "A profile along x, y or z: the fields averaged over the box across that axis")
       ->check(CLI::IsMember({"x", "y", "z"}));
   c->add_option("--box", o->box, "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX [m]: where the points are (default: the particles' "
                                  "bounds over the frames); a profile takes the particles in this box's cross-section "
-                                 "and its fields are per its area");
+                                 "and its fields are per its area")
+      ->delimiter(',')
+      ->expected(6);
   c->add_option("--area", o->area, "A profile's fields per this area [m^2] instead of the box's cross-section (a "
                                    "silo's circle, pi R^2, in the square box around it)")
       ->check(CLI::PositiveNumber);
