@@ -150,6 +150,13 @@ std::uint64_t physicsFingerprint(const Scene& s) {
     f.add(s.ground.frictionOverride);
     f.add(s.ground.rollingFriction);
   }
+  if (s.contact.cohesion != Cohesion::None) {  // scenes without cohesion keep their fingerprints
+    f.add(static_cast<std::uint32_t>(s.contact.cohesion));
+    f.add(s.contact.cohesionValue);
+    for (const MaterialDef& m : s.materials) f.add(m.cohesion);
+    f.add(s.ground.cohesion);
+    for (const WallDef& w : s.walls) f.add(w.contact.cohesion);
+  }
   f.add(s.ground.enabled);
   f.add(s.ground.height);
   f.add(s.ground.stiffness);

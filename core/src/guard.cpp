@@ -87,6 +87,10 @@ bool inRangeRow(const BodyState& s, std::size_t k, const LocalFrame& f) {
 SpringLaw springLawOf(const World& w) {
   SpringLaw law;
   law.k = w.params.contact.stiffness;
+  if (w.params.contact.hasHistory()) {
+    law.cohesion = w.params.contact.cohesion;
+    law.cohesionValue = w.params.contact.cohesionValue;
+  }
   if (w.params.contact.usesMaterials()) {
     law.hertz = w.materialPairs.data();
     law.material = w.params.materials.size() > 1 ? w.material.data() : nullptr;
@@ -281,7 +285,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
 
   // Contact springs and overlaps: the contacts of the last step (of the initial state before
   // the first), summed per body, then over fixed chunks of bodies in order.
-  double springs = 0.0;
+  double springs = 0.0, bound = 0.0;  // bound: the energy the cohesion holds (springs has its potential)
   const SpringLaw law = springLawOf(w);
   std::vector<ContactSums>& perBody = m_contacts;
   if (findPairsWith) {
@@ -306,6 +310,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   }, [](ContactSums& l, const ContactSums& r) { mergeContactSums(l, r); });
   springs += ps.springs;
   slack += ps.slack;
+  bound += ps.bound;
   if (ps.maxOverlap > out.maxOverlap) {
     out.maxOverlap = ps.maxOverlap;
     out.overlapBody = w.body[ps.deepestI];
@@ -325,20 +330,25 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // The planes (the ground, the walls) and the mesh walls' triangles: a sphere's spring and
   // overlap on plane q at depth delta (e: its rounding), summed into a.
   struct GroundSums {
-    double springs = 0.0, slack = 0.0, maxOverlap = 0.0, contactTime = 0.0;
+    double springs = 0.0, slack = 0.0, bound = 0.0, maxOverlap = 0.0, contactTime = 0.0;
     std::uint32_t body = 0, triangle = 0;
   };
   const auto addPlane = [&](GroundSums& a, std::size_t q, std::size_t i, double delta, double e) {
     double K = 0.0;  // Hertz: F = K δ^{3/2}
     const double stiffness = planeDefs[q].contact.stiffness;
+    double cohesion = sc.cohesionOf(planeDefs[q].contact);
     if (law.hertz) {
-      K = hertzStiffness(w.planeHertz[q * law.numMaterials + w.material[i]], w.radius[i]);
+      const HertzPair& c = w.planeHertz[q * law.numMaterials + w.material[i]];
+      K = hertzStiffness(c, w.radius[i]);
       a.springs += 0.4 * K * delta * delta * std::sqrt(delta);
       a.slack += K * (delta + e) * std::sqrt(delta + e) * e;
+      cohesion = c.cohesion;
     } else {
       a.springs += 0.5 * stiffness * delta * delta;
       a.slack += stiffness * e * (delta + e);
     }
+    if (law.cohesion != Cohesion::None)
+      addCohesiveSum(&a.springs, &a.slack, &a.bound, law.cohesion, cohesion, delta, e, w.radius[i], 0.0, true);
     const double frac = delta / w.radius[i];
     if (frac > a.maxOverlap) {
       a.maxOverlap = frac;
@@ -351,6 +361,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   const auto mergePlanes = [](GroundSums& l, const GroundSums& r) {
     l.springs += r.springs;
     l.slack += r.slack;
+    l.bound += r.bound;
     if (r.maxOverlap > l.maxOverlap) {
       l.maxOverlap = r.maxOverlap;
       l.body = r.body;
@@ -361,6 +372,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   const auto addDeepest = [&](const GroundSums& gs, const std::string& where) {
     springs += gs.springs;
     slack += gs.slack;
+    bound += gs.bound;
     if (gs.maxOverlap > out.maxOverlap) {
       out.maxOverlap = gs.maxOverlap;
       out.overlapBody = gs.body;
@@ -459,7 +471,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   ts.gravity = gravity - totalMass * (double(g.x) * frame.x + double(g.y) * frame.y + double(g.z) * frame.z);
   // |pull potential|: an outward pull (κ < 0) has a negative potential, whose size is still the
   // energy scale of the motion it drives.
-  out.available = kinetic + springs + std::abs(pullPotential) + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
+  out.available = kinetic + springs + bound + std::abs(pullPotential) + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
   if (!(out.available > 0.0)) out.available = 1e-12;
   return out;
 }

@@ -324,6 +324,7 @@ class SceneParser {
   void readContact(Scene& scene);
   void readGround(Scene& scene);
   void readPlaneContact(const Scene& scene, const TableReader& r, const std::string& what, GroundParams* out) const;
+  float readCohesion(const Scene& scene, const TableReader& r, float fallback) const;
   void readPeriodic(Scene& scene);
   void checkPeriod(const Scene& scene);
   void checkWallResolution(const Scene& scene) const;

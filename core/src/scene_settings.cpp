@@ -34,7 +34,9 @@ void SceneParser::readContact(Scene& scene) {
   // told the keys of the law the table chose (checked before the reader, whose message lists all).
   static const std::vector<std::string> kReportKeys = {"stiffness", "damping", "shear"};
   static const std::vector<std::string> kHookeKeys = {"stiffness", "tangential_stiffness", "gamma_n", "gamma_t",
-                                                      "friction", "rolling_friction"};
+                                                      "friction", "rolling_friction", "cohesion",
+                                                      "cohesion_energy_density", "surface_energy"};
+  static const std::vector<std::string> kHertzKeys = {"cohesion"};
   ContactParams& c = scene.contact;
   if (const toml::node* law = t->get("law")) {
     const auto* name = law->as_string();
@@ -46,16 +48,18 @@ void SceneParser::readContact(Scene& scene) {
       throw errorAt(m_file, sourceOf(*law),
                     "[contact]: unknown law \"" + name->get() + "\"; use \"report\", \"hooke-history\" or \"hertz-mindlin\"");
   }
-  const std::vector<std::string> none;
   const std::vector<std::string>& mine = c.law == ContactLaw::Report         ? kReportKeys
                                          : c.law == ContactLaw::HookeHistory ? kHookeKeys
-                                                                              : none;
+                                                                              : kHertzKeys;
   for (auto&& [key, value] : *t) {
     (void)value;
     const std::string k(key.str());
     if (k == "law" || std::find(mine.begin(), mine.end(), k) != mine.end()) continue;
     const bool inReport = std::find(kReportKeys.begin(), kReportKeys.end(), k) != kReportKeys.end();
     const bool inHooke = std::find(kHookeKeys.begin(), kHookeKeys.end(), k) != kHookeKeys.end();
+    if (k == "cohesion")
+      throw errorAt(m_file, sourceOf(key), "[contact]: cohesion needs a law with history (law = \"hooke-history\" or "
+                                           "\"hertz-mindlin\"); the report's law has none (docs/model.md#cohesion)");
     const std::string law = "law = \"" + std::string(toString(c.law)) + "\"";
     if (!inReport && !inHooke) {
       std::string allowed = "law";
@@ -72,7 +76,16 @@ void SceneParser::readContact(Scene& scene) {
   }
   const TableReader r(m_file, *t, "[contact]",
                       {"law", "stiffness", "damping", "shear", "tangential_stiffness", "gamma_n", "gamma_t",
-                       "friction", "rolling_friction"});
+                       "friction", "rolling_friction", "cohesion", "cohesion_energy_density", "surface_energy"});
+  if (const toml::node* n = r.find("cohesion")) {
+    const std::string model = r.string(*n, "cohesion");
+    if (model == "sjkr") c.cohesion = Cohesion::Sjkr;
+    else if (model == "dmt") c.cohesion = Cohesion::Dmt;
+    else if (model != "none")
+      r.fail(sourceOf(*n), "unknown cohesion \"" + model + "\"; use \"sjkr\" (k_c, cohesion_energy_density), \"dmt\" "
+                           "(the work of adhesion, surface_energy) or \"none\" (docs/model.md#cohesion)");
+  }
+  c.cohesionValue = readCohesion(scene, r, 0.0f);
   c.stiffness = r.single("stiffness", c.stiffness, Rule::Positive);
   c.damping = r.single("damping", c.damping, Rule::NonNegative);
   c.shear = r.single("shear", c.shear, Rule::NonNegative);
@@ -92,10 +105,31 @@ void SceneParser::readGround(Scene& scene) {
   }
   const TableReader r(m_file, *t, "[ground]",
                       {"enabled", "height", "stiffness", "friction", "tangential_stiffness", "rolling_friction",
-                       "material"});
+                       "material", "cohesion_energy_density", "surface_energy"});
   g.enabled = r.boolean("enabled", true);
   g.height = r.single("height", 0.0f, Rule::Coordinate);
   readPlaneContact(scene, r, "ground", &g);
+}
+
+/// The coefficient of the scene's cohesion model in table r (k_c: cohesion_energy_density under
+/// sjkr, γ: surface_energy under dmt), or `fallback` when it is not given; the other model's key,
+/// or either without a model, is an error at that key.
+float SceneParser::readCohesion(const Scene& scene, const TableReader& r, float fallback) const {
+  const Cohesion model = scene.contact.cohesion;
+  for (const char* key : {"cohesion_energy_density", "surface_energy"}) {
+    const toml::node* n = r.find(key);
+    if (n == nullptr) continue;
+    const bool sjkrKey = key[0] == 'c';
+    if (model == Cohesion::None)
+      r.fail(sourceOf(*n), std::string(key) + " needs a cohesion model: [contact] cohesion = \"" +
+                               (sjkrKey ? "sjkr" : "dmt") + "\" (docs/model.md#cohesion)");
+    if (sjkrKey != (model == Cohesion::Sjkr))
+      r.fail(sourceOf(*n), std::string(key) + " is not read under cohesion = \"" + toString(model) + "\"; give " +
+                               (sjkrKey ? "surface_energy (the work of adhesion, J/m^2)"
+                                        : "cohesion_energy_density (k_c, J/m^3)"));
+    return r.single(*n, key, Rule::NonNegative);
+  }
+  return fallback;
 }
 
 /// The contact keys of a plane (the ground or a wall) under the scene's law.
@@ -110,6 +144,7 @@ void SceneParser::readPlaneContact(const Scene& scene, const TableReader& r, con
                                      : std::string("material is read under law = \"hertz-mindlin\" only; this "
                                                    "law's " + what + " uses stiffness and friction"));
   if (const toml::node* n = r.find("material")) g.material = static_cast<int>(materialNamed(r, *n, "material"));
+  g.cohesion = readCohesion(scene, r, g.cohesion);
   if (materials) {  // friction and rolling_friction replace the mixed values of every sphere–plane pair
     if (r.has("friction")) g.frictionOverride = r.single("friction", 0.0f, Rule::NonNegative);
     if (r.has("rolling_friction")) g.rollingFriction = r.single("rolling_friction", 0.0f, Rule::NonNegative);
@@ -251,7 +286,7 @@ void SceneParser::readMaterials(Scene& scene) {
   for (std::size_t k = 0; k < tables.size(); ++k) {
     const TableReader r(m_file, *tables[k], "[[material]] #" + std::to_string(k + 1),
                         {"name", "density", "youngs_modulus", "poisson_ratio", "restitution", "friction",
-                         "rolling_friction"});
+                         "rolling_friction", "cohesion_energy_density", "surface_energy"});
     MaterialDef md;
     const toml::node& nameNode = r.require("name", "the name that spheres use, e.g. name = \"glass\"");
     md.name = r.string(nameNode, "name");
@@ -260,7 +295,8 @@ void SceneParser::readMaterials(Scene& scene) {
       r.fail(sourceOf(nameNode), "material name \"" + md.name + "\" is already used by another [[material]]");
     md.density = r.single("density", 0.0f, Rule::Positive);
     if (!hertz) {
-      for (const char* key : {"youngs_modulus", "poisson_ratio", "restitution", "friction", "rolling_friction"})
+      for (const char* key : {"youngs_modulus", "poisson_ratio", "restitution", "friction", "rolling_friction",
+                              "cohesion_energy_density", "surface_energy"})
         if (const toml::node* e = r.find(key))
           r.fail(sourceOf(*e), std::string(key) + " is read under [contact] law = \"hertz-mindlin\" only; under law = \"" +
                                    toString(scene.contact.law) + "\" a material gives its density");
@@ -273,6 +309,7 @@ void SceneParser::readMaterials(Scene& scene) {
                                 "restitution", Rule::Elasticity);
       md.friction = r.single("friction", md.friction, Rule::NonNegative);
       md.rollingFriction = r.single("rolling_friction", md.rollingFriction, Rule::NonNegative);
+      md.cohesion = readCohesion(scene, r, md.cohesion);
       if (const std::string why = materialOutOfRange(md); !why.empty()) r.fail(r.header(), why);
     }
     m_materialIndex.emplace(md.name, static_cast<std::uint32_t>(scene.materials.size()));

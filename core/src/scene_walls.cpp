@@ -43,7 +43,7 @@ void SceneParser::readWalls(Scene& scene) {
                         {"type", "point", "normal", "min", "max", "open", "axis", "radius", "inner_radius",
                          "velocity", "angular_velocity", "pivot", "start", "stop", "file", "scale", "position",
                          "orientation", "stiffness", "friction", "tangential_stiffness", "rolling_friction",
-                         "material"});
+                         "material", "cohesion_energy_density", "surface_energy"});
     const std::string where =
         name + " (" + printable(m_file) + ":" + std::to_string(static_cast<long>(r.header().begin.line)) + ")";
     WallDef wall;

@@ -210,6 +210,36 @@ void checkPeriodic(const World& w, const Scene& scene, bool placement) {
     if (const std::string why = periodTooShort(p, a, periodReach(w, effectiveSkin(w))); !why.empty()) throw Error(why);
 }
 
+// The cohesion of a scene built in code (the scene reader names the line of each): a law with
+// history, and every coefficient finite and not negative (a plane's negative: not given). Under
+// hooke-history sjkr's attraction grows by 2 π k_c R* per metre of overlap: at or above the
+// spring's k_n no overlap balances it and a contact collapses (maxRadius: the largest sphere's).
+void checkCohesion(const Scene& scene, const std::vector<WallDef>& planes, double maxRadius) {
+  const ContactParams& c = scene.contact;
+  if (c.cohesion == Cohesion::None) return;
+  if (!c.hasHistory()) throw Error("cohesion needs a contact law with history (hooke-history or hertz-mindlin)");
+  const auto bad = [](float v) { return !(v >= 0.0f) || !std::isfinite(v); };
+  const std::string what = c.cohesion == Cohesion::Sjkr ? "cohesion_energy_density" : "surface_energy";
+  if (bad(c.cohesionValue)) throw Error("[contact] " + what + " must be finite and >= 0");
+  for (const MaterialDef& m : scene.materials)
+    if (bad(m.cohesion)) throw Error("material '" + m.name + "': " + what + " must be finite and >= 0");
+  for (const WallDef& p : planes)
+    if (!std::isfinite(p.contact.cohesion))
+      throw Error((p.where.empty() ? std::string("a plane") : p.where) + ": " + what + " must be finite");
+  if (c.law != ContactLaw::HookeHistory || c.cohesion != Cohesion::Sjkr) return;
+  const auto collapses = [&](double kc, double k, double reff, const std::string& where) {
+    const double grows = 2.0 * 3.14159265358979323846 * kc * reff;
+    if (grows >= k)
+      throw Error(where + ": cohesion_energy_density " + std::to_string(kc) + " pulls harder than the spring " +
+                  std::to_string(k) + " N/m can push (2 pi k_c R* = " + std::to_string(grows) +
+                  " N/m for the largest sphere): no overlap balances it; use k_c below " +
+                  std::to_string(k / (2.0 * 3.14159265358979323846 * reff)) + " J/m^3 (docs/model.md#cohesion)");
+  };
+  collapses(c.cohesionValue, c.stiffness, 0.5 * maxRadius, "[contact]");
+  for (const WallDef& p : planes)
+    collapses(scene.cohesionOf(p.contact), p.contact.stiffness, maxRadius, p.where.empty() ? "a plane" : p.where);
+}
+
 }  // namespace
 
 World World::fromScene(const Scene& scene, bool checkPlacement) {
@@ -344,6 +374,7 @@ World World::fromScene(const Scene& scene, bool checkPlacement) {
   if (scene.periodic.any()) checkPeriodic(w, scene, checkPlacement);
   if (scene.periodic.on[0]) w.state.imageX.assign(nb, 0);
   if (scene.periodic.on[1]) w.state.imageY.assign(nb, 0);
+  checkCohesion(scene, planes, w.maxRadius);
   if (scene.contact.usesMaterials()) {
     const std::size_t m = scene.materials.size();
     if (m == 0) throw Error(std::string("law \"") + toString(scene.contact.law) + "\" needs at least one [[material]]");

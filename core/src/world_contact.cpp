@@ -23,6 +23,14 @@ const char* toString(ContactLaw law) {
   }
 }
 
+const char* toString(Cohesion model) {
+  switch (model) {
+    case Cohesion::Sjkr: return "sjkr";
+    case Cohesion::Dmt: return "dmt";
+    default: return "none";
+  }
+}
+
 std::string materialOutOfRange(const MaterialDef& m) {
   // Y* and G* of the material against itself and against a rigid ground (the largest it can meet).
   for (const HertzPair& p : {materialPair(m, &m), materialPair(m, nullptr)}) {
@@ -43,6 +51,7 @@ HertzPair planePair(const Scene& scene, const GroundParams& plane, std::size_t a
   HertzPair p = materialPair(scene.materials[a], plane.material >= 0 ? &scene.materials[plane.material] : nullptr);
   if (plane.frictionOverride >= 0.0f) p.mu = plane.frictionOverride;
   if (plane.rollingFriction >= 0.0f) p.muR = plane.rollingFriction;
+  if (plane.cohesion >= 0.0f) p.cohesion = plane.cohesion;
   return p;
 }
 
@@ -52,8 +61,9 @@ HertzPair materialPair(const MaterialDef& a, const MaterialDef* b) {
     return std::pair<double, double>{(1.0 - nu * nu) / e, 2.0 * (2.0 - nu) * (1.0 + nu) / e};
   };
   auto [y, g] = compliance(a);
-  double e = a.restitution, mu = a.friction, muR = a.rollingFriction;
+  double e = a.restitution, mu = a.friction, muR = a.rollingFriction, coh = a.cohesion;
   if (b != nullptr) {
+    coh = std::sqrt(coh * b->cohesion);  // the geometric mean (a material with itself: its own)
     const auto [yb, gb] = compliance(*b);
     y += yb;
     g += gb;
@@ -65,7 +75,7 @@ HertzPair materialPair(const MaterialDef& a, const MaterialDef* b) {
   const double beta = le / std::sqrt(le * le + pi * pi);
   return HertzPair{static_cast<float>(1.0 / y), static_cast<float>(1.0 / g),
                    static_cast<float>(-2.0 * std::sqrt(5.0 / 6.0) * beta), static_cast<float>(mu),
-                   static_cast<float>(muR)};
+                   static_cast<float>(muR), static_cast<float>(coh)};
 }
 
 double dampingForRestitution(double e, double k, double m) {

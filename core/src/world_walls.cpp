@@ -64,7 +64,7 @@ std::vector<Wall> kernelWalls(const Scene& params, const LocalFrame& f) {
     const double o[3] = {f.x, f.y, f.z}, p[3] = {d.point.x, d.point.y, d.point.z};
     w.n = Vec3f{float(n[0]), float(n[1]), float(n[2])};
     const float kt = g.tangentialStiffness > 0.0f ? g.tangentialStiffness : g.stiffness * (2.0f / 7.0f);
-    w.coeffs = GroundCoeffs{0.0f, g.stiffness, kt, g.friction, params.rollingFrictionOf(g)};
+    w.coeffs = GroundCoeffs{0.0f, g.stiffness, kt, g.friction, params.rollingFrictionOf(g), params.cohesionOf(g)};
     w.velocity = d.velocity;
     w.omega = d.angularVelocity;
     if (d.shape == WallDef::Shape::Mesh) {  // its triangles: kernelMesh()

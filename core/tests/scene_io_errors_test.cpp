@@ -74,6 +74,55 @@ TEST(SceneIoErrors, ContactLaws) {
   expectError(withExtra("[contact]\nlaw = \"hooke-history\"\nfriction = -1\n"), 14, {"friction"});
 }
 
+// Cohesion (docs/model.md#cohesion): the model in [contact], its coefficient per material
+// (hertz-mindlin) or in [contact] (hooke-history), a plane's override; pairs mix by the geometric mean.
+TEST(SceneIo, Cohesion) {
+  const Scene h = tumble::parseScene(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\n"
+                                               "cohesion_energy_density = 3e4\n[ground]\ncohesion_energy_density = 1e4\n"),
+                                     "test.toml");
+  EXPECT_EQ(h.contact.cohesion, tumble::Cohesion::Sjkr);
+  EXPECT_EQ(h.contact.cohesionValue, 3e4f);
+  EXPECT_EQ(h.cohesionOf(h.ground), 1e4f);
+  EXPECT_EQ(h.cohesionOf(tumble::GroundParams{}), 3e4f) << "a plane without its own: the contact's";
+  const Scene g = tumble::parseScene(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"dmt\"\n" + kGlass +
+                                         "surface_energy = 0.04\n" + kSteel + "surface_energy = 0.09\n" +
+                                         "[ground]\nmaterial = \"steel\"\n",
+                                     "test.toml");
+  EXPECT_EQ(g.contact.cohesion, tumble::Cohesion::Dmt);
+  EXPECT_EQ(g.materials[0].cohesion, 0.04f);
+  const tumble::World w = tumble::World::fromScene(g);
+  EXPECT_EQ(w.materialPairs[0 * 3 + 0].cohesion, 0.04f) << "a material with itself: its own";
+  EXPECT_NEAR(w.materialPairs[0 * 3 + 1].cohesion, 0.06, 1e-8) << "glass on steel: sqrt(0.04 * 0.09)";
+  EXPECT_NEAR(w.materialPairs[0 * 3 + 2].cohesion, 0.06, 1e-8) << "the ground of steel";
+  const Scene rigid = tumble::parseScene(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"dmt\"\n" + kGlass +
+                                             "surface_energy = 0.04\n[ground]\nsurface_energy = 0.5\n",
+                                         "test.toml");
+  EXPECT_EQ(tumble::World::fromScene(rigid).materialPairs[1].cohesion, 0.5f) << "the ground's own replaces the pair's";
+  const Scene none = tumble::parseScene(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"none\"\n"), "test.toml");
+  EXPECT_EQ(none.contact.cohesion, tumble::Cohesion::None);
+}
+
+TEST(SceneIoErrors, Cohesion) {
+  expectError(withExtra("[contact]\ncohesion = \"sjkr\"\n"), 13,
+              {"cohesion needs a law with history", "hooke-history"});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"jkr2\"\n"), 14,
+              {"unknown cohesion \"jkr2\"", "\"sjkr\"", "\"dmt\""});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\nsurface_energy = 0.1\n"), 14,
+              {"surface_energy needs a cohesion model", "cohesion = \"dmt\""});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\nsurface_energy = 0.1\n"), 15,
+              {"surface_energy is not read under cohesion = \"sjkr\"", "cohesion_energy_density"});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\nsurface_energy = -0.1\n"), 15,
+              {"surface_energy"});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\n[ground]\ncohesion_energy_density = 1\n"),
+              16, {"[ground]", "cohesion_energy_density is not read under cohesion = \"dmt\"", "surface_energy"});
+  expectError(withExtra("[ground]\nsurface_energy = 0.1\n"), 13, {"[ground]", "needs a cohesion model"});
+  expectError(withExtra(std::string(kHertz) + "cohesion = \"dmt\"\nsurface_energy = 0.1\n" + kGlass), 15,
+              {"surface_energy is not a parameter of law = \"hertz-mindlin\"", "[[material]]"});
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\n[[material]]\nname = \"m\"\n"
+                        "density = 10\nsurface_energy = 0.1\n"),
+              18, {"surface_energy is read under [contact] law = \"hertz-mindlin\" only"});
+}
+
 TEST(SceneIo, MaterialsAndDensity) {
   // One material: every sphere is made of it; the sphere's own mass wins over the density.
   const Scene one = tumble::parseScene(withExtra(std::string(kHertz) + kGlass), "test.toml");

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tumble/kernels/cohesion.hpp"
 #include "tumble/math.hpp"
 
 namespace tumble {
@@ -35,6 +36,8 @@ enum class ContactLaw : std::uint8_t {
 
 /// "report" / "hooke-history" / "hertz-mindlin".
 const char* toString(ContactLaw law);
+/// "none" / "sjkr" / "dmt".
+const char* toString(Cohesion model);
 
 /// Particle–particle contact (SPEC §2.3 for the report's law; docs/model.md for the others).
 struct ContactParams {
@@ -47,6 +50,10 @@ struct ContactParams {
   float gammaT = -1.0f;              ///< hooke-history: γ_t [1/s]; negative = γ_n / 2
   float friction = 0.5f;             ///< hooke-history: Coulomb μ between particles
   float rollingFriction = 0.0f;      ///< hooke-history: rolling resistance μ_r (0 = none)
+  /// Cohesion of the contacts (laws with history; docs/model.md#cohesion) and, under
+  /// hooke-history, its coefficient for every pair: k_c [J/m³] (sjkr) or γ [J/m²] (dmt).
+  Cohesion cohesion = Cohesion::None;
+  float cohesionValue = 0.0f;
   /// Whether the law has forces that turn a sphere (then single-sphere bodies rotate too).
   bool rotatesSpheres() const { return law != ContactLaw::Report; }
   /// Whether the law keeps a tangential history per contact.
@@ -66,6 +73,7 @@ struct MaterialDef {
   float restitution = 0.5f;     ///< e, in (0, 1]
   float friction = 0.5f;        ///< Coulomb μ
   float rollingFriction = 0.0f; ///< rolling resistance μ_r (0 = none)
+  float cohesion = 0.0f;        ///< k_c or γ under [contact] cohesion (0 = none; pairs mix by the geometric mean)
 };
 
 /// Ground plane z = height with normal +z (SPEC §2.4).
@@ -82,6 +90,9 @@ struct GroundParams {
   /// hertz-mindlin: μ of every sphere–ground pair instead of the mixed one (negative: mixed);
   /// rollingFriction likewise replaces the mixed μ_r when not negative.
   float frictionOverride = -1.0f;
+  /// Under [contact] cohesion: k_c or γ of every sphere–plane pair; negative = the contact's
+  /// (hooke-history) or the pair's of the sphere's and the plane's materials (hertz-mindlin).
+  float cohesion = -1.0f;
 };
 
 /// A wall (`[[wall]]`, docs/scenes.md#wall-walls), with its own contact parameters: `contact`
@@ -353,6 +364,11 @@ struct Scene {
   float rollingFrictionOf(const GroundParams& plane) const {
     if (!contact.rotatesSpheres()) return 0.0f;
     return plane.rollingFriction >= 0.0f ? plane.rollingFriction : contact.rollingFriction;
+  }
+  /// A plane's cohesion coefficient as hooke-history's kernels use it (0 without cohesion).
+  float cohesionOf(const GroundParams& plane) const {
+    if (contact.cohesion == Cohesion::None) return 0.0f;
+    return plane.cohesion >= 0.0f ? plane.cohesion : contact.cohesionValue;
   }
   /// Every wall the spheres touch, in the order the forces sum them: the ground (when enabled)
   /// as the plane through (0, 0, height) with normal +z, then the walls.

@@ -17,6 +17,7 @@
 #include <cstdint>
 
 #include "tumble/hd.hpp"
+#include "tumble/kernels/cohesion.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/math.hpp"
 
@@ -36,7 +37,9 @@ struct ContactForces {
   /// The contact point is the middle of the overlap, x_i − n (r_i − δ/2), common to i and j.
   Vec3f arm;
   Vec3f n;       ///< laws with history: the unit normal (from j to i)
-  float normal;  ///< laws with history: F_n along n (repulsion + damping)
+  /// laws with history: the load that caps friction and rolling resistance, F_n along n
+  /// (repulsion + damping, with cohesion the attraction's and its shift: Attraction).
+  float normal;
 };
 
 /// One side of a contact as the forces see it: the particle's offset from its body's centre
@@ -112,6 +115,7 @@ struct HistoryCoeffs {
   float gammaN;  ///< normal damping per effective mass [1/s]
   float gammaT;  ///< tangential damping per effective mass [1/s]
   float mu;      ///< Coulomb friction coefficient
+  float cohesion = 0.0f;  ///< k_c or γ of every pair (Cohesion; 0: none)
 };
 
 /// The tangential force of a contact with history on particle i (Cundall–Strack), shared by
@@ -137,35 +141,34 @@ TUMBLE_HD_INLINE Vec3f historyShear(Vec3f n, Vec3f wt, float fn, float kt, float
 }
 
 /// A contact with history from its kinematics and its coefficients: normal stiffness k_n δ,
-/// dashpots g_n and g_t [N s/m], F_n = k_n δ + g_n w_n along n, the shear from historyShear().
+/// dashpots g_n and g_t [N s/m], the attraction a of a cohesive contact (cohesion.hpp; {0, 0}
+/// without), F_n = k_n δ − F_c + g_n w_n along n (the repulsion k_n δ − F_c), the shear from
+/// historyShear() capped by μ |F_n + shift|.
 TUMBLE_HD_INLINE ContactForces historyContact(const ContactKinematics& k, float kn, float kt, float gn, float gt,
-                                              float mu, float dt, Vec3f* xi) {
+                                              float mu, float dt, Vec3f* xi, Attraction a) {
   ContactForces f;
   f.arm = k.arm;
   const float wn = dot(k.w, k.n);
   const Vec3f wt = k.w - wn * k.n;
-  const float elastic = kn * k.delta, viscous = gn * wn;
+  const float elastic = kn * k.delta - a.pull, viscous = gn * wn;
   f.repulsion = elastic * k.n;
   f.damping = viscous * k.n;
   f.n = k.n;
-  f.normal = elastic + viscous;
+  f.normal = (elastic + viscous) + a.shift;
   f.shear = historyShear(k.n, wt, f.normal, kt, gt, mu, dt, xi);
   return f;
 }
 
 /// Forces of hooke-history (LAMMPS gran/hooke/history) on particle i from an overlapping
-/// particle j; arguments as contactKinematics(), meff = M_i M_j / (M_i + M_j) of the two bodies,
-/// *xi as historyShear():
-///   F_n = (k_n δ + m_eff γ_n w_n) n                               (repulsion, damping)
-///   F_t = m_eff γ_t w_t − k_t ξ, capped at μ |F_n|                 (the shear)
+/// particle j, from the contact's kinematics (contactKinematics()), meff = M_i M_j / (M_i + M_j)
+/// of the two bodies, *xi as historyShear(), a the attraction of a cohesive contact:
+///   F_n = (k_n δ − F_c + m_eff γ_n w_n) n                         (repulsion, damping)
+///   F_t = m_eff γ_t w_t − k_t ξ, capped at μ |F_n + shift|         (the shear)
 /// Seen from j every input is negated, so are the forces and ξ: the two sides of a contact keep
 /// exact negations of one history.
-template <bool kRotating>
-TUMBLE_HD_INLINE ContactForces hookeHistoryForces(Vec3f d, float d2, float ri, float rj, const ContactSide& si,
-                                                  const ContactSide& sj, bool iBeforeJ, float meff,
-                                                  const HistoryCoeffs& c, float dt, Vec3f* xi) {
-  const ContactKinematics k = contactKinematics<kRotating>(d, d2, ri, rj, si, sj, iBeforeJ);
-  return historyContact(k, c.kn, c.kt, meff * c.gammaN, meff * c.gammaT, c.mu, dt, xi);
+TUMBLE_HD_INLINE ContactForces hookeHistoryForces(const ContactKinematics& k, float meff, const HistoryCoeffs& c,
+                                                  float dt, Vec3f* xi, Attraction a) {
+  return historyContact(k, c.kn, c.kt, meff * c.gammaN, meff * c.gammaT, c.mu, dt, xi, a);
 }
 
 /// Hertz–Mindlin coefficients of a pair of materials (materialPair()), or of a material and
@@ -176,6 +179,7 @@ struct HertzPair {
   float damp;   ///< −2 √(5/6) β, β = ln e / √(ln² e + π²) (0 for e = 1)
   float mu;     ///< Coulomb μ of the pair
   float muR;    ///< rolling resistance μ_r of the pair (0: none)
+  float cohesion = 0.0f;  ///< k_c or γ of the pair (Cohesion; 0: none)
 };
 
 /// Where the pair of materials a, b sits in a table of m materials, (m + 1)² entries
@@ -193,15 +197,17 @@ TUMBLE_HD_INLINE std::uint32_t materialOf(const std::uint16_t* material, std::ui
 /// particle j or the ground, from the contact's kinematics, its effective radius R* and mass m*:
 ///   S_n = 2 Y* √(R* δ),  S_t = 8 G* √(R* δ)
 ///   F_n = (⅔ S_n δ + g_n w_n) n,  g_n = −2 √(5/6) β √(S_n m*)   (= 4/3 Y* √R* δ^{3/2} elastic)
-///   k_t = S_t,  g_t = −2 √(5/6) β √(S_t m*), the shear as historyShear() with μ.
+///   k_t = S_t,  g_t = −2 √(5/6) β √(S_t m*), the shear as historyShear() with μ;
+/// a cohesive contact's attraction a as historyContact().
 /// Every coefficient depends on the pair only through symmetric quantities, so the forces seen
 /// from j are the exact negations.
 TUMBLE_HD_INLINE ContactForces hertzMindlinForces(const ContactKinematics& k, float reff, float meff,
-                                                  const HertzPair& c, float dt, Vec3f* xi) {
+                                                  const HertzPair& c, float dt, Vec3f* xi, Attraction a) {
   const float root = std::sqrt(reff * k.delta);
   const float sn = (2.0f * c.ystar) * root, st = (8.0f * c.gstar) * root;
   const float kn = (2.0f / 3.0f) * sn;
-  return historyContact(k, kn, st, c.damp * std::sqrt(sn * meff), c.damp * std::sqrt(st * meff), c.mu, dt, xi);
+  return historyContact(k, kn, st, c.damp * std::sqrt(sn * meff), c.damp * std::sqrt(st * meff), c.mu, dt, xi,
+                        a);
 }
 
 /// Sum of the three, in a fixed order.
@@ -240,6 +246,7 @@ struct GroundCoeffs {
   float tangentialStiffness;   ///< k_t,g of the stick spring
   float friction;              ///< μ
   float rollingFriction;       ///< μ_r (0: none; laws that turn spheres only)
+  float cohesion = 0.0f;       ///< hooke-history: k_c or γ of the sphere–plane pairs (Cohesion; 0: none)
 };
 
 /// Depth δ = r − (z − h) of a particle below the ground's surface: in contact when δ > 0.
@@ -262,11 +269,14 @@ struct GroundForces {
 /// at the bottom of the overlap, lever (0, 0, −(r − δ/2)) from the centre, and u is the
 /// velocity of the material there. kRotating false: u = V.
 ///
+/// A cohesive contact (a: its attraction, cohesion.hpp; {0, 0} without) adds −F_c to f_n and
+/// caps the friction at μ max(f_n + shift, 0).
+///
 /// Called only for a particle in contact, groundDepth(x, r, g) > 0; out of contact the caller
 /// resets ξ to zero.
 template <bool kRotating>
 TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& side, float c, const GroundCoeffs& g,
-                                           float dt, float* tx, float* ty) {
+                                           float dt, float* tx, float* ty, Attraction a = Attraction{0.0f, 0.0f}) {
   GroundForces out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
   const float delta = groundDepth(x, r, g);
   const Vec3f lever{0.0f, 0.0f, -(r - 0.5f * delta)};
@@ -278,13 +288,14 @@ TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& 
     out.arm = lever;
     v = side.v;
   }
-  const float fn = g.stiffness * delta - c * v.z;
+  const float fn = (g.stiffness * delta - a.pull) - c * v.z;
   out.normal = Vec3f{0.0f, 0.0f, fn};
   float ex = *tx + v.x * dt;
   float ey = *ty + v.y * dt;
   float fx = -g.tangentialStiffness * ex - c * v.x;
   float fy = -g.tangentialStiffness * ey - c * v.y;
-  const float limit = g.friction * (fn > 0.0f ? fn : 0.0f);
+  const float load = fn + a.shift;
+  const float limit = g.friction * (load > 0.0f ? load : 0.0f);
   const float f2 = fx * fx + fy * fy;
   if (f2 > limit * limit) {
     const float fmag = std::sqrt(f2);
@@ -306,12 +317,13 @@ TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& 
 /// normal +z: R* = r, m* = the body's mass M, the pair c of the particle's material and the
 /// ground's). The forces act at the bottom of the overlap, as groundForces(); the ground's
 /// material is at rest, so w = −u there. *tx, *ty (in/out) are ξ, the particle's sliding
-/// displacement on the ground, with groundForces()' sign (F_t = −k_t ξ − g_t u_t). Called
-/// only for a particle in contact; out of contact the caller resets ξ to zero.
+/// displacement on the ground, with groundForces()' sign (F_t = −k_t ξ − g_t u_t); a: the
+/// attraction of a cohesive contact (hertzMindlinForces()). Called only for a particle in
+/// contact; out of contact the caller resets ξ to zero.
 template <bool kRotating>
 TUMBLE_HD_INLINE GroundForces hertzGroundForces(Vec3f x, float r, const ContactSide& side, float mass,
                                                 const HertzPair& c, const GroundCoeffs& g, float dt, float* tx,
-                                                float* ty) {
+                                                float* ty, Attraction a) {
   ContactKinematics k;
   k.n = Vec3f{0.0f, 0.0f, 1.0f};
   k.delta = groundDepth(x, r, g);
@@ -319,7 +331,7 @@ TUMBLE_HD_INLINE GroundForces hertzGroundForces(Vec3f x, float r, const ContactS
   k.arm = kRotating ? side.offset + lever : lever;
   k.w = -(kRotating ? pointVelocity(side.v, side.omega, k.arm) : side.v);
   Vec3f xi{*tx, *ty, 0.0f};
-  const ContactForces f = hertzMindlinForces(k, r, mass, c, dt, &xi);
+  const ContactForces f = hertzMindlinForces(k, r, mass, c, dt, &xi, a);
   *tx = xi.x;
   *ty = xi.y;
   return GroundForces{f.repulsion + f.damping, f.shear, f.arm};

@@ -22,13 +22,27 @@ namespace tumble {
 
 /// The energy law of the contact springs: linear, ½ k δ² (the report's law, hooke-history), or
 /// Hertz, ⅖ K δ^{5/2} with K = 4/3 Y* √R* and Y* of the pair's materials (hertz-mindlin; the
-/// tables of World::materialPairs, `material` in scene order, nullptr for one material).
+/// tables of World::materialPairs, `material` in scene order, nullptr for one material); with
+/// cohesion, plus its potential (cohesivePotential(), ≤ 0) with the pair's coefficient (Hertz:
+/// HertzPair::cohesion; linear: `cohesionValue`).
 struct SpringLaw {
   double k = 0.0;
   const HertzPair* hertz = nullptr;
   const std::uint16_t* material = nullptr;
   std::uint32_t numMaterials = 0;
+  Cohesion cohesion = Cohesion::None;
+  double cohesionValue = 0.0;
 };
+
+/// Adds a contact's cohesive potential U ≤ 0 at overlap δ to *springs, −U to *bound and the
+/// energy its rounding e can move to *slack (value: the pair's k_c or γ; rj unread for a plane).
+TUMBLE_HD_INLINE void addCohesiveSum(double* springs, double* slack, double* bound, Cohesion model, double value,
+                                     double delta, double e, double ri, double rj, bool plane) {
+  const double u = cohesivePotential(model, value, delta, ri, rj, plane);
+  *springs += u;
+  *bound -= u;
+  *slack += u - cohesivePotential(model, value, delta + e, ri, rj, plane);
+}
 
 /// K of Hertz's F = K δ^{3/2}, E = ⅖ K δ^{5/2}, for a pair c and effective radius R*.
 TUMBLE_HD_INLINE double hertzStiffness(const HertzPair& c, double reff) { return (4.0 / 3.0) * c.ystar * sqrt(reff); }
@@ -37,6 +51,7 @@ TUMBLE_HD_INLINE double hertzStiffness(const HertzPair& c, double reff) { return
 struct ContactSums {
   double springs = 0.0;     ///< Σ ½ k δ² (Hertz: ⅖ K δ^{5/2}) over the pairs with δ = r_i + r_j − |x_i − x_j| > 0
   double slack = 0.0;       ///< Σ k e (δ + e) (Hertz: K (δ + e)^{3/2} e), e = 1.8 (err_i + err_j): the energy error of rounded positions
+  double bound = 0.0;       ///< with cohesion: Σ −U, the energy the cohesion holds (springs has U)
   double maxOverlap = 0.0;  ///< the largest δ / min(r_i, r_j)
   std::uint32_t deepestI = 0, deepestJ = 0;  ///< its pair (scene particle indices), the first among equals
 };
@@ -76,16 +91,20 @@ TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi
   const double delta = double(ri) + rj - sqrt(dx * dx + dy * dy + dz * dz);
   if (delta <= 0.0) return;
   const double e = 1.8 * (errI + errJ);
+  double cohesion = law.cohesionValue;
   if (law.hertz != nullptr) {
     const HertzPair& c =
         law.hertz[materialPairIndex(materialOf(law.material, i), materialOf(law.material, j), law.numMaterials)];
     const double K = hertzStiffness(c, double(ri) * rj / (double(ri) + rj));
     a.springs += 0.4 * K * delta * delta * sqrt(delta);
     a.slack += K * (delta + e) * sqrt(delta + e) * e;
+    cohesion = c.cohesion;
   } else {
     a.springs += 0.5 * law.k * delta * delta;
     a.slack += law.k * e * (delta + e);
   }
+  if (law.cohesion != Cohesion::None)
+    addCohesiveSum(&a.springs, &a.slack, &a.bound, law.cohesion, cohesion, delta, e, ri, rj, false);
   const double frac = delta / (ri < rj ? ri : rj);
   if (frac > a.maxOverlap) {
     a.maxOverlap = frac;
@@ -128,6 +147,7 @@ TUMBLE_HD_INLINE ContactSums bodyContactSums(const BodyRow* bodies, const std::u
 TUMBLE_HD_INLINE void mergeContactSums(ContactSums& l, const ContactSums& r) {
   l.springs += r.springs;
   l.slack += r.slack;
+  l.bound += r.bound;
   if (r.maxOverlap > l.maxOverlap) {  // the first pair among equals, as a serial loop
     l.maxOverlap = r.maxOverlap;
     l.deepestI = r.deepestI;

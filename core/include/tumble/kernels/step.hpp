@@ -41,13 +41,17 @@ struct ForceParams {
   float rollingFriction;  ///< μ_r between particles (0: none; hooke-history only)
   bool hasGround;         ///< the first plane is the ground (StepView::planes[0])
   bool hasWalls;          ///< planes after the ground (wallContacts())
+  /// The contacts' cohesion (laws with history; its coefficients: HistoryCoeffs::cohesion,
+  /// GroundCoeffs::cohesion, HertzPair::cohesion); None: the kernels read nothing more.
+  Cohesion cohesion;
 };
 
 /// The force-stage constants of a scene with the given pulls on (host side).
 inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
   const float kt = p.ground.tangentialStiffness > 0.0f ? p.ground.tangentialStiffness : p.ground.stiffness * (2.0f / 7.0f);
   return ForceParams{ContactCoeffs{p.contact.stiffness, p.contact.damping, p.contact.shear},
-                     GroundCoeffs{p.ground.height, p.ground.stiffness, kt, p.ground.friction, p.groundRollingFriction()},
+                     GroundCoeffs{p.ground.height, p.ground.stiffness, kt, p.ground.friction, p.groundRollingFriction(),
+                                  p.cohesionOf(p.ground)},
                      p.gravity,
                      p.pulls.x,
                      p.pulls.y,
@@ -59,10 +63,11 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                                    p.contact.tangentialStiffness > 0.0f ? p.contact.tangentialStiffness
                                                                         : p.contact.stiffness * (2.0f / 7.0f),
                                    p.contact.gammaN, p.contact.gammaT >= 0.0f ? p.contact.gammaT : 0.5f * p.contact.gammaN,
-                                   p.contact.friction},
+                                   p.contact.friction, p.cohesionOf(GroundParams{})},
                      p.contact.rollingFriction,
                      p.ground.enabled,
-                     !p.walls.empty()};
+                     !p.walls.empty(),
+                     p.contact.law == ContactLaw::Report ? Cohesion::None : p.contact.cohesion};
 }
 
 /// Debug capture (internal numbering, 3 floats per particle each): the five forces
@@ -142,13 +147,19 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
   float sx = *tx, sy = *ty;  // locals: the spring is read once and written once
   GroundForces g;
   float muR;
+  // A cohesive contact's attraction (cohesion.hpp), a plane's R* the sphere's radius.
+  const auto pull = [&](float value) {
+    if (fp.cohesion == Cohesion::None) return Attraction{0.0f, 0.0f};
+    const float delta = groundDepth(xl, r, w.coeffs);
+    return attraction(fp.cohesion, value, planeCrossingRadius2(delta, r), r);
+  };
   if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
-    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy);
+    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy, pull(hp.cohesion));
     muR = hp.muR;
   } else {
     const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[std::size_t(k - 1) * v.numParticles + i];
-    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &sx, &sy);
+    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &sx, &sy, pull(w.coeffs.cohesion));
     muR = w.coeffs.rollingFriction;
   }
   *tx = sx;
@@ -328,20 +339,25 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
   const bool iBeforeJ = d2 > 0.0f || v.orig[i] < v.orig[j];  // read only for coincident centres
   ParticleForce& out = sum->out;
   ContactForces cf;
+  // A cohesive contact's attraction (cohesion.hpp) at overlap delta, reff the pair's R*.
+  const auto pull = [&](float value, float delta, float reff) {
+    if (fp.cohesion == Cohesion::None) return Attraction{0.0f, 0.0f};
+    return attraction(fp.cohesion, value, crossingRadius2(delta, pi.r, rj), reff);
+  };
   if constexpr (kLaw == ContactLaw::HookeHistory) {
-    const float meff = 1.0f / (self.invMass + other.invMass);
+    const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * rj) / (pi.r + rj);
     const ContactSide& si = side.get(v, self, i);
-    cf = hookeHistoryForces<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ, meff, fp.history, fp.dt, &historyOf(v, e));
+    const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ);
+    cf = hookeHistoryForces(k, meff, fp.history, fp.dt, &historyOf(v, e), pull(fp.history.cohesion, k.delta, reff));
     if (fp.rollingFriction > 0.0f)
-      out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, (pi.r * rj) / (pi.r + rj), meff, fp.rollingFriction,
-                             fp.dt);
+      out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, fp.rollingFriction, fp.dt);
   } else if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * rj) / (pi.r + rj);
     const HertzPair& hp =
         v.hertz[materialPairIndex(materialOf(v.material, i), materialOf(v.material, j), v.numMaterials)];
     const ContactSide& si = side.get(v, self, i);
-    cf = hertzMindlinForces(contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ), reff, meff, hp, fp.dt,
-                            &historyOf(v, e));
+    const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ);
+    cf = hertzMindlinForces(k, reff, meff, hp, fp.dt, &historyOf(v, e), pull(hp.cohesion, k.delta, reff));
     if (hp.muR > 0.0f) out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
   } else {
     cf = contactForces<kClumps>(d, d2, pi.r, rj, side.get(v, self, i), sj, iBeforeJ, fp.contact);
