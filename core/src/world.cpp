@@ -210,11 +210,71 @@ void checkPeriodic(const World& w, const Scene& scene, bool placement) {
     if (const std::string why = periodTooShort(p, a, periodReach(w, effectiveSkin(w))); !why.empty()) throw Error(why);
 }
 
+// How deep cohesion alone pulls the largest and the smallest contacts at rest (docs/model.md#cohesion):
+// the overlap δ₀ > 0 where the spring balances the attraction without load, which must stay
+// within 10 % of R*: hertz-mindlin sjkr (3 π k_c / (2 Y*))² R*, dmt (3 π γ √R* / (2 Y*))^{2/3};
+// hooke-history dmt 2 π γ R* / k. Under hooke-history sjkr's attraction grows by 2 π k_c R* per
+// metre of overlap: at or above the spring's k no overlap balances it and the contact collapses.
+void checkRestOverlap(const Scene& scene, const World& w, const std::vector<WallDef>& planes) {
+  const ContactParams& c = scene.contact;
+  if (c.cohesion == Cohesion::None || w.radius.empty()) return;
+  const double pi = 3.14159265358979323846;
+  const double rMax = *std::max_element(w.radius.begin(), w.radius.end());
+  const double rMin = *std::min_element(w.radius.begin(), w.radius.end());
+  const bool sjkr = c.cohesion == Cohesion::Sjkr;
+  const std::string key = sjkr ? "cohesion_energy_density" : "surface_energy";
+  const auto g = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return std::string(buf);
+  };
+  // A contact of coefficient v, stiffness k (hooke-history) or Y* (hertz-mindlin), at R*.
+  const auto check = [&](double v, double k, double ystar, double reff, const std::string& where) {
+    if (!(v > 0.0)) return;
+    double depth;  // δ₀ / R*
+    if (c.law == ContactLaw::HookeHistory) {
+      if (sjkr) {
+        if (2.0 * pi * v * reff < k) return;
+        throw Error(where + ": " + key + " " + g(v) + " pulls harder than the spring " + g(k) +
+                    " N/m can push (2 pi k_c R* = " + g(2.0 * pi * v * reff) + " N/m at R* " + g(reff) +
+                    " m): no overlap balances it; use k_c below " + g(k / (2.0 * pi * reff)) +
+                    " J/m^3 (docs/model.md#cohesion)");
+      }
+      depth = 2.0 * pi * v / k;
+    } else {
+      depth = sjkr ? std::pow(3.0 * pi * v / (2.0 * ystar), 2.0)
+                   : std::pow(3.0 * pi * v / (2.0 * ystar * std::sqrt(reff)), 2.0 / 3.0);
+    }
+    if (depth > 0.1)
+      throw Error(where + ": " + key + " " + g(v) + " alone pulls a contact of R* " + g(reff) + " m " +
+                  g(100.0 * depth) + " % of R* deep at rest (tumble allows 10 %: overlaps that deep are outside what "
+                  "the contact law models); use a smaller " + key + " (docs/model.md#cohesion)");
+  };
+  for (const double r : {rMax, rMin}) {
+    if (c.law == ContactLaw::HookeHistory) {
+      check(c.cohesionValue, c.stiffness, 0.0, 0.5 * r, "[contact]");
+      for (const WallDef& p : planes)
+        check(scene.cohesionOf(p.contact), p.contact.stiffness, 0.0, r, p.where.empty() ? "a plane" : p.where);
+      continue;
+    }
+    const std::size_t m = scene.materials.size();
+    for (std::size_t a = 0; a < m; ++a) {
+      for (std::size_t b = a; b < m; ++b) {
+        const HertzPair& hp = w.materialPairs[materialPairIndex(a, b, m)];
+        check(hp.cohesion, 0.0, hp.ystar, 0.5 * r, "materials '" + scene.materials[a].name + "' and '" + scene.materials[b].name + "'");
+      }
+      for (std::size_t q = 0; q < planes.size(); ++q) {
+        const HertzPair& hp = w.planeHertz[q * m + a];
+        check(hp.cohesion, 0.0, hp.ystar, r, "material '" + scene.materials[a].name + "' on " +
+                                                 (planes[q].where.empty() ? std::string("a plane") : planes[q].where));
+      }
+    }
+  }
+}
+
 // The cohesion of a scene built in code (the scene reader names the line of each): a law with
-// history, and every coefficient finite and not negative (a plane's negative: not given). Under
-// hooke-history sjkr's attraction grows by 2 π k_c R* per metre of overlap: at or above the
-// spring's k_n no overlap balances it and a contact collapses (maxRadius: the largest sphere's).
-void checkCohesion(const Scene& scene, const std::vector<WallDef>& planes, double maxRadius) {
+// history, and every coefficient finite and not negative (a plane's negative: not given).
+void checkCohesion(const Scene& scene, const std::vector<WallDef>& planes) {
   const ContactParams& c = scene.contact;
   if (c.cohesion == Cohesion::None) return;
   if (!c.hasHistory()) throw Error("cohesion needs a contact law with history (hooke-history or hertz-mindlin)");
@@ -226,18 +286,6 @@ void checkCohesion(const Scene& scene, const std::vector<WallDef>& planes, doubl
   for (const WallDef& p : planes)
     if (!std::isfinite(p.contact.cohesion))
       throw Error((p.where.empty() ? std::string("a plane") : p.where) + ": " + what + " must be finite");
-  if (c.law != ContactLaw::HookeHistory || c.cohesion != Cohesion::Sjkr) return;
-  const auto collapses = [&](double kc, double k, double reff, const std::string& where) {
-    const double grows = 2.0 * 3.14159265358979323846 * kc * reff;
-    if (grows >= k)
-      throw Error(where + ": cohesion_energy_density " + std::to_string(kc) + " pulls harder than the spring " +
-                  std::to_string(k) + " N/m can push (2 pi k_c R* = " + std::to_string(grows) +
-                  " N/m for the largest sphere): no overlap balances it; use k_c below " +
-                  std::to_string(k / (2.0 * 3.14159265358979323846 * reff)) + " J/m^3 (docs/model.md#cohesion)");
-  };
-  collapses(c.cohesionValue, c.stiffness, 0.5 * maxRadius, "[contact]");
-  for (const WallDef& p : planes)
-    collapses(scene.cohesionOf(p.contact), p.contact.stiffness, maxRadius, p.where.empty() ? "a plane" : p.where);
 }
 
 }  // namespace
@@ -374,7 +422,8 @@ World World::fromScene(const Scene& scene, bool checkPlacement) {
   if (scene.periodic.any()) checkPeriodic(w, scene, checkPlacement);
   if (scene.periodic.on[0]) w.state.imageX.assign(nb, 0);
   if (scene.periodic.on[1]) w.state.imageY.assign(nb, 0);
-  checkCohesion(scene, planes, w.maxRadius);
+  checkCohesion(scene, planes);
+  if (!scene.contact.usesMaterials()) checkRestOverlap(scene, w, planes);  // hertz-mindlin: with its pairs, below
   if (scene.contact.usesMaterials()) {
     const std::size_t m = scene.materials.size();
     if (m == 0) throw Error(std::string("law \"") + toString(scene.contact.law) + "\" needs at least one [[material]]");
@@ -399,6 +448,7 @@ World World::fromScene(const Scene& scene, bool checkPlacement) {
       if (p.contact.material >= int(m)) throw Error(p.where + ": the material index is out of range");
       for (std::size_t a = 0; a < m; ++a) w.planeHertz.push_back(planePair(scene, p.contact, a));
     }
+    checkRestOverlap(scene, w, planes);
     w.material.reserve(np);
     for (const BodyDef& bd : scene.bodies)
       for (const SphereDef& sp : scene.shapes[bd.shape].spheres) {

@@ -102,6 +102,34 @@ TEST(SceneIo, Cohesion) {
   EXPECT_EQ(none.contact.cohesion, tumble::Cohesion::None);
 }
 
+// What World::fromScene refuses (the reader cannot: it needs the radii and the pairs' moduli).
+TEST(SceneIoErrors, CohesionThatNoOverlapBalances) {
+  const auto refused = [](const std::string& text, const std::string& part) {
+    const Scene s = tumble::parseScene(text, "test.toml");
+    try {
+      (void)tumble::World::fromScene(s);
+      ADD_FAILURE() << "no error; expected one with: " << part;
+    } catch (const tumble::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  // hooke-history: sjkr's attraction grows by 2 pi k_c R* = 2 pi 2e4 0.25 = 31 kN/m against k 20 kN/m.
+  refused(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\ncohesion_energy_density = 2e4\n"),
+          "pulls harder than the spring");
+  (void)tumble::World::fromScene(tumble::parseScene(
+      withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\ncohesion_energy_density = 1e4\n"),
+      "test.toml"));
+  // dmt at rest 2 pi gamma / k = 31 % of R* deep; hertz-mindlin sjkr (3 pi k_c / (2 Y*))^2 = 32 % (pairs) and 18 % (the
+  // rigid ground).
+  refused(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\nsurface_energy = 1000\n"),
+          "% of R* deep at rest");
+  refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass + "cohesion_energy_density = 4e9\n",
+          "materials 'glass' and 'glass': cohesion_energy_density 4e+09 alone pulls");
+  refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass +
+              "cohesion_energy_density = 1e8\n[ground]\ncohesion_energy_density = 8e9\n",
+          "material 'glass' on [ground]");
+}
+
 TEST(SceneIoErrors, Cohesion) {
   expectError(withExtra("[contact]\ncohesion = \"sjkr\"\n"), 13,
               {"cohesion needs a law with history", "hooke-history"});

@@ -78,7 +78,9 @@ scale = [0.8, 1.2]
 // gravity: every particle is in contact from the first step on, so that a row, a record or an
 // offset lost at any index shows (the last particle of the internal order included, which in
 // the scenes above may touch nothing).
-World denseCluster(ContactLaw law = ContactLaw::Report) {
+// `cohesion`: under hooke-history dmt (γ 10 J/m^2: 3 N of pull-off against some 20 N of spring),
+// under hertz-mindlin sjkr (k_c 1e4 and 2e4 J/m^3 for the two materials, 1.4e4 between them).
+World denseCluster(ContactLaw law = ContactLaw::Report, Cohesion cohesion = Cohesion::None) {
   Scene s;
   s.gravity = {0.0f, 0.0f, 0.0f};
   s.dt = 1e-3f;
@@ -104,6 +106,9 @@ World denseCluster(ContactLaw law = ContactLaw::Report) {
     b.material = 1;
     b.elasticity = s.materials[1].restitution;
   }
+  s.contact.cohesion = cohesion;
+  s.contact.cohesionValue = 10.0f;
+  for (std::size_t k = 0; k < s.materials.size(); ++k) s.materials[k].cohesion = k == 0 ? 1e4f : 2e4f;
   return World::fromScene(s);
 }
 
@@ -231,6 +236,14 @@ TEST_P(CudaEqualsCpu, HertzMindlinStepByStep) {
               1000, "molecules, hertz-mindlin");
   expectEqual(denseCluster(ContactLaw::HertzMindlin), 200, "dense cluster, hertz-mindlin");
   expectResumeEqual(denseCluster(ContactLaw::HertzMindlin), 150, 50, "dense cluster, hertz-mindlin");
+}
+
+// Cohesion on the dense cluster (every particle in contact from the first step): dmt under
+// hooke-history, sjkr under hertz-mindlin with two materials; and across a resume.
+TEST_P(CudaEqualsCpu, CohesionStepByStep) {
+  expectEqual(denseCluster(ContactLaw::HookeHistory, Cohesion::Dmt), 200, "dense cluster, hooke-history + dmt");
+  expectEqual(denseCluster(ContactLaw::HertzMindlin, Cohesion::Sjkr), 200, "dense cluster, hertz-mindlin + sjkr");
+  expectResumeEqual(denseCluster(ContactLaw::HertzMindlin, Cohesion::Sjkr), 150, 50, "dense cluster, hertz-mindlin + sjkr");
 }
 
 // The heaps of scenes/ as they are: heap (hooke-history, rolling resistance) and heap-hertz
