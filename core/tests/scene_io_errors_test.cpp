@@ -119,14 +119,14 @@ TEST(SceneIoErrors, CohesionThatNoOverlapBalances) {
   (void)tumble::World::fromScene(tumble::parseScene(
       withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\ncohesion_energy_density = 1e4\n"),
       "test.toml"));
-  // dmt at rest 2 pi gamma / k = 31 % of R* deep; hertz-mindlin sjkr (3 pi k_c / (2 Y*))^2 = 32 % (pairs) and 18 % (the
-  // rigid ground).
-  refused(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\nsurface_energy = 1000\n"),
+  // dmt at rest 2 pi gamma / k = 63 % of R* deep; hertz-mindlin sjkr (3 pi k_c / (2 Y*))^2 = 72 % (pairs) and 72 % (the
+  // rigid ground, 1.2e10 against twice the pair's Y*).
+  refused(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\nsurface_energy = 2000\n"),
           "% of R* deep at rest");
-  refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass + "cohesion_energy_density = 4e9\n",
-          "materials 'glass' and 'glass': cohesion_energy_density 4e+09 alone pulls");
+  refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass + "cohesion_energy_density = 6e9\n",
+          "materials 'glass' and 'glass': cohesion_energy_density 6e+09 alone pulls");
   refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass +
-              "cohesion_energy_density = 1e8\n[ground]\ncohesion_energy_density = 8e9\n",
+              "cohesion_energy_density = 1e8\n[ground]\ncohesion_energy_density = 1.2e10\n",
           "material 'glass' on [ground]");
 }
 
