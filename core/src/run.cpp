@@ -184,6 +184,7 @@ struct Changeable {
 std::vector<Changeable> changeable(Scene& s) {
   ContactParams& c = s.contact;
   GroundParams& g = s.ground;
+  const std::string cohesionKey = c.cohesion == Cohesion::Sjkr ? "cohesion_energy_density" : "surface_energy";
   std::vector<Changeable> out;
   switch (c.law) {
     case ContactLaw::Report:
@@ -198,6 +199,7 @@ std::vector<Changeable> changeable(Scene& s) {
              {"contact.gamma_t", Range::NonNegative, &c.gammaT},
              {"contact.friction", Range::NonNegative, &c.friction},
              {"contact.rolling_friction", Range::NonNegative, &c.rollingFriction}};
+      if (c.cohesion != Cohesion::None) out.push_back({"contact." + cohesionKey, Range::NonNegative, &c.cohesionValue});
       break;
     case ContactLaw::HertzMindlin:
       for (MaterialDef& m : s.materials) {
@@ -207,10 +209,13 @@ std::vector<Changeable> changeable(Scene& s) {
         out.push_back({at + "restitution", Range::Restitution, &m.restitution});
         out.push_back({at + "friction", Range::NonNegative, &m.friction});
         out.push_back({at + "rolling_friction", Range::NonNegative, &m.rollingFriction});
+        if (c.cohesion != Cohesion::None) out.push_back({at + cohesionKey, Range::NonNegative, &m.cohesion});
       }
       break;
   }
   if (!g.enabled) return out;
+  // A plane's own cohesion (docs/model.md#cohesion): set, it replaces the contact's or the pair's.
+  if (c.cohesion != Cohesion::None) out.push_back({"ground." + cohesionKey, Range::NonNegative, &g.cohesion});
   if (c.usesMaterials()) {  // the ground's friction replaces the mixed one, as in the file
     out.push_back({"ground.friction", Range::NonNegative, &g.frictionOverride});
     out.push_back({"ground.rolling_friction", Range::NonNegative, &g.rollingFriction});
@@ -233,6 +238,8 @@ std::string cannotChange(const std::string& key, const Scene& s, const std::vect
   std::string why;
   if (key == "contact.law")
     why = "the law cannot change during a run (which bodies rotate and the contacts' history depend on it)";
+  else if (key == "contact.cohesion")
+    why = "the cohesion model cannot change during a run (its coefficients can, under the model the scene chose)";
   else if (key == "ground.enabled" || key == "ground.height" || key == "ground.material")
     why = "the ground's place and material cannot change during a run";
   else if (key.rfind("material.", 0) == 0 && ends(".density"))

@@ -265,3 +265,23 @@ def test_what_cannot_change_is_named():
     sim.step(100)
     ref.step(100)
     assert same_state(sim, ref)  # nothing changed, not even ground.friction of the refused pair
+
+
+@pytest.mark.parametrize("pipeline", ["cpu", "cuda-host"])
+def test_cohesion_changed_between_steps_is_a_resumed_run_with_it(tmp_path, pipeline):
+    """The cohesion's coefficient (docs/model.md#cohesion) changes as the other contact parameters:
+    scenes/heap-cohesive.toml with k_c halved at step 100 goes on as the changed scene resumed."""
+    path = os.path.join(SRC, "scenes", "heap-cohesive.toml")
+    sim = tumble.Simulation(tumble.Scene.load(path), pipeline)
+    sim.step(100)
+    sim.checkpoint(tmp_path / "c.ck")
+    sim.set_parameters({"material.glass.cohesion_energy_density": 5e5, "ground.cohesion_energy_density": 2e5})
+    sim.step(100)
+    text = open(path).read().replace("cohesion_energy_density = 1e6", "cohesion_energy_density = 5e5")
+    changed = tumble.Scene.parse(text, "heap-cohesive.toml", ["ground.cohesion_energy_density=2e5"])
+    resumed = tumble.Simulation(changed, pipeline, resume=tmp_path / "c.ck")
+    assert "differ" in resumed.warning
+    resumed.step(100)
+    assert same_state(sim, resumed)
+    with pytest.raises(tumble.Error, match="contact.cohesion: the cohesion model cannot change"):
+        sim.set_parameters({"contact.cohesion": 0.0})
