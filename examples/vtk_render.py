@@ -3,9 +3,10 @@
 """Render one frame of `tumble export` with VTK's Python (no ParaView needed), as ParaView's
 Glyph filter would: a sphere of the particle's radius at each point, coloured by body, the
 ground square and, with --walls, the walls see-through; with --contacts (tumble export --contacts)
-the force chains: each contact a tube between the two centres, its radius and colour by the
-normal force, the spheres then faint. docs/export.md; Debian: apt-get install python3-vtk9 (an X
-display or Xvfb: xvfb-run -a python3 examples/vtk_render.py …).
+the force chains: each contact a tube between the two centres, its radius by the normal force,
+coloured by it in compression and purple in tension (cohesion), the spheres then faint.
+docs/export.md; Debian: apt-get install python3-vtk9 (an X display or Xvfb: xvfb-run -a python3
+examples/vtk_render.py …).
 
 usage: vtk_render.py FRAME.vtp [GROUND.vtp] [--walls WALLS.vtp] [--contacts CONTACTS.vtp] [--view iso|side] -o OUT.png
                     [--size 1200x800]
@@ -74,41 +75,77 @@ ren = vtkRenderer()
 ren.AddActor(actor)
 if a.contacts:
     # Tubes of radius up to a third of the mean particle radius, by the normal force (its square
-    # root: the tube's cross-section grows with the force), coloured by the force.
+    # root: the tube's cross-section grows with the force): contacts in compression coloured by
+    # the force (blue weak, red strong), those in tension (fn < 0: cohesion) purple.
     chains = read(a.contacts)
     force = chains.GetCellData().GetArray("normal_magnitude")
     fmax = max(force.GetRange()[1], 1e-30) if force is not None else 1.0
     from vtkmodules.vtkCommonCore import vtkFloatArray
-    from vtkmodules.vtkFiltersCore import vtkCellDataToPointData
-    to_points = vtkCellDataToPointData()
-    to_points.SetInputData(chains)
-    to_points.Update()
-    lines = to_points.GetOutput()
-    root = vtkFloatArray()
-    root.SetName("size")
-    src = lines.GetPointData().GetArray("normal_magnitude")
-    for k in range(lines.GetNumberOfPoints()):
-        root.InsertNextValue((src.GetValue(k) / fmax) ** 0.5 if src is not None else 1.0)
-    lines.GetPointData().AddArray(root)
-    lines.GetPointData().SetActiveScalars("size")
+    from vtkmodules.vtkCommonDataModel import vtkDataObject
+    from vtkmodules.vtkFiltersCore import vtkCellDataToPointData, vtkThreshold
+    from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
     rmean = sum(frame.GetPointData().GetArray("radius").GetRange()) / 2
-    tube = vtkTubeFilter()
-    tube.SetInputData(lines)
-    tube.SetRadius(0.02 * rmean)
-    tube.SetRadiusFactor(15.0)  # up to 0.3 of the radius
-    tube.SetVaryRadiusToVaryRadiusByScalar()
-    tube.SetNumberOfSides(8)
-    tm = vtkPolyDataMapper()
-    tm.SetInputConnection(tube.GetOutputPort())
-    tm.SetScalarModeToUsePointFieldData()
-    tm.SelectColorArray("size")
-    tm.SetScalarRange(0.0, 1.0)
-    tl = tm.GetLookupTable()
-    tl.SetHueRange(0.66, 0.0)  # blue (weak) to red (strong)
-    tl.Build()
-    ta = vtkActor()
-    ta.SetMapper(tm)
-    ren.AddActor(ta)
+
+    def part(tension):
+        """The contacts in tension (fn < 0) or in compression, as lines with the point scalar 'size'."""
+        if chains.GetCellData().GetArray("fn") is None:  # (every contact drawn as compressed)
+            if tension:
+                return None
+            lines = chains
+        else:
+            keep = vtkThreshold()
+            keep.SetInputData(chains)
+            keep.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_CELLS, "fn")
+            if tension:
+                keep.SetThresholdFunction(vtkThreshold.THRESHOLD_LOWER)
+                keep.SetLowerThreshold(-1e-30)  # fn <= -1e-30
+            else:
+                keep.SetThresholdFunction(vtkThreshold.THRESHOLD_UPPER)
+                keep.SetUpperThreshold(0.0)  # fn >= 0
+            geometry = vtkGeometryFilter()
+            geometry.SetInputConnection(keep.GetOutputPort())
+            geometry.Update()
+            lines = geometry.GetOutput()
+        if lines.GetNumberOfCells() == 0:
+            return None
+        to_points = vtkCellDataToPointData()
+        to_points.SetInputData(lines)
+        to_points.Update()
+        lines = to_points.GetOutput()
+        root = vtkFloatArray()
+        root.SetName("size")
+        src = lines.GetPointData().GetArray("normal_magnitude")
+        for k in range(lines.GetNumberOfPoints()):
+            root.InsertNextValue((src.GetValue(k) / fmax) ** 0.5 if src is not None else 1.0)
+        lines.GetPointData().AddArray(root)
+        lines.GetPointData().SetActiveScalars("size")
+        return lines
+
+    for tension in (False, True):
+        lines = part(tension)
+        if lines is None:
+            continue
+        tube = vtkTubeFilter()
+        tube.SetInputData(lines)
+        tube.SetRadius(0.02 * rmean)
+        tube.SetRadiusFactor(15.0)  # up to 0.3 of the radius
+        tube.SetVaryRadiusToVaryRadiusByScalar()
+        tube.SetNumberOfSides(8)
+        tm = vtkPolyDataMapper()
+        tm.SetInputConnection(tube.GetOutputPort())
+        ta = vtkActor()
+        ta.SetMapper(tm)
+        if tension:
+            tm.ScalarVisibilityOff()
+            ta.GetProperty().SetColor(0.55, 0.1, 0.75)
+        else:
+            tm.SetScalarModeToUsePointFieldData()
+            tm.SelectColorArray("size")
+            tm.SetScalarRange(0.0, 1.0)
+            tl = tm.GetLookupTable()
+            tl.SetHueRange(0.66, 0.0)  # blue (weak) to red (strong)
+            tl.Build()
+        ren.AddActor(ta)
     actor.GetProperty().SetOpacity(0.12)
     mapper.ScalarVisibilityOff()
     actor.GetProperty().SetColor(0.6, 0.6, 0.6)
