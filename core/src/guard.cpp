@@ -136,7 +136,8 @@ RunGuard::RunGuard(const World& world, Pipeline& pipeline, GuardParams params) :
   // step, else those of the last step.
   m_sample.contacts = s.foundPairs >= 0 ? static_cast<std::uint64_t>(s.foundPairs) : pipeline.stats().numPairs;
   if (s.maxOverlap > kInitialOverlapWarning) {
-    const std::string held = format(" (the contact springs hold %.3g J, released as motion when the run starts); ", s.springs);
+    const std::string held =  // the springs' own energy (the cohesive potential, ≤ 0, apart)
+        format(" (the contact springs hold %.3g J, released as motion when the run starts); ", s.springs + s.bound);
     m_initialWarning =
         s.groundOverlap
             ? "body " + std::to_string(s.overlapBody) +
@@ -445,6 +446,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   ts.maxSpeed = std::sqrt(bs.speed2);
   for (int c = 0; c < 3; ++c) ts.momentum[c] = bs.p[c], ts.angularMomentum[c] = bs.l[c];
   out.springs = springs;
+  out.bound = bound;
   out.slack = slack;
   out.swirlPower = power;
   // What the state can release: motion, springs, the pulls' potential, and gravity down to the

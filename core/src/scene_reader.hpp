@@ -376,6 +376,7 @@ class SceneParser {
   std::unordered_map<std::string, std::uint32_t> m_materialIndex;
   std::vector<std::string> m_materialNames;  ///< in file order, for messages
   std::vector<std::size_t> m_wallOfTable;     ///< per [[wall]] table, the index of its first wall
+  bool m_cohesionOff = false;  ///< [contact] cohesion = "none" given: the coefficients are checked, not read
 };
 
 }  // namespace tumble::scene_reader

@@ -81,7 +81,9 @@ void SceneParser::readContact(Scene& scene) {
     const std::string model = r.string(*n, "cohesion");
     if (model == "sjkr") c.cohesion = Cohesion::Sjkr;
     else if (model == "dmt") c.cohesion = Cohesion::Dmt;
-    else if (model != "none")
+    else if (model == "none")
+      m_cohesionOff = true;  // its coefficients may stay in the file (--set contact.cohesion='"none"')
+    else
       r.fail(sourceOf(*n), "unknown cohesion \"" + model + "\"; use \"sjkr\" (k_c, cohesion_energy_density), \"dmt\" "
                            "(the work of adhesion, surface_energy) or \"none\" (docs/model.md#cohesion)");
   }
@@ -116,20 +118,22 @@ void SceneParser::readGround(Scene& scene) {
 /// or either without a model, is an error at that key.
 float SceneParser::readCohesion(const Scene& scene, const TableReader& r, float fallback) const {
   const Cohesion model = scene.contact.cohesion;
+  float value = fallback;
   for (const char* key : {"cohesion_energy_density", "surface_energy"}) {
     const toml::node* n = r.find(key);
     if (n == nullptr) continue;
     const bool sjkrKey = key[0] == 'c';
-    if (model == Cohesion::None)
+    if (model == Cohesion::None && !m_cohesionOff)
       r.fail(sourceOf(*n), std::string(key) + " needs a cohesion model: [contact] cohesion = \"" +
                                (sjkrKey ? "sjkr" : "dmt") + "\" (docs/model.md#cohesion)");
-    if (sjkrKey != (model == Cohesion::Sjkr))
+    if (model != Cohesion::None && sjkrKey != (model == Cohesion::Sjkr))
       r.fail(sourceOf(*n), std::string(key) + " is not read under cohesion = \"" + toString(model) + "\"; give " +
                                (sjkrKey ? "surface_energy (the work of adhesion, J/m^2)"
                                         : "cohesion_energy_density (k_c, J/m^3)"));
-    return r.single(*n, key, Rule::NonNegative);
+    const float v = r.single(*n, key, Rule::NonNegative);
+    if (model != Cohesion::None) value = v;  // cohesion = "none": checked, and not read
   }
-  return fallback;
+  return value;
 }
 
 /// The contact keys of a plane (the ground or a wall) under the scene's law.

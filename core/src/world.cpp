@@ -210,18 +210,20 @@ void checkPeriodic(const World& w, const Scene& scene, bool placement) {
     if (const std::string why = periodTooShort(p, a, periodReach(w, effectiveSkin(w))); !why.empty()) throw Error(why);
 }
 
-// How deep cohesion alone pulls the largest and the smallest contacts at rest (docs/model.md#cohesion):
-// the overlap δ₀ > 0 where the spring balances the attraction without load, which must stay
-// below half of R* (Hertz's and Hooke's laws are laws of small overlaps; LIGGGHTS's own sjkr
-// check of tumble, validation/liggghts, rests 12 % deep): hertz-mindlin sjkr (3 π k_c / (2 Y*))² R*, dmt (3 π γ √R* / (2 Y*))^{2/3};
-// hooke-history dmt 2 π γ R* / k. Under hooke-history sjkr's attraction grows by 2 π k_c R* per
-// metre of overlap: at or above the spring's k no overlap balances it and the contact collapses.
+// How deep cohesion alone pulls a contact at rest (docs/model.md#cohesion): the overlap δ₀ > 0
+// where the spring balances the attraction without load, which must stay below half of R*
+// (Hertz's and Hooke's laws are laws of small overlaps; LIGGGHTS's sjkr comparison,
+// validation/liggghts, rests 12 % deep). δ₀ / R*: hertz-mindlin sjkr (3 π k_c / (2 Y*))², dmt
+// (3 π γ / (2 Y* R*))^{2/3}; hooke-history dmt 2 π γ / k. Under hooke-history sjkr's attraction
+// grows by 2 π k_c R* per metre of overlap: at or above the spring's k no overlap balances it and
+// the contact collapses. Checked for the contacts the scene can have: each pair of materials that
+// spheres are made of (a material with itself when two are), each such material on each plane,
+// at the largest and at the smallest radii of those spheres; the planes first, whose coefficient
+// a sphere pair's may be (a limit given for [contact] then holds for them too).
 void checkRestOverlap(const Scene& scene, const World& w, const std::vector<WallDef>& planes) {
   const ContactParams& c = scene.contact;
   if (c.cohesion == Cohesion::None || w.radius.empty()) return;
   const double pi = 3.14159265358979323846;
-  const double rMax = *std::max_element(w.radius.begin(), w.radius.end());
-  const double rMin = *std::min_element(w.radius.begin(), w.radius.end());
   const bool sjkr = c.cohesion == Cohesion::Sjkr;
   const std::string key = sjkr ? "cohesion_energy_density" : "surface_energy";
   const auto g = [](double v) {
@@ -243,34 +245,52 @@ void checkRestOverlap(const Scene& scene, const World& w, const std::vector<Wall
       }
       depth = 2.0 * pi * v / k;
     } else {
-      depth = sjkr ? std::pow(3.0 * pi * v / (2.0 * ystar), 2.0)
-                   : std::pow(3.0 * pi * v / (2.0 * ystar * std::sqrt(reff)), 2.0 / 3.0);
+      depth = sjkr ? std::pow(3.0 * pi * v / (2.0 * ystar), 2.0) : std::pow(3.0 * pi * v / (2.0 * ystar * reff), 2.0 / 3.0);
     }
     if (depth > 0.5)
       throw Error(where + ": " + key + " " + g(v) + " alone pulls a contact of R* " + g(reff) + " m " +
                   g(100.0 * depth) + " % of R* deep at rest (tumble allows 50 %: overlaps that deep are outside what "
                   "the contact law models); use a smaller " + key + " (docs/model.md#cohesion)");
   };
-  for (const double r : {rMax, rMin}) {
-    if (c.law == ContactLaw::HookeHistory) {
-      check(c.cohesionValue, c.stiffness, 0.0, 0.5 * r, "[contact]");
-      for (const WallDef& p : planes)
-        check(scene.cohesionOf(p.contact), p.contact.stiffness, 0.0, r, p.where.empty() ? "a plane" : p.where);
-      continue;
-    }
-    const std::size_t m = scene.materials.size();
-    for (std::size_t a = 0; a < m; ++a) {
-      for (std::size_t b = a; b < m; ++b) {
-        const HertzPair& hp = w.materialPairs[materialPairIndex(a, b, m)];
-        check(hp.cohesion, 0.0, hp.ystar, 0.5 * r, "materials '" + scene.materials[a].name + "' and '" + scene.materials[b].name + "'");
-      }
-      for (std::size_t q = 0; q < planes.size(); ++q) {
-        const HertzPair& hp = w.planeHertz[q * m + a];
-        check(hp.cohesion, 0.0, hp.ystar, r, "material '" + scene.materials[a].name + "' on " +
-                                                 (planes[q].where.empty() ? std::string("a plane") : planes[q].where));
-      }
-    }
+  const auto planeName = [&](std::size_t q) { return planes[q].where.empty() ? std::string("a plane") : planes[q].where; };
+  // The spheres of each material (one class under hooke-history): how many, the largest and smallest radius.
+  const bool hertz = c.usesMaterials();
+  const std::size_t m = hertz ? scene.materials.size() : 1;
+  std::vector<std::size_t> count(m, 0);
+  std::vector<double> lo(m, HUGE_VAL), hi(m, 0.0);
+  for (std::size_t i = 0; i < w.radius.size(); ++i) {
+    const std::size_t a = hertz ? w.material[i] : 0;
+    ++count[a];
+    lo[a] = std::min(lo[a], double(w.radius[i]));
+    hi[a] = std::max(hi[a], double(w.radius[i]));
   }
+  for (std::size_t a = 0; a < m; ++a) {
+    if (count[a] == 0) continue;
+    const std::string what = hertz ? "material '" + scene.materials[a].name + "' on " : std::string();
+    for (std::size_t q = 0; q < planes.size(); ++q)
+      for (const double r : {hi[a], lo[a]}) {
+        if (hertz) {
+          const HertzPair& hp = w.planeHertz[q * m + a];
+          check(hp.cohesion, 0.0, hp.ystar, r, what + planeName(q));
+        } else {
+          check(scene.cohesionOf(planes[q].contact), planes[q].contact.stiffness, 0.0, r, planeName(q));
+        }
+      }
+  }
+  for (std::size_t a = 0; a < m; ++a)
+    for (std::size_t b = a; b < m; ++b) {
+      if (count[a] == 0 || count[b] == 0 || (a == b && count[a] < 2)) continue;
+      for (const bool large : {true, false}) {
+        const double ra = large ? hi[a] : lo[a], rb = large ? hi[b] : lo[b], reff = ra * rb / (ra + rb);
+        if (!hertz) {
+          check(c.cohesionValue, c.stiffness, 0.0, reff, "[contact]");
+          continue;
+        }
+        const HertzPair& hp = w.materialPairs[materialPairIndex(a, b, m)];
+        check(hp.cohesion, 0.0, hp.ystar, reff,
+              "materials '" + scene.materials[a].name + "' and '" + scene.materials[b].name + "'");
+      }
+    }
 }
 
 // The cohesion of a scene built in code (the scene reader names the line of each): a law with
@@ -278,6 +298,8 @@ void checkRestOverlap(const Scene& scene, const World& w, const std::vector<Wall
 void checkCohesion(const Scene& scene, const std::vector<WallDef>& planes) {
   const ContactParams& c = scene.contact;
   if (c.cohesion == Cohesion::None) return;
+  if (c.cohesion != Cohesion::Sjkr && c.cohesion != Cohesion::Dmt)
+    throw Error("unknown cohesion model " + std::to_string(int(c.cohesion)) + " (Cohesion::None, Sjkr or Dmt)");
   if (!c.hasHistory()) throw Error("cohesion needs a contact law with history (hooke-history or hertz-mindlin)");
   const auto bad = [](float v) { return !(v >= 0.0f) || !std::isfinite(v); };
   const std::string what = c.cohesion == Cohesion::Sjkr ? "cohesion_energy_density" : "surface_energy";
@@ -449,13 +471,13 @@ World World::fromScene(const Scene& scene, bool checkPlacement) {
       if (p.contact.material >= int(m)) throw Error(p.where + ": the material index is out of range");
       for (std::size_t a = 0; a < m; ++a) w.planeHertz.push_back(planePair(scene, p.contact, a));
     }
-    checkRestOverlap(scene, w, planes);
     w.material.reserve(np);
     for (const BodyDef& bd : scene.bodies)
       for (const SphereDef& sp : scene.shapes[bd.shape].spheres) {
         if (sp.material >= m) throw Error("shape '" + scene.shapes[bd.shape].name + "': material index out of range");
         w.material.push_back(static_cast<std::uint16_t>(sp.material));
       }
+    checkRestOverlap(scene, w, planes);
   }
 
   // A sphere whose centre is behind a wall would be pushed through it from the wrong side: a

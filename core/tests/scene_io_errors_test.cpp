@@ -100,12 +100,23 @@ TEST(SceneIo, Cohesion) {
   EXPECT_EQ(tumble::World::fromScene(rigid).materialPairs[1].cohesion, 0.5f) << "the ground's own replaces the pair's";
   const Scene none = tumble::parseScene(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"none\"\n"), "test.toml");
   EXPECT_EQ(none.contact.cohesion, tumble::Cohesion::None);
+  // cohesion = "none" given (--set contact.cohesion='"none"' on a cohesive scene): the coefficients
+  // may stay, checked and not read.
+  const Scene off = tumble::parseScene(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"none\"\n"
+                                                 "cohesion_energy_density = 3e4\n[ground]\nsurface_energy = 0.2\n"),
+                                       "test.toml");
+  EXPECT_EQ(off.contact.cohesion, tumble::Cohesion::None);
+  EXPECT_EQ(off.contact.cohesionValue, 0.0f);
+  EXPECT_EQ(off.cohesionOf(off.ground), 0.0f);
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"none\"\nsurface_energy = -1\n"), 15,
+              {"surface_energy"});
 }
 
 // What World::fromScene refuses (the reader cannot: it needs the radii and the pairs' moduli).
 TEST(SceneIoErrors, CohesionThatNoOverlapBalances) {
+  // Two spheres, so that a pair of them can touch (the base scene has one).
   const auto refused = [](const std::string& text, const std::string& part) {
-    const Scene s = tumble::parseScene(text, "test.toml");
+    const Scene s = tumble::parseScene(text + "[[body]]\nshape = \"ball\"\nposition = [3, 0, 1]\n", "test.toml");
     try {
       (void)tumble::World::fromScene(s);
       ADD_FAILURE() << "no error; expected one with: " << part;
@@ -117,7 +128,8 @@ TEST(SceneIoErrors, CohesionThatNoOverlapBalances) {
   refused(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\ncohesion_energy_density = 2e4\n"),
           "pulls harder than the spring");
   (void)tumble::World::fromScene(tumble::parseScene(
-      withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\ncohesion_energy_density = 1e4\n"),
+      withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\ncohesion_energy_density = 1e4\n"
+                "[[body]]\nshape = \"ball\"\nposition = [3, 0, 1]\n"),
       "test.toml"));
   // dmt at rest 2 pi gamma / k = 63 % of R* deep; hertz-mindlin sjkr (3 pi k_c / (2 Y*))^2 = 72 % (pairs) and 72 % (the
   // rigid ground, 1.2e10 against twice the pair's Y*).
@@ -128,6 +140,16 @@ TEST(SceneIoErrors, CohesionThatNoOverlapBalances) {
   refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass +
               "cohesion_energy_density = 1e8\n[ground]\ncohesion_energy_density = 1.2e10\n",
           "material 'glass' on [ground]");
+  // hertz-mindlin dmt: (3 pi gamma / (2 Y* R*))^(2/3) = 68 % of R* (R* 0.25 m, Y* 3.3e10 Pa).
+  refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"dmt\"\n" + kGlass + "surface_energy = 1e9\n",
+          "materials 'glass' and 'glass': surface_energy 1e+09 alone pulls a contact of R* 0.25 m 68");
+  // Only the contacts the scene can have: steel, of no sphere here, may be as sticky as it likes
+  // (steel on steel and glass on steel cannot happen), and so may a plane of it against glass, where
+  // the pair's mean is what counts.
+  (void)tumble::World::fromScene(tumble::parseScene(
+      withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass + "cohesion_energy_density = 1e3\n" +
+          kSteel + "cohesion_energy_density = 1e14\n[[body]]\nshape = \"ball\"\nposition = [3, 0, 1]\n",
+      "test.toml"));
 }
 
 TEST(SceneIoErrors, Cohesion) {
@@ -144,6 +166,10 @@ TEST(SceneIoErrors, Cohesion) {
   expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\n[ground]\ncohesion_energy_density = 1\n"),
               16, {"[ground]", "cohesion_energy_density is not read under cohesion = \"dmt\"", "surface_energy"});
   expectError(withExtra("[ground]\nsurface_energy = 0.1\n"), 13, {"[ground]", "needs a cohesion model"});
+  // The other model's key beside the model's own, and its value unchecked otherwise.
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"sjkr\"\ncohesion_energy_density = 1e3\n"
+                        "surface_energy = -5\n"),
+              16, {"surface_energy is not read under cohesion = \"sjkr\""});
   expectError(withExtra(std::string(kHertz) + "cohesion = \"dmt\"\nsurface_energy = 0.1\n" + kGlass), 15,
               {"surface_energy is not a parameter of law = \"hertz-mindlin\"", "[[material]]"});
   expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"dmt\"\n[[material]]\nname = \"m\"\n"

@@ -169,6 +169,20 @@ TEST_P(CohesionTest, NormalForceIsTheLawsOnSpheresGroundAndWalls) {
     }
 }
 
+// The overlap at which a sphere of radius r and mass m rests on the ground under gravity g with
+// the ground's coefficient `value`: F_spring(δ) = m g + F_c(δ), by bisection in double.
+double restingOverlap(const Case& c, double value, double m, double r, double g) {
+  const auto spring = [&](double delta) {
+    return c.hertz ? 4.0 / 3.0 * ystar(kE1, kNu1, 0.0, 0.0) * std::sqrt(r) * std::pow(delta, 1.5) : kKground * delta;
+  };
+  double lo = 0.0, hi = r;
+  for (int k = 0; k < 200; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (spring(mid) - m * g - pullOf(c, value, mid, r, 0.0) > 0.0 ? hi : lo) = mid;
+  }
+  return lo;
+}
+
 // A sphere dropped onto the ground comes to rest where the spring carries its weight and the
 // attraction: F_spring(δ) = m g + F_c(δ), solved by bisection in double. The ground is at −r so
 // that the sphere's centre comes to rest near z = 0, where its float position resolves the
@@ -188,14 +202,10 @@ TEST_P(CohesionTest, SettlesAtTheEquilibriumOverlap) {
     const Scene scene = parseScene(text, c.name() + ", resting");
     const World w = World::fromScene(scene);
     const double m = w.bodyMass[0];
+    const double lo = restingOverlap(c, c.ground(), m, r, g);
     const auto spring = [&](double delta) {
       return c.hertz ? 4.0 / 3.0 * ystar(kE1, kNu1, 0.0, 0.0) * std::sqrt(r) * std::pow(delta, 1.5) : kKground * delta;
     };
-    double lo = 0.0, hi = r;
-    for (int k = 0; k < 200; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      (spring(mid) - m * g - pullOf(c, c.ground(), mid, r, 0.0) > 0.0 ? hi : lo) = mid;
-    }
     auto p = makePipeline(GetParam());
     p->load(w);
     p->step(scene.steps);
@@ -259,6 +269,62 @@ TEST_P(CohesionTest, ElasticCollisionsConserveTheEnergyWithTheCohesivePotential)
     EXPECT_NEAR(st.vx[0], -0.05, 2e-3 * 0.05) << c.name() << ": the pair's rebound";
     EXPECT_NEAR(st.vx[1], 0.05, 2e-3 * 0.05) << c.name();
     EXPECT_NEAR(st.vz[2], 0.05, 2e-3 * 0.05) << c.name() << ": the ground's rebound";
+  }
+}
+
+// The load that caps friction and rolling resistance (docs/model.md#cohesion): the normal force
+// without the attraction under sjkr, F_n + 2 F_c under dmt; on the ground that is m g + F_c and
+// m g + 2 F_c for a sphere resting at its equilibrium overlap. A sphere set sliding there at
+// v0 = 5 cm/s without spin decelerates at μ load / m until it rolls, then at μ_r load / (1.4 m)
+// (the constant rolling torque μ_r r load); each rate is measured over a window of its phase and
+// must be within 2 % (without cohesion the load would be m g: 2.7 and 2.5 times less here).
+TEST_P(CohesionTest, FrictionAndRollingResistanceCarryTheShiftedLoad) {
+  TUMBLE_NEED_BACKEND(GetParam());
+  const double r = 0.002, g = 9.81, mu = 0.3, muR = 0.05, v0 = 0.05, dt = 1e-6;
+  for (const Case& c : {Case{true, Cohesion::Sjkr}, Case{false, Cohesion::Dmt}}) {
+    // The ground's own coefficient: a load of a few m g.
+    const double value = c.model == Cohesion::Sjkr ? 5e4 : 0.05;
+    std::string text = "[scene]\nname = \"cohesion-load\"\ndt = 1e-6\nsteps = 1\ngravity = [0, 0, -9.81]\n" + lawText(c) +
+                       "[[shape]]\nname = \"s\"\n[[shape.sphere]]\nradius = 0.002\nmaterial = \"m\"\n";
+    replaceAll(text, "height = 0.0", "height = -0.002\nfriction = 0.3\nrolling_friction = 0.05");
+    char was[96], own[96];  // the ground's line, as lawText() writes it, and this test's
+    std::snprintf(was, sizeof was, "%s = %.17g\n[[wall]]", c.key().c_str(), c.ground());
+    std::snprintf(own, sizeof own, "%s = %.17g\n[[wall]]", c.key().c_str(), value);
+    ASSERT_NE(text.find(was), std::string::npos);
+    replaceAll(text, was, own);
+    if (!c.hertz) replaceAll(text, "gamma_n = 0", "gamma_n = 400");
+    World w = World::fromScene(parseScene(text + "[[body]]\nshape = \"s\"\nposition = [0, 0, 0]\n", c.name() + ", load"));
+    const double m = w.bodyMass[0], delta = restingOverlap(c, value, m, r, g);
+    const double fc = pullOf(c, value, delta, r, 0.0);
+    const double load = m * g + (c.model == Cohesion::Sjkr ? fc : 2.0 * fc);
+    char body[160];
+    std::snprintf(body, sizeof body, "[[body]]\nshape = \"s\"\nposition = [0, 0, %.17g]\nvelocity = [%.17g, 0, 0]\n",
+                  -delta, v0);
+    w = World::fromScene(parseScene(text + body, c.name() + ", load"));
+    auto p = makePipeline(GetParam());
+    p->load(w);
+    const double slide = mu * load / m, roll = muR * load / (1.4 * m);
+    const auto speedAfter = [&](std::uint64_t steps) {
+      p->step(steps - p->stepCount());
+      BodyState s;
+      p->readState(s);
+      return double(s.vx[0]);
+    };
+    // Sliding ends at t = (2/7) v0 / slide; measured over [0.1, 0.6] of that.
+    const double tSlide = 2.0 / 7.0 * v0 / slide;
+    const std::uint64_t s1 = std::uint64_t(0.1 * tSlide / dt), s2 = std::uint64_t(0.6 * tSlide / dt);
+    const double va = speedAfter(s1), vb = speedAfter(s2);
+    const double measuredSlide = (va - vb) / (double(s2 - s1) * dt);
+    // Rolling from 4 tSlide on (the tangential spring rings for a while after the sliding ends), over
+    // 8 tSlide (the rolling lasts some 19).
+    const std::uint64_t s3 = std::uint64_t(4.0 * tSlide / dt), s4 = s3 + std::uint64_t(8.0 * tSlide / dt);
+    const double vc = speedAfter(s3), vd = speedAfter(s4);
+    const double measuredRoll = (vc - vd) / (double(s4 - s3) * dt);
+    std::printf("%s: load %.4g N (m g %.4g N, F_c %.4g N); sliding %.5g m/s^2 (expected %.5g), rolling %.5g (expected %.5g) "
+                "from %.5g to %.5g m/s\n",
+                c.name().c_str(), load, m * g, fc, measuredSlide, slide, measuredRoll, roll, vc, vd);
+    EXPECT_NEAR(measuredSlide, slide, 0.02 * slide) << c.name() << ": friction's load";
+    EXPECT_NEAR(measuredRoll, roll, 0.02 * roll) << c.name() << ": rolling resistance's load";
   }
 }
 

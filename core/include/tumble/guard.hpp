@@ -102,6 +102,7 @@ class RunGuard {
  private:
   struct Snapshot {
     double energy = 0.0, swirlPower = 0.0, maxOverlap = 0.0, available = 0.0, springs = 0.0;
+    double bound = 0.0;   ///< with cohesion: the energy it holds, −Σ U (springs has U)
     double slack = 0.0;   ///< bound of the energy's error from rounded positions
     std::uint32_t overlapBody = 0, overlapOther = 0;
     bool groundOverlap = false;       ///< the deepest overlap is with a plane (the ground or a wall)

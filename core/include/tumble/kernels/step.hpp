@@ -153,18 +153,21 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
     const float delta = groundDepth(xl, r, w.coeffs);
     return attraction(fp.cohesion, value, planeCrossingRadius2(delta, r), r);
   };
+  Attraction att;
   if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
-    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy, pull(hp.cohesion));
+    att = pull(hp.cohesion);
+    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy, att);
     muR = hp.muR;
   } else {
     const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[std::size_t(k - 1) * v.numParticles + i];
-    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &sx, &sy, pull(w.coeffs.cohesion));
+    att = pull(w.coeffs.cohesion);
+    g = groundForces<kClumps>(xl, r, sl, c, w.coeffs, fp.dt, &sx, &sy, att);
     muR = w.coeffs.rollingFriction;
   }
   *tx = sx;
   *ty = sy;
-  const float fn = g.normal.z;
+  const float fn = g.normal.z + att.shift;  // the load that caps the rolling resistance, as the friction's
   g = GroundForces{fromWall<kAxis>(w, g.normal), fromWall<kAxis>(w, g.friction), fromWall<kAxis>(w, g.arm)};
   const Vec3f fg = g.normal + g.friction;
   out->f += fg;
