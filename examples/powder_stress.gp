@@ -8,7 +8,9 @@
 # integral of the density from the top down, is summed by awk over the 45 slices of 2 mm: the
 # vertical stress at the axis of a pile carries it, minus what the flanks' arching and the
 # cohesion hold (columns of the CSV: z $3, density $4, packing fraction $5, contact sigma_xx $6,
-# sigma_yy $7, sigma_zz $8).
+# sigma_yy $7, sigma_zz $8). Within a few kernel widths of the ground the fields fall off: the
+# kernel reaches below the ground, where there are no grains (and the ground's forces are not
+# contacts between grains).
 set terminal pngcairo size 1000,640 font ",12"
 set output "powder_cohesive_stress.png"
 set datafile separator whitespace
