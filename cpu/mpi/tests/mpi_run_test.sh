@@ -56,6 +56,7 @@ ranks_equal "bench-128k (steps 700-800)" "1 2 3 4" "$src/scenes/bench-128k.toml"
 # Contact histories (hooke-history) and Hertz–Mindlin travel with the bodies; a turning drum.
 ranks_equal "heap (hooke-history)" "2 3" "$src/scenes/heap.toml" --steps 400 --skin 0.002 --set output.record='""'
 ranks_equal "heap-hertz" "3" "$src/scenes/heap-hertz.toml" --steps 300 --skin 0.002 --set output.record='""'
+ranks_equal "powder-cohesive (sjkr cohesion, polydisperse)" "2 3" "$src/scenes/powder-cohesive.toml" --steps 1500
 ranks_equal "drum (moving walls)" "3" "$src/scenes/drum.toml" --steps 300 --set output.record='""'
 # The mesh drum once it turns (from 0.3 s, step 7500): mesh springs travel with the bodies, and
 # the ranks' guards and time series see the mesh contacts.
