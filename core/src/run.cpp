@@ -240,6 +240,11 @@ std::string cannotChange(const std::string& key, const Scene& s, const std::vect
     why = "the law cannot change during a run (which bodies rotate and the contacts' history depend on it)";
   else if (key == "contact.cohesion")
     why = "the cohesion model cannot change during a run (its coefficients can, under the model the scene chose)";
+  else if (ends(".cohesion_energy_density") || ends(".surface_energy"))
+    why = s.contact.cohesion == Cohesion::None
+              ? "the scene has no cohesion ([contact] cohesion), and its model cannot change during a run"
+              : std::string("the scene's cohesion is \"") + toString(s.contact.cohesion) + "\", whose coefficient is " +
+                    (s.contact.cohesion == Cohesion::Sjkr ? "cohesion_energy_density" : "surface_energy");
   else if (key == "ground.enabled" || key == "ground.height" || key == "ground.material")
     why = "the ground's place and material cannot change during a run";
   else if (key.rfind("material.", 0) == 0 && ends(".density"))
@@ -284,15 +289,18 @@ void Run::setParameters(const std::vector<std::pair<std::string, double>>& chang
     *it->to = v;
   }
   auto pouring = std::make_unique<const Pouring>(s);
-  World tables;
+  World tables, final;
   try {
     tables = pouring->worldWith(m_world.numBodies());  // the dampings and material pairs again, checked
+    // With pours, the world of every body that will enter, checked too (a coefficient may suit the
+    // bodies present and not those to come), before anything changes.
+    if (pouring->any()) final = pouring->worldWith(pouring->finalBodies());
   } catch (const Error& e) {
     throw Error(std::string("setParameters: ") + e.what());
   }
   reload(continuing(std::move(tables), *m_pipeline));
   m_pouring = std::move(pouring);
-  m_dtWarning = tumble::timeStepWarning(m_pouring->any() ? finalWorld() : m_world);
+  m_dtWarning = tumble::timeStepWarning(m_pouring->any() ? final : m_world);
 }
 
 World Run::finalWorld() const {

@@ -217,9 +217,10 @@ void checkPeriodic(const World& w, const Scene& scene, bool placement) {
 // (3 π γ / (2 Y* R*))^{2/3}; hooke-history dmt 2 π γ / k. Under hooke-history sjkr's attraction
 // grows by 2 π k_c R* per metre of overlap: at or above the spring's k no overlap balances it and
 // the contact collapses. Checked for the contacts the scene can have: each pair of materials that
-// spheres are made of (a material with itself when two are), each such material on each plane,
-// at the largest and at the smallest radii of those spheres; the planes first, whose coefficient
-// a sphere pair's may be (a limit given for [contact] then holds for them too).
+// spheres are made of (a material with itself when two bodies have it: its two largest and its
+// two smallest spheres), each such material on each plane, at the largest and the smallest radii
+// of those spheres; a bound suggested for [contact]'s k_c is the smallest over every contact that
+// takes it (the pairs, and the planes without their own).
 void checkRestOverlap(const Scene& scene, const World& w, const std::vector<WallDef>& planes) {
   const ContactParams& c = scene.contact;
   if (c.cohesion == Cohesion::None || w.radius.empty()) return;
@@ -231,17 +232,55 @@ void checkRestOverlap(const Scene& scene, const World& w, const std::vector<Wall
     std::snprintf(buf, sizeof buf, "%.3g", v);
     return std::string(buf);
   };
-  // A contact of coefficient v, stiffness k (hooke-history) or Y* (hertz-mindlin), at R*.
-  const auto check = [&](double v, double k, double ystar, double reff, const std::string& where) {
+  const auto planeName = [&](std::size_t q) { return planes[q].where.empty() ? std::string("a plane") : planes[q].where; };
+  // The spheres of each material (one class under hooke-history): how many, the smallest and the
+  // largest, and the smallest and the largest of another body than theirs (a clump's spheres never
+  // touch each other): the least and the greatest R* of two spheres of the material that can touch.
+  const bool hertz = c.usesMaterials();
+  const std::size_t m = hertz ? scene.materials.size() : 1;
+  struct Spheres {
+    std::size_t count = 0;
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {0.0, 0.0};  ///< [1]: of another body than [0]'s
+    std::uint32_t loBody = 0, hiBody = 0;
+    bool bodies() const { return lo[1] < HUGE_VAL; }  ///< of two bodies or more
+  };
+  std::vector<Spheres> sp(m);
+  const auto materialOfParticle = [&](std::size_t i) { return hertz ? std::size_t(w.material[i]) : std::size_t(0); };
+  for (std::size_t i = 0; i < w.radius.size(); ++i) {
+    Spheres& e = sp[materialOfParticle(i)];
+    const double r = w.radius[i];
+    ++e.count;
+    if (r < e.lo[0]) e.lo[0] = r, e.loBody = w.body[i];
+    if (r > e.hi[0]) e.hi[0] = r, e.hiBody = w.body[i];
+  }
+  for (std::size_t i = 0; i < w.radius.size(); ++i) {
+    Spheres& e = sp[materialOfParticle(i)];
+    const double r = w.radius[i];
+    if (w.body[i] != e.loBody) e.lo[1] = std::min(e.lo[1], r);
+    if (w.body[i] != e.hiBody) e.hi[1] = std::max(e.hi[1], r);
+  }
+  // Under hooke-history sjkr a plane without its own k_c takes [contact]'s: the bound suggested for
+  // that value is the smallest of every check it meets.
+  double contactLimit = HUGE_VAL;
+  if (c.law == ContactLaw::HookeHistory && sjkr && sp[0].count > 0) {
+    if (sp[0].bodies()) contactLimit = c.stiffness / (2.0 * pi * 0.5 * sp[0].hi[0]);
+    for (const WallDef& p : planes)
+      if (!(p.contact.cohesion >= 0.0f)) contactLimit = std::min(contactLimit, p.contact.stiffness / (2.0 * pi * sp[0].hi[0]));
+  }
+  // A contact of coefficient v, stiffness k (hooke-history) or Y* (hertz-mindlin), at R*; inherits:
+  // the coefficient is [contact]'s (a pair, or a plane without its own).
+  const auto check = [&](double v, double k, double ystar, double reff, const std::string& where, bool inherits) {
     if (!(v > 0.0)) return;
     double depth;  // δ₀ / R*
     if (c.law == ContactLaw::HookeHistory) {
       if (sjkr) {
         if (2.0 * pi * v * reff < k) return;
-        throw Error(where + ": " + key + " " + g(v) + " pulls harder than the spring " + g(k) +
-                    " N/m can push (2 pi k_c R* = " + g(2.0 * pi * v * reff) + " N/m at R* " + g(reff) +
-                    " m): no overlap balances it; use k_c below " + g(k / (2.0 * pi * reff)) +
-                    " J/m^3 (docs/model.md#cohesion)");
+        const double limit = inherits ? contactLimit : k / (2.0 * pi * reff);
+        throw Error(where + ": " + key + " " + g(v) + (inherits && where != "[contact]" ? " ([contact]'s)" : "") +
+                    " pulls harder than the spring " + g(k) + " N/m can push (2 pi k_c R* = " +
+                    g(2.0 * pi * v * reff) + " N/m at R* " + g(reff) + " m): no overlap balances it; use k_c below " +
+                    g(limit) + " J/m^3" + (inherits ? " (for every contact that takes it)" : "") +
+                    " (docs/model.md#cohesion)");
       }
       depth = 2.0 * pi * v / k;
     } else {
@@ -252,43 +291,35 @@ void checkRestOverlap(const Scene& scene, const World& w, const std::vector<Wall
                   g(100.0 * depth) + " % of R* deep at rest (tumble allows 50 %: overlaps that deep are outside what "
                   "the contact law models); use a smaller " + key + " (docs/model.md#cohesion)");
   };
-  const auto planeName = [&](std::size_t q) { return planes[q].where.empty() ? std::string("a plane") : planes[q].where; };
-  // The spheres of each material (one class under hooke-history): how many, the largest and smallest radius.
-  const bool hertz = c.usesMaterials();
-  const std::size_t m = hertz ? scene.materials.size() : 1;
-  std::vector<std::size_t> count(m, 0);
-  std::vector<double> lo(m, HUGE_VAL), hi(m, 0.0);
-  for (std::size_t i = 0; i < w.radius.size(); ++i) {
-    const std::size_t a = hertz ? w.material[i] : 0;
-    ++count[a];
-    lo[a] = std::min(lo[a], double(w.radius[i]));
-    hi[a] = std::max(hi[a], double(w.radius[i]));
-  }
   for (std::size_t a = 0; a < m; ++a) {
-    if (count[a] == 0) continue;
+    if (sp[a].count == 0) continue;
     const std::string what = hertz ? "material '" + scene.materials[a].name + "' on " : std::string();
     for (std::size_t q = 0; q < planes.size(); ++q)
-      for (const double r : {hi[a], lo[a]}) {
+      for (const double r : {sp[a].hi[0], sp[a].lo[0]}) {
         if (hertz) {
           const HertzPair& hp = w.planeHertz[q * m + a];
-          check(hp.cohesion, 0.0, hp.ystar, r, what + planeName(q));
+          check(hp.cohesion, 0.0, hp.ystar, r, what + planeName(q), false);
         } else {
-          check(scene.cohesionOf(planes[q].contact), planes[q].contact.stiffness, 0.0, r, planeName(q));
+          check(scene.cohesionOf(planes[q].contact), planes[q].contact.stiffness, 0.0, r, planeName(q),
+                !(planes[q].contact.cohesion >= 0.0f));
         }
       }
   }
   for (std::size_t a = 0; a < m; ++a)
     for (std::size_t b = a; b < m; ++b) {
-      if (count[a] == 0 || count[b] == 0 || (a == b && count[a] < 2)) continue;
+      // A material with itself: its smallest (largest) sphere and the smallest (largest) of another body.
+      if (sp[a].count == 0 || sp[b].count == 0 || (a == b && !sp[a].bodies())) continue;
       for (const bool large : {true, false}) {
-        const double ra = large ? hi[a] : lo[a], rb = large ? hi[b] : lo[b], reff = ra * rb / (ra + rb);
+        const double ra = large ? sp[a].hi[0] : sp[a].lo[0];
+        const double rb = a == b ? (large ? sp[a].hi[1] : sp[a].lo[1]) : (large ? sp[b].hi[0] : sp[b].lo[0]);
+        const double reff = ra * rb / (ra + rb);
         if (!hertz) {
-          check(c.cohesionValue, c.stiffness, 0.0, reff, "[contact]");
+          check(c.cohesionValue, c.stiffness, 0.0, reff, "[contact]", true);
           continue;
         }
         const HertzPair& hp = w.materialPairs[materialPairIndex(a, b, m)];
         check(hp.cohesion, 0.0, hp.ystar, reff,
-              "materials '" + scene.materials[a].name + "' and '" + scene.materials[b].name + "'");
+              "materials '" + scene.materials[a].name + "' and '" + scene.materials[b].name + "'", false);
       }
     }
 }

@@ -143,6 +143,33 @@ TEST(SceneIoErrors, CohesionThatNoOverlapBalances) {
   // hertz-mindlin dmt: (3 pi gamma / (2 Y* R*))^(2/3) = 68 % of R* (R* 0.25 m, Y* 3.3e10 Pa).
   refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"dmt\"\n" + kGlass + "surface_energy = 1e9\n",
           "materials 'glass' and 'glass': surface_energy 1e+09 alone pulls a contact of R* 0.25 m 68");
+  // A material with itself at its two smallest spheres of two bodies: a small sphere (r 0.05) and
+  // two balls (r 0.5) rest 40 % of R* deep under dmt (R* 0.045 m), where two small spheres would
+  // rest 60 % deep (R* 0.025 m): accepted; with a second small sphere, refused. And two small
+  // spheres of one clump never touch.
+  const std::string small = "[[shape]]\nname = \"small\"\n[[shape.sphere]]\nradius = 0.05\nmaterial = \"glass\"\n";
+  const std::string dmt = withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"dmt\"\n" + kGlass +
+                          "surface_energy = 8.2e7\n" + small;
+  const std::string ball = "[[body]]\nshape = \"ball\"\nposition = [3, 0, 1]\n";
+  const std::string smallBody = "[[body]]\nshape = \"small\"\nposition = [6, 0, 1]\n";
+  (void)tumble::World::fromScene(tumble::parseScene(dmt + ball + smallBody, "test.toml"));
+  try {
+    (void)tumble::World::fromScene(
+        tumble::parseScene(dmt + ball + smallBody + "[[body]]\nshape = \"small\"\nposition = [9, 0, 1]\n", "test.toml"));
+    ADD_FAILURE() << "two small spheres resting 60 % of R* deep: no error";
+  } catch (const tumble::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("R* 0.025 m"), std::string::npos) << e.what();
+  }
+  (void)tumble::World::fromScene(tumble::parseScene(
+      withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"dmt\"\n" + kGlass + "surface_energy = 8.2e7\n" +
+          "[[shape]]\nname = \"pair\"\n[[shape.sphere]]\nradius = 0.05\noffset = [-0.04, 0, 0]\nmaterial = \"glass\"\n"
+          "[[shape.sphere]]\nradius = 0.05\noffset = [0.04, 0, 0]\nmaterial = \"glass\"\n"
+          "[[body]]\nshape = \"pair\"\nposition = [6, 0, 1]\n",
+      "test.toml"));
+  // An unknown model set in code.
+  tumble::Scene coded = tumble::parseScene(withExtra("[contact]\nlaw = \"hooke-history\"\n"), "test.toml");
+  coded.contact.cohesion = static_cast<tumble::Cohesion>(7);
+  EXPECT_THROW((void)tumble::World::fromScene(coded), tumble::Error);
   // Only the contacts the scene can have: steel, of no sphere here, may be as sticky as it likes
   // (steel on steel and glass on steel cannot happen), and so may a plane of it against glass, where
   // the pair's mean is what counts.

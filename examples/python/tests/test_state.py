@@ -287,3 +287,34 @@ def test_cohesion_changed_between_steps_is_a_resumed_run_with_it(tmp_path, pipel
     assert same_state(sim, resumed)
     with pytest.raises(tumble.Error, match="contact.cohesion: the cohesion model cannot change"):
         sim.set_parameters({"contact.cohesion": 0.0})
+    with pytest.raises(tumble.Error, match='surface_energy: the scene\'s cohesion is "sjkr", whose coefficient is '
+                                           'cohesion_energy_density'):
+        sim.set_parameters({"material.glass.surface_energy": 0.1})
+
+
+def test_a_cohesion_refused_for_bodies_still_to_pour_changes_nothing():
+    """Under hooke-history sjkr a k_c must stay below k / (2 pi R*) for every contact the scene can
+    have, the pour's bodies included: one that suits the spheres present but not the large ones to
+    come is refused, and the run goes on as if it had not been asked."""
+    text = "\n".join([
+        '[scene]', 'name = "pour-cohesion"', 'dt = 5e-5', 'steps = 400', 'gravity = [0, 0, -9.81]',
+        '[contact]', 'law = "hooke-history"', 'stiffness = 2e4', 'gamma_n = 1500', 'cohesion = "sjkr"',
+        'cohesion_energy_density = 5e4',
+        '[ground]', 'stiffness = 2e4',
+        '[[shape]]', 'name = "small"', '[[shape.sphere]]', 'radius = 0.01', 'density = 2500',
+        '[[shape]]', 'name = "big"', '[[shape.sphere]]', 'radius = 0.05', 'density = 2500',
+        '[[body]]', 'shape = "small"', 'position = [0, 0, 0.01]',
+        '[[body]]', 'shape = "small"', 'position = [0.1, 0, 0.01]',
+        '[[pour]]', 'shape = "big"', 'count = 2', 'rate = 200', 'start = 0.01', 'region = "box"',
+        'min = [-0.3, -0.3, 0.2]', 'max = [0.3, 0.3, 0.6]', ''])
+    sim = tumble.Simulation(tumble.Scene.parse(text, "pour-cohesion.toml"))
+    ref = tumble.Simulation(tumble.Scene.parse(text, "pour-cohesion.toml"))
+    sim.step(100)
+    ref.step(100)
+    # 2 pi 7e4 * 0.05 = 2.2e4 N/m against the ground's 2e4 for a big sphere (a small one: 4.4e3).
+    with pytest.raises(tumble.Error, match=r"setParameters: \[ground\]: cohesion_energy_density 7e\+04 \(\[contact\]'s\)"):
+        sim.set_parameters({"contact.cohesion_energy_density": 7e4})
+    sim.step(300)  # the pour enters: the run goes on with k_c 5e4, as the reference
+    ref.step(300)
+    assert len(sim.bodies()["x"]) == 4  # the two big ones are in
+    assert same_state(sim, ref)
