@@ -13,12 +13,14 @@
 // sjkr on the same collisions: validation/liggghts/sjkr_collisions.py.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "tumble/factory.hpp"
+#include "tumble/kernels/cohesion.hpp"
 #include "tumble/guard.hpp"
 #include "tumble/scene_io.hpp"
 #include "tumble/thermo.hpp"
@@ -109,6 +111,26 @@ std::string restingScene(const Case& c, double frac) {
                 "[[body]]\nshape = \"d\"\nposition = [%.9g, 0, 0.03]\n",
                 ra, rb, rc, rd, -0.01 + ra + rb - frac * rb, rc - frac * rc, 0.1 - rd + frac * rd);
   return "[scene]\nname = \"cohesion-at-rest\"\ndt = 1e-6\nsteps = 1\ngravity = [0, 0, 0]\n" + lawText(c) + bodies;
+}
+
+// The crossing circle against the geometry in double: two spheres' surfaces cross where
+// x = (d² + ri² − rj²) / (2d) from i's centre, a² = ri² − x²; bit-identical from either side;
+// nothing (0, finite) once a sphere is inside the other, at coincident centres or through a plane.
+TEST(Cohesion, CrossingCircleIsTheLensGeometry) {
+  for (const float ri : {0.01f, 0.003f})
+    for (const float rj : {0.01f, 0.007f, 0.0005f})
+      for (const float frac : {1e-4f, 1e-2f, 0.3f}) {
+        const float delta = frac * std::min(ri, rj);
+        const double d = double(ri) + rj - delta, x = (d * d + double(ri) * ri - double(rj) * rj) / (2.0 * d);
+        const double want = double(ri) * ri - x * x;
+        const float got = crossingRadius2(delta, ri, rj);
+        EXPECT_NEAR(got, want, 1e-5 * want) << ri << " " << rj << " " << delta;
+        EXPECT_EQ(got, crossingRadius2(delta, rj, ri)) << "antisymmetry";
+      }
+  EXPECT_EQ(crossingRadius2(0.01f + 0.002f, 0.01f, 0.002f), 0.0f) << "the small sphere inside the large one";
+  EXPECT_EQ(crossingRadius2(0.02f, 0.01f, 0.01f), 0.0f) << "coincident centres";
+  EXPECT_EQ(planeCrossingRadius2(0.025f, 0.01f), 0.0f) << "through the plane";
+  EXPECT_NEAR(planeCrossingRadius2(0.001f, 0.01f), 0.001 * 0.019, 1e-12);
 }
 
 class CohesionTest : public ::testing::TestWithParam<Backend> {};

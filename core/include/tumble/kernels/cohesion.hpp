@@ -33,14 +33,20 @@ struct Attraction {
 /// a² of two spheres of radii ri, rj overlapping by δ: the squared radius of the circle where
 /// their surfaces cross, a² = δ (2S − δ)(d − D)(d + D) / (4 d²), d = S − δ the distance of the
 /// centres, S = ri + rj, D = ri − rj (the exact geometry LIGGGHTS's sjkr uses, written without
-/// cancellation). Seen from j the same bits (D is negated, the products commute).
+/// cancellation). Seen from j the same bits (D is negated, the products commute). 0 once one
+/// sphere is inside the other (d ≤ |D|: no circle; also coincident centres, d = 0), an overlap
+/// far beyond any contact law's that the guard stops.
 TUMBLE_HD_INLINE float crossingRadius2(float delta, float ri, float rj) {
   const float s = ri + rj, d = s - delta, dd = ri - rj;
+  if (!(d > (dd < 0.0f ? -dd : dd))) return 0.0f;
   return (delta * (2.0f * s - delta)) * ((d - dd) * (d + dd)) / (4.0f * d * d);
 }
 
-/// a² of a sphere of radius r pressed δ into a plane: δ (2r − δ).
-TUMBLE_HD_INLINE float planeCrossingRadius2(float delta, float r) { return delta * (2.0f * r - delta); }
+/// a² of a sphere of radius r pressed δ into a plane: δ (2r − δ) (0 once it is through, δ ≥ 2r).
+TUMBLE_HD_INLINE float planeCrossingRadius2(float delta, float r) {
+  const float a2 = delta * (2.0f * r - delta);
+  return a2 > 0.0f ? a2 : 0.0f;
+}
 
 /// The attraction of a contact under `model` with the pair's coefficient `value` (k_c for sjkr,
 /// γ for dmt; 0: none), a² of its crossing circle (read by sjkr) and its effective radius R*

@@ -63,7 +63,7 @@ inline ForceParams makeForceParams(const Scene& p, std::uint32_t pulls) {
                                    p.contact.tangentialStiffness > 0.0f ? p.contact.tangentialStiffness
                                                                         : p.contact.stiffness * (2.0f / 7.0f),
                                    p.contact.gammaN, p.contact.gammaT >= 0.0f ? p.contact.gammaT : 0.5f * p.contact.gammaN,
-                                   p.contact.friction, p.cohesionOf(GroundParams{})},
+                                   p.contact.friction, p.contact.cohesion == Cohesion::None ? 0.0f : p.contact.cohesionValue},
                      p.contact.rollingFriction,
                      p.ground.enabled,
                      !p.walls.empty(),
