@@ -184,7 +184,7 @@ struct Changeable {
 std::vector<Changeable> changeable(Scene& s) {
   ContactParams& c = s.contact;
   GroundParams& g = s.ground;
-  const std::string cohesionKey = c.cohesion == Cohesion::Sjkr ? "cohesion_energy_density" : "surface_energy";
+  const std::string key = cohesionKey(c.cohesion);
   std::vector<Changeable> out;
   switch (c.law) {
     case ContactLaw::Report:
@@ -199,7 +199,7 @@ std::vector<Changeable> changeable(Scene& s) {
              {"contact.gamma_t", Range::NonNegative, &c.gammaT},
              {"contact.friction", Range::NonNegative, &c.friction},
              {"contact.rolling_friction", Range::NonNegative, &c.rollingFriction}};
-      if (c.cohesion != Cohesion::None) out.push_back({"contact." + cohesionKey, Range::NonNegative, &c.cohesionValue});
+      if (c.cohesion != Cohesion::None) out.push_back({"contact." + key, Range::NonNegative, &c.cohesionValue});
       break;
     case ContactLaw::HertzMindlin:
       for (MaterialDef& m : s.materials) {
@@ -209,13 +209,13 @@ std::vector<Changeable> changeable(Scene& s) {
         out.push_back({at + "restitution", Range::Restitution, &m.restitution});
         out.push_back({at + "friction", Range::NonNegative, &m.friction});
         out.push_back({at + "rolling_friction", Range::NonNegative, &m.rollingFriction});
-        if (c.cohesion != Cohesion::None) out.push_back({at + cohesionKey, Range::NonNegative, &m.cohesion});
+        if (c.cohesion != Cohesion::None) out.push_back({at + key, Range::NonNegative, &m.cohesion});
       }
       break;
   }
   if (!g.enabled) return out;
   // A plane's own cohesion (docs/model.md#cohesion): set, it replaces the contact's or the pair's.
-  if (c.cohesion != Cohesion::None) out.push_back({"ground." + cohesionKey, Range::NonNegative, &g.cohesion});
+  if (c.cohesion != Cohesion::None) out.push_back({"ground." + key, Range::NonNegative, &g.cohesion});
   if (c.usesMaterials()) {  // the ground's friction replaces the mixed one, as in the file
     out.push_back({"ground.friction", Range::NonNegative, &g.frictionOverride});
     out.push_back({"ground.rolling_friction", Range::NonNegative, &g.rollingFriction});
@@ -244,7 +244,7 @@ std::string cannotChange(const std::string& key, const Scene& s, const std::vect
     why = s.contact.cohesion == Cohesion::None
               ? "the scene has no cohesion ([contact] cohesion), and its model cannot change during a run"
               : std::string("the scene's cohesion is \"") + toString(s.contact.cohesion) + "\", whose coefficient is " +
-                    (s.contact.cohesion == Cohesion::Sjkr ? "cohesion_energy_density" : "surface_energy");
+                    cohesionKey(s.contact.cohesion);
   else if (key == "ground.enabled" || key == "ground.height" || key == "ground.material")
     why = "the ground's place and material cannot change during a run";
   else if (key.rfind("material.", 0) == 0 && ends(".density"))

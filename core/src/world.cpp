@@ -226,7 +226,7 @@ void checkRestOverlap(const Scene& scene, const World& w, const std::vector<Wall
   if (c.cohesion == Cohesion::None || w.radius.empty()) return;
   const double pi = 3.14159265358979323846;
   const bool sjkr = c.cohesion == Cohesion::Sjkr;
-  const std::string key = sjkr ? "cohesion_energy_density" : "surface_energy";
+  const std::string key = cohesionKey(c.cohesion);
   const auto g = [](double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3g", v);
@@ -333,7 +333,7 @@ void checkCohesion(const Scene& scene, const std::vector<WallDef>& planes) {
     throw Error("unknown cohesion model " + std::to_string(int(c.cohesion)) + " (Cohesion::None, Sjkr or Dmt)");
   if (!c.hasHistory()) throw Error("cohesion needs a contact law with history (hooke-history or hertz-mindlin)");
   const auto bad = [](float v) { return !(v >= 0.0f) || !std::isfinite(v); };
-  const std::string what = c.cohesion == Cohesion::Sjkr ? "cohesion_energy_density" : "surface_energy";
+  const std::string what = cohesionKey(c.cohesion);
   if (bad(c.cohesionValue)) throw Error("[contact] " + what + " must be finite and >= 0");
   for (const MaterialDef& m : scene.materials)
     if (bad(m.cohesion)) throw Error("material '" + m.name + "': " + what + " must be finite and >= 0");

@@ -31,6 +31,14 @@ const char* toString(Cohesion model) {
   }
 }
 
+const char* cohesionKey(Cohesion model) {
+  switch (model) {
+    case Cohesion::Sjkr: return "cohesion_energy_density";
+    case Cohesion::Dmt: return "surface_energy";
+    default: return "";
+  }
+}
+
 std::string materialOutOfRange(const MaterialDef& m) {
   // Y* and G* of the material against itself and against a rigid ground (the largest it can meet).
   for (const HertzPair& p : {materialPair(m, &m), materialPair(m, nullptr)}) {

@@ -38,6 +38,9 @@ enum class ContactLaw : std::uint8_t {
 const char* toString(ContactLaw law);
 /// "none" / "sjkr" / "dmt".
 const char* toString(Cohesion model);
+/// The scene key of a model's coefficient: "cohesion_energy_density" (sjkr, k_c) or
+/// "surface_energy" (dmt, γ); "" for none.
+const char* cohesionKey(Cohesion model);
 
 /// Particle–particle contact (SPEC §2.3 for the report's law; docs/model.md for the others).
 struct ContactParams {
