@@ -317,10 +317,20 @@ StepStats Run::stats() const {
 ThermoSample Run::sampleNow() const {
   requireLoaded(m_pipeline, "sampleNow()");
   if (!m_guard) throw Error("this run measures nothing (no guard: RunChecks::stop and measure are off)");
-  if (m_guard->sample().step == m_pipeline->stepCount()) return m_guard->sample();  // checked at this step
+  if (m_guard->sample().step == m_pipeline->stepCount()) return withTally(m_guard->sample());  // checked at this step
   RunGuard probe(*m_guard);
   probe.check(*m_pipeline);
-  return probe.sample();
+  return withTally(probe.sample());
+}
+
+ThermoSample Run::withTally(ThermoSample s) const {
+  if (!m_tallying) return s;
+  const EnergyTotals e = stats().energy;
+  s.dissipatedNormal = e.normal;
+  s.dissipatedTangential = e.tangential;
+  s.dissipatedFriction = e.friction;
+  s.wallWork = e.wall;
+  return s;
 }
 
 bool Run::writeOrGiveUp(const std::function<void()>& write) {
@@ -397,7 +407,7 @@ Advanced Run::advance(std::uint64_t n) {
     const bool rowDue = m_thermoOn && (done % m_thermoEvery == 0 || atEnd);
     if (rowDue || (guarding && (frameDue || checkpointDue || done % m_checks.every == 0 || atEnd))) {
       const auto trip = m_guard->check(pipeline);
-      if (rowDue && writeOrGiveUp([&] { m_thermo->write(m_guard->sample()); })) {
+      if (rowDue && writeOrGiveUp([&] { m_thermo->write(withTally(m_guard->sample())); })) {
         a.rowGivenUp = a.stopped = true;
         break;
       }
@@ -486,6 +496,8 @@ void Run::writeThermo(const std::string& path, std::uint64_t every) {
   requireLoaded(m_pipeline, "writeThermo()");
   if (every < 1) throw Error("the time series' interval must be at least 1 step");
   refuseSceneInput(scene(), path, "the time series");
+  m_pipeline->setEnergyTally(true);  // its columns count from the first step on
+  m_tallying = true;
   const ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
   std::unique_ptr<ThermoWriter> thermo;
   m_hooks->write([&] { thermo = std::make_unique<ThermoWriter>(path, scene().dt); });  // first: a failure keeps the one under way
@@ -499,6 +511,8 @@ void Run::writeThermo(const std::string& path, std::uint64_t every) {
 void Run::closeThermo() {
   if (!m_thermoOn) return;
   m_thermoOn = false;
+  m_pipeline->setEnergyTally(false);
+  m_tallying = false;
   m_hooks->write([&] { m_thermo->close(); });
 }
 
@@ -510,8 +524,11 @@ void Run::closeOutputs() {
 void Run::abandonOutputs() noexcept {
   if (m_recOn && m_rec) m_rec->abandon();
   if (m_thermoOn && m_thermo) m_thermo->abandon();
-  m_recOn = m_thermoOn = false;
-  if (m_pipeline) m_pipeline->setDebugCapture(m_captureForces);
+  m_recOn = m_thermoOn = m_tallying = false;
+  if (m_pipeline) {
+    m_pipeline->setDebugCapture(m_captureForces);
+    m_pipeline->setEnergyTally(false);
+  }
 }
 
 void Run::checkpointEvery(const std::string& path, std::uint64_t every) {

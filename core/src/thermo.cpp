@@ -16,7 +16,8 @@ namespace tumble {
 
 const char* thermoHeader() {
   return "step,time,kinetic_translation,kinetic_rotation,potential_gravity,potential_pulls,potential_contacts,"
-         "energy,pull_work,contacts,max_overlap,max_speed,px,py,pz,lx,ly,lz";
+         "energy,pull_work,contacts,max_overlap,max_speed,px,py,pz,lx,ly,lz,dissipated_normal,dissipated_tangential,"
+         "dissipated_friction,wall_work,balance";
 }
 
 std::string formatTime(double time, float dt) {
@@ -64,7 +65,8 @@ std::array<double, kThermoColumns> thermoRow(const ThermoSample& s) {
   return {static_cast<double>(s.step), s.time, v(s.kineticTranslation), v(s.kineticRotation), v(s.gravity),
           v(s.pullPotential), v(s.springs), v(s.energy()), v(s.pullWork), static_cast<double>(s.contacts),
           v(s.maxOverlap), v(s.maxSpeed), v(s.momentum[0]), v(s.momentum[1]), v(s.momentum[2]),
-          v(s.angularMomentum[0]), v(s.angularMomentum[1]), v(s.angularMomentum[2])};
+          v(s.angularMomentum[0]), v(s.angularMomentum[1]), v(s.angularMomentum[2]), v(s.dissipatedNormal),
+          v(s.dissipatedTangential), v(s.dissipatedFriction), v(s.wallWork), v(s.balance())};
 }
 
 void ThermoWriter::write(const ThermoSample& s) {

@@ -106,6 +106,7 @@ void CpuPipeline::load(const World& world) {
   m_arena.execute([&] { computePositions(); });  // readLocalPositions() before the first step
   resetStats();
   m_hasDebug = false;
+  m_hasFlows = false;
 }
 
 void CpuPipeline::step(std::uint64_t n) {
@@ -304,6 +305,7 @@ void CpuPipeline::readDebug(ParticleDebug& out) const {
 void CpuPipeline::resetStats() {
   m_stats = StepStats{};
   m_stats.skin = m_skin;
+  m_tally.clear();
 }
 
 // The hooks of a domain decomposition (HaloPipeline; tumble::mpi).
@@ -369,6 +371,14 @@ std::uint64_t CpuPipeline::contactsOf(const std::vector<std::uint32_t>& bodies) 
   for (const std::uint32_t body : bodies)
     total += bodyContactCount(m_bodies[at[body]], m_touching.data(), pos, list, m_periodic);
   return total;
+}
+
+EnergyLimbs CpuPipeline::energyOf(const std::vector<std::uint32_t>& bodies) const {
+  EnergyLimbs l = noLimbs();
+  if (!m_hasFlows) return l;
+  const std::vector<std::uint32_t>& at = internalBodies();
+  for (const std::uint32_t body : bodies) addEnergy(l, m_bodyFlows[at[body]], m_world.params.dt);
+  return l;
 }
 
 // Scene index → internal index of every body (the hooks' names for bodies).

@@ -83,6 +83,8 @@ class CpuPipeline final : public HaloPipeline {
 
   void setDebugCapture(bool on) override { m_debug = on; }
 
+  void setEnergyTally(bool on) override { m_tallyOn = on; }
+
   void readDebug(ParticleDebug& out) const override;
 
   // A pull along a periodic axis is left off (its potential has no period; scene files refuse it).
@@ -99,6 +101,8 @@ class CpuPipeline final : public HaloPipeline {
 
   std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const override;
 
+  EnergyLimbs energyOf(const std::vector<std::uint32_t>& bodies) const override;
+
   std::vector<TrafficLine> stepTraffic() const override;
 
  private:
@@ -107,6 +111,7 @@ class CpuPipeline final : public HaloPipeline {
   void decideList(const Drift& drift, double next);
 
   void stepOnce();
+  void tallyStep();
 
   // How far the particles may have closed in under a drift: on each other (closureOf()), and
   // with mesh walls on a static wall too (wallClosureOf(), which is at least that).
@@ -277,6 +282,12 @@ class CpuPipeline final : public HaloPipeline {
   std::uint64_t m_steps = 0;
   bool m_debug = false;
   bool m_hasDebug = false;
+  // The energy tally: on, the last step's flows per body (internal numbering; m_hasFlows),
+  // the sum since load() or resetStats() (m_stats.energy: in joules).
+  bool m_tallyOn = false;
+  bool m_hasFlows = false;
+  std::vector<EnergyFlows> m_bodyFlows;
+  EnergyTally m_tally;
 };
 
 }  // namespace tumble::cpu::impl

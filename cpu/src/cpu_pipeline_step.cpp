@@ -37,9 +37,11 @@ void CpuPipeline::stepOnce() {
     tumble::detail::grow(m_dbgContact, contactListView().begin[m_world.numParticles()]);  // an entry each (compact)
     tot = advanceAs<true>();
   } else {
-    tot = advanceAs<false>();
+    tot = m_tallyOn ? advanceAs<true>() : advanceAs<false>();  // the tally: the debug pass, no capture
   }
   m_hasDebug = m_debug;  // readDebug() reads the last step's capture, or refuses
+  m_hasFlows = m_tallyOn;
+  if (m_tallyOn) tallyStep();
   m_cur = 1 - m_cur;
   m_bodies.swap(m_bodiesNext);
   decideList(tot.drift, m_time + m_world.params.dt);
@@ -73,13 +75,19 @@ StepTotals CpuPipeline::advanceLaw() {
 // Stages 3–7 and the next step's stage 1, one pass over the bodies (see the design notes).
 template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
 StepTotals CpuPipeline::advance() {
-  const StepView v = stepView();
+  StepView v = stepView();
   const ForceParams fp = makeForceParams(m_world.params, m_pulls);
   DebugForcesView dbg{{nullptr, nullptr, nullptr, nullptr, nullptr}, nullptr, nullptr};
   if constexpr (kDebug) {
-    for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].data();
-    dbg.v = m_dbgVel.data();
-    dbg.contact = m_dbgContact.data();
+    if (m_debug) {  // else the energy tally's pass alone
+      for (int k = 0; k < 5; ++k) dbg.f[k] = m_dbg[k].data();
+      dbg.v = m_dbgVel.data();
+      dbg.contact = m_dbgContact.data();
+    }
+    if (m_tallyOn) {
+      m_bodyFlows.resize(m_bodies.size());
+      v.bodyFlows = m_bodyFlows.data();
+    }
   }
   const float dt = m_world.params.dt;
   const Vec3f g = m_world.params.gravity;
@@ -97,6 +105,23 @@ StepTotals CpuPipeline::advance() {
         x.contacts += y.contacts;
         return x;
       });
+}
+
+// The energy tally: the last step's flows of every body added (exact integer sums: any order).
+void CpuPipeline::tallyStep() {
+  const float dt = m_world.params.dt;
+  const EnergyFlows* flows = m_bodyFlows.data();
+  m_tally.add(tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, m_bodyFlows.size(), 4096), noLimbs(),
+      [&](const auto& rg, EnergyLimbs acc) {
+        for (std::size_t k = rg.begin(); k != rg.end(); ++k) addEnergy(acc, flows[k], dt);
+        return acc;
+      },
+      [](EnergyLimbs x, const EnergyLimbs& y) {
+        addLimbs(x, y);
+        return x;
+      }));
+  m_stats.energy = m_tally.joules();
 }
 
 StepView CpuPipeline::stepView() {

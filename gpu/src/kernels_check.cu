@@ -48,8 +48,8 @@ __global__ void movingMeshCheckKernel(StepView v, ForceParams fp, std::uint32_t*
   const PosRow pi = v.pos[i];
   const Vec3f x{pi.x, pi.y, pi.z};
   ParticleForce f{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
-  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
-  wallContacts<true, ContactLaw::HookeHistory, true>(v, fp, v.bodies[v.bodyOf[i]], i, x, pi.r, &f, &gf, false);
+  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {}};
+  wallContacts<true, ContactLaw::HookeHistory, true>(v, fp, v.bodies[v.bodyOf[i]], i, x, pi.r, &f, &gf, false, nullptr);
   std::uint32_t c = 0;
   forPosedTrianglesNear(v.mesh, x, pi.r, [&](std::uint32_t) { ++c; });
   count[i] = c + f.contacts;

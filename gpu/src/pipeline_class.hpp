@@ -77,6 +77,7 @@ class CudaPipeline final : public HaloPipeline {
     m_loaded = false;
     m_steps = 0;  // the previous world's contacts are no longer read, whatever follows
     m_hasDebug = false;
+    m_hasFlows = false;
     m_world = std::move(local);
     m_frame = frame;
     const World& w = m_world;
@@ -181,6 +182,8 @@ class CudaPipeline final : public HaloPipeline {
 
   void setDebugCapture(bool on) override { m_debug = on; }
   void readDebug(ParticleDebug& out) const override;
+  void setEnergyTally(bool on) override { m_tallyOn = on; }
+  EnergyLimbs energyOf(const std::vector<std::uint32_t>& bodies) const override;
 
   // A pull along a periodic axis is left off (its potential has no period; scene files refuse it).
   void setPulls(std::uint32_t mask) override { m_pulls = mask & 7u & ~m_world.params.periodic.conflictingPulls(); }
@@ -189,6 +192,7 @@ class CudaPipeline final : public HaloPipeline {
   void resetStats() override {
     m_stats = StepStats{};
     m_stats.skin = m_skin;
+    m_tally.clear();
   }
   double time() const override { return m_time; }
   std::uint64_t stepCount() const override { return m_world.step + m_steps; }
@@ -241,7 +245,7 @@ class CudaPipeline final : public HaloPipeline {
   // a rebuild, the batch's later steps do nothing, and the host, which reads the batch's outcome
   // once at its end, rebuilds before the next step. Returns the steps taken (at least 1).
   std::uint32_t stepBatch(std::uint32_t count) {
-    const std::uint32_t n = m_world.numParticles();
+    const std::uint32_t n = m_world.numParticles(), nb = m_world.numBodies();
     const Stream& s = m_ctx;
     const Scene& p = m_world.params;
     // The batch's step times (as the steps add dt one by one), the moving walls and meshes at
@@ -288,10 +292,20 @@ class CudaPipeline final : public HaloPipeline {
       dbg.v = m_dbgVel.grow(3 * std::size_t(n));
       dbg.contact = m_dbgContact.grow(m_numCand);  // an entry each of the candidate list
     }
+    // The energy tally: each step's flows per body (the debug pass, without its capture
+    // unless m_debug), summed per step of the batch.
+    EnergyFlows* flows = m_tallyOn ? m_bodyFlows.grow(nb) : nullptr;
+    EnergyLimbs* energy = nullptr;
+    if (m_tallyOn) {
+      energy = m_energy.grow(count);
+      Exec::fillZero(s, energy, count);
+    }
     for (std::uint32_t k = 0; k < count; ++k) {
       if (m_wallsMove) setWallsOfStep(k);
-      const StepView v = stepView();
-      m_debug ? launchStep<true>(v, fp, dbg, rb + k, stop) : launchStep<false>(v, fp, dbg, rb + k, stop);
+      StepView v = stepView();
+      v.bodyFlows = flows;
+      m_debug || m_tallyOn ? launchStep<true>(v, fp, dbg, rb + k, stop) : launchStep<false>(v, fp, dbg, rb + k, stop);
+      if (m_tallyOn) Exec::forEach(s, nb, TallyFn{flows, p.dt, stop, energy + k}, "tally");
       Exec::forEach(s, 1, DecideFn{rb, m_meshClosure.data(), k, m_skinLimit, hasMesh(), stop}, "decide");
       m_cur = 1 - m_cur;  // as if the step is taken; corrected below for the steps that were not
       std::swap(m_bodies, m_bodiesNext);
@@ -302,6 +316,10 @@ class CudaPipeline final : public HaloPipeline {
     Exec::copyToHost(s, &stopped, stop, 1);
     m_readbackHost.resize(count);
     Exec::copyToHost(s, m_readbackHost.data(), rb, count);
+    if (m_tallyOn) {
+      m_energyHost.resize(count);
+      Exec::copyToHost(s, m_energyHost.data(), energy, count);
+    }
     m_timer.finish(s);
     m_timer.accumulate(s, m_stats.seconds);  // waits for the batch (and the read-backs)
     const std::uint32_t taken = stopped != 0 ? stopped : count;
@@ -315,6 +333,11 @@ class CudaPipeline final : public HaloPipeline {
     // launched): the bits do not depend on it.
     m_batch = stopped != 0 ? std::max(1u, taken) : std::min(2 * m_batch, kMaxBatch);
     m_hasDebug = m_debug;  // readDebug() reads the last step's capture, or refuses
+    m_hasFlows = m_tallyOn;
+    if (m_tallyOn) {
+      for (std::uint32_t k = 0; k < taken; ++k) m_tally.add(m_energyHost[k]);
+      m_stats.energy = m_tally.joules();
+    }
     m_steps += taken;
     m_time = m_batchTimes[taken];
     m_stats.steps += taken;
@@ -552,6 +575,16 @@ class CudaPipeline final : public HaloPipeline {
   std::uint64_t m_steps = 0;
   bool m_debug = false;
   bool m_hasDebug = false;
+  // The energy tally (as CpuPipeline's): the last step's flows per body, each step's sums of a
+  // batch, the sum since load() or resetStats() (m_stats.energy: in joules).
+  bool m_tallyOn = false;
+  bool m_hasFlows = false;
+  Buffer<EnergyFlows> m_bodyFlows;
+  Buffer<EnergyLimbs> m_energy;
+  std::vector<EnergyLimbs> m_energyHost;
+  mutable std::vector<EnergyFlows> m_flowsHost;
+  mutable std::vector<std::uint32_t> m_atHost;
+  EnergyTally m_tally;
 };
 
 }  // namespace TUMBLE_EXEC_ABI

@@ -186,6 +186,23 @@ std::uint64_t CudaPipeline<Exec>::contactsOf(const std::vector<std::uint32_t>& b
   return h;
 }
 
+// As CpuPipeline::energyOf: the last step's flows and the body index read back.
+template <class Exec>
+EnergyLimbs CudaPipeline<Exec>::energyOf(const std::vector<std::uint32_t>& bodies) const {
+  const exec::AbandonOnUnwind<Stream> unwind(m_ctx);
+  EnergyLimbs l = noLimbs();
+  if (!m_hasFlows) return l;
+  const Stream& s = m_ctx;
+  const std::uint32_t nb = m_world.numBodies();
+  m_flowsHost.resize(nb);
+  m_atHost.resize(nb);
+  Exec::copyToHost(s, m_flowsHost.data(), m_bodyFlows.data(), nb);
+  Exec::copyToHost(s, m_atHost.data(), bodyIndex(), nb);
+  s.synchronize();
+  for (const std::uint32_t body : bodies) addEnergy(l, m_flowsHost[m_atHost[body]], m_world.params.dt);
+  return l;
+}
+
 // As CpuPipeline::contactSumsPerBody: the guard's sums per body where the contacts lie, one
 // writer per body; the law's tables (host memory) copied for the kernel.
 template <class Exec>

@@ -87,6 +87,29 @@ struct StepBodyFn {
   }
 };
 
+// The energy tally of one step of a batch (kernels/energy.hpp): each body's flows of the step
+// (StepView::bodyFlows) added to *out's limbs by integer atomics, exact in any order; nothing
+// for a step the batch did not take (*stop, as StepBodyFn) and for a body without flows.
+struct TallyFn {
+  const EnergyFlows* flows;
+  float dt;
+  const std::uint32_t* stop;
+  EnergyLimbs* out;
+  TUMBLE_HD void operator()(std::uint32_t k) const {
+    if (*stop != 0) return;
+    const EnergyFlows& f = flows[k];
+    const float p[kEnergyFlows] = {f.normal, f.tangential, f.friction, f.wall};
+    for (int c = 0; c < kEnergyFlows; ++c) {
+      std::int64_t h;
+      std::uint64_t m, o;
+      energyLimbs(p[c], dt, &h, &m, &o);
+      if (h != 0) exec::atomicAddU64(reinterpret_cast<unsigned long long*>(&out->hi[c]), static_cast<unsigned long long>(h));
+      if (m != 0) exec::atomicAddU64(reinterpret_cast<unsigned long long*>(&out->mid[c]), m);
+      if (o != 0) exec::atomicAddU64(reinterpret_cast<unsigned long long*>(&out->lo[c]), o);
+    }
+  }
+};
+
 // The drift a read-back holds.
 TUMBLE_HD_INLINE Drift driftOf(const StepReadback& h) {
   Drift drift{fromOrderedBits(h.max2), {}, {}};

@@ -356,6 +356,7 @@ class FakePipeline : public Pipeline {
   std::vector<Pair> findPairs(const ParticleCloud&, const BroadphaseParams&) override { return {}; }
   void readDebug(ParticleDebug&) const override {}
   void setDebugCapture(bool) override {}
+  void setEnergyTally(bool) override {}
   void setPulls(std::uint32_t) override {}
   std::uint32_t pulls() const override { return 0; }
   const StepStats& stats() const override { return m_stats; }

@@ -97,6 +97,8 @@ struct StepStats {
   std::uint64_t numCells = 0;       ///< cells in the last rebuild's grid
   float cellSize = 0.0f;            ///< cell side used at the last rebuild
   float skin = 0.0f;                ///< the Verlet skin in use
+  /// The energy tally (Pipeline::setEnergyTally) over the steps taken while it was on (J).
+  EnergyTotals energy;
   double totalSeconds() const;
   /// Adds the steps, times and events of `later` (a run's next part: a pipeline loaded afresh)
   /// and takes its last-step and last-rebuild values.
@@ -211,6 +213,13 @@ class Pipeline {
   /// per particle and 7 words per entry of the contact list of memory traffic per step; off by
   /// default). Changes no bit of the state.
   virtual void setDebugCapture(bool on) = 0;
+  /// Keeps the energy tally (kernels/energy.hpp, docs/thermo.md#energy-balance) from the next
+  /// step on: the energy the contacts dissipate and moving walls put in, summed over each step
+  /// in fixed point (the same bits for any thread count, numbering, rank count and pipeline).
+  /// Its steps take the debug capture's pass (about the cost of the particle-by-particle force
+  /// pass); changes no bit of the state. Off by default; off again stops adding. The sums:
+  /// stats().energy.
+  virtual void setEnergyTally(bool on) = 0;
   /// Switches the user pulls (PullBits) on or off from the next step on.
   virtual void setPulls(std::uint32_t mask) = 0;
   virtual std::uint32_t pulls() const = 0;
@@ -240,6 +249,9 @@ class HaloPipeline : public Pipeline {
   /// How many touching contacts the particles of `bodies` had in the last step, each counted
   /// from its particle's side (a contact between two of them counts twice); 0 before the first step.
   virtual std::uint64_t contactsOf(const std::vector<std::uint32_t>& bodies) const = 0;
+  /// The energy tally's sums of the last step over `bodies` (setEnergyTally(true) before it;
+  /// nothing otherwise and before the first step).
+  virtual EnergyLimbs energyOf(const std::vector<std::uint32_t>& bodies) const = 0;
 };
 
 }  // namespace tumble

@@ -186,7 +186,9 @@ class Run {
   bool capturingForces() const { return m_captureForces; }
 
   /// The quantities now, measured on a copy of the guard (the run's own checks stay where they
-  /// fall). Requires a guard (RunChecks::stop or measure).
+  /// fall). Requires a guard (RunChecks::stop or measure). The energy tally's (dissipated,
+  /// wall work) while the time series is written (writeThermo(): the pipeline keeps the tally
+  /// from then on; NaN otherwise), summed over the steps since.
   ThermoSample sampleNow() const;
 
   const Scene& scene() const { return m_pouring->scene(); }
@@ -224,6 +226,8 @@ class Run {
   /// Loads the pipeline again with `world` (its state, step, time and frame those the run goes on
   /// from), keeping the pulls, and starts the guard afresh.
   void reload(World world);
+  /// s with the energy tally's sums (stats().energy) where the run keeps one.
+  ThermoSample withTally(ThermoSample s) const;
 
   std::unique_ptr<const Pouring> m_pouring;
   World m_world;
@@ -247,6 +251,7 @@ class Run {
   bool m_captureForces = false;
   // The time series.
   bool m_thermoOn = false;
+  bool m_tallying = false;  ///< the pipeline keeps the energy tally (while the time series is written)
   std::uint64_t m_thermoEvery = 100;
   std::unique_ptr<ThermoWriter> m_thermo;
   // Checkpoints every m_checkpointEvery steps.

@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "tumble/hd.hpp"
+#include "tumble/kernels/energy.hpp"
 #include "tumble/kernels/periodic.hpp"
 #include "tumble/math.hpp"
 
@@ -256,6 +257,9 @@ struct StepView {
   /// See `history`: the candidate entry of each entry of `list`; nullptr when `list` is the
   /// candidate list (the CUDA pipeline's, the CPU's without a near list).
   const std::uint32_t* historySlot = nullptr;
+  /// The energy tally (kernels/energy.hpp): each body's EnergyFlows of the step, written by the
+  /// debug instantiation of the step (stepBody()); nullptr: not kept.
+  EnergyFlows* bodyFlows = nullptr;
 };
 
 /// ξ of entry e of v.list (StepView::history, historySlot).

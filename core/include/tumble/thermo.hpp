@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -29,9 +30,22 @@ struct ThermoSample {
   double momentum[3] = {0, 0, 0};   ///< Σ M V (kg m/s)
   double angularMomentum[3] = {0, 0, 0};  ///< Σ (X × M V + L) about the world origin (kg m²/s)
   bool finite = true;               ///< false when the state is not finite (every value is then NaN in the file)
+  /// The energy tally (Pipeline::setEnergyTally; docs/thermo.md#energy-balance) since the run
+  /// started: dissipated by the normal dashpots, by the tangential dashpots while contacts
+  /// stick, by friction (slip, rolling resistance, and what the stick springs hold), and the
+  /// work moving walls did. NaN where the run keeps no tally.
+  double dissipatedNormal = std::numeric_limits<double>::quiet_NaN();
+  double dissipatedTangential = std::numeric_limits<double>::quiet_NaN();
+  double dissipatedFriction = std::numeric_limits<double>::quiet_NaN();
+  double wallWork = std::numeric_limits<double>::quiet_NaN();
 
   /// The mechanical energy E: kinetic + gravity + pull potential + springs.
   double energy() const { return kineticTranslation + kineticRotation + gravity + pullPotential + springs; }
+  /// E + dissipated − the work put in (walls, the swirl pull): constant but for the
+  /// integration's error where every term is counted (NaN without the tally).
+  double balance() const {
+    return energy() + (dissipatedNormal + dissipatedTangential + dissipatedFriction) - (wallWork + pullWork);
+  }
 };
 
 /// Writes samples as CSV (header thermoHeader()), one line per sample, flushed at once. Until
@@ -72,7 +86,7 @@ std::string formatTime(double time, float dt);
 /// The CSV header line, without the newline: kThermoColumns names.
 const char* thermoHeader();
 
-inline constexpr std::size_t kThermoColumns = 18;
+inline constexpr std::size_t kThermoColumns = 23;
 inline constexpr std::size_t kThermoStepColumn = 0, kThermoContactsColumn = 9;  ///< the two counts
 inline constexpr std::size_t kThermoTimeColumn = 1;
 

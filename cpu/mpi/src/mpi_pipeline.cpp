@@ -168,6 +168,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     m_pulls = world.params.pulls.active & 7u & ~world.params.periodic.conflictingPulls();
     m_hasDebug = false;
     m_numPairs = 0;
+    m_tally.clear();
     m_before = StepStats{};
     m_mpi = MpiStats{};
     m_mpi.rank = m_rank;
@@ -299,6 +300,11 @@ class MpiPipelineImpl final : public MpiPipeline {
     m_debug = on;
     if (m_local) m_local->setDebugCapture(on);
   }
+  // Collective: every rank calls it alike (each step then sums the ranks' tallies).
+  void setEnergyTally(bool on) override {
+    m_tallyOn = on;
+    if (m_local) m_local->setEnergyTally(on);
+  }
   void setPulls(std::uint32_t mask) override {
     m_pulls = mask & 7u & ~m_global.params.periodic.conflictingPulls();
     if (m_local) m_local->setPulls(m_pulls);
@@ -312,12 +318,14 @@ class MpiPipelineImpl final : public MpiPipeline {
     m_stats.steps = m_steps - m_statsFrom;
     m_stats.numPairs = m_numPairs;
     m_stats.skin = m_skin;
+    m_stats.energy = m_tally.joules();  // the ranks' sum (the local pipelines' hold their own bodies and ghosts)
     return m_stats;
   }
   void resetStats() override {
     m_before = StepStats{};
     if (m_local) m_local->resetStats();
     m_statsFrom = m_steps;
+    m_tally.clear();
     m_mpi.counts = MpiStats::Counts{};  // the decomposition stays
   }
   double time() const override { return m_time; }
@@ -372,6 +380,13 @@ class MpiPipelineImpl final : public MpiPipeline {
     if (all.bad != std::numeric_limits<std::int64_t>::max()) {
       const auto particle = static_cast<std::uint32_t>(all.bad);
       throw SimulationError(divergenceMessage(m_global, stepCount(), particle), all.bad);
+    }
+    if (m_tallyOn) {  // the owners' bodies: exact integer sums, so any rank count gives the same
+      const EnergyLimbs mineE = m_local ? m_local->energyOf(m_owned) : noLimbs();
+      EnergyLimbs allE;
+      MPI_Allreduce(&mineE, &allE, sizeof(EnergyLimbs) / sizeof(std::uint64_t), MPI_UINT64_T, MPI_SUM, m_comm);
+      m_mpi.counts.reduceBytes += sizeof(EnergyLimbs);
+      m_tally.add(allE);
     }
     exchangeGhosts();
     m_mpi.counts.exchangeSeconds += since(t0);
@@ -584,6 +599,7 @@ class MpiPipelineImpl final : public MpiPipeline {
         m_local->load(worldOf(local, state));
         m_local->setPulls(m_pulls);
         m_local->setDebugCapture(m_debug);
+        m_local->setEnergyTally(m_tallyOn);
         m_local->readLocalPositions(m_buf);
         m_ref.resize(3 * m_ownedParticles.size());
         for (std::size_t k = 0; k < m_ownedParticles.size(); ++k)
@@ -704,6 +720,8 @@ class MpiPipelineImpl final : public MpiPipeline {
   std::uint32_t m_pulls = 0;
   bool m_debug = false, m_hasDebug = false;
   std::uint64_t m_numPairs = 0;
+  bool m_tallyOn = false;
+  EnergyTally m_tally;
   StepStats m_before;         // the local pipelines' counters before the last load
   mutable StepStats m_stats;  // stats()
   mutable MpiStats m_mpi;

@@ -30,6 +30,15 @@ struct ContactCoeffs {
   float shear;      ///< k_t
 };
 
+/// The power a contact takes out of the bodies' motion (W; the energy tally, EnergyFlows): by
+/// the normal dashpot, by the tangential force, and the tangential dashpot's part of the latter
+/// (0 while the contact slides); and the forces on i of the two dashpots (the tangential one's
+/// while the contact sticks, else 0).
+struct ContactLoss {
+  float normal, tangential, dashpot;
+  Vec3f damping, drag;
+};
+
 /// The three contact forces that particle i receives from j, and where they act.
 struct ContactForces {
   Vec3f repulsion, damping, shear;
@@ -40,6 +49,11 @@ struct ContactForces {
   /// laws with history: the load that caps friction and rolling resistance, F_n along n
   /// (repulsion + damping, with cohesion the attraction's and its shift: Attraction).
   float normal;
+  /// laws with history: the power the contact takes out of the bodies' motion (W, the forces on
+  /// i dotted with w = u_j − u_i), for the energy tally (EnergyFlows): by the normal dashpot
+  /// (g_n w_n²), by the tangential force (F_t · w_t), and the part of that by the tangential
+  /// dashpot (g_t |w_t|² while the contact sticks; 0 once it slides). Unread outside the tally.
+  ContactLoss loss;
 };
 
 /// One side of a contact as the forces see it: the particle's offset from its body's centre
@@ -124,15 +138,18 @@ struct HistoryCoeffs {
 /// tangential dashpot [N s/m], *xi (in/out) i's sliding displacement relative to j:
 ///   ξ ← ξ − w_t dt, then ξ ← ξ − (ξ·n) n
 ///   F_t = g_t w_t − k_t ξ, capped at μ |F_n|; when capped, ξ ← (g_t w_t − F_t)/k_t.
-/// Seen from j every input but F_n is negated, and so are F_t and ξ.
-TUMBLE_HD_INLINE Vec3f historyShear(Vec3f n, Vec3f wt, float fn, float kt, float gt, float mu, float dt, Vec3f* xi) {
+/// Seen from j every input but F_n is negated, and so are F_t and ξ. *slides: whether the cap
+/// applied.
+TUMBLE_HD_INLINE Vec3f historyShear(Vec3f n, Vec3f wt, float fn, float kt, float gt, float mu, float dt, Vec3f* xi,
+                                    bool* slides) {
   Vec3f x = *xi - dt * wt;
   x = x - dot(x, n) * n;
   const Vec3f drag = gt * wt;
   Vec3f ft = drag - kt * x;
   const float limit = mu * (fn < 0.0f ? -fn : fn);
   const float f2 = dot(ft, ft);
-  if (f2 > limit * limit) {
+  *slides = f2 > limit * limit;
+  if (*slides) {
     ft = (limit / std::sqrt(f2)) * ft;
     if (kt > 0.0f) x = (1.0f / kt) * (drag - ft);
   }
@@ -155,7 +172,10 @@ TUMBLE_HD_INLINE ContactForces historyContact(const ContactKinematics& k, float 
   f.damping = viscous * k.n;
   f.n = k.n;
   f.normal = (elastic + viscous) + a.shift;
-  f.shear = historyShear(k.n, wt, f.normal, kt, gt, mu, dt, xi);
+  bool slides;
+  f.shear = historyShear(k.n, wt, f.normal, kt, gt, mu, dt, xi, &slides);
+  const Vec3f drag = slides ? Vec3f{0.0f, 0.0f, 0.0f} : gt * wt;
+  f.loss = ContactLoss{viscous * wn, dot(f.shear, wt), dot(drag, wt), f.damping, drag};
   return f;
 }
 
@@ -256,6 +276,9 @@ TUMBLE_HD_INLINE float groundDepth(Vec3f x, float r, const GroundCoeffs& g) { re
 struct GroundForces {
   Vec3f normal, friction;
   Vec3f arm;  ///< contact point − X: the bottom of the overlap, where both act
+  /// The power the contact takes out of the particle's motion relative to the plane (as
+  /// ContactForces::loss; the energy tally only).
+  ContactLoss loss;
 };
 
 /// Ground contact of a particle (SPEC §2.4): linear spring-dashpot along +z,
@@ -277,7 +300,7 @@ struct GroundForces {
 template <bool kRotating>
 TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& side, float c, const GroundCoeffs& g,
                                            float dt, float* tx, float* ty, Attraction a = Attraction{0.0f, 0.0f}) {
-  GroundForces out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
+  GroundForces out{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {}};
   const float delta = groundDepth(x, r, g);
   const Vec3f lever{0.0f, 0.0f, -(r - 0.5f * delta)};
   Vec3f v;
@@ -297,7 +320,8 @@ TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& 
   const float load = fn + a.shift;
   const float limit = g.friction * (load > 0.0f ? load : 0.0f);
   const float f2 = fx * fx + fy * fy;
-  if (f2 > limit * limit) {
+  const bool slides = f2 > limit * limit;
+  if (slides) {
     const float fmag = std::sqrt(f2);
     const float s = limit / fmag;
     fx *= s;
@@ -310,6 +334,10 @@ TUMBLE_HD_INLINE GroundForces groundForces(Vec3f x, float r, const ContactSide& 
   *tx = ex;
   *ty = ey;
   out.friction = Vec3f{fx, fy, 0.0f};
+  // The plane's material at rest here (a moving wall's velocity is subtracted from side's): w = −v.
+  const Vec3f drag = slides ? Vec3f{0.0f, 0.0f, 0.0f} : Vec3f{-c * v.x, -c * v.y, 0.0f};
+  out.loss = ContactLoss{c * (v.z * v.z), -(fx * v.x + fy * v.y), -(drag.x * v.x + drag.y * v.y),
+                         Vec3f{0.0f, 0.0f, -c * v.z}, drag};
   return out;
 }
 
@@ -334,7 +362,7 @@ TUMBLE_HD_INLINE GroundForces hertzGroundForces(Vec3f x, float r, const ContactS
   const ContactForces f = hertzMindlinForces(k, r, mass, c, dt, &xi, a);
   *tx = xi.x;
   *ty = xi.y;
-  return GroundForces{f.repulsion + f.damping, f.shear, f.arm};
+  return GroundForces{f.repulsion + f.damping, f.shear, f.arm, f.loss};
 }
 
 /// The user pulls on a particle of mass m at x (SPEC §2.5); pulls are PullBits (0: none, and

@@ -17,6 +17,7 @@
 #include "tumble/hd.hpp"
 #include "tumble/kernels/contact.hpp"
 #include "tumble/kernels/contact_list.hpp"
+#include "tumble/kernels/energy.hpp"
 #include "tumble/kernels/integrate.hpp"
 #include "tumble/kernels/mesh.hpp"
 #include "tumble/kernels/overlap.hpp"
@@ -122,25 +123,69 @@ struct ParticleForce {
   std::uint32_t contacts;
 };
 
+/// The energy tally's sums over a particle's (or a body's) contacts in one step (kDebug): their
+/// EnergyFlows at the velocities the step starts from, and for each kind that dissipates (the
+/// normal dashpots, the tangential dashpots, friction) the forces and torques about the body's
+/// centre that those contacts put on the body. With the body's change of velocity over the step
+/// they move the flows to the middle of the step (stepBody()), where the change of kinetic
+/// energy is exactly the force times the mean velocity: without that, the tally would count
+/// |F|² dt / 2m too much each step (a drift of the balance with the energy dissipated).
+struct EnergyWork {
+  EnergyFlows flows;
+  Vec3f f[3], t[3];
+};
+TUMBLE_HD_INLINE EnergyWork noWork() {
+  EnergyWork w;
+  w.flows = noFlows();
+  for (int c = 0; c < 3; ++c) w.f[c] = w.t[c] = Vec3f{0.0f, 0.0f, 0.0f};
+  return w;
+}
+TUMBLE_HD_INLINE void addWork(EnergyWork& a, const EnergyWork& b) {
+  addFlows(a.flows, b.flows);
+  for (int c = 0; c < 3; ++c) {
+    a.f[c] += b.f[c];
+    a.t[c] += b.t[c];
+  }
+}
+
+/// One contact's share of *w: `share` of its losses (½ for a pair, which both sides count), and
+/// whole, its forces on this particle by kind (loss: the dashpots', shear − drag for friction),
+/// their torques at `arm`, and the rolling resistance's torque `roll` and power `rollLoss`.
+template <bool kClumps>
+TUMBLE_HD_INLINE void addContactWork(EnergyWork& w, const ContactLoss& l, Vec3f damping, Vec3f drag, Vec3f shear,
+                                     Vec3f arm, Vec3f roll, float rollLoss, float share) {
+  w.flows.normal += share * l.normal;
+  w.flows.tangential += share * l.dashpot;
+  w.flows.friction += share * ((l.tangential - l.dashpot) + rollLoss);
+  const Vec3f f[3] = {damping, drag, shear - drag};
+  for (int c = 0; c < 3; ++c) {
+    w.f[c] += f[c];
+    if (kClumps) w.t[c] += cross(arm, f[c]);
+  }
+  if (kClumps) w.t[2] += roll;
+}
+
 /// Particle i (of body `self`, radius r, its contact side `side`) in contact with wall k, at xl
 /// in the wall's frame w (axis kAxis, see wall.hpp: the plane's own or, for a revolved wall or a
 /// mesh, that of its surface at the nearest point): the ground's contact in that frame, turned
 /// back to the world frame, with the stick spring (*tx, *ty, along w's t1, t2) updated; its
 /// force, torque and rolling torque are added to *out, and the forces returned (for the debug
 /// capture). When the wall moves (w.moving), the velocities are relative to its material at the
-/// contact point.
+/// contact point. work (the energy tally; nullptr: none) gains the contact's (EnergyWork).
 template <int kAxis, bool kClumps, ContactLaw kLaw>
 TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams& fp, const Wall& w, std::uint32_t k,
                                            std::uint32_t i, Vec3f xi, Vec3f xl, float r, const BodyRow& self,
-                                           const ContactSide& side, float* tx, float* ty, ParticleForce* out) {
+                                           const ContactSide& side, float* tx, float* ty, ParticleForce* out,
+                                           EnergyWork* work) {
   ContactSide sl = toWall<kAxis>(w, side);
-  Vec3f wallOmega{0.0f, 0.0f, 0.0f};
+  Vec3f wallOmega{0.0f, 0.0f, 0.0f}, wallV{0.0f, 0.0f, 0.0f};
   if constexpr (kAxis != kGroundFrame) {  // the ground does not move
     if (w.moving) {  // w.n is the contact's normal; the wall's axis is planes[k]'s
       const Wall& wall = v.planes[k];
       // The material's velocity where the forces act, the bottom of the overlap (groundForces()).
       const Vec3f p = xi - (r - 0.5f * groundDepth(xl, r, w.coeffs)) * w.n;
-      sl.v = sl.v - toWall<kAxis>(w, wallVelocity(wall, p));
+      wallV = wallVelocity(wall, p);
+      sl.v = sl.v - toWall<kAxis>(w, wallV);
       wallOmega = wall.omega * wall.n;
     }
   }
@@ -168,12 +213,20 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
   *tx = sx;
   *ty = sy;
   const float fn = g.normal.z + att.shift;  // the load that caps the rolling resistance, as the friction's
-  g = GroundForces{fromWall<kAxis>(w, g.normal), fromWall<kAxis>(w, g.friction), fromWall<kAxis>(w, g.arm)};
+  g = GroundForces{fromWall<kAxis>(w, g.normal), fromWall<kAxis>(w, g.friction), fromWall<kAxis>(w, g.arm), g.loss};
   const Vec3f fg = g.normal + g.friction;
   out->f += fg;
   if (kClumps) out->t += cross(g.arm, fg);
-  if (kClumps && muR > 0.0f)
-    out->t += rollingTorque(side.omega, wallOmega, w.n, fn, r, 1.0f / self.invMass, muR, fp.dt);
+  Vec3f roll{0.0f, 0.0f, 0.0f};
+  if (kClumps && muR > 0.0f) {
+    roll = rollingTorque(side.omega, wallOmega, w.n, fn, r, 1.0f / self.invMass, muR, fp.dt);
+    out->t += roll;
+  }
+  if (work != nullptr) {  // the wall's material moves at wallV, turns at wallOmega
+    addContactWork<kClumps>(*work, g.loss, fromWall<kAxis>(w, g.loss.damping), fromWall<kAxis>(w, g.loss.drag),
+                            g.friction, g.arm, roll, -dot(roll, side.omega - wallOmega), 1.0f);
+    work->flows.wall += dot(fg, wallV) + dot(roll, wallOmega);
+  }
   return g;
 }
 
@@ -194,7 +247,7 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
 template <bool kClumps, ContactLaw kLaw, bool kPosed = false>
 TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
                                        Vec3f xi, float r, ContactSide& side, bool& haveSide, ParticleForce* out,
-                                       GroundForces* gf, bool& anyPlane) {
+                                       GroundForces* gf, bool& anyPlane, EnergyWork* work) {
   const MeshListView& l = v.meshList;
   // The centre in the frame of the last entry's wall (a row's triangles come wall by wall).
   [[maybe_unused]] std::uint32_t seen = ~0u;
@@ -237,7 +290,7 @@ TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp,
     const Vec3f xs = l.hist[e];
     float tx = dot(xs, f.t1), ty = dot(xs, f.t2);
     const GroundForces g = planeContact<-1, kClumps, kLaw>(v, fp, f, k, i, xi, Vec3f{0.0f, 0.0f, h.p.dist}, r, self,
-                                                           side, &tx, &ty, out);
+                                                           side, &tx, &ty, out, work);
     l.hist[e] = tx * f.t1 + ty * f.t2;
     gf->normal = anyPlane ? gf->normal + g.normal : g.normal;
     gf->friction = anyPlane ? gf->friction + g.friction : g.friction;
@@ -247,10 +300,12 @@ TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp,
 
 /// The walls (after the ground) on particle i, in their order, then the mesh walls'
 /// triangles (meshWallContacts(), kPosed when a mesh wall moves); *gf (debug) gains their
-/// forces. Not inlined: the loop stays out of the force pass of a scene without walls.
+/// forces, *work (the energy tally; nullptr: none) their EnergyWork. Not inlined: the loop
+/// stays out of the force pass of a scene without walls.
 template <bool kClumps, ContactLaw kLaw, bool kPosedMesh = false>
 TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, const BodyRow& self, std::uint32_t i,
-                                     Vec3f xi, float r, ParticleForce* out, GroundForces* gf, bool anyPlane) {
+                                     Vec3f xi, float r, ParticleForce* out, GroundForces* gf, bool anyPlane,
+                                     EnergyWork* work) {
   ContactSide side{{0.0f, 0.0f, 0.0f}, self.v, {0.0f, 0.0f, 0.0f}};
   bool haveSide = !kClumps;
   for (std::uint32_t k = fp.hasGround ? 1u : 0u; k < v.numPlanes; ++k) {
@@ -270,15 +325,16 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
       float* ty = &v.ground.ty[s];
       GroundForces g;
       switch (w.axis) {
-        case 0: g = planeContact<0, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<0>(w, xi), r, self, side, tx, ty, out); break;
-        case 1: g = planeContact<1, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<1>(w, xi), r, self, side, tx, ty, out); break;
-        case 2: g = planeContact<2, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<2>(w, xi), r, self, side, tx, ty, out); break;
+        case 0: g = planeContact<0, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<0>(w, xi), r, self, side, tx, ty, out, work); break;
+        case 1: g = planeContact<1, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<1>(w, xi), r, self, side, tx, ty, out, work); break;
+        case 2: g = planeContact<2, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<2>(w, xi), r, self, side, tx, ty, out, work); break;
         case kGeneralPlane:
-          g = planeContact<-1, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<-1>(w, xi), r, self, side, tx, ty, out);
+          g = planeContact<-1, kClumps, kLaw>(v, fp, w, k, i, xi, toWall<-1>(w, xi), r, self, side, tx, ty, out,
+                                              work);
           break;
         default:  // the sphere at height dist above the surface's tangent plane
           g = planeContact<-1, kClumps, kLaw>(v, fp, rp.frame, k, i, xi, Vec3f{0.0f, 0.0f, rp.dist}, r, self, side, tx,
-                                              ty, out);
+                                              ty, out, work);
           break;
       }
       gf->normal = anyPlane ? gf->normal + g.normal : g.normal;
@@ -290,7 +346,7 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
     }
   }
   if (v.mesh.numTriangles != 0)
-    meshWallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, r, side, haveSide, out, gf, anyPlane);
+    meshWallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, r, side, haveSide, out, gf, anyPlane, work);
 }
 
 /// Particle i's side of its contacts (sideOf()), computed on first use: most particles touch
@@ -310,11 +366,13 @@ struct LazySide {
 };
 
 /// What particleForce() sums for particle i: its force and torque and, for the debug capture
-/// (kDebug), the three contact forces apart. Trivial: start from zeroSums().
+/// (kDebug), the three contact forces apart and its energy tally (EnergyWork). Trivial: start
+/// from zeroSums().
 template <bool kDebug>
 struct ParticleSums {
   ParticleForce out;
   Vec3f rep, dmp, shr;
+  EnergyWork work;
 };
 template <>
 struct ParticleSums<false> {
@@ -324,7 +382,10 @@ template <bool kDebug>
 TUMBLE_HD_INLINE ParticleSums<kDebug> zeroSums() {
   ParticleSums<kDebug> s;
   s.out = ParticleForce{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0u};
-  if constexpr (kDebug) s.rep = s.dmp = s.shr = Vec3f{0.0f, 0.0f, 0.0f};
+  if constexpr (kDebug) {
+    s.rep = s.dmp = s.shr = Vec3f{0.0f, 0.0f, 0.0f};
+    s.work = noWork();
+  }
   return s;
 }
 
@@ -342,6 +403,8 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
   const bool iBeforeJ = d2 > 0.0f || v.orig[i] < v.orig[j];  // read only for coincident centres
   ParticleForce& out = sum->out;
   ContactForces cf;
+  [[maybe_unused]] Vec3f roll{0.0f, 0.0f, 0.0f};  // the tally's: the rolling torque M and its loss −M · (ω_i − ω_j)
+  [[maybe_unused]] float rollingLoss = 0.0f;
   // A cohesive contact's attraction (cohesion.hpp) at overlap delta, reff the pair's R*.
   const auto pull = [&](float value, float delta, float reff) {
     if (fp.cohesion == Cohesion::None) return Attraction{0.0f, 0.0f};
@@ -352,8 +415,14 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
     const ContactSide& si = side.get(v, self, i);
     const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ);
     cf = hookeHistoryForces(k, meff, fp.history, fp.dt, &historyOf(v, e), pull(fp.history.cohesion, k.delta, reff));
-    if (fp.rollingFriction > 0.0f)
-      out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, fp.rollingFriction, fp.dt);
+    if (fp.rollingFriction > 0.0f) {
+      const Vec3f m = rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, fp.rollingFriction, fp.dt);
+      out.t += m;
+      if constexpr (kDebug) {
+        roll = m;
+        rollingLoss = -dot(m, si.omega - sj.omega);
+      }
+    }
   } else if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * rj) / (pi.r + rj);
     const HertzPair& hp =
@@ -361,9 +430,24 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
     const ContactSide& si = side.get(v, self, i);
     const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ);
     cf = hertzMindlinForces(k, reff, meff, hp, fp.dt, &historyOf(v, e), pull(hp.cohesion, k.delta, reff));
-    if (hp.muR > 0.0f) out.t += rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
+    if (hp.muR > 0.0f) {
+      const Vec3f m = rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
+      out.t += m;
+      if constexpr (kDebug) {
+        roll = m;
+        rollingLoss = -dot(m, si.omega - sj.omega);
+      }
+    }
   } else {
     cf = contactForces<kClumps>(d, d2, pi.r, rj, side.get(v, self, i), sj, iBeforeJ, fp.contact);
+    if constexpr (kDebug) {  // the report's law is viscous: η |w|² and k_t |w_t|²
+      const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, side.get(v, self, i), sj, iBeforeJ);
+      const float wn = dot(k.w, k.n);
+      const Vec3f wt = k.w - wn * k.n;
+      const Vec3f dn = dot(cf.damping, k.n) * k.n, drag = (cf.damping - dn) + cf.shear;
+      const float t = dot(drag, wt);
+      cf.loss = ContactLoss{dot(dn, k.n) * wn, t, t, dn, drag};
+    }
   }
   const Vec3f fc = total(cf);
   out.f += fc;
@@ -372,6 +456,10 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
     sum->rep += cf.repulsion;
     sum->dmp += cf.damping;
     sum->shr += cf.shear;
+    // Each pair is seen from both sides with the same losses: half from each.
+    const Vec3f tangential = kLaw == ContactLaw::Report ? cf.loss.drag : cf.shear;  // the report's: all viscous
+    addContactWork<kClumps>(sum->work, cf.loss, cf.loss.damping, cf.loss.drag, tangential, cf.arm, roll, rollingLoss,
+                            0.5f);
   }
   ++out.contacts;
   return fc;
@@ -379,7 +467,8 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
 
 /// After its contacts, the rest of particle i's step: its count of contacts (v.touching), the
 /// planes (the ground first, then the walls; each plane's stick spring updated in place), the
-/// pulls, and the debug capture. Returns its force and torque.
+/// pulls, and the debug capture (the capture's arrays where dbg has them; its energy tally
+/// in sum.work). Returns its force and torque.
 template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPosedMesh>
 TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                               const BodyRow& self, std::uint32_t i, const PosRow& pi,
@@ -389,11 +478,13 @@ TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForcePara
   v.touching[i] = static_cast<std::uint8_t>(out.contacts < 255u ? out.contacts : 255u);
   // The planes (wall.hpp), the ground first: its test reads the force constants (most particles
   // of a scene are above its ground), the walls' loop is wallContacts().
-  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};  // debug: their sum
+  GroundForces gf{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {}};  // debug: their sum
+  EnergyWork* work = nullptr;
+  if constexpr (kDebug) work = &sum.work;
   if (fp.hasGround) {
     if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {  // fp.ground = planes[0].coeffs; wallHeight() is z there
       gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, xi, xi, pi.r, self, side.get(v, self, i),
-                                                     &v.ground.tx[i], &v.ground.ty[i], &out);
+                                                     &v.ground.tx[i], &v.ground.ty[i], &out, work);
     } else {  // out of contact the stick spring is released
       v.ground.tx[i] = 0.0f;
       v.ground.ty[i] = 0.0f;
@@ -401,7 +492,7 @@ TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForcePara
   }
   if (fp.hasWalls) {
     const bool groundTouched = fp.hasGround && groundDepth(xi, pi.r, fp.ground) > 0.0f;
-    wallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, pi.r, &out, &gf, groundTouched);
+    wallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, pi.r, &out, &gf, groundTouched, work);
   }
   if (fp.pulls != 0u) {
     const Vec3f fpull = pullForce(xi, v.mass[i], fp.pullX, fp.pullY, fp.pullSwirl, fp.pulls, fp.pullCentre);
@@ -412,7 +503,7 @@ TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForcePara
     const ContactSide& s = side.get(v, self, i);
     const Vec3f vel = kClumps ? pointVelocity(s.v, s.omega, s.offset) : s.v;
     const Vec3f parts[6] = {sum.rep, sum.dmp, sum.shr, gf.normal, gf.friction, vel};
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < 6 && dbg.v != nullptr; ++k) {
       float* col = k < 5 ? dbg.f[k] : dbg.v;
       col[3 * std::size_t(i)] = parts[k].x;
       col[3 * std::size_t(i) + 1] = parts[k].y;
@@ -454,10 +545,12 @@ TUMBLE_HD_INLINE void forgetHistory(const StepView& v, std::uint32_t e) {
 /// predicate's periodic form, kernels/periodic.hpp); a scene without one pays nothing for it.
 /// kPosedMesh: some mesh wall moves (meshWallContacts()); a scene whose meshes stand still (or
 /// that has none) runs the code without poses.
+///
+/// kDebug: *work (nullptr: none) gains the particle's energy tally (EnergyWork).
 template <bool kDebug, bool kClumps, ContactLaw kLaw = ContactLaw::Report, bool kPeriodic = false,
           bool kPosedMesh = false>
 TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
-                                             const BodyRow& self, std::uint32_t i) {
+                                             const BodyRow& self, std::uint32_t i, EnergyWork* work = nullptr) {
   const PosRow pi = v.pos[i];
   LazySide<kClumps> side(self);
   ParticleSums<kDebug> sum = zeroSums<kDebug>();
@@ -478,7 +571,11 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
       if (dbg.contact != nullptr) dbg.contact[e] = capturedContact(v, i, pi, j, d, d2, f);
     }
   }
-  return finishParticle<kDebug, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, pi, side, sum);
+  const ParticleForce pf = finishParticle<kDebug, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, pi, side, sum);
+  if constexpr (kDebug) {
+    if (work != nullptr) addWork(*work, sum.work);
+  }
+  return pf;
 }
 
 /// Stage 6, one particle's share of its body's totals: F += f_i, T += t_i. A body adds its
@@ -610,7 +707,9 @@ TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f grav
 /// force and torque never leave the registers: no per-particle force is stored for a second
 /// pass. Returns the contacts its particles counted. kBodyBatch: the CPU pipeline, whose lists
 /// have owners; the CUDA pipeline's have none, and the batch's buffers (about 3 KB a thread)
-/// would be reserved for nothing.
+/// would be reserved for nothing. kDebug with v.bodyFlows: the body's energy flows, its
+/// particles' in order, moved to the middle of the step (EnergyWork), go to v.bodyFlows[k]
+/// (the energy tally, kernels/energy.hpp).
 template <bool kDebug, bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh, bool kBodyBatch>
 TUMBLE_HD_INLINE std::uint32_t stepBody(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
                                         Vec3f gravity, float dt, RotationScheme scheme, std::uint32_t k, Drift* drift) {
@@ -620,10 +719,22 @@ TUMBLE_HD_INLINE std::uint32_t stepBody(const StepView& v, const ForceParams& fp
   if constexpr (kBodyBatch && !kDebug) {
     contacts = bodyForces<kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
   } else {
+    [[maybe_unused]] EnergyWork work = noWork();
     for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
-      const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
+      const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i, &work);
       addToBody<kClumps>(F, T, pf);
       contacts += pf.contacts;
+    }
+    if constexpr (kDebug) {
+      if (v.bodyFlows != nullptr) {  // finishBody() writes the next row; self is this step's
+        finishBody<kClumps, kPeriodic>(v, F, T, gravity, dt, scheme, k, drift);
+        const BodyRow& next = v.bodiesNext[k];
+        const Vec3f dV = next.v - self.v, dW = next.omega - self.omega;
+        float* flow[3] = {&work.flows.normal, &work.flows.tangential, &work.flows.friction};
+        for (int c = 0; c < 3; ++c) *flow[c] -= 0.5f * (dot(work.f[c], dV) + dot(work.t[c], dW));
+        v.bodyFlows[k] = work.flows;
+        return contacts;
+      }
     }
   }
   finishBody<kClumps, kPeriodic>(v, F, T, gravity, dt, scheme, k, drift);

@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+/// @file energy.hpp
+/// The energy tally of the time series (docs/thermo.md#energy-balance), written once for both
+/// pipelines: each step, the power the contacts take out of the bodies' motion (by the normal
+/// dashpots, the tangential dashpots, friction) and the power moving walls put in, summed per
+/// particle and per body in the force pass (kernels/step.hpp, its debug instantiation), times
+/// dt, are added to a running sum in fixed point (kEnergyQuantum joules). Integer sums do not
+/// depend on their order, so the tally is the same bits for any thread count, numbering, MPI
+/// rank count and either pipeline, without sorting anything.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "tumble/hd.hpp"
+
+namespace tumble {
+
+/// Powers (W) of one particle or body in one step: taken out of the motion by the normal
+/// dashpots, by the tangential dashpots while the contacts stick, by the rest of the tangential
+/// forces and the rolling resistance (friction; with the energy the stick springs hold), and put
+/// in by moving walls (the wall force dotted with the wall's velocity there).
+struct EnergyFlows {
+  float normal, tangential, friction, wall;
+};
+inline constexpr int kEnergyFlows = 4;
+
+TUMBLE_HD_INLINE EnergyFlows noFlows() { return EnergyFlows{0.0f, 0.0f, 0.0f, 0.0f}; }
+TUMBLE_HD_INLINE void addFlows(EnergyFlows& a, const EnergyFlows& b) {
+  a.normal += b.normal;
+  a.tangential += b.tangential;
+  a.friction += b.friction;
+  a.wall += b.wall;
+}
+
+/// The tally's unit: 2^-80 J (8.3e-25 J). A step's energy of a body is rounded to it; the tally
+/// holds ±2^47 J (1.4e14 J) in 128 bits.
+inline constexpr double kEnergyQuantum = 0x1p-80;
+
+/// Sums of energies in units of kEnergyQuantum, each split into limbs that integer additions
+/// (and atomics) add exactly in any order: value = hi 2^64 + mid 2^32 + lo, mid and lo each
+/// below 2^32 per term, so 2^32 terms add without overflow.
+struct EnergyLimbs {
+  std::int64_t hi[kEnergyFlows];
+  std::uint64_t mid[kEnergyFlows], lo[kEnergyFlows];
+};
+
+TUMBLE_HD_INLINE EnergyLimbs noLimbs() {
+  EnergyLimbs l;
+  for (int c = 0; c < kEnergyFlows; ++c) {
+    l.hi[c] = 0;
+    l.mid[c] = l.lo[c] = 0;
+  }
+  return l;
+}
+
+/// The limbs of p dt in units of kEnergyQuantum, rounded to the nearest (ties to even): p dt
+/// and its scaling are exact in double, so is the split. |p dt| must be below 2^46 J.
+TUMBLE_HD_INLINE void energyLimbs(float p, float dt, std::int64_t* hi, std::uint64_t* mid, std::uint64_t* lo) {
+  const double e = rint(double(p) * double(dt) * 0x1p80);
+  const double h = floor(e * 0x1p-64);
+  const double r = e - h * 0x1p64;  // 0 ≤ r < 2^64, exact
+  const double m = floor(r * 0x1p-32);
+  *hi = static_cast<std::int64_t>(h);
+  *mid = static_cast<std::uint64_t>(m);
+  *lo = static_cast<std::uint64_t>(r - m * 0x1p32);
+}
+
+/// Adds a body's step, its powers f over dt, to l.
+TUMBLE_HD_INLINE void addEnergy(EnergyLimbs& l, const EnergyFlows& f, float dt) {
+  const float p[kEnergyFlows] = {f.normal, f.tangential, f.friction, f.wall};
+  for (int c = 0; c < kEnergyFlows; ++c) {
+    std::int64_t h;
+    std::uint64_t m, o;
+    energyLimbs(p[c], dt, &h, &m, &o);
+    l.hi[c] += h;
+    l.mid[c] += m;
+    l.lo[c] += o;
+  }
+}
+
+TUMBLE_HD_INLINE void addLimbs(EnergyLimbs& a, const EnergyLimbs& b) {
+  for (int c = 0; c < kEnergyFlows; ++c) {
+    a.hi[c] += b.hi[c];
+    a.mid[c] += b.mid[c];
+    a.lo[c] += b.lo[c];
+  }
+}
+
+/// The energies of EnergyFlows (J) since the tally began.
+struct EnergyTotals {
+  double normal = 0.0, tangential = 0.0, friction = 0.0, wall = 0.0;
+};
+
+/// A running tally (host side): the exact sum of the limbs added, in 128 bits per flow.
+class EnergyTally {
+ public:
+  void add(const EnergyLimbs& l) {
+    for (int c = 0; c < kEnergyFlows; ++c)
+      m_sum[c] += static_cast<Wide>(static_cast<Wide>(l.hi[c]) * kTwo64) + static_cast<Wide>(l.mid[c]) * kTwo32 +
+                  static_cast<Wide>(l.lo[c]);
+  }
+  void add(const EnergyTally& t) {
+    for (int c = 0; c < kEnergyFlows; ++c) m_sum[c] += t.m_sum[c];
+  }
+  void clear() { *this = EnergyTally{}; }
+  /// In joules, each rounded once to double.
+  EnergyTotals joules() const {
+    double j[kEnergyFlows];
+    for (int c = 0; c < kEnergyFlows; ++c) {
+      const Wide s = m_sum[c];
+      const Wide a = s < 0 ? -s : s;
+      // The high and low 64 bits apart: their sum in double is the value rounded once (the high
+      // part's double is exact up to 2^-11 of it, and the low part lies below its rounding).
+      const double high = double(static_cast<std::uint64_t>(a >> 64)) * 0x1p64;
+      const double v = (high + double(static_cast<std::uint64_t>(a))) * kEnergyQuantum;
+      j[c] = s < 0 ? -v : v;
+    }
+    return EnergyTotals{j[0], j[1], j[2], j[3]};
+  }
+  /// The raw sums, two words each (low, high), for a collective sum across MPI ranks.
+  void words(std::uint64_t out[2 * kEnergyFlows]) const {
+    for (int c = 0; c < kEnergyFlows; ++c) {
+      out[2 * c] = static_cast<std::uint64_t>(m_sum[c]);
+      out[2 * c + 1] = static_cast<std::uint64_t>(static_cast<UWide>(m_sum[c]) >> 64);
+    }
+  }
+  static EnergyTally fromWords(const std::uint64_t in[2 * kEnergyFlows]) {
+    EnergyTally t;
+    for (int c = 0; c < kEnergyFlows; ++c)
+      t.m_sum[c] = static_cast<Wide>((static_cast<UWide>(in[2 * c + 1]) << 64) | static_cast<UWide>(in[2 * c]));
+    return t;
+  }
+
+ private:
+  __extension__ typedef __int128 Wide;
+  __extension__ typedef unsigned __int128 UWide;
+  static constexpr Wide kTwo32 = Wide(1) << 32, kTwo64 = Wide(1) << 64;
+  Wide m_sum[kEnergyFlows] = {0, 0, 0, 0};
+};
+
+}  // namespace tumble
