@@ -737,8 +737,9 @@ expect_status "thermo-every 0" 2 "$bin" run small.toml --thermo th.csv --thermo-
 expect_status "resume with thermo" 0 "$bin" run small.toml --steps 50 --resume ck.bin --thermo thr.csv --thermo-every 20 -q
 [ "$(cut -d, -f1 thr.csv | tail -n +2 | tr '\n' ' ')" = "20 40 50 " ] && ok "resumed thermo starts at the checkpoint" ||
   bad "resumed thermo: $(cut -d, -f1 thr.csv | tr '\n' ' ')"
-# (Without the swirl pull its work is 0 in both, so the whole row of step 40 is the same.)
-[ "$(sed -n 4p th.csv)" = "$(sed -n 3p thr.csv)" ] && ok "resumed thermo row equals the straight run's" ||
+# (Without the swirl pull its work is 0 in both, so the row of step 40 is the same up to the
+# energy tally's columns, 19 on, which count from the resume.)
+[ "$(sed -n 4p th.csv | cut -d, -f1-18)" = "$(sed -n 3p thr.csv | cut -d, -f1-18)" ] && ok "resumed thermo row equals the straight run's" ||
   bad "resumed thermo row: $(sed -n 3p thr.csv) vs $(sed -n 4p th.csv)"
 [ "$(sed -n 3p th.csv | cut -d, -f2)" = "0.002" ] && ok "thermo times at the step's precision" ||
   bad "thermo time of step 20 at dt 1e-4: $(sed -n 3p th.csv | cut -d, -f2)"

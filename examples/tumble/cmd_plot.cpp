@@ -2,6 +2,7 @@
 // `tumble plot FILE.csv`: draws a time series (`tumble run --thermo`, docs/thermo.md) with
 // gnuplot into a PNG. Default: three panels (the energies; the mechanical energy; the contacts
 // and the largest overlap); --columns draws the named columns in one panel.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -73,8 +74,11 @@ void plot(const PlotOptions& o) {
   if (!o.columns.empty()) {
     panels.push_back(Panel{"", o.columns, {}, ""});
   } else {
+    // The balance beside the energy where the file has it (files written before it had not).
+    const bool balance = std::find(header.begin(), header.end(), "balance") != header.end();
     panels = {Panel{"energy (J)", {"kinetic_translation", "kinetic_rotation", "potential_contacts", "pull_work"}, {}, ""},
-              Panel{"mechanical energy (J)", {"energy"}, {}, ""},
+              balance ? Panel{"energy and balance (J)", {"energy", "balance"}, {}, ""}
+                      : Panel{"mechanical energy (J)", {"energy"}, {}, ""},
               Panel{"contacts", {"contacts"}, {"max_overlap"}, "largest overlap / radius"}};
   }
   for (const Panel& p : panels) {

@@ -56,7 +56,15 @@ TUMBLE_HD_INLINE EnergyLimbs noLimbs() {
 /// The limbs of p dt in units of kEnergyQuantum, rounded to the nearest (ties to even): p dt
 /// and its scaling are exact in double, so is the split. |p dt| must be below 2^46 J.
 TUMBLE_HD_INLINE void energyLimbs(float p, float dt, std::int64_t* hi, std::uint64_t* mid, std::uint64_t* lo) {
-  const double e = rint(double(p) * double(dt) * 0x1p80);
+  const double x = double(p) * double(dt) * 0x1p80;
+  if (fabs(x) < 0x1p62) {  // most energies of a step (below 3.8e-6 J): one integer, two's complement
+    const auto u = static_cast<std::uint64_t>(static_cast<std::int64_t>(llrint(x)));
+    *hi = x < 0.0 && u != 0 ? -1 : 0;
+    *mid = u >> 32;
+    *lo = u & 0xffffffffu;
+    return;
+  }
+  const double e = rint(x);
   const double h = floor(e * 0x1p-64);
   const double r = e - h * 0x1p64;  // 0 ≤ r < 2^64, exact
   const double m = floor(r * 0x1p-32);

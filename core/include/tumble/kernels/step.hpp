@@ -597,11 +597,13 @@ TUMBLE_HD_INLINE void addToBody(Vec3f& F, Vec3f& T, const ParticleForce& pf) {
 /// particle by particle. Adds each particle's force to F and T (addToBody()) and returns the
 /// number of contacts. A law with history: the filter zeroes the ξ of the entries that do not
 /// touch (forgetHistory()), the contacts update theirs; each entry has its own ξ, so the order
-/// of the two does not matter and the histories are particleForce()'s too.
+/// of the two does not matter and the histories are particleForce()'s too. kDebug (the energy
+/// tally without the capture, whose arrays dbg must not have): *work gains the particles'
+/// EnergyWork, in particleForce()'s order too.
 inline constexpr std::uint32_t kBodyBatch = 96, kBodyBatchParticles = 16;
-template <bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh>
+template <bool kClumps, ContactLaw kLaw, bool kPeriodic, bool kPosedMesh, bool kDebug = false>
 TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& fp, const DebugForcesView& dbg,
-                                          const BodyRow& self, Vec3f* F, Vec3f* T) {
+                                          const BodyRow& self, Vec3f* F, Vec3f* T, EnergyWork* work = nullptr) {
   const std::uint32_t first = self.first, count = self.count;
   // A compact list: the body's rows are one run of entries. (Its ends are read again for the
   // loop below: kept live across the branch, they cost 5 % of the pass at 16k, measured.)
@@ -609,7 +611,7 @@ TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& 
   std::uint32_t contacts = 0;
   if (v.listOwner == nullptr || count > kBodyBatchParticles || entries > kBodyBatch) {
     for (std::uint32_t i = first; i < first + count; ++i) {
-      const ParticleForce pf = particleForce<false, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i);
+      const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i, work);
       addToBody<kClumps>(*F, *T, pf);
       contacts += pf.contacts;
     }
@@ -635,19 +637,22 @@ TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& 
     }
     numHits += hit ? 1u : 0u;
   }
-  ParticleSums<false> sums[kBodyBatchParticles];
-  for (std::uint32_t k = 0; k < count; ++k) sums[k] = zeroSums<false>();
+  ParticleSums<kDebug> sums[kBodyBatchParticles];
+  for (std::uint32_t k = 0; k < count; ++k) sums[k] = zeroSums<kDebug>();
   for (std::uint32_t h = 0; h < numHits; ++h) {
     const Hit& x = hits[h];
     const std::uint32_t i = first + x.k;
     LazySide<kClumps> side(self);  // (per contact: cheaper than keeping one per particle)
-    addContact<false, kClumps, kLaw>(v, fp, self, i, v.pos[i], x.e, v.list.cand[x.e], x.d, x.d2, side, &sums[x.k]);
+    addContact<kDebug, kClumps, kLaw>(v, fp, self, i, v.pos[i], x.e, v.list.cand[x.e], x.d, x.d2, side, &sums[x.k]);
   }
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::uint32_t i = first + k;
     LazySide<kClumps> side(self);
     const ParticleForce pf =
-        finishParticle<false, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, v.pos[i], side, sums[k]);
+        finishParticle<kDebug, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, v.pos[i], side, sums[k]);
+    if constexpr (kDebug) {
+      if (work != nullptr) addWork(*work, sums[k].work);
+    }
     addToBody<kClumps>(*F, *T, pf);
     contacts += pf.contacts;
   }
@@ -702,7 +707,7 @@ TUMBLE_HD_INLINE void finishBody(const StepView& v, Vec3f F, Vec3f T, Vec3f grav
 
 /// Stages 3–7 and the next step's stage 1 for body k, in one pass (both pipelines' step, one
 /// writer per body): its particles' forces in order (particleForce(); with kBodyBatch, without
-/// debug capture, the body batch, bodyForces(), which gives the same bits),
+/// the debug capture's arrays, the body batch, bodyForces(), which gives the same bits),
 /// summed into its force and torque as they come (addToBody()), then finishBody(). The body's
 /// force and torque never leave the registers: no per-particle force is stored for a second
 /// pass. Returns the contacts its particles counted. kBodyBatch: the CPU pipeline, whose lists
@@ -716,28 +721,31 @@ TUMBLE_HD_INLINE std::uint32_t stepBody(const StepView& v, const ForceParams& fp
   const BodyRow& self = v.bodies[k];
   Vec3f F{0.0f, 0.0f, 0.0f}, T{0.0f, 0.0f, 0.0f};
   std::uint32_t contacts = 0;
-  if constexpr (kBodyBatch && !kDebug) {
-    contacts = bodyForces<kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, &F, &T);
-  } else {
-    [[maybe_unused]] EnergyWork work = noWork();
+  [[maybe_unused]] EnergyWork work = noWork();
+  bool batched = false;
+  if constexpr (kBodyBatch) {  // also for the energy tally alone (kDebug without the capture's arrays)
+    if (!kDebug || (dbg.v == nullptr && dbg.contact == nullptr)) {
+      contacts = bodyForces<kClumps, kLaw, kPeriodic, kPosedMesh, kDebug>(v, fp, dbg, self, &F, &T, &work);
+      batched = true;
+    }
+  }
+  if (!batched) {
     for (std::uint32_t i = self.first, e = self.first + self.count; i < e; ++i) {
       const ParticleForce pf = particleForce<kDebug, kClumps, kLaw, kPeriodic, kPosedMesh>(v, fp, dbg, self, i, &work);
       addToBody<kClumps>(F, T, pf);
       contacts += pf.contacts;
     }
-    if constexpr (kDebug) {
-      if (v.bodyFlows != nullptr) {  // finishBody() writes the next row; self is this step's
-        finishBody<kClumps, kPeriodic>(v, F, T, gravity, dt, scheme, k, drift);
-        const BodyRow& next = v.bodiesNext[k];
-        const Vec3f dV = next.v - self.v, dW = next.omega - self.omega;
-        float* flow[3] = {&work.flows.normal, &work.flows.tangential, &work.flows.friction};
-        for (int c = 0; c < 3; ++c) *flow[c] -= 0.5f * (dot(work.f[c], dV) + dot(work.t[c], dW));
-        v.bodyFlows[k] = work.flows;
-        return contacts;
-      }
-    }
   }
   finishBody<kClumps, kPeriodic>(v, F, T, gravity, dt, scheme, k, drift);
+  if constexpr (kDebug) {
+    if (v.bodyFlows != nullptr) {  // finishBody() wrote the next row; self is this step's
+      const BodyRow& next = v.bodiesNext[k];
+      const Vec3f dV = next.v - self.v, dW = next.omega - self.omega;
+      float* flow[3] = {&work.flows.normal, &work.flows.tangential, &work.flows.friction};
+      for (int c = 0; c < 3; ++c) *flow[c] -= 0.5f * (dot(work.f[c], dV) + dot(work.t[c], dW));
+      v.bodyFlows[k] = work.flows;
+    }
+  }
   return contacts;
 }
 
