@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
       rs.stepsPerFrame = scene.stepsPerFrame;
       run.record(rs);
     }
-    if (!thermo.empty()) run.writeThermo(thermo, scene.thermoEvery);
+    if (!thermo.empty()) run.writeThermo(thermo, scene.thermoEvery, scene.energyBalance);
     const std::uint64_t total = steps > 0 ? std::uint64_t(steps) : scene.steps;
     tumble::BodyState state;
     for (int k = 1; k <= 10; ++k) {

@@ -324,13 +324,7 @@ ThermoSample Run::sampleNow() const {
 }
 
 ThermoSample Run::withTally(ThermoSample s) const {
-  if (!m_tallying) return s;
-  const EnergyTotals e = stats().energy;
-  s.dissipatedNormal = e.normal;
-  s.dissipatedTangential = e.tangential;
-  s.dissipatedFriction = e.friction;
-  s.wallWork = e.wall;
-  return s;
+  return m_tallying ? withEnergy(s, stats().energy) : s;
 }
 
 bool Run::writeOrGiveUp(const std::function<void()>& write) {
@@ -492,12 +486,12 @@ void Run::closeRecording() {
   m_hooks->write([&] { m_rec->close(); });
 }
 
-void Run::writeThermo(const std::string& path, std::uint64_t every) {
+void Run::writeThermo(const std::string& path, std::uint64_t every, bool energyBalance) {
   requireLoaded(m_pipeline, "writeThermo()");
   if (every < 1) throw Error("the time series' interval must be at least 1 step");
   refuseSceneInput(scene(), path, "the time series");
-  m_pipeline->setEnergyTally(true);  // its columns count from the first step on
-  m_tallying = true;
+  m_pipeline->setEnergyTally(energyBalance);  // its columns count from the first step on
+  m_tallying = energyBalance;
   const ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
   std::unique_ptr<ThermoWriter> thermo;
   m_hooks->write([&] { thermo = std::make_unique<ThermoWriter>(path, scene().dt); });  // first: a failure keeps the one under way

@@ -267,7 +267,8 @@ void SceneParser::readOutput(Scene& scene) {
   const toml::table* t = sectionOf(m_file, m_root, "output");
   if (t == nullptr) return;
   const TableReader r(m_file, *t, "[output]",
-                      {"record", "record_steps", "debug", "contacts", "steps_per_frame", "thermo", "thermo_every"});
+                      {"record", "record_steps", "debug", "contacts", "steps_per_frame", "thermo", "thermo_every",
+                       "energy_balance"});
   scene.recordFile = r.string("record", "");
   scene.recordSteps = static_cast<std::uint64_t>(r.integer("record_steps", 0, 0));
   scene.recordDebug = r.boolean("debug", false);
@@ -280,6 +281,7 @@ void SceneParser::readOutput(Scene& scene) {
   scene.stepsPerFrame = static_cast<int>(spf);
   scene.thermoFile = r.string("thermo", "");
   scene.thermoEvery = static_cast<std::uint64_t>(r.integer("thermo_every", 100, 1));
+  scene.energyBalance = r.boolean("energy_balance", false);
 }
 
 void SceneParser::readMaterials(Scene& scene) {

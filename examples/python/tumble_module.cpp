@@ -427,14 +427,16 @@ class Simulation {
     m_run.closeRecording();
   }
 
-  void writeThermo(const py::object& pathArg, std::optional<std::uint64_t> everyArg) {
+  void writeThermo(const py::object& pathArg, std::optional<std::uint64_t> everyArg,
+                   std::optional<bool> energyBalanceArg) {
     const auto lock = exclusive();
     const std::string path = pathOf(pathArg);
     const std::uint64_t every = everyArg.value_or(m_run.world().params.thermoEvery);
     if (every < 1) throw Error("every must be at least 1");
     if (m_run.recordingOn() && sameFile(path, m_run.recording()->path()))
       throw Error("write_thermo: " + path + " is the recording's file (record): name another file");
-    m_run.writeThermo(path, every);  // a failure keeps the series under way
+    // a failure keeps the series under way
+    m_run.writeThermo(path, every, energyBalanceArg.value_or(m_run.world().params.energyBalance));
   }
 
   void closeThermo() {
@@ -745,8 +747,10 @@ PYBIND11_MODULE(_tumble, m) {
            "with their forces (frame()['contact_forces'])")
       .def("close_recording", &Simulation::closeRecording)
       .def("write_thermo", &Simulation::writeThermo, py::arg("path"), py::arg("every") = py::none(),
+           py::arg("energy_balance") = py::none(),
            "Writes the time series to a CSV file, a row now and every `every` steps (default: the scene's "
-           "thermo_every), as tumble run --thermo")
+           "thermo_every), as tumble run --thermo; energy_balance: with the energy tally's columns (default: "
+           "the scene's [output] energy_balance), as --energy-balance")
       .def("close_thermo", &Simulation::closeThermo)
       .def("close", &Simulation::close, "Finishes the recording and the time series")
       .def("__enter__", [](Simulation& s) -> Simulation& { return s; }, py::return_value_policy::reference)

@@ -734,11 +734,26 @@ printf '[output]\nthermo = "scene_th.csv"\nthermo_every = 25\n' | cat small.toml
 [ "$(cut -d, -f1 scene_th.csv | tail -n +2 | tr '\n' ' ')" = "0 25 50 " ] && ok "thermo from [output]" ||
   bad "thermo from [output]: $(cat scene_th.csv 2>&1 | head -3)"
 expect_status "thermo-every 0" 2 "$bin" run small.toml --thermo th.csv --thermo-every 0
+# The energy tally's columns (docs/thermo.md#energy-balance): nan without --energy-balance, numbers
+# with it (the same bytes for 1 and 2 threads), the rest of each row unchanged.
+[ "$(sed -n 3p th.csv | cut -d, -f19-23)" = "nan,nan,nan,nan,nan" ] && ok "no energy tally without --energy-balance" ||
+  bad "energy tally columns without --energy-balance: $(sed -n 3p th.csv | cut -d, -f19-23)"
+"$bin" run small.toml --thermo eb1.csv --thermo-every 20 --energy-balance --threads 1 -q 2>/dev/null
+"$bin" run small.toml --thermo eb2.csv --thermo-every 20 --energy-balance --threads 2 -q 2>/dev/null
+cmp -s eb1.csv eb2.csv && ok "energy tally: same bytes for 1 and 2 threads" || bad "energy tally differs between 1 and 2 threads"
+[ "$(cut -d, -f1-18 eb1.csv)" = "$(cut -d, -f1-18 th.csv)" ] && ok "energy tally changes no other column" ||
+  bad "energy tally changed the other columns"
+tail -n 1 eb1.csv | awk -F, '$19 != "nan" && $22 != "nan" && $23 == $8 { exit 0 } { exit 1 }' &&
+  ok "energy tally: numbers (nothing dissipated yet: the balance is the energy)" || bad "energy tally row: $(tail -n 1 eb1.csv)"
+printf '[output]\nthermo = "scene_eb.csv"\nenergy_balance = true\n' | cat small.toml - > ebscene.toml
+"$bin" run ebscene.toml -q 2>/dev/null
+[ "$(tail -n 1 scene_eb.csv | cut -d, -f23)" != "nan" ] && ok "energy_balance from [output]" ||
+  bad "energy_balance from [output]: $(tail -n 1 scene_eb.csv)"
 expect_status "resume with thermo" 0 "$bin" run small.toml --steps 50 --resume ck.bin --thermo thr.csv --thermo-every 20 -q
 [ "$(cut -d, -f1 thr.csv | tail -n +2 | tr '\n' ' ')" = "20 40 50 " ] && ok "resumed thermo starts at the checkpoint" ||
   bad "resumed thermo: $(cut -d, -f1 thr.csv | tr '\n' ' ')"
 # (Without the swirl pull its work is 0 in both, so the row of step 40 is the same up to the
-# energy tally's columns, 19 on, which count from the resume.)
+# energy tally's columns, 19 on, which count from the resume where they are kept.)
 [ "$(sed -n 4p th.csv | cut -d, -f1-18)" = "$(sed -n 3p thr.csv | cut -d, -f1-18)" ] && ok "resumed thermo row equals the straight run's" ||
   bad "resumed thermo row: $(sed -n 3p thr.csv) vs $(sed -n 4p th.csv)"
 [ "$(sed -n 3p th.csv | cut -d, -f2)" = "0.002" ] && ok "thermo times at the step's precision" ||

@@ -47,6 +47,7 @@ struct RunOptions {
   std::string resume;
   std::string thermo;
   std::optional<std::uint64_t> thermoEvery;
+  bool energyBalance = false;
 };
 
 // REC=<n_steps>[,<file>] (SPEC §6).
@@ -296,7 +297,8 @@ void run(RunOptions o) {
   if (checks.stop && start == 0 && !run.guard()->initialWarning().empty() && writes)
     std::fprintf(stderr, "tumble run: warning: %s: %s\n", o.scene.c_str(), run.guard()->initialWarning().c_str());
   if (!o.thermo.empty())  // a row of the state at the start
-    openOrStop(run, [&] { run.writeThermo(o.thermo, thermoEvery); }, start, scene.steps, writes);
+    openOrStop(run, [&] { run.writeThermo(o.thermo, thermoEvery, o.energyBalance || scene.energyBalance); }, start,
+               scene.steps, writes);
   if (o.checkpointEvery)
     openOrStop(run, [&] { run.checkpointEvery(o.checkpoint, *o.checkpointEvery); }, start, scene.steps, writes);
 
@@ -448,6 +450,10 @@ void addRun(CLI::App& app) {
   c->add_option("--thermo-every", o->thermoEvery, "Steps between two rows of the time series (default: the scene's "
                 "[output] thermo_every, 100)")
       ->check(countIn(1, kMaxSteps));
+  c->add_flag("--energy-balance", o->energyBalance,
+              "With --thermo: the energy dissipated by the contacts and the walls' work, and the balance "
+              "(docs/thermo.md#energy-balance; costs 30-70 % more per step); default: the scene's [output] "
+              "energy_balance");
   CLI::Option* quiet = c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_flag("--progress{30}", o->progress,
               "A progress line every SECONDS (default 30) as a whole line on stderr, also when it is not a terminal "

@@ -61,6 +61,13 @@ Scene modelProbe(ContactLaw law, bool wall) {
   return s;
 }
 
+Scene thrownAtWalls(const char* file) {
+  Scene s = readSceneFile(sourcePath(file));
+  for (WallDef& wall : s.walls) wall.start = 0.0;
+  for (BodyDef& b : s.bodies) b.velocity.z -= 3.0f;
+  return s;
+}
+
 std::string sourcePath(const std::string& relative) {
   // The source tree while it is there (a build), else the installed data (share/tumble: the
   // scenes that `tumble validate` and `tumble bench` read).

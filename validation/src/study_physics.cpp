@@ -22,7 +22,7 @@ std::vector<Case> physicsCases() {
       {"sphere_slope", sphereSlope},            {"torque_free", torqueFreeCase},  {"chung_ooi", chungOoi},
       {"hooke_oblique", hookeOblique},          {"hertz_chung_ooi", hertzChungOoi},
       {"angle_of_repose", angleOfRepose},       {"beverloo", beverloo},       {"column_stress", columnStress},
-      {"janssen", janssen},
+      {"janssen", janssen},                     {"energy_balance", energyBalance},
   };
 }
 

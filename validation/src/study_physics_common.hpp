@@ -226,5 +226,7 @@ CaseResult angleOfRepose(const CaseContext& ctx);
 CaseResult beverloo(const CaseContext& ctx);
 CaseResult columnStress(const CaseContext& ctx);
 CaseResult janssen(const CaseContext& ctx);
+// study_physics_energy.cpp
+CaseResult energyBalance(const CaseContext& ctx);
 
 }  // namespace tumble::validation::study::physics

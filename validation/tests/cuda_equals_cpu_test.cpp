@@ -115,16 +115,6 @@ World denseCluster(ContactLaw law = ContactLaw::Report, Cohesion cohesion = Cohe
 // Steps of each wall scene (WallsStepByStep).
 constexpr std::uint64_t kWallSteps = 1000;
 
-// A wall scene of scenes/ with its walls moving from the first step (as they would after their
-// start) and every body thrown down at 3 m/s onto the walls below it: wall contacts within the
-// first few hundred steps.
-Scene thrownAtWalls(const char* file) {
-  Scene s = readSceneFile(sourcePath(file));
-  for (WallDef& wall : s.walls) wall.start = 0.0;
-  for (BodyDef& b : s.bodies) b.velocity.z -= 3.0f;
-  return s;
-}
-
 class CudaEqualsCpu : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {

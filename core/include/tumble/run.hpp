@@ -143,8 +143,10 @@ class Run {
   void record(const RecordSettings& settings);
   /// Finishes the recording, if any (idempotent).
   void closeRecording();
-  /// Writes the time series (docs/thermo.md) to `path`: a row now and every `every` steps.
-  void writeThermo(const std::string& path, std::uint64_t every);
+  /// Writes the time series (docs/thermo.md) to `path`: a row now and every `every` steps;
+  /// energyBalance: with the energy tally's columns (the pipeline keeps the tally while the
+  /// series is written; docs/thermo.md#energy-balance), NaN in them otherwise.
+  void writeThermo(const std::string& path, std::uint64_t every, bool energyBalance = false);
   void closeThermo();
   /// Finishes both; the guard's trip, a signal and the end of a run all call this.
   void closeOutputs();
@@ -187,8 +189,8 @@ class Run {
 
   /// The quantities now, measured on a copy of the guard (the run's own checks stay where they
   /// fall). Requires a guard (RunChecks::stop or measure). The energy tally's (dissipated,
-  /// wall work) while the time series is written (writeThermo(): the pipeline keeps the tally
-  /// from then on; NaN otherwise), summed over the steps since.
+  /// wall work) while a time series with it is written (writeThermo(…, energyBalance); NaN
+  /// otherwise), summed over the steps since.
   ThermoSample sampleNow() const;
 
   const Scene& scene() const { return m_pouring->scene(); }
@@ -251,7 +253,7 @@ class Run {
   bool m_captureForces = false;
   // The time series.
   bool m_thermoOn = false;
-  bool m_tallying = false;  ///< the pipeline keeps the energy tally (while the time series is written)
+  bool m_tallying = false;  ///< the pipeline keeps the energy tally (while a time series with it is written)
   std::uint64_t m_thermoEvery = 100;
   std::unique_ptr<ThermoWriter> m_thermo;
   // Checkpoints every m_checkpointEvery steps.

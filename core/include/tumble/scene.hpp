@@ -381,6 +381,7 @@ struct Scene {
   /// Some wall's surface moves at some step that starts in [t0, t1) (start < t1 and stop > t0).
   bool wallsMoveDuring(double t0, double t1) const;
   std::uint64_t thermoEvery = 100; ///< steps between two rows of the time series
+  bool energyBalance = false;      ///< the time series' energy tally (docs/thermo.md#energy-balance)
   PeriodicParams periodic;         ///< periodic boundaries on x and/or y (none by default)
 };
 

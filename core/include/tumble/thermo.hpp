@@ -9,6 +9,8 @@
 #include <memory>
 #include <string>
 
+#include "tumble/kernels/energy.hpp"
+
 namespace tumble {
 
 class OutputFile;
@@ -47,6 +49,15 @@ struct ThermoSample {
     return energy() + (dissipatedNormal + dissipatedTangential + dissipatedFriction) - (wallWork + pullWork);
   }
 };
+
+/// s with the energy tally's sums e (its four columns; StepStats::energy).
+inline ThermoSample withEnergy(ThermoSample s, const EnergyTotals& e) {
+  s.dissipatedNormal = e.normal;
+  s.dissipatedTangential = e.tangential;
+  s.dissipatedFriction = e.friction;
+  s.wallWork = e.wall;
+  return s;
+}
 
 /// Writes samples as CSV (header thermoHeader()), one line per sample, flushed at once. Until
 /// close() the rows go to the live name `FILE.part` (readable, as the finished file will be:

@@ -24,15 +24,17 @@ same() {  # name file-a file-b
 # The one-process run (the CPU pipeline), then the same run on each rank count, compared byte
 # for byte; rank_args: what the ranks' runs add (--pipeline cuda-host: the CUDA pipeline's code
 # on every rank).
-# usage: ranks_equal NAME "RANKS" run args...  (each run writes --state-out and --thermo)
+# usage: ranks_equal NAME "RANKS" run args...  (each run writes --state-out and --thermo, with
+# the energy tally's columns)
 rank_args=()
 ranks_equal() {
   local name=$1 ranks=$2; shift 2
-  if ! "$bin" run "$@" --threads 1 -q --state-out ref.csv --thermo ref.thermo.csv --thermo-every 50 2>err.txt; then
+  if ! "$bin" run "$@" --threads 1 -q --state-out ref.csv --thermo ref.thermo.csv --thermo-every 50 --energy-balance 2>err.txt; then
     bad "$name: the one-process run failed: $(cat err.txt)"; return
   fi
   for np in $ranks; do
-    if ! mpi "$np" run "$@" "${rank_args[@]}" --threads 1 -q --state-out np.csv --thermo np.thermo.csv --thermo-every 50 2>err.txt; then
+    if ! mpi "$np" run "$@" "${rank_args[@]}" --threads 1 -q --state-out np.csv --thermo np.thermo.csv --thermo-every 50 \
+      --energy-balance 2>err.txt; then
       bad "$name on $np ranks failed: $(cat err.txt)"; continue
     fi
     same "$name, $np ranks: state" ref.csv np.csv

@@ -52,6 +52,11 @@ Scene withHertzMindlin(Scene s, float youngsModulus = 1.0e6f, bool twoMaterials 
 /// model (tumble::NotSupported; TUMBLE_SKIP_IF_NOT_SUPPORTED).
 Scene modelProbe(ContactLaw law, bool wall = false);
 
+/// A wall scene of scenes/ (`file` relative to the source tree) with its walls moving from the
+/// first step (as they would after their start) and every body thrown down at 3 m/s onto the
+/// walls below it: wall contacts within the first few hundred steps.
+Scene thrownAtWalls(const char* file);
+
 /// A shape of one sphere (radius r, mass m, elasticity e) at its centre, named "sphere".
 ShapeDef sphereShape(float r, float m, float e);
 
