@@ -324,7 +324,10 @@ ThermoSample Run::sampleNow() const {
 }
 
 ThermoSample Run::withTally(ThermoSample s) const {
-  return m_tallying ? withEnergy(s, stats().energy) : s;
+  if (!m_tallying) return withEnergy(s, kNoEnergyTally);
+  const EnergyTotals e = stats().energy;  // since the series began: less what was there then
+  return withEnergy(s, EnergyTotals{e.normal - m_tallyBase.normal, e.tangential - m_tallyBase.tangential,
+                                    e.friction - m_tallyBase.friction, e.wall - m_tallyBase.wall});
 }
 
 bool Run::writeOrGiveUp(const std::function<void()>& write) {
@@ -490,15 +493,18 @@ void Run::writeThermo(const std::string& path, std::uint64_t every, bool energyB
   requireLoaded(m_pipeline, "writeThermo()");
   if (every < 1) throw Error("the time series' interval must be at least 1 step");
   refuseSceneInput(scene(), path, "the time series");
-  m_pipeline->setEnergyTally(energyBalance);  // its columns count from the first step on
-  m_tallying = energyBalance;
-  const ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
+  ThermoSample now = sampleNow();  // collective under MPI: before the writer's part
   std::unique_ptr<ThermoWriter> thermo;
   m_hooks->write([&] { thermo = std::make_unique<ThermoWriter>(path, scene().dt); });  // first: a failure keeps the one under way
-  closeThermo();
+  closeThermo();  // (its tally off)
   m_thermo = std::move(thermo);
   m_thermoEvery = every;
   m_thermoOn = true;
+  // The tally's columns count from this row on (0 in it): the sums of earlier series are the base.
+  m_pipeline->setEnergyTally(energyBalance);
+  m_tallying = energyBalance;
+  m_tallyBase = stats().energy;
+  now = withTally(now);
   m_hooks->write([&] { m_thermo->write(now); });
 }
 

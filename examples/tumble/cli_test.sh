@@ -745,6 +745,8 @@ cmp -s eb1.csv eb2.csv && ok "energy tally: same bytes for 1 and 2 threads" || b
   bad "energy tally changed the other columns"
 tail -n 1 eb1.csv | awk -F, '$19 != "nan" && $22 != "nan" && $23 == $8 { exit 0 } { exit 1 }' &&
   ok "energy tally: numbers (nothing dissipated yet: the balance is the energy)" || bad "energy tally row: $(tail -n 1 eb1.csv)"
+expect_status "--energy-balance without --thermo" 2 "$bin" run small.toml --energy-balance -q
+expect_msg "--energy-balance without --thermo" "give --thermo FILE.csv too"
 printf '[output]\nthermo = "scene_eb.csv"\nenergy_balance = true\n' | cat small.toml - > ebscene.toml
 "$bin" run ebscene.toml -q 2>/dev/null
 [ "$(tail -n 1 scene_eb.csv | cut -d, -f23)" != "nan" ] && ok "energy_balance from [output]" ||

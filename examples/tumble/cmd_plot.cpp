@@ -26,7 +26,7 @@ struct PlotOptions {
 };
 
 // The header's column names; `rows` counts the data lines after it.
-std::vector<std::string> headerOf(const std::string& path, std::size_t& rows) {
+std::vector<std::string> headerOf(const std::string& path, std::size_t& rows, std::string& last) {
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "cannot open the time series (write one with tumble run --thermo FILE.csv)");
   std::string line;
@@ -36,7 +36,11 @@ std::vector<std::string> headerOf(const std::string& path, std::size_t& rows) {
   std::stringstream ss(line);
   for (std::string c; std::getline(ss, c, ',');) cols.push_back(c);
   rows = 0;
-  for (std::string row; std::getline(in, row);) rows += row.empty() ? 0 : 1;
+  for (std::string row; std::getline(in, row);)
+    if (!row.empty()) {
+      ++rows;
+      last = row;
+    }
   return cols;
 }
 
@@ -60,7 +64,8 @@ void plot(const PlotOptions& o) {
   const bool live = std::filesystem::is_regular_file(livePath, ec);
   const std::string data = live ? livePath : o.file;
   std::size_t rows = 0;
-  const std::vector<std::string> header = headerOf(data, rows);
+  std::string lastRow;  // the file's last row
+  const std::vector<std::string> header = headerOf(data, rows, lastRow);
   std::string list;
   for (const auto& c : header) list += (list.empty() ? "" : ", ") + c;
   auto need = [&](const std::string& c, const char* what) {
@@ -74,8 +79,16 @@ void plot(const PlotOptions& o) {
   if (!o.columns.empty()) {
     panels.push_back(Panel{"", o.columns, {}, ""});
   } else {
-    // The balance beside the energy where the file has it (files written before it had not).
-    const bool balance = std::find(header.begin(), header.end(), "balance") != header.end();
+    // The balance beside the energy where the file has it as a number (a series written
+    // without --energy-balance has nan there; one written before it has no such column).
+    bool balance = false;
+    if (const auto at = std::find(header.begin(), header.end(), "balance"); at != header.end()) {
+      std::stringstream ss(lastRow);
+      std::vector<std::string> fields;
+      for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+      const auto k = static_cast<std::size_t>(at - header.begin());
+      balance = k < fields.size() && !fields[k].empty() && fields[k] != "nan";
+    }
     panels = {Panel{"energy (J)", {"kinetic_translation", "kinetic_rotation", "potential_contacts", "pull_work"}, {}, ""},
               balance ? Panel{"energy and balance (J)", {"energy", "balance"}, {}, ""}
                       : Panel{"mechanical energy (J)", {"energy"}, {}, ""},

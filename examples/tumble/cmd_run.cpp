@@ -118,6 +118,8 @@ Start prepare(RunOptions& o) {
   if (o.record.empty() && !scene.recordFile.empty()) o.record = scene.recordFile;
   if (!o.recordSteps && scene.recordSteps > 0) o.recordSteps = scene.recordSteps;
   if (o.thermo.empty()) o.thermo = scene.thermoFile;
+  if (o.energyBalance && o.thermo.empty())
+    throw Error("--energy-balance adds columns to the time series: give --thermo FILE.csv too (docs/thermo.md#energy-balance)");
   // --resume may name the --checkpoint file (a run that goes on checkpointing into it).
   refuseSameFile({{"--record", o.record}, {"--thermo", o.thermo}, {"--checkpoint", o.checkpoint},
                   {"--state-out", o.stateOut}, {"scene", o.scene}});

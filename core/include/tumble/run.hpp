@@ -190,7 +190,7 @@ class Run {
   /// The quantities now, measured on a copy of the guard (the run's own checks stay where they
   /// fall). Requires a guard (RunChecks::stop or measure). The energy tally's (dissipated,
   /// wall work) while a time series with it is written (writeThermo(…, energyBalance); NaN
-  /// otherwise), summed over the steps since.
+  /// otherwise), summed over the steps since that series began.
   ThermoSample sampleNow() const;
 
   const Scene& scene() const { return m_pouring->scene(); }
@@ -254,6 +254,7 @@ class Run {
   // The time series.
   bool m_thermoOn = false;
   bool m_tallying = false;  ///< the pipeline keeps the energy tally (while a time series with it is written)
+  EnergyTotals m_tallyBase;  ///< stats().energy when that series began
   std::uint64_t m_thermoEvery = 100;
   std::unique_ptr<ThermoWriter> m_thermo;
   // Checkpoints every m_checkpointEvery steps.

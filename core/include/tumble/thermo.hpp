@@ -32,8 +32,8 @@ struct ThermoSample {
   double momentum[3] = {0, 0, 0};   ///< Σ M V (kg m/s)
   double angularMomentum[3] = {0, 0, 0};  ///< Σ (X × M V + L) about the world origin (kg m²/s)
   bool finite = true;               ///< false when the state is not finite (every value is then NaN in the file)
-  /// The energy tally (Pipeline::setEnergyTally; docs/thermo.md#energy-balance) since the run
-  /// started: dissipated by the normal dashpots, by the tangential dashpots while contacts
+  /// The energy tally (Pipeline::setEnergyTally; docs/thermo.md#energy-balance) since the time
+  /// series began: dissipated by the normal dashpots, by the tangential dashpots while contacts
   /// stick, by friction (slip, rolling resistance, and what the stick springs hold), and the
   /// work moving walls did. NaN where the run keeps no tally.
   double dissipatedNormal = std::numeric_limits<double>::quiet_NaN();
@@ -49,6 +49,12 @@ struct ThermoSample {
     return energy() + (dissipatedNormal + dissipatedTangential + dissipatedFriction) - (wallWork + pullWork);
   }
 };
+
+/// The energy tally's columns of a run that keeps none.
+inline constexpr EnergyTotals kNoEnergyTally{std::numeric_limits<double>::quiet_NaN(),
+                                             std::numeric_limits<double>::quiet_NaN(),
+                                             std::numeric_limits<double>::quiet_NaN(),
+                                             std::numeric_limits<double>::quiet_NaN()};
 
 /// s with the energy tally's sums e (its four columns; StepStats::energy).
 inline ThermoSample withEnergy(ThermoSample s, const EnergyTotals& e) {

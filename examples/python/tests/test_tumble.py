@@ -129,6 +129,48 @@ def test_recording_and_time_series_equal_tumble_runs(tmp_path):
     assert list(sim.thermo().keys()) == header
 
 
+def test_energy_balance_equals_tumble_run(tmp_path):
+    """write_thermo(energy_balance=True) writes the bytes of tumble run --energy-balance; thermo()
+    has the tally's numbers while it writes and NaN without it."""
+    with tumble.Simulation(tumble.Scene.load(MOLECULES)) as sim:
+        assert np.isnan(sim.thermo()["balance"])
+        sim.write_thermo(str(tmp_path / "py.csv"), every=50, energy_balance=True)
+        sim.step(300)
+        row = sim.thermo()
+        assert row["dissipated_normal"] > 0 and row["balance"] == pytest.approx(
+            row["energy"] + row["dissipated_normal"] + row["dissipated_tangential"] + row["dissipated_friction"]
+            - row["wall_work"] - row["pull_work"])
+        sim.close_thermo()
+        assert np.isnan(sim.thermo()["balance"])
+    subprocess.run([BIN, "run", MOLECULES, "--steps", "300", "--thermo", str(tmp_path / "cli.csv"), "--thermo-every",
+                    "50", "--energy-balance", "-q"], check=True)
+    assert (tmp_path / "py.csv").read_text() == (tmp_path / "cli.csv").read_text()
+
+
+def test_energy_balance_counts_from_each_series(tmp_path):
+    """A series that replaces another counts its tally from its first row; a write_thermo that
+    fails leaves the series under way and its tally as they were; one opened again after
+    close_thermo starts from 0 (the steps between were not tallied)."""
+    with tumble.Simulation(tumble.Scene.load(MOLECULES)) as sim:
+        sim.write_thermo(str(tmp_path / "a.csv"), every=100, energy_balance=True)
+        sim.step(300)
+        sim.write_thermo(str(tmp_path / "b.csv"), every=100, energy_balance=True)
+        assert sim.thermo()["dissipated_normal"] == 0.0
+        sim.step(300)
+        with pytest.raises(Exception):
+            sim.write_thermo(str(tmp_path / "no" / "x.csv"), energy_balance=False)
+        sim.step(100)
+        assert sim.thermo()["dissipated_normal"] > 0.0
+        sim.close_thermo()
+        sim.step(100)
+        sim.write_thermo(str(tmp_path / "c.csv"), every=100, energy_balance=True)
+        assert sim.thermo()["dissipated_normal"] == 0.0
+    with open(tmp_path / "b.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["step"] for r in rows] == ["300", "400", "500", "600", "700"]
+    assert rows[0]["dissipated_normal"] == "0" and all(float(r["balance"]) == float(r["balance"]) for r in rows)
+
+
 @pytest.mark.parametrize("name, walls", [("box", 5), ("drum", 3)])
 def test_recordings_carry_the_walls_as_tumble_run_writes_them(tmp_path, name, walls):
     """A recording written from Python holds the scene's walls (version 2), byte for byte those of

@@ -111,14 +111,14 @@ class EnergyTally {
     for (int c = 0; c < kEnergyFlows; ++c) m_sum[c] += t.m_sum[c];
   }
   void clear() { *this = EnergyTally{}; }
-  /// In joules, each rounded once to double.
+  /// In joules, each within an ulp of the double nearest to the sum.
   EnergyTotals joules() const {
     double j[kEnergyFlows];
     for (int c = 0; c < kEnergyFlows; ++c) {
       const Wide s = m_sum[c];
       const Wide a = s < 0 ? -s : s;
-      // The high and low 64 bits apart: their sum in double is the value rounded once (the high
-      // part's double is exact up to 2^-11 of it, and the low part lies below its rounding).
+      // The high and low 64 bits apart, each converted to double (the high part exactly below
+      // 2^53), then added: at most two roundings.
       const double high = double(static_cast<std::uint64_t>(a >> 64)) * 0x1p64;
       const double v = (high + double(static_cast<std::uint64_t>(a))) * kEnergyQuantum;
       j[c] = s < 0 ? -v : v;
