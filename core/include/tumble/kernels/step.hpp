@@ -389,6 +389,20 @@ TUMBLE_HD_INLINE ParticleSums<kDebug> zeroSums() {
   return s;
 }
 
+/// The rolling resistance μ_r (0: none) of a contact with history cf between i (side si) and j
+/// (sj) on i's body (out.t), and for the energy tally (kDebug) its torque and loss.
+template <bool kDebug>
+TUMBLE_HD_INLINE void addRolling(const ContactForces& cf, const ContactSide& si, const ContactSide& sj, float reff,
+                                 float meff, float muR, float dt, ParticleForce& out, Vec3f& roll, float& loss) {
+  if (!(muR > 0.0f)) return;
+  const Vec3f m = rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, muR, dt);
+  out.t += m;
+  if constexpr (kDebug) {
+    roll = m;
+    loss = -dot(m, si.omega - sj.omega);
+  }
+}
+
 /// The contact of particle i (at pi, of body `self`) with particle j of another body, entry e of
 /// i's row, that touches: d = x_i − x_j and |d|² as the predicate computed them. Its force and
 /// torque (and rolling torque) are added to *sum; a law with history updates its ξ (historyOf()).
@@ -415,14 +429,7 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
     const ContactSide& si = side.get(v, self, i);
     const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ);
     cf = hookeHistoryForces(k, meff, fp.history, fp.dt, &historyOf(v, e), pull(fp.history.cohesion, k.delta, reff));
-    if (fp.rollingFriction > 0.0f) {
-      const Vec3f m = rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, fp.rollingFriction, fp.dt);
-      out.t += m;
-      if constexpr (kDebug) {
-        roll = m;
-        rollingLoss = -dot(m, si.omega - sj.omega);
-      }
-    }
+    addRolling<kDebug>(cf, si, sj, reff, meff, fp.rollingFriction, fp.dt, out, roll, rollingLoss);
   } else if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const float meff = 1.0f / (self.invMass + other.invMass), reff = (pi.r * rj) / (pi.r + rj);
     const HertzPair& hp =
@@ -430,14 +437,7 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
     const ContactSide& si = side.get(v, self, i);
     const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ);
     cf = hertzMindlinForces(k, reff, meff, hp, fp.dt, &historyOf(v, e), pull(hp.cohesion, k.delta, reff));
-    if (hp.muR > 0.0f) {
-      const Vec3f m = rollingTorque(si.omega, sj.omega, cf.n, cf.normal, reff, meff, hp.muR, fp.dt);
-      out.t += m;
-      if constexpr (kDebug) {
-        roll = m;
-        rollingLoss = -dot(m, si.omega - sj.omega);
-      }
-    }
+    addRolling<kDebug>(cf, si, sj, reff, meff, hp.muR, fp.dt, out, roll, rollingLoss);
   } else {
     cf = contactForces<kClumps>(d, d2, pi.r, rj, side.get(v, self, i), sj, iBeforeJ, fp.contact);
     if constexpr (kDebug) {  // the report's law is viscous: η |w|² and k_t |w_t|²
