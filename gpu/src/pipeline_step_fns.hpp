@@ -100,12 +100,11 @@ struct TallyFn {
     const EnergyFlows& f = flows[k];
     const float p[kEnergyFlows] = {f.normal, f.tangential, f.friction, f.wall};
     for (int c = 0; c < kEnergyFlows; ++c) {
-      std::int64_t h;
-      std::uint64_t m, o;
+      unsigned long long h, m, o;
       energyLimbs(p[c], dt, &h, &m, &o);
-      if (h != 0) exec::atomicAddU64(reinterpret_cast<unsigned long long*>(&out->hi[c]), static_cast<unsigned long long>(h));
-      if (m != 0) exec::atomicAddU64(reinterpret_cast<unsigned long long*>(&out->mid[c]), m);
-      if (o != 0) exec::atomicAddU64(reinterpret_cast<unsigned long long*>(&out->lo[c]), o);
+      if (h != 0) exec::atomicAddU64(&out->hi[c], h);
+      if (m != 0) exec::atomicAddU64(&out->mid[c], m);
+      if (o != 0) exec::atomicAddU64(&out->lo[c], o);
     }
   }
 };

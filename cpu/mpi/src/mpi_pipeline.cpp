@@ -384,7 +384,7 @@ class MpiPipelineImpl final : public MpiPipeline {
     if (m_tallyOn) {  // the owners' bodies: exact integer sums, so any rank count gives the same
       const EnergyLimbs mineE = m_local ? m_local->energyOf(m_owned) : noLimbs();
       EnergyLimbs allE;
-      MPI_Allreduce(&mineE, &allE, sizeof(EnergyLimbs) / sizeof(std::uint64_t), MPI_UINT64_T, MPI_SUM, m_comm);
+      MPI_Allreduce(&mineE, &allE, sizeof(EnergyLimbs) / sizeof(unsigned long long), MPI_UINT64_T, MPI_SUM, m_comm);
       m_mpi.counts.reduceBytes += sizeof(EnergyLimbs);
       m_tally.add(allE);
     }

@@ -37,29 +37,27 @@ TUMBLE_HD_INLINE void addFlows(EnergyFlows& a, const EnergyFlows& b) {
 inline constexpr double kEnergyQuantum = 0x1p-80;
 
 /// Sums of energies in units of kEnergyQuantum, each split into limbs that integer additions
-/// (and atomics) add exactly in any order: value = hi 2^64 + mid 2^32 + lo, mid and lo each
-/// below 2^32 per term, so 2^32 terms add without overflow.
+/// (and atomics) add exactly in any order: value = hi 2^64 + mid 2^32 + lo, hi signed in two's
+/// complement (unsigned words: their sums wrap, defined, to the signed sum's bits), mid and lo
+/// each below 2^32 per term, so 2^32 terms add without overflow. The atomics' own word type.
 struct EnergyLimbs {
-  std::int64_t hi[kEnergyFlows];
-  std::uint64_t mid[kEnergyFlows], lo[kEnergyFlows];
+  unsigned long long hi[kEnergyFlows], mid[kEnergyFlows], lo[kEnergyFlows];
 };
 
 TUMBLE_HD_INLINE EnergyLimbs noLimbs() {
   EnergyLimbs l;
-  for (int c = 0; c < kEnergyFlows; ++c) {
-    l.hi[c] = 0;
-    l.mid[c] = l.lo[c] = 0;
-  }
+  for (int c = 0; c < kEnergyFlows; ++c) l.hi[c] = l.mid[c] = l.lo[c] = 0;
   return l;
 }
 
 /// The limbs of p dt in units of kEnergyQuantum, rounded to the nearest (ties to even): p dt
 /// and its scaling are exact in double, so is the split. |p dt| must be below 2^46 J.
-TUMBLE_HD_INLINE void energyLimbs(float p, float dt, std::int64_t* hi, std::uint64_t* mid, std::uint64_t* lo) {
+TUMBLE_HD_INLINE void energyLimbs(float p, float dt, unsigned long long* hi, unsigned long long* mid,
+                                   unsigned long long* lo) {
   const double x = double(p) * double(dt) * 0x1p80;
   if (fabs(x) < 0x1p62) {  // most energies of a step (below 3.8e-6 J): one integer, two's complement
-    const auto u = static_cast<std::uint64_t>(static_cast<std::int64_t>(llrint(x)));
-    *hi = x < 0.0 && u != 0 ? -1 : 0;
+    const auto u = static_cast<unsigned long long>(static_cast<long long>(llrint(x)));
+    *hi = x < 0.0 && u != 0 ? ~0ull : 0ull;
     *mid = u >> 32;
     *lo = u & 0xffffffffu;
     return;
@@ -68,17 +66,16 @@ TUMBLE_HD_INLINE void energyLimbs(float p, float dt, std::int64_t* hi, std::uint
   const double h = floor(e * 0x1p-64);
   const double r = e - h * 0x1p64;  // 0 ≤ r < 2^64, exact
   const double m = floor(r * 0x1p-32);
-  *hi = static_cast<std::int64_t>(h);
-  *mid = static_cast<std::uint64_t>(m);
-  *lo = static_cast<std::uint64_t>(r - m * 0x1p32);
+  *hi = static_cast<unsigned long long>(static_cast<long long>(h));
+  *mid = static_cast<unsigned long long>(m);
+  *lo = static_cast<unsigned long long>(r - m * 0x1p32);
 }
 
 /// Adds a body's step, its powers f over dt, to l.
 TUMBLE_HD_INLINE void addEnergy(EnergyLimbs& l, const EnergyFlows& f, float dt) {
   const float p[kEnergyFlows] = {f.normal, f.tangential, f.friction, f.wall};
   for (int c = 0; c < kEnergyFlows; ++c) {
-    std::int64_t h;
-    std::uint64_t m, o;
+    unsigned long long h, m, o;
     energyLimbs(p[c], dt, &h, &m, &o);
     l.hi[c] += h;
     l.mid[c] += m;
@@ -104,11 +101,8 @@ class EnergyTally {
  public:
   void add(const EnergyLimbs& l) {
     for (int c = 0; c < kEnergyFlows; ++c)
-      m_sum[c] += static_cast<Wide>(static_cast<Wide>(l.hi[c]) * kTwo64) + static_cast<Wide>(l.mid[c]) * kTwo32 +
+      m_sum[c] += static_cast<Wide>(static_cast<long long>(l.hi[c])) * kTwo64 + static_cast<Wide>(l.mid[c]) * kTwo32 +
                   static_cast<Wide>(l.lo[c]);
-  }
-  void add(const EnergyTally& t) {
-    for (int c = 0; c < kEnergyFlows; ++c) m_sum[c] += t.m_sum[c];
   }
   void clear() { *this = EnergyTally{}; }
   /// In joules, each within an ulp of the double nearest to the sum.
@@ -125,23 +119,9 @@ class EnergyTally {
     }
     return EnergyTotals{j[0], j[1], j[2], j[3]};
   }
-  /// The raw sums, two words each (low, high), for a collective sum across MPI ranks.
-  void words(std::uint64_t out[2 * kEnergyFlows]) const {
-    for (int c = 0; c < kEnergyFlows; ++c) {
-      out[2 * c] = static_cast<std::uint64_t>(m_sum[c]);
-      out[2 * c + 1] = static_cast<std::uint64_t>(static_cast<UWide>(m_sum[c]) >> 64);
-    }
-  }
-  static EnergyTally fromWords(const std::uint64_t in[2 * kEnergyFlows]) {
-    EnergyTally t;
-    for (int c = 0; c < kEnergyFlows; ++c)
-      t.m_sum[c] = static_cast<Wide>((static_cast<UWide>(in[2 * c + 1]) << 64) | static_cast<UWide>(in[2 * c]));
-    return t;
-  }
 
  private:
   __extension__ typedef __int128 Wide;
-  __extension__ typedef unsigned __int128 UWide;
   static constexpr Wide kTwo32 = Wide(1) << 32, kTwo64 = Wide(1) << 64;
   Wide m_sum[kEnergyFlows] = {0, 0, 0, 0};
 };
