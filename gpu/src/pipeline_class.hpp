@@ -305,7 +305,8 @@ class CudaPipeline final : public HaloPipeline {
       StepView v = stepView();
       v.bodyFlows = flows;
       m_debug || m_tallyOn ? launchStep<true>(v, fp, dbg, rb + k, stop) : launchStep<false>(v, fp, dbg, rb + k, stop);
-      if (m_tallyOn) Exec::forEach(s, nb, TallyFn{flows, p.dt, stop, energy + k}, "tally");
+      if (m_tallyOn)
+        Exec::forEach(s, (nb + kTallyRun - 1) / kTallyRun, TallyFn{flows, nb, p.dt, stop, energy + k}, "tally");
       Exec::forEach(s, 1, DecideFn{rb, m_meshClosure.data(), k, m_skinLimit, hasMesh(), stop}, "decide");
       m_cur = 1 - m_cur;  // as if the step is taken; corrected below for the steps that were not
       std::swap(m_bodies, m_bodiesNext);
