@@ -454,7 +454,7 @@ void addRun(CLI::App& app) {
       ->check(countIn(1, kMaxSteps));
   c->add_flag("--energy-balance", o->energyBalance,
               "With --thermo: the energy dissipated by the contacts and the walls' work, and the balance "
-              "(docs/thermo.md#energy-balance; costs 30-70 % more per step); default: the scene's [output] "
+              "(docs/thermo.md#energy-balance; a step costs about 1.5x as much); default: the scene's [output] "
               "energy_balance");
   CLI::Option* quiet = c->add_flag("-q,--quiet", o->quiet, "No progress line and no timing table");
   c->add_flag("--progress{30}", o->progress,
