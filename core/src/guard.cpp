@@ -337,19 +337,20 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   const auto addPlane = [&](GroundSums& a, std::size_t q, std::size_t i, double delta, double e) {
     double K = 0.0;  // Hertz: F = K δ^{3/2}
     const double stiffness = planeDefs[q].contact.stiffness;
-    double cohesion = sc.cohesionOf(planeDefs[q].contact);
+    double cohesion = sc.cohesionOf(planeDefs[q].contact), ystar = 0.0;
     if (law.hertz) {
       const HertzPair& c = w.planeHertz[q * law.numMaterials + w.material[i]];
       K = hertzStiffness(c, w.radius[i]);
       a.springs += 0.4 * K * delta * delta * std::sqrt(delta);
       a.slack += K * (delta + e) * std::sqrt(delta + e) * e;
       cohesion = c.cohesion;
+      ystar = c.ystar;
     } else {
       a.springs += 0.5 * stiffness * delta * delta;
       a.slack += stiffness * e * (delta + e);
     }
     if (law.cohesion != Cohesion::None)
-      addCohesiveSum(&a.springs, &a.slack, &a.bound, law.cohesion, cohesion, delta, e, w.radius[i], 0.0, true);
+      addCohesiveSum(&a.springs, &a.slack, &a.bound, law.cohesion, cohesion, delta, e, w.radius[i], 0.0, true, ystar);
     const double frac = delta / w.radius[i];
     if (frac > a.maxOverlap) {
       a.maxOverlap = frac;

@@ -93,6 +93,18 @@ float effectiveSkin(const World& world) {
   return effectiveSkin(skin, world.sizingRadius, world.maxRadius);
 }
 
+float neckReach(const World& world) {
+  if (world.params.contact.cohesion != Cohesion::Jkr) return 0.0f;
+  const double pi = 3.14159265358979323846, reff = 0.5 * double(world.maxRadius);
+  double reach = 0.0;
+  for (const HertzPair& p : world.materialPairs) {
+    if (!(p.cohesion > 0.0f && p.ystar > 0.0f)) continue;
+    const double c = std::sqrt(2.0 * pi * double(p.cohesion) / double(p.ystar));
+    reach = std::max(reach, 0.75 * c * std::cbrt(0.25 * c * reff));
+  }
+  return static_cast<float>(reach * (1.0 + 1e-3));
+}
+
 float effectiveSkin(float skin, float sizingRadius, float maxRadius) {
   return skin >= 0.0f ? skin : kAutoSkinPerRadius * (sizingRadius > 0.0f ? sizingRadius : maxRadius);
 }
@@ -113,6 +125,7 @@ void StepStats::add(const StepStats& later) {
   energy.normal += before.energy.normal;
   energy.tangential += before.energy.tangential;
   energy.friction += before.energy.friction;
+  energy.cohesion += before.energy.cohesion;
   energy.wall += before.energy.wall;
 }
 

@@ -81,11 +81,17 @@ void SceneParser::readContact(Scene& scene) {
     const std::string model = r.string(*n, "cohesion");
     if (model == "sjkr") c.cohesion = Cohesion::Sjkr;
     else if (model == "dmt") c.cohesion = Cohesion::Dmt;
-    else if (model == "none")
+    else if (model == "jkr") {
+      if (c.law != ContactLaw::HertzMindlin)
+        r.fail(sourceOf(*n), "cohesion = \"jkr\" needs law = \"hertz-mindlin\": JKR's contact radius comes from "
+                             "Hertz's elasticity (Y*); under hooke-history use \"dmt\" or \"sjkr\" "
+                             "(docs/model.md#cohesion)");
+      c.cohesion = Cohesion::Jkr;
+    } else if (model == "none")
       m_cohesionOff = true;  // its coefficients may stay in the file (--set contact.cohesion='"none"')
     else
       r.fail(sourceOf(*n), "unknown cohesion \"" + model + "\"; use \"sjkr\" (k_c, cohesion_energy_density), \"dmt\" "
-                           "(the work of adhesion, surface_energy) or \"none\" (docs/model.md#cohesion)");
+                           "or \"jkr\" (the work of adhesion, surface_energy) or \"none\" (docs/model.md#cohesion)");
   }
   c.cohesionValue = readCohesion(scene, r, 0.0f);
   c.stiffness = r.single("stiffness", c.stiffness, Rule::Positive);
@@ -125,7 +131,7 @@ float SceneParser::readCohesion(const Scene& scene, const TableReader& r, float 
     const bool sjkrKey = key[0] == 'c';
     if (model == Cohesion::None && !m_cohesionOff)
       r.fail(sourceOf(*n), std::string(key) + " needs a cohesion model: [contact] cohesion = \"" +
-                               (sjkrKey ? "sjkr" : "dmt") + "\" (docs/model.md#cohesion)");
+                               (sjkrKey ? "sjkr" : "dmt\" or \"jkr") + "\" (docs/model.md#cohesion)");
     if (model != Cohesion::None && sjkrKey != (model == Cohesion::Sjkr))
       r.fail(sourceOf(*n), std::string(key) + " is not read under cohesion = \"" + toString(model) + "\"; give " +
                                (sjkrKey ? "surface_energy (the work of adhesion, J/m^2)"

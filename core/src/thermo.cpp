@@ -17,7 +17,7 @@ namespace tumble {
 const char* thermoHeader() {
   return "step,time,kinetic_translation,kinetic_rotation,potential_gravity,potential_pulls,potential_contacts,"
          "energy,pull_work,contacts,max_overlap,max_speed,px,py,pz,lx,ly,lz,dissipated_normal,dissipated_tangential,"
-         "dissipated_friction,wall_work,balance";
+         "dissipated_friction,dissipated_cohesion,wall_work,balance";
 }
 
 std::string formatTime(double time, float dt) {
@@ -66,7 +66,7 @@ std::array<double, kThermoColumns> thermoRow(const ThermoSample& s) {
           v(s.pullPotential), v(s.springs), v(s.energy()), v(s.pullWork), static_cast<double>(s.contacts),
           v(s.maxOverlap), v(s.maxSpeed), v(s.momentum[0]), v(s.momentum[1]), v(s.momentum[2]),
           v(s.angularMomentum[0]), v(s.angularMomentum[1]), v(s.angularMomentum[2]), v(s.dissipatedNormal),
-          v(s.dissipatedTangential), v(s.dissipatedFriction), v(s.wallWork), v(s.balance())};
+          v(s.dissipatedTangential), v(s.dissipatedFriction), v(s.dissipatedCohesion), v(s.wallWork), v(s.balance())};
 }
 
 void ThermoWriter::write(const ThermoSample& s) {

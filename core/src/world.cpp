@@ -283,6 +283,9 @@ void checkRestOverlap(const Scene& scene, const World& w, const std::vector<Wall
                     " (docs/model.md#cohesion)");
       }
       depth = 2.0 * pi * v / k;
+    } else if (c.cohesion == Cohesion::Jkr) {  // F = 0 at s³ = 3/2 c R*: δ₀ = ½ c s
+      const double cc = std::sqrt(2.0 * pi * v / ystar);
+      depth = 0.5 * cc * std::cbrt(1.5 * cc * reff) / reff;
     } else {
       depth = sjkr ? std::pow(3.0 * pi * v / (2.0 * ystar), 2.0) : std::pow(3.0 * pi * v / (2.0 * ystar * reff), 2.0 / 3.0);
     }
@@ -329,9 +332,17 @@ void checkRestOverlap(const Scene& scene, const World& w, const std::vector<Wall
 void checkCohesion(const Scene& scene, const std::vector<WallDef>& planes) {
   const ContactParams& c = scene.contact;
   if (c.cohesion == Cohesion::None) return;
-  if (c.cohesion != Cohesion::Sjkr && c.cohesion != Cohesion::Dmt)
-    throw Error("unknown cohesion model " + std::to_string(int(c.cohesion)) + " (Cohesion::None, Sjkr or Dmt)");
+  if (c.cohesion != Cohesion::Sjkr && c.cohesion != Cohesion::Dmt && c.cohesion != Cohesion::Jkr)
+    throw Error("unknown cohesion model " + std::to_string(int(c.cohesion)) + " (Cohesion::None, Sjkr, Dmt or Jkr)");
   if (!c.hasHistory()) throw Error("cohesion needs a contact law with history (hooke-history or hertz-mindlin)");
+  if (c.cohesion == Cohesion::Jkr && c.law != ContactLaw::HertzMindlin)
+    throw Error("cohesion \"jkr\" needs law \"hertz-mindlin\" (JKR's contact radius comes from Hertz's elasticity)");
+  if (c.cohesion == Cohesion::Jkr)
+    for (const WallDef& p : planes)
+      if (p.shape == WallDef::Shape::Mesh)
+        throw Error(p.where + ": cohesion \"jkr\" does not reach mesh walls yet (a mesh contact does not keep the "
+                    "neck that holds beyond touching); use \"dmt\" with meshes, or planes and cylinders "
+                    "(docs/model.md#cohesion)");
   const auto bad = [](float v) { return !(v >= 0.0f) || !std::isfinite(v); };
   const std::string what = cohesionKey(c.cohesion);
   if (bad(c.cohesionValue)) throw Error("[contact] " + what + " must be finite and >= 0");

@@ -27,6 +27,7 @@ const char* toString(Cohesion model) {
   switch (model) {
     case Cohesion::Sjkr: return "sjkr";
     case Cohesion::Dmt: return "dmt";
+    case Cohesion::Jkr: return "jkr";
     default: return "none";
   }
 }
@@ -34,7 +35,8 @@ const char* toString(Cohesion model) {
 const char* cohesionKey(Cohesion model) {
   switch (model) {
     case Cohesion::Sjkr: return "cohesion_energy_density";
-    case Cohesion::Dmt: return "surface_energy";
+    case Cohesion::Dmt:
+    case Cohesion::Jkr: return "surface_energy";
     default: return "";
   }
 }

@@ -110,6 +110,17 @@ TEST(SceneIo, Cohesion) {
   EXPECT_EQ(off.cohesionOf(off.ground), 0.0f);
   expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"none\"\nsurface_energy = -1\n"), 15,
               {"surface_energy"});
+  // jkr: hertz-mindlin only (JKR's contact radius is Hertz's), with surface_energy.
+  const Scene jkr = tumble::parseScene(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"jkr\"\n" + kGlass +
+                                           "surface_energy = 0.05\n",
+                                       "test.toml");
+  EXPECT_EQ(jkr.contact.cohesion, tumble::Cohesion::Jkr);
+  EXPECT_EQ(jkr.materials[0].cohesion, 0.05f);
+  expectError(withExtra("[contact]\nlaw = \"hooke-history\"\ncohesion = \"jkr\"\n"), 14,
+              {"needs law = \"hertz-mindlin\"", "use \"dmt\" or \"sjkr\""});
+  expectError(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"jkr\"\n" + kGlass +
+                  "cohesion_energy_density = 3e4\n",
+              22, {"cohesion_energy_density is not read under cohesion = \"jkr\"", "give surface_energy"});
 }
 
 // What World::fromScene refuses (the reader cannot: it needs the radii and the pairs' moduli).
@@ -140,6 +151,9 @@ TEST(SceneIoErrors, CohesionThatNoOverlapBalances) {
   refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"sjkr\"\n" + kGlass +
               "cohesion_energy_density = 1e8\n[ground]\ncohesion_energy_density = 1.2e10\n",
           "material 'glass' on [ground]");
+  // hertz-mindlin jkr: at zero load ½ c (3/2 c R*)^{1/3}, c = √(2 π γ / Y*): γ 1.2e9 J/m², 54 % of R*.
+  refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"jkr\"\n" + kGlass + "surface_energy = 1.2e9\n",
+          "materials 'glass' and 'glass': surface_energy 1.2e+09 alone pulls a contact of R* 0.25 m 5");
   // hertz-mindlin dmt: (3 pi gamma / (2 Y* R*))^(2/3) = 68 % of R* (R* 0.25 m, Y* 3.3e10 Pa).
   refused(withLine(8, "material = \"glass\"") + kHertz + "cohesion = \"dmt\"\n" + kGlass + "surface_energy = 1e9\n",
           "materials 'glass' and 'glass': surface_energy 1e+09 alone pulls a contact of R* 0.25 m 68");

@@ -75,9 +75,10 @@ void CpuPipeline::load(const World& world) {
   m_candOffsets.assign(std::size_t(n) + 1, 0u);
   m_cur = 0;
   m_skin = effectiveSkin(w);
+  m_neck = neckReach(w);
   m_periodic = kernelPeriodic(w.params, m_frame);
   const double periodicReach = periodicRoundingReach(m_periodic);
-  m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * m_skin, m_periodic) : 0.0f;
+  m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * (m_skin + m_neck), m_periodic) : 0.0f;
   m_fullLimit = skinClosureLimit(m_skin, w.maxRadius, periodicReach);
   m_nearSkin = kNearSkinFraction * m_skin;
   m_nearLimit = skinClosureLimit(m_nearSkin, w.maxRadius, periodicReach);

@@ -242,6 +242,7 @@ class CpuPipeline final : public HaloPipeline {
   std::vector<std::uint32_t> m_meshOffsets, m_meshTri;
   std::vector<Vec3f> m_meshHist;
   float m_skin = 0.0f;
+  float m_neck = 0.0f;  // neckReach(): detection and the near list reach this far beyond the skin
   bool m_needRebuild = true;
   // The near list (kernels/contact_list.hpp fillNear), compact; under a law with history the
   // candidate entry of each of its entries, where its ξ is (StepView::historySlot).

@@ -22,9 +22,10 @@ void CpuPipeline::rebuild() {
   t0 = Clock::now();
   computePositions();
   PosRow* pos = m_pos[m_cur].data();
-  // Detection input: the positions and the radii grown by skin/2 (and with periodic boundaries
-  // by the rounding of a difference across them, periodicGrowth()).
-  const float h = 0.5f * m_skin + m_periodicGrowth;
+  // Detection input: the positions and the radii grown by skin/2 (and a JKR neck's half,
+  // neckReach(); with periodic boundaries by the rounding of a difference across them,
+  // periodicGrowth()).
+  const float h = 0.5f * (m_skin + m_neck) + m_periodicGrowth;
   float* bx = tumble::detail::grow(m_bx, n);
   float* by = tumble::detail::grow(m_by, n);
   float* bz = tumble::detail::grow(m_bz, n);
@@ -135,11 +136,11 @@ void CpuPipeline::fillNearList() {
   const PosRow* pos = m_pos[m_cur].data();
   if (m_periodic.axes != 0)
     forEach(n, kGrain, [&](std::uint32_t i) {
-      count[i] = fillNear<true>(pos, full, m_nearSkin, room, i, m_periodic, hist, slotRoom) - m_candOffsets[i];
+      count[i] = fillNear<true>(pos, full, m_nearSkin + m_neck, room, i, m_periodic, hist, slotRoom) - m_candOffsets[i];
     });
   else
     forEach(n, kGrain, [&](std::uint32_t i) {
-      count[i] = fillNear(pos, full, m_nearSkin, room, i, PeriodicBox{}, hist, slotRoom) - m_candOffsets[i];
+      count[i] = fillNear(pos, full, m_nearSkin + m_neck, room, i, PeriodicBox{}, hist, slotRoom) - m_candOffsets[i];
     });
   count[n] = 0;
   m_nearOffsets.resize(std::size_t(n) + 1);

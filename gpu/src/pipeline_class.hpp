@@ -138,9 +138,10 @@ class CudaPipeline final : public HaloPipeline {
     s.synchronize();
     m_numCand = 0;
     m_skin = effectiveSkin(w);
+    m_neck = neckReach(w);
     // Periodic boundaries (periodic_images.hpp), as CpuPipeline::load.
     m_periodic = kernelPeriodic(w.params, m_frame);
-    m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * m_skin, m_periodic) : 0.0f;
+    m_periodicGrowth = m_periodic.axes != 0 ? periodicGrowth(w.maxRadius + 0.5f * (m_skin + m_neck), m_periodic) : 0.0f;
     m_skinLimit = skinClosureLimit(m_skin, w.maxRadius, periodicRoundingReach(m_periodic));
     // Moving meshes: their poses at each step's start (setWallMotion()), and their motion in the
     // skin test (MeshMotionBound).
@@ -539,6 +540,7 @@ class CudaPipeline final : public HaloPipeline {
   mutable HaloScratch m_halo;
   std::uint32_t m_numCand = 0;
   float m_skin = 0.0f, m_skinLimit = 0.0f;
+  float m_neck = 0.0f;  ///< neckReach(): the detection reaches this far beyond the skin
   bool m_needRebuild = true;
   // A batch of steps (stepBatch()): per step its read-back, and the host arrays its copies read.
   static constexpr std::uint32_t kMaxBatch = 64;

@@ -29,9 +29,10 @@ void CudaPipeline<Exec>::rebuild() {
 
   m_timer.mark(Phase::State, s);
   m_clumps ? launchState<true>() : launchState<false>();
-  // Detection input: the positions and the radii grown by skin/2 (and with periodic boundaries
-  // by the rounding of a difference across them, periodicGrowth()).
-  const float h = 0.5f * m_skin + m_periodicGrowth;
+  // Detection input: the positions and the radii grown by skin/2 (and a JKR neck's half,
+  // neckReach(); with periodic boundaries by the rounding of a difference across them,
+  // periodicGrowth()).
+  const float h = 0.5f * (m_skin + m_neck) + m_periodicGrowth;
   Exec::forEach(s, n,
                 DetectionInputFn{m_pos[m_cur].data(), h, m_bx.grow(n), m_by.grow(n), m_bz.grow(n), m_br.grow(n),
                                  m_buildPos.data()},

@@ -40,7 +40,8 @@ CaseResult energyBalance(const CaseContext& ctx) {
       p->step(every);
       (void)guard.check(*p);
       const ThermoSample s = withEnergy(guard.sample(), p->stats().energy);
-      const double dissipated = s.dissipatedNormal + s.dissipatedTangential + s.dissipatedFriction;
+      const double dissipated =
+          ((s.dissipatedNormal + s.dissipatedTangential) + s.dissipatedFriction) + s.dissipatedCohesion;
       t.rows.push_back({double(k), s.time, s.energy(), dissipated, s.wallWork, s.balance() - b0});
       worst = std::max(worst, std::fabs(s.balance() - b0));
       flowed = dissipated + std::fabs(s.wallWork);

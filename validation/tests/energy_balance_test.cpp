@@ -80,11 +80,17 @@ TEST(EnergyBalance, ClosesOnScenes) {
   };
   Scene molecules = readSceneFile(sourcePath("scenes/molecules.toml"));
   molecules.bodies.resize(400);
+  // heap-hertz under JKR, γ 12 J/m² (the pull-off force of two grains about 2.4 times a grain's
+  // weight, heap-cohesive's Bond number): necks stretch and break as the column slumps.
+  Scene jkr = readSceneFile(sourcePath("scenes/heap-hertz.toml"));
+  jkr.contact.cohesion = Cohesion::Jkr;
+  for (MaterialDef& m : jkr.materials) m.cohesion = 12.0f;
   const Case cases[] = {{"heap (hooke-history, rolling resistance)", readSceneFile(sourcePath("scenes/heap.toml")), 4000, false},
                         {"heap-hertz (hertz-mindlin)", readSceneFile(sourcePath("scenes/heap-hertz.toml")), 3000, false},
                         {"drum, thrown, turning from the start", thrownAtWalls("scenes/drum.toml"), 3000, true},
                         {"silo, thrown", thrownAtWalls("scenes/silo.toml"), 3000, false},
-                        {"molecules (the report's law)", molecules, 3000, false}};
+                        {"molecules (the report's law)", molecules, 3000, false},
+                        {"heap-hertz under jkr", jkr, 3000, false}};
   for (const Case& c : cases) {
     const World w = World::fromScene(c.scene);
     auto p = makePipeline(Backend::Cpu);
@@ -99,11 +105,17 @@ TEST(EnergyBalance, ClosesOnScenes) {
       s = sampleWithTally(guard, *p);
       worst = std::max(worst, std::abs(s.balance() - s0.balance()));
     }
-    const double flowed = s.dissipatedNormal + s.dissipatedTangential + s.dissipatedFriction + std::abs(s.wallWork);
-    std::printf("%s, %llu steps: dissipated normal %.5g, tangential %.5g, friction %.5g J, wall work %.5g J; "
-                "balance %.8g J, largest change %.3g J (%.3g of what flowed)\n",
+    const double flowed = s.dissipatedNormal + s.dissipatedTangential + s.dissipatedFriction +
+                          std::abs(s.dissipatedCohesion) + std::abs(s.wallWork);
+    std::printf("%s, %llu steps: dissipated normal %.5g, tangential %.5g, friction %.5g, cohesion %.5g J, wall work "
+                "%.5g J; balance %.8g J, largest change %.3g J (%.3g of what flowed)\n",
                 c.what, static_cast<unsigned long long>(c.steps), s.dissipatedNormal, s.dissipatedTangential,
-                s.dissipatedFriction, s.wallWork, s0.balance(), worst, worst / flowed);
+                s.dissipatedFriction, s.dissipatedCohesion, s.wallWork, s0.balance(), worst, worst / flowed);
+    if (c.scene.contact.cohesion == Cohesion::Jkr) {
+      EXPECT_GT(s.dissipatedCohesion, 0.0) << c.what << ": necks broke";
+    } else {
+      EXPECT_EQ(s.dissipatedCohesion, 0.0) << c.what;
+    }
     EXPECT_GT(s.dissipatedNormal, 0.0) << c.what;
     EXPECT_GT(s.dissipatedTangential + s.dissipatedFriction, 0.0) << c.what;
     if (c.wallWork) {

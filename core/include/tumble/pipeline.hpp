@@ -63,6 +63,13 @@ struct PipelineOptions {
 float effectiveSkin(const World& world);
 /// The same from a given skin (negative: automatic) and the radii's sizing and largest radius.
 float effectiveSkin(float skin, float sizingRadius, float maxRadius);
+/// How far beyond touching a contact may hold (m): under cohesion = "jkr" the largest neck's
+/// length |δ_c| = ¾ c (c R* / 4)^{1/3}, c = √(2 π γ / Y*), over the pairs of materials at the
+/// largest R* two spheres of the world can have (half its largest radius), with a margin for the
+/// kernel's float δ_c (kernels/cohesion.hpp, jkrContact()); 0 for every other model. The
+/// detection finds the pairs within r_i + r_j + skin + this, so that a neck stays in the lists
+/// until it breaks; the skin test is unchanged (docs/model.md#cohesion).
+float neckReach(const World& world);
 /// The automatic skin, in units of the largest radius (docs/performance.md measures it).
 inline constexpr float kAutoSkinPerRadius = 0.5f;
 

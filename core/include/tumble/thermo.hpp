@@ -34,11 +34,12 @@ struct ThermoSample {
   bool finite = true;               ///< false when the state is not finite (every value is then NaN in the file)
   /// The energy tally (Pipeline::setEnergyTally; docs/thermo.md#energy-balance) since the time
   /// series began: dissipated by the normal dashpots, by the tangential dashpots while contacts
-  /// stick, by friction (slip, rolling resistance, and what the stick springs hold), and the
-  /// work moving walls did. NaN where the run keeps no tally.
+  /// stick, by friction (slip, rolling resistance, and what the stick springs hold), by JKR's
+  /// necks (cohesion hysteresis), and the work moving walls did. NaN where the run keeps no tally.
   double dissipatedNormal = std::numeric_limits<double>::quiet_NaN();
   double dissipatedTangential = std::numeric_limits<double>::quiet_NaN();
   double dissipatedFriction = std::numeric_limits<double>::quiet_NaN();
+  double dissipatedCohesion = std::numeric_limits<double>::quiet_NaN();
   double wallWork = std::numeric_limits<double>::quiet_NaN();
 
   /// The mechanical energy E: kinetic + gravity + pull potential + springs.
@@ -46,7 +47,8 @@ struct ThermoSample {
   /// E + dissipated − the work put in (walls, the swirl pull): constant but for the
   /// integration's error where every term is counted (NaN without the tally).
   double balance() const {
-    return energy() + (dissipatedNormal + dissipatedTangential + dissipatedFriction) - (wallWork + pullWork);
+    return energy() + ((dissipatedNormal + dissipatedTangential + dissipatedFriction) + dissipatedCohesion) -
+           (wallWork + pullWork);
   }
 };
 
@@ -54,13 +56,15 @@ struct ThermoSample {
 inline constexpr EnergyTotals kNoEnergyTally{std::numeric_limits<double>::quiet_NaN(),
                                              std::numeric_limits<double>::quiet_NaN(),
                                              std::numeric_limits<double>::quiet_NaN(),
+                                             std::numeric_limits<double>::quiet_NaN(),
                                              std::numeric_limits<double>::quiet_NaN()};
 
-/// s with the energy tally's sums e (its four columns; StepStats::energy).
+/// s with the energy tally's sums e (its five columns; StepStats::energy).
 inline ThermoSample withEnergy(ThermoSample s, const EnergyTotals& e) {
   s.dissipatedNormal = e.normal;
   s.dissipatedTangential = e.tangential;
   s.dissipatedFriction = e.friction;
+  s.dissipatedCohesion = e.cohesion;
   s.wallWork = e.wall;
   return s;
 }
@@ -103,7 +107,7 @@ std::string formatTime(double time, float dt);
 /// The CSV header line, without the newline: kThermoColumns names.
 const char* thermoHeader();
 
-inline constexpr std::size_t kThermoColumns = 23;
+inline constexpr std::size_t kThermoColumns = 24;
 inline constexpr std::size_t kThermoStepColumn = 0, kThermoContactsColumn = 9;  ///< the two counts
 inline constexpr std::size_t kThermoTimeColumn = 1;
 

@@ -56,18 +56,20 @@ struct BodyState {
   std::vector<float> lx, ly, lz;      ///< angular momentum L (world frame)
   /// Per plane and particle (scene order), plane-major (plane k's at k n + i; the planes of
   /// Scene::planes(), the ground first): the stick spring's elongation ξ in the plane's frame
-  /// (along t1, t2; for the ground x, y), zero out of contact. Empty in a scene without planes,
-  /// or (on input) for zero everywhere.
+  /// (along t1, t2; for the ground x, y), +0 out of contact (a held JKR neck of zero spring: y
+  /// is −0, heldPlaneSpring()). Empty in a scene without planes, or (on input) for zero
+  /// everywhere.
   std::vector<float> groundSpringX, groundSpringY;
-  /// Laws with a history (ContactParams::hasHistory): the contacts whose ξ is not zero, sorted
-  /// by (i, j). Empty otherwise, or (on input) for no history.
+  /// Laws with a history (ContactParams::hasHistory): the contacts whose ξ is not all zero bits
+  /// (isZeroSpring(): a JKR neck that holds keeps a negative zero), sorted by (i, j). Empty
+  /// otherwise, or (on input) for no history.
   std::vector<ContactHistory> contacts;
   /// Periodic boundaries (Scene::periodic): per body, the periods its centre has crossed on x
   /// and on y, +1 each time it left the box through its upper end, so that X + n L is where it
   /// would be without the boundary (unwrappedPosition()). Empty for an axis that is not
   /// periodic, or (on input) for zero everywhere.
   std::vector<std::int32_t> imageX, imageY;
-  /// Mesh walls: the springs ξ that are not zero, per (particle, triangle), sorted. Empty
+  /// Mesh walls: the springs ξ that are not all zero bits, per (particle, triangle), sorted. Empty
   /// without meshes, or (on input) for none.
   std::vector<MeshContactHistory> meshContacts;
   /// Resizes the body columns to n bodies (the particle columns and the image counters are left

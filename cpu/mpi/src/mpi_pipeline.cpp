@@ -532,8 +532,8 @@ class MpiPipelineImpl final : public MpiPipeline {
         pos[3 * std::size_t(i) + 2] = x.z;
       }
     }
-    // The halo's reach (haloReach()): every particle within 2 r_max + s of one of the rank's,
-    // and a margin for the rounding of the positions compared.
+    // The halo's reach (haloReach()): every particle within 2 r_max + s of one of the rank's
+    // (s with a JKR neck's reach, neckReach()), and a margin for the rounding of the positions compared.
     double largest = 0.0;
     for (std::size_t c = 0; c < pos.size(); ++c) {
       if (!std::isfinite(pos[c])) {  // as the pipeline's detection says it (the first such particle)
@@ -542,7 +542,7 @@ class MpiPipelineImpl final : public MpiPipeline {
       }
       largest = std::max(largest, std::abs(double(pos[c])));
     }
-    const double reach = haloReach(g.maxRadius, m_haloSkin, largest);
+    const double reach = haloReach(g.maxRadius, m_haloSkin + neckReach(g), largest);
     const std::vector<int> owner = decompose(centres, g.numParticlesOf, m_size, m_how);
     const std::vector<std::vector<std::uint32_t>> ghosts = ghostsOf(owner, pos, g.first, g.numParticlesOf, m_size, reach);
     const auto me = static_cast<std::size_t>(m_rank);

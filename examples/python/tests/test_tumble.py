@@ -139,7 +139,7 @@ def test_energy_balance_equals_tumble_run(tmp_path):
         row = sim.thermo()
         assert row["dissipated_normal"] > 0 and row["balance"] == pytest.approx(
             row["energy"] + row["dissipated_normal"] + row["dissipated_tangential"] + row["dissipated_friction"]
-            - row["wall_work"] - row["pull_work"])
+            + row["dissipated_cohesion"] - row["wall_work"] - row["pull_work"])
         sim.close_thermo()
         assert np.isnan(sim.thermo()["balance"])
     subprocess.run([BIN, "run", MOLECULES, "--steps", "300", "--thermo", str(tmp_path / "cli.csv"), "--thermo-every",

@@ -35,13 +35,14 @@ struct SpringLaw {
 };
 
 /// Adds a contact's cohesive potential U ≤ 0 at overlap δ to *springs, −U to *bound and the
-/// energy its rounding e can move to *slack (value: the pair's k_c or γ; rj unread for a plane).
+/// energy its rounding e can move to *slack (value: the pair's k_c or γ; rj unread for a plane;
+/// ystar: the pair's Y*, read by jkr).
 TUMBLE_HD_INLINE void addCohesiveSum(double* springs, double* slack, double* bound, Cohesion model, double value,
-                                     double delta, double e, double ri, double rj, bool plane) {
-  const double u = cohesivePotential(model, value, delta, ri, rj, plane);
+                                     double delta, double e, double ri, double rj, bool plane, double ystar = 0.0) {
+  const double u = cohesivePotential(model, value, delta, ri, rj, plane, ystar);
   *springs += u;
   *bound -= u;
-  *slack += u - cohesivePotential(model, value, delta + e, ri, rj, plane);
+  *slack += fabs(u - cohesivePotential(model, value, delta + e, ri, rj, plane, ystar));
 }
 
 /// K of Hertz's F = K δ^{3/2}, E = ⅖ K δ^{5/2}, for a pair c and effective radius R*.
@@ -91,7 +92,7 @@ TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi
   const double delta = double(ri) + rj - sqrt(dx * dx + dy * dy + dz * dz);
   if (delta <= 0.0) return;
   const double e = 1.8 * (errI + errJ);
-  double cohesion = law.cohesionValue;
+  double cohesion = law.cohesionValue, ystar = 0.0;
   if (law.hertz != nullptr) {
     const HertzPair& c =
         law.hertz[materialPairIndex(materialOf(law.material, i), materialOf(law.material, j), law.numMaterials)];
@@ -99,12 +100,13 @@ TUMBLE_HD_INLINE void addContactSum(ContactSums& a, float xi, float yi, float zi
     a.springs += 0.4 * K * delta * delta * sqrt(delta);
     a.slack += K * (delta + e) * sqrt(delta + e) * e;
     cohesion = c.cohesion;
+    ystar = c.ystar;
   } else {
     a.springs += 0.5 * law.k * delta * delta;
     a.slack += law.k * e * (delta + e);
   }
   if (law.cohesion != Cohesion::None)
-    addCohesiveSum(&a.springs, &a.slack, &a.bound, law.cohesion, cohesion, delta, e, ri, rj, false);
+    addCohesiveSum(&a.springs, &a.slack, &a.bound, law.cohesion, cohesion, delta, e, ri, rj, false, ystar);
   const double frac = delta / (ri < rj ? ri : rj);
   if (frac > a.maxOverlap) {
     a.maxOverlap = frac;

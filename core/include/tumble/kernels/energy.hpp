@@ -17,18 +17,20 @@ namespace tumble {
 
 /// Powers (W) of one particle or body in one step: taken out of the motion by the normal
 /// dashpots, by the tangential dashpots while the contacts stick, by the rest of the tangential
-/// forces and the rolling resistance (friction; with the energy the stick springs hold), and put
-/// in by moving walls (the wall force dotted with the wall's velocity there).
+/// forces and the rolling resistance (friction; with the energy the stick springs hold), into
+/// JKR's necks (contacts stretched beyond touching, δ < 0: lost when a neck breaks), and put in
+/// by moving walls (the wall force dotted with the wall's velocity there).
 struct EnergyFlows {
-  float normal, tangential, friction, wall;
+  float normal, tangential, friction, cohesion, wall;
 };
-inline constexpr int kEnergyFlows = 4;
+inline constexpr int kEnergyFlows = 5;
 
-TUMBLE_HD_INLINE EnergyFlows noFlows() { return EnergyFlows{0.0f, 0.0f, 0.0f, 0.0f}; }
+TUMBLE_HD_INLINE EnergyFlows noFlows() { return EnergyFlows{0.0f, 0.0f, 0.0f, 0.0f, 0.0f}; }
 TUMBLE_HD_INLINE void addFlows(EnergyFlows& a, const EnergyFlows& b) {
   a.normal += b.normal;
   a.tangential += b.tangential;
   a.friction += b.friction;
+  a.cohesion += b.cohesion;
   a.wall += b.wall;
 }
 
@@ -73,7 +75,7 @@ TUMBLE_HD_INLINE void energyLimbs(float p, float dt, unsigned long long* hi, uns
 
 /// Adds a body's step, its powers f over dt, to l.
 TUMBLE_HD_INLINE void addEnergy(EnergyLimbs& l, const EnergyFlows& f, float dt) {
-  const float p[kEnergyFlows] = {f.normal, f.tangential, f.friction, f.wall};
+  const float p[kEnergyFlows] = {f.normal, f.tangential, f.friction, f.cohesion, f.wall};
   for (int c = 0; c < kEnergyFlows; ++c) {
     unsigned long long h, m, o;
     energyLimbs(p[c], dt, &h, &m, &o);
@@ -93,7 +95,7 @@ TUMBLE_HD_INLINE void addLimbs(EnergyLimbs& a, const EnergyLimbs& b) {
 
 /// The energies of EnergyFlows (J) since the tally began.
 struct EnergyTotals {
-  double normal = 0.0, tangential = 0.0, friction = 0.0, wall = 0.0;
+  double normal = 0.0, tangential = 0.0, friction = 0.0, cohesion = 0.0, wall = 0.0;
 };
 
 /// A running tally (host side): the exact sum of the limbs added, in 128 bits per flow.
@@ -117,13 +119,13 @@ class EnergyTally {
       const double v = (high + double(static_cast<std::uint64_t>(a))) * kEnergyQuantum;
       j[c] = s < 0 ? -v : v;
     }
-    return EnergyTotals{j[0], j[1], j[2], j[3]};
+    return EnergyTotals{j[0], j[1], j[2], j[3], j[4]};
   }
 
  private:
   __extension__ typedef __int128 Wide;
   static constexpr Wide kTwo32 = Wide(1) << 32, kTwo64 = Wide(1) << 64;
-  Wide m_sum[kEnergyFlows] = {0, 0, 0, 0};
+  Wide m_sum[kEnergyFlows] = {0, 0, 0, 0, 0};
 };
 
 }  // namespace tumble

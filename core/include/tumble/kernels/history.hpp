@@ -12,14 +12,39 @@
 /// outputs.
 #pragma once
 #include <cstdint>
+#include <cstring>
 
 #include "tumble/hd.hpp"
 #include "tumble/math.hpp"
 
 namespace tumble {
 
-/// Whether a spring is zero (out of contact): all three components exactly 0.
-TUMBLE_HD_INLINE bool isZeroSpring(Vec3f h) { return h.x == 0.0f && h.y == 0.0f && h.z == 0.0f; }
+/// Whether a spring is out of contact: all bits of its three components zero (+0; the force
+/// pass writes +0 to release one). A spring of value zero in contact may hold a negative zero:
+/// kept like any other, which keeps its sign across rebuilds too; JKR marks its held contacts
+/// so (heldSpring()).
+TUMBLE_HD_INLINE bool isZeroSpring(Vec3f h) {
+  std::uint32_t a, b, c;
+  memcpy(&a, &h.x, sizeof a);
+  memcpy(&b, &h.y, sizeof b);
+  memcpy(&c, &h.z, sizeof c);
+  return (a | b | c) == 0u;
+}
+
+/// A JKR contact's spring ξ, marked as held (Cohesion::Jkr): one whose bits are all zero is out
+/// of contact (isZeroSpring()), so a held one of value zero keeps a negative zero, which
+/// computes as zero everywhere. The lists, their rebuilds, checkpoints and MPI carry whether a
+/// neck holds (δ < 0) with the spring, at no cost of memory.
+TUMBLE_HD_INLINE Vec3f heldSpring(Vec3f x) {
+  if (isZeroSpring(x)) x.z = -0.0f;
+  return x;
+}
+
+/// The same for a plane's spring (its two components, BodyState's per plane and particle).
+TUMBLE_HD_INLINE bool isZeroPlaneSpring(float tx, float ty) { return isZeroSpring(Vec3f{tx, ty, 0.0f}); }
+TUMBLE_HD_INLINE void heldPlaneSpring(float* tx, float* ty) {
+  if (isZeroPlaneSpring(*tx, *ty)) *ty = -0.0f;
+}
 
 /// The key of a candidate-list entry: its partner's scene index.
 struct PartnerKey {

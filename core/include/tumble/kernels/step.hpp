@@ -132,37 +132,48 @@ struct ParticleForce {
 /// |F|² dt / 2m too much each step (a drift of the balance with the energy dissipated).
 struct EnergyWork {
   EnergyFlows flows;
-  Vec3f f[3], t[3];
+  Vec3f f[4], t[4];
 };
 TUMBLE_HD_INLINE EnergyWork noWork() {
   EnergyWork w;
   w.flows = noFlows();
-  for (int c = 0; c < 3; ++c) w.f[c] = w.t[c] = Vec3f{0.0f, 0.0f, 0.0f};
+  for (int c = 0; c < 4; ++c) w.f[c] = w.t[c] = Vec3f{0.0f, 0.0f, 0.0f};
   return w;
 }
 TUMBLE_HD_INLINE void addWork(EnergyWork& a, const EnergyWork& b) {
   addFlows(a.flows, b.flows);
-  for (int c = 0; c < 3; ++c) {
+  for (int c = 0; c < 4; ++c) {
     a.f[c] += b.f[c];
     a.t[c] += b.t[c];
   }
 }
 
-/// One contact's share of *w: `share` of its losses (½ for a pair, which both sides count), and
-/// whole, its forces on this particle by kind (loss: the dashpots', shear − drag for friction),
-/// their torques at `arm`, and the rolling resistance's torque `roll` and power `rollLoss`.
+/// One contact's share of *w: `share` of its losses (½ for a pair, which both sides count) and
+/// of a JKR neck's power, and whole, its forces on this particle by kind (loss: the dashpots',
+/// shear − drag for friction; the neck's elastic force, neckForce), their torques at `arm`, and
+/// the rolling resistance's torque `roll` and power `rollLoss`.
 template <bool kClumps>
-TUMBLE_HD_INLINE void addContactWork(EnergyWork& w, const ContactLoss& l, Vec3f damping, Vec3f drag, Vec3f shear,
-                                     Vec3f arm, Vec3f roll, float rollLoss, float share) {
+TUMBLE_HD_INLINE void addContactWork(EnergyWork& w, const ContactLoss& l, Vec3f damping, Vec3f drag, float neck,
+                                     Vec3f neckForce, Vec3f shear, Vec3f arm, Vec3f roll, float rollLoss, float share) {
   w.flows.normal += share * l.normal;
   w.flows.tangential += share * l.dashpot;
   w.flows.friction += share * ((l.tangential - l.dashpot) + rollLoss);
-  const Vec3f f[3] = {damping, drag, shear - drag};
-  for (int c = 0; c < 3; ++c) {
+  w.flows.cohesion += share * neck;
+  const Vec3f f[4] = {damping, drag, shear - drag, neckForce};
+  for (int c = 0; c < 4; ++c) {
     w.f[c] += f[c];
     if (kClumps) w.t[c] += cross(arm, f[c]);
   }
   if (kClumps) w.t[2] += roll;
+}
+
+/// Whether a sphere that does not touch a plane (the ground, a wall) holds to it by a JKR neck
+/// that may still hold (its plane spring marked, heldPlaneSpring()): planeContact() then
+/// decides, releasing it past the neck's end. Other laws and models: never.
+template <ContactLaw kLaw>
+TUMBLE_HD_INLINE bool heldPlane(const ForceParams& fp, float tx, float ty) {
+  if constexpr (kLaw == ContactLaw::HertzMindlin) return fp.cohesion == Cohesion::Jkr && !isZeroPlaneSpring(tx, ty);
+  return false;
 }
 
 /// Particle i (of body `self`, radius r, its contact side `side`) in contact with wall k, at xl
@@ -191,6 +202,7 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
   }
   float sx = *tx, sy = *ty;  // locals: the spring is read once and written once
   GroundForces g;
+  [[maybe_unused]] NeckFlow neck;  // the tally's (a JKR neck)
   float muR;
   // A cohesive contact's attraction (cohesion.hpp), a plane's R* the sphere's radius.
   const auto pull = [&](float value) {
@@ -201,8 +213,19 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
   Attraction att;
   if constexpr (kLaw == ContactLaw::HertzMindlin) {
     const HertzPair& hp = v.planeHertz[k * v.numMaterials + materialOf(v.material, i)];
-    att = pull(hp.cohesion);
-    g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy, att);
+    if (fp.cohesion == Cohesion::Jkr) {
+      const JkrContact jc = jkrContact(groundDepth(xl, r, w.coeffs), r, hp.ystar, hp.cohesion);
+      if (!jc.held) {  // a neck past its end (heldPlane()): released, no contact
+        *tx = 0.0f;
+        *ty = 0.0f;
+        return GroundForces{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {}};
+      }
+      att = Attraction{0.0f, jc.shift};
+      g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy, att, &jc, &neck);
+    } else {
+      att = pull(hp.cohesion);
+      g = hertzGroundForces<kClumps>(xl, r, sl, 1.0f / self.invMass, hp, w.coeffs, fp.dt, &sx, &sy, att);
+    }
     muR = hp.muR;
   } else {
     const float c = k == 0 ? v.own[i].groundDamping : v.planeDamping[std::size_t(k - 1) * v.numParticles + i];
@@ -224,7 +247,8 @@ TUMBLE_HD_INLINE GroundForces planeContact(const StepView& v, const ForceParams&
   }
   if (work != nullptr) {  // the wall's material moves at wallV, turns at wallOmega
     addContactWork<kClumps>(*work, g.loss, fromWall<kAxis>(w, g.loss.damping), fromWall<kAxis>(w, g.loss.drag),
-                            g.friction, g.arm, roll, -dot(roll, side.omega - wallOmega), 1.0f);
+                            neck.power, fromWall<kAxis>(w, neck.force), g.friction, g.arm, roll,
+                            -dot(roll, side.omega - wallOmega), 1.0f);
     work->flows.wall += dot(fg, wallV) + dot(roll, wallOmega);
   }
   return g;
@@ -263,8 +287,7 @@ TUMBLE_HD_INLINE void meshWallContacts(const StepView& v, const ForceParams& fp,
     }
     const MeshHit h = meshHit(v.mesh, t, kPosed ? xm : xi, r);
     if (!h.counts) {  // not a contact of this triangle: its spring is released
-      const Vec3f z = l.hist[e];
-      if (z.x != 0.0f || z.y != 0.0f || z.z != 0.0f) l.hist[e] = Vec3f{0.0f, 0.0f, 0.0f};
+      if (!isZeroSpring(l.hist[e])) l.hist[e] = Vec3f{0.0f, 0.0f, 0.0f};
       continue;
     }
     if (!haveSide) {
@@ -315,8 +338,10 @@ TUMBLE_HD_NOINLINE void wallContacts(const StepView& v, const ForceParams& fp, c
     RevolvedPoint rp;
     const bool revolved = w.axis == kRevolvedWall;
     if (revolved) rp = revolvedContact(w, xi);
-    // groundDepth(toWall(w, xi), …) > 0 for a plane; r − dist > 0 for a revolved wall
-    if (r - (revolved ? rp.dist : wallHeight(w, xi) - w.coeffs.height) > 0.0f) {
+    // groundDepth(toWall(w, xi), …) > 0 for a plane; r − dist > 0 for a revolved wall; or a
+    // JKR neck that holds
+    if (r - (revolved ? rp.dist : wallHeight(w, xi) - w.coeffs.height) > 0.0f ||
+        heldPlane<kLaw>(fp, v.ground.tx[s], v.ground.ty[s])) {
       if (!haveSide) {
         side = sideOf(self, v.own[i].u);
         haveSide = true;
@@ -419,6 +444,7 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
   ContactForces cf;
   [[maybe_unused]] Vec3f roll{0.0f, 0.0f, 0.0f};  // the tally's: the rolling torque M and its loss −M · (ω_i − ω_j)
   [[maybe_unused]] float rollingLoss = 0.0f;
+  [[maybe_unused]] NeckFlow neck;  // the tally's (a JKR neck)
   // A cohesive contact's attraction (cohesion.hpp) at overlap delta, reff the pair's R*.
   const auto pull = [&](float value, float delta, float reff) {
     if (fp.cohesion == Cohesion::None) return Attraction{0.0f, 0.0f};
@@ -436,7 +462,16 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
         v.hertz[materialPairIndex(materialOf(v.material, i), materialOf(v.material, j), v.numMaterials)];
     const ContactSide& si = side.get(v, self, i);
     const ContactKinematics k = contactKinematics<kClumps>(d, d2, pi.r, rj, si, sj, iBeforeJ);
-    cf = hertzMindlinForces(k, reff, meff, hp, fp.dt, &historyOf(v, e), pull(hp.cohesion, k.delta, reff));
+    if (fp.cohesion == Cohesion::Jkr) {
+      const JkrContact jc = jkrContact(k.delta, reff, hp.ystar, hp.cohesion);
+      if (!jc.held) {  // a neck past its end (heldNeck()): released, no contact
+        historyOf(v, e) = Vec3f{0.0f, 0.0f, 0.0f};
+        return Vec3f{0.0f, 0.0f, 0.0f};
+      }
+      cf = jkrForces(k, meff, hp, fp.dt, &historyOf(v, e), jc, &neck);
+    } else {
+      cf = hertzMindlinForces(k, reff, meff, hp, fp.dt, &historyOf(v, e), pull(hp.cohesion, k.delta, reff));
+    }
     addRolling<kDebug>(cf, si, sj, reff, meff, hp.muR, fp.dt, out, roll, rollingLoss);
   } else {
     cf = contactForces<kClumps>(d, d2, pi.r, rj, side.get(v, self, i), sj, iBeforeJ, fp.contact);
@@ -458,8 +493,8 @@ TUMBLE_HD_INLINE Vec3f addContact(const StepView& v, const ForceParams& fp, cons
     sum->shr += cf.shear;
     // Each pair is seen from both sides with the same losses: half from each.
     const Vec3f tangential = kLaw == ContactLaw::Report ? cf.loss.drag : cf.shear;  // the report's: all viscous
-    addContactWork<kClumps>(sum->work, cf.loss, cf.loss.damping, cf.loss.drag, tangential, cf.arm, roll, rollingLoss,
-                            0.5f);
+    addContactWork<kClumps>(sum->work, cf.loss, cf.loss.damping, cf.loss.drag, neck.power, neck.force, tangential,
+                            cf.arm, roll, rollingLoss, 0.5f);
   }
   ++out.contacts;
   return fc;
@@ -482,7 +517,8 @@ TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForcePara
   EnergyWork* work = nullptr;
   if constexpr (kDebug) work = &sum.work;
   if (fp.hasGround) {
-    if (groundDepth(xi, pi.r, fp.ground) > 0.0f) {  // fp.ground = planes[0].coeffs; wallHeight() is z there
+    // fp.ground = planes[0].coeffs; wallHeight() is z there
+    if (groundDepth(xi, pi.r, fp.ground) > 0.0f || heldPlane<kLaw>(fp, v.ground.tx[i], v.ground.ty[i])) {
       gf = planeContact<kGroundFrame, kClumps, kLaw>(v, fp, v.planes[0], 0, i, xi, xi, pi.r, self, side.get(v, self, i),
                                                      &v.ground.tx[i], &v.ground.ty[i], &out, work);
     } else {  // out of contact the stick spring is released
@@ -524,10 +560,19 @@ TUMBLE_HD_INLINE bool touches(const StepView& v, const PosRow& pi, const PosRow&
 }
 
 /// An open contact forgets its history: ξ of entry e of v.list zeroed (written only when it is
-/// not zero already).
+/// not zero already, isZeroSpring()).
 TUMBLE_HD_INLINE void forgetHistory(const StepView& v, std::uint32_t e) {
   Vec3f& h = historyOf(v, e);
-  if (h.x != 0.0f || h.y != 0.0f || h.z != 0.0f) h = Vec3f{0.0f, 0.0f, 0.0f};
+  if (!isZeroSpring(h)) h = Vec3f{0.0f, 0.0f, 0.0f};
+}
+
+/// Whether entry e, whose spheres do not overlap, is a JKR neck that may still hold (its spring
+/// marked, heldSpring()): addContact() then decides, releasing it past the neck's end. Other
+/// laws and models: never.
+template <ContactLaw kLaw>
+TUMBLE_HD_INLINE bool heldNeck(const StepView& v, const ForceParams& fp, std::uint32_t e) {
+  if constexpr (kLaw == ContactLaw::HertzMindlin) return fp.cohesion == Cohesion::Jkr && !isZeroSpring(historyOf(v, e));
+  return false;
 }
 
 /// Stages 3–5 for particle i of body `self` (SPEC §2.3–2.5): the contact list is the list of the
@@ -559,16 +604,20 @@ TUMBLE_HD_INLINE ParticleForce particleForce(const StepView& v, const ForceParam
     const std::uint32_t j = v.list.cand[e];
     Vec3f d;
     float d2;
-    if (!touches<kPeriodic>(v, pi, v.pos[j], &d, &d2)) {
+    if (!touches<kPeriodic>(v, pi, v.pos[j], &d, &d2) && !heldNeck<kLaw>(v, fp, e)) {
       if constexpr (kLaw != ContactLaw::Report) forgetHistory(v, e);
       if constexpr (kDebug) {
         if (dbg.contact != nullptr) dbg.contact[e].i = kNoContact;
       }
       continue;
     }
+    const std::uint32_t before = sum.out.contacts;
     const Vec3f f = addContact<kDebug, kClumps, kLaw>(v, fp, self, i, pi, e, j, d, d2, side, &sum);
-    if constexpr (kDebug) {
-      if (dbg.contact != nullptr) dbg.contact[e] = capturedContact(v, i, pi, j, d, d2, f);
+    if constexpr (kDebug) {  // (a JKR neck released: no contact)
+      if (dbg.contact != nullptr) {
+        if (sum.out.contacts != before) dbg.contact[e] = capturedContact(v, i, pi, j, d, d2, f);
+        else dbg.contact[e].i = kNoContact;
+      }
     }
   }
   const ParticleForce pf = finishParticle<kDebug, kClumps, kLaw, kPosedMesh>(v, fp, dbg, self, i, pi, side, sum);
@@ -631,7 +680,7 @@ TUMBLE_HD_INLINE std::uint32_t bodyForces(const StepView& v, const ForceParams& 
     Hit& h = hits[numHits];
     h.e = e;
     h.k = i - first;
-    const bool hit = touches<kPeriodic>(v, v.pos[i], v.pos[v.list.cand[e]], &h.d, &h.d2);
+    const bool hit = touches<kPeriodic>(v, v.pos[i], v.pos[v.list.cand[e]], &h.d, &h.d2) || heldNeck<kLaw>(v, fp, e);
     if constexpr (kLaw != ContactLaw::Report) {
       if (!hit) forgetHistory(v, e);
     }
@@ -741,8 +790,8 @@ TUMBLE_HD_INLINE std::uint32_t stepBody(const StepView& v, const ForceParams& fp
     if (v.bodyFlows != nullptr) {  // finishBody() wrote the next row; self is this step's
       const BodyRow& next = v.bodiesNext[k];
       const Vec3f dV = next.v - self.v, dW = next.omega - self.omega;
-      float* flow[3] = {&work.flows.normal, &work.flows.tangential, &work.flows.friction};
-      for (int c = 0; c < 3; ++c) *flow[c] -= 0.5f * (dot(work.f[c], dV) + dot(work.t[c], dW));
+      float* flow[4] = {&work.flows.normal, &work.flows.tangential, &work.flows.friction, &work.flows.cohesion};
+      for (int c = 0; c < 4; ++c) *flow[c] -= 0.5f * (dot(work.f[c], dV) + dot(work.t[c], dW));
       v.bodyFlows[k] = work.flows;
     }
   }
