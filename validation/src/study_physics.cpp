@@ -23,6 +23,7 @@ std::vector<Case> physicsCases() {
       {"hooke_oblique", hookeOblique},          {"hertz_chung_ooi", hertzChungOoi},
       {"angle_of_repose", angleOfRepose},       {"beverloo", beverloo},       {"column_stress", columnStress},
       {"janssen", janssen},                     {"energy_balance", energyBalance},
+      {"jkr_sticking", jkrSticking},
   };
 }
 

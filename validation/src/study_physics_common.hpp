@@ -228,5 +228,7 @@ CaseResult columnStress(const CaseContext& ctx);
 CaseResult janssen(const CaseContext& ctx);
 // study_physics_energy.cpp
 CaseResult energyBalance(const CaseContext& ctx);
+// study_physics_cohesion.cpp
+CaseResult jkrSticking(const CaseContext& ctx);
 
 }  // namespace tumble::validation::study::physics
