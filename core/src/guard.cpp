@@ -312,6 +312,25 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   springs += ps.springs;
   slack += ps.slack;
   bound += ps.bound;
+  // JKR's necks (pairs that hold beyond touching, δ < 0: the springs above count δ > 0 only)
+  // hold their energy U(δ) > 0 (jkrEnergy()), which the time series counts as dissipated_cohesion
+  // and the guard as energy: released when a neck closes again, it is no growth. A neck's pair is
+  // one of the state's contacts (a held spring, kernels/history.hpp).
+  const bool jkr = sc.contact.cohesion == Cohesion::Jkr;
+  double neck = 0.0;
+  if (jkr) {
+    for (const ContactHistory& c : s.contacts) {
+      double d[3];
+      for (int a = 0; a < 3; ++a) d[a] = double(x[3 * std::size_t(c.i) + a]) - x[3 * std::size_t(c.j) + a];
+      if (box.on(0)) d[0] = minimumImage<double>(d[0], box.half[0], box.length[0]);
+      if (box.on(1)) d[1] = minimumImage<double>(d[1], box.half[1], box.length[1]);
+      const double ri = w.radius[c.i], rj = w.radius[c.j];
+      const double delta = ri + rj - std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (delta >= 0.0) continue;
+      const HertzPair& hp = w.materialPairs[materialPairIndex(w.material[c.i], w.material[c.j], law.numMaterials)];
+      neck += jkrEnergy(delta, ri * rj / (ri + rj), hp.ystar, hp.cohesion);
+    }
+  }
   if (ps.maxOverlap > out.maxOverlap) {
     out.maxOverlap = ps.maxOverlap;
     out.overlapBody = w.body[ps.deepestI];
@@ -332,6 +351,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   // overlap on plane q at depth delta (e: its rounding), summed into a.
   struct GroundSums {
     double springs = 0.0, slack = 0.0, bound = 0.0, maxOverlap = 0.0, contactTime = 0.0;
+    double neck = 0.0;  // JKR's necks on the plane (δ < 0)
     std::uint32_t body = 0, triangle = 0;
   };
   const auto addPlane = [&](GroundSums& a, std::size_t q, std::size_t i, double delta, double e) {
@@ -364,6 +384,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     l.springs += r.springs;
     l.slack += r.slack;
     l.bound += r.bound;
+    l.neck += r.neck;
     if (r.maxOverlap > l.maxOverlap) {
       l.maxOverlap = r.maxOverlap;
       l.body = r.body;
@@ -375,6 +396,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
     springs += gs.springs;
     slack += gs.slack;
     bound += gs.bound;
+    neck += gs.neck;
     if (gs.maxOverlap > out.maxOverlap) {
       out.maxOverlap = gs.maxOverlap;
       out.overlapBody = gs.body;
@@ -404,7 +426,13 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
           delta = w.radius[i] - (d - pw.coeffs.height);
           e = 1.8 * err[w.body[i]] + floatRounding(pw.coeffs.height);
         }
-        if (delta > 0.0) addPlane(a, q, i, delta, e);
+        if (delta > 0.0) {
+          addPlane(a, q, i, delta, e);
+        } else if (jkr && (q + 1) * np <= s.groundSpringX.size() &&
+                   !isZeroPlaneSpring(s.groundSpringX[q * np + i], s.groundSpringY[q * np + i])) {
+          const HertzPair& hp = w.planeHertz[q * law.numMaterials + w.material[i]];
+          a.neck += jkrEnergy(delta, w.radius[i], hp.ystar, hp.cohesion);
+        }
       }
     }, mergePlanes);
     addDeepest(gs, q == 0 && sc.ground.enabled ? "the ground" : planeDefs[q].where);
@@ -437,7 +465,7 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
       addDeepest(gs, meshTriangleWhere(sc, gs.triangle));
   }
 
-  out.energy = kinetic + gravity + pullPotential + springs;
+  out.energy = kinetic + gravity + pullPotential + springs + neck;  // (the time series: without the necks)
   ThermoSample& ts = out.sample;
   ts.kineticTranslation = kinetic - bs.rotation;
   ts.kineticRotation = bs.rotation;
@@ -474,7 +502,8 @@ RunGuard::Snapshot RunGuard::measure(const Pipeline& pipeline, std::uint32_t mas
   ts.gravity = gravity - totalMass * (double(g.x) * frame.x + double(g.y) * frame.y + double(g.z) * frame.z);
   // |pull potential|: an outward pull (κ < 0) has a negative potential, whose size is still the
   // energy scale of the motion it drives.
-  out.available = kinetic + springs + bound + std::abs(pullPotential) + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
+  out.available =
+      kinetic + springs + bound + neck + std::abs(pullPotential) + std::max(0.0, drop) + totalMass * gNorm * w.maxRadius;
   if (!(out.available > 0.0)) out.available = 1e-12;
   return out;
 }

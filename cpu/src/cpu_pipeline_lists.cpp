@@ -161,10 +161,17 @@ void CpuPipeline::ownRow(const std::vector<std::uint32_t>& offsets, std::uint32_
   std::fill(m_owner.data() + offsets[i], m_owner.data() + offsets[i + 1], i);
 }
 
-// The list the forces (and pairs()) iterate: the near list when there is one.
+// The list the forces (and pairs()) iterate: the near list when there is one; under JKR with
+// the entries' springs (CandidateListView::held), which say which pairs the force stage held.
 CandidateListView CpuPipeline::contactListView() const {
-  if (m_nearSkin > 0.0f) return compactList(m_nearOffsets.data(), m_near.data());
-  return compactList(m_candOffsets.data(), m_cand.data());
+  const bool near = m_nearSkin > 0.0f;
+  CandidateListView l = near ? compactList(m_nearOffsets.data(), m_near.data())
+                             : compactList(m_candOffsets.data(), m_cand.data());
+  if (m_world.params.contact.cohesion == Cohesion::Jkr) {
+    l.held = m_hist.data();
+    l.heldSlot = near ? m_nearSlot.data() : nullptr;
+  }
+  return l;
 }
 
 // Stage 1: the particle positions of the current body state (after a reordering, and at load).

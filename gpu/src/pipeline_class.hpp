@@ -199,6 +199,13 @@ class CudaPipeline final : public HaloPipeline {
   std::uint64_t stepCount() const override { return m_world.step + m_steps; }
 
  private:
+  // The candidate list of the last step as the readouts of its contacts see it (pairs(), the
+  // counts, the guard's sums): under JKR with the entries' springs (CandidateListView::held).
+  CandidateListView readoutList() const {
+    CandidateListView l = compactList(m_candOffsets.data(), m_cand.data());
+    if (m_world.params.contact.cohesion == Cohesion::Jkr) l.held = m_hist.data();
+    return l;
+  }
   // The contacts of a list as sorted pairs (pairs(), findPairs()), and findPairs() with periodic
   // boundaries (pipeline_readout.hpp).
   std::vector<Pair> contactsOf(const PosRow* pos, const std::uint32_t* orig, const CandidateListView& list,

@@ -78,7 +78,7 @@ void CudaPipeline<Exec>::readLocalPositions(std::vector<float>& out) const {
 template <class Exec>
 std::vector<Pair> CudaPipeline<Exec>::pairs() const {
   if (m_steps == 0) return {};
-  const CandidateListView list = compactList(m_candOffsets.data(), m_cand.data());
+  const CandidateListView list = readoutList();
   const PosRow* pos = m_pos[1 - m_cur].data();  // the rows the last step used
   return contactsOf(pos, m_orig.data(), list, m_touching.data(), m_periodic, m_world.numParticles());
 }
@@ -178,7 +178,7 @@ std::uint64_t CudaPipeline<Exec>::contactsOf(const std::vector<std::uint32_t>& b
   Exec::fillZero(s, total, 1);
   Exec::forEach(s, m,
                 BodyContactCountFn{m_bodies.data(), at, m_halo.list.data(), m_touching.data(), m_pos[1 - m_cur].data(),
-                                   compactList(m_candOffsets.data(), m_cand.data()), m_periodic, total},
+                                   readoutList(), m_periodic, total},
                 "contactsOf");
   unsigned long long h = 0;
   Exec::copyToHost(s, &h, total, 1);
@@ -229,8 +229,8 @@ bool CudaPipeline<Exec>::contactSumsPerBody(const SpringLaw& law, std::vector<Co
   }
   Exec::forEach(s, nb,
                 BodyContactSumsFn{m_bodies.data(), m_bodyOf.data(), m_touching.data(), m_pos[1 - m_cur].data(),
-                                  m_pos[m_cur].data(), m_orig.data(), compactList(m_candOffsets.data(), m_cand.data()),
-                                  onDevice, m_periodic, sums.grow(nb)},
+                                  m_pos[m_cur].data(), m_orig.data(), readoutList(), onDevice, m_periodic,
+                                  sums.grow(nb)},
                 "contactSums");
   out.resize(nb);
   sums.download(out.data(), nb, s);

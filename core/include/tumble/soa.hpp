@@ -109,6 +109,13 @@ struct CandidateListView {
   const std::uint32_t* begin;
   const std::uint32_t* end;
   const std::uint32_t* cand;
+  /// Under JKR (Cohesion::Jkr), for the readouts of the last step's contacts (pairs(), the
+  /// guard's sums, the counts; listedContact()): the entries' springs (entry e's at
+  /// heldSlot[e] where heldSlot is not null), whose bits say whether the force stage held the
+  /// pair, a neck beyond touching included (kernels/history.hpp). Null otherwise: the exact
+  /// predicate decides.
+  const Vec3f* held = nullptr;
+  const std::uint32_t* heldSlot = nullptr;
 };
 
 /// One contact between particles as the debug capture keeps it (Pipeline::readDebug(),

@@ -96,7 +96,9 @@ struct JkrContact {
 /// R*, Y* and the work of adhesion γ of the pair. With s = √a, δ = s⁴/R* − c s, c = √(2πγ/Y*),
 /// so s is the largest root of s⁴ − c R* s − R* δ, found by Newton's iteration from above
 /// (the quartic is convex there, so the iterates fall monotonically; they stop when one does
-/// not): from max(2 s_c, (2 R* δ)^{1/4}), which is above the root. The root exists while
+/// not, or when one would fall below s_c, where the quartic turns: within an ulp or two of δ_c
+/// rounding can put an iterate there, whence it would run off to the other branch or to −∞):
+/// from max(2 s_c, (2 R* δ)^{1/4}), which is above the root. The root exists while
 /// δ > δ_c = −¾ c s_c, s_c³ = c R* / 4 (dδ/ds = 0: the neck's end). F = 4 Y* a³ / (3 R*) −
 /// √(8 π γ Y* a³) = Y* s³ (4 s³ / (3 R*) − 2 c): −8/9 of the pull-off force 3/2 π γ R* at
 /// δ = 0, the pull-off force itself at its minimum, −5/6 π γ R* at δ_c. Without adhesion
@@ -123,6 +125,10 @@ TUMBLE_HD_INLINE JkrContact jkrContact(float delta, float reff, float ystar, flo
     const float s3 = s * s * s;
     const float next = s - ((s3 * s - x * s) - rd) / (4.0f * s3 - x);
     if (!(next < s)) break;
+    if (!(next > sc)) {  // past the turn: the root is at s_c within rounding
+      s = sc;
+      break;
+    }
     s = next;
   }
   const float s3 = s * s * s;
@@ -147,6 +153,10 @@ TUMBLE_HD_INLINE double jkrEnergy(double delta, double reff, double ystar, doubl
     const double s3 = s * s * s;
     const double next = s - ((s3 * s - x * s) - rd) / (4.0 * s3 - x);
     if (!(next < s)) break;
+    if (!(next > sc)) {  // past the turn (as jkrContact())
+      s = sc;
+      break;
+    }
     s = next;
   }
   const auto p = [&](double t) {

@@ -32,6 +32,7 @@
 #include <cstdint>
 
 #include "tumble/hd.hpp"
+#include "tumble/kernels/history.hpp"
 #include "tumble/kernels/overlap.hpp"
 #include "tumble/kernels/periodic.hpp"
 #include "tumble/math.hpp"
@@ -156,9 +157,18 @@ TUMBLE_HD_INLINE void fillCandidates(const SweepListView& s, const std::uint32_t
   detail::sortRow(key + a, cand + a, offsets[i + 1] - a);
 }
 
+/// Whether entry e of l (particle i at pi, its partner at pj) was a contact of the last step: the
+/// exact predicate (through the minimum image in `box`), or under JKR (l.held) the force stage's
+/// own decision, which its spring keeps (a held neck beyond touching too; kernels/history.hpp).
+TUMBLE_HD_INLINE bool listedContact(const CandidateListView& l, std::uint32_t e, const PosRow& pi, const PosRow& pj,
+                                    const PeriodicBox& box) {
+  if (l.held != nullptr) return !isZeroSpring(l.held[l.heldSlot != nullptr ? l.heldSlot[e] : e]);
+  return spheresOverlap(box, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r);
+}
+
 /// Calls f(j, partner) for each contact of particle i with a partner of a higher scene index
 /// (the pairs i < j that pairs() lists for i), in row order (ascending partner), decided at the
-/// positions `pos`; j is the partner's internal index, partner its scene index. (The caller may
+/// positions `pos` (listedContact()); j is the partner's internal index, partner its scene index. (The caller may
 /// skip the particles that the force stage saw touch nothing: StepView::touching.) With periodic
 /// boundaries (`box`), the pairs meet through their minimum image, as in the force stage.
 /// Returns how many.
@@ -173,7 +183,7 @@ TUMBLE_HD_INLINE std::uint32_t forContactsAbove(const PosRow* pos, const std::ui
     const std::uint32_t j = l.cand[e];
     const PosRow pj = pos[j];
     const std::uint32_t other = orig[j];
-    if (other > me && spheresOverlap(box, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r)) {
+    if (other > me && listedContact(l, e, pi, pj, box)) {
       f(j, other);
       ++n;
     }
@@ -193,10 +203,7 @@ TUMBLE_HD_INLINE std::uint64_t bodyContactCount(const BodyRow& b, const std::uin
       continue;
     }
     const PosRow pi = pos[p];
-    for (std::uint32_t e = l.begin[p]; e < l.end[p]; ++e) {
-      const PosRow pj = pos[l.cand[e]];
-      total += spheresOverlap(box, pi.x, pi.y, pi.z, pi.r, pj.x, pj.y, pj.z, pj.r) ? 1u : 0u;
-    }
+    for (std::uint32_t e = l.begin[p]; e < l.end[p]; ++e) total += listedContact(l, e, pi, pos[l.cand[e]], box) ? 1u : 0u;
   }
   return total;
 }

@@ -527,7 +527,8 @@ TUMBLE_HD_INLINE ParticleForce finishParticle(const StepView& v, const ForcePara
     }
   }
   if (fp.hasWalls) {
-    const bool groundTouched = fp.hasGround && groundDepth(xi, pi.r, fp.ground) > 0.0f;
+    const bool groundTouched = fp.hasGround && (groundDepth(xi, pi.r, fp.ground) > 0.0f ||
+                                                heldPlane<kLaw>(fp, v.ground.tx[i], v.ground.ty[i]));
     wallContacts<kClumps, kLaw, kPosedMesh>(v, fp, self, i, xi, pi.r, &out, &gf, groundTouched, work);
   }
   if (fp.pulls != 0u) {
