@@ -198,7 +198,160 @@ std::vector<double> squaredDepths(const Grid& g, const std::vector<std::uint8_t>
   return d2;
 }
 
+/// The layer's candidates for spheres of radius rho (m) (clump.hpp, the surface fill): the
+/// inside voxels at depth rho within half a voxel, and those shallower on the ridge of a thin
+/// part (none of the 26 neighbours deeper: a plateau across the part, not the bisector of an
+/// edge, which deepens away from both faces), in index order. A voxel's depth to the surface is about half
+/// a voxel less than its distance to the nearest outside voxel's point (squaredDepths()).
+std::vector<std::size_t> layerCandidates(const Grid& g, const std::vector<std::uint8_t>& inside,
+                                         const std::vector<double>& d2, double rho) {
+  const double lo = rho / g.h, hi = rho / g.h + 1.0;  // in voxels, of the distance to the outside
+  const std::ptrdiff_t sy = g.n[0], sz = std::ptrdiff_t(g.n[0]) * g.n[1];
+  // The grid's border voxels are outside (a voxel of room): an inside voxel's neighbours are in it.
+  const auto ridge = [&](std::size_t v) {
+    for (int k = -1; k <= 1; ++k)
+      for (int j = -1; j <= 1; ++j)
+        for (int i = -1; i <= 1; ++i)
+          if (d2[std::size_t(std::ptrdiff_t(v) + k * sz + j * sy + i)] > d2[v]) return false;
+    return true;
+  };
+  std::vector<std::size_t> out;
+  for (std::size_t v = 0; v < g.size(); ++v) {
+    if (!inside[v]) continue;
+    const double d = std::sqrt(d2[v]);
+    if (d > hi) continue;
+    if (d > lo || ridge(v)) out.push_back(v);
+  }
+  return out;
+}
+
+/// The layer's centres by farthest-point sampling: first the candidate farthest from their
+/// centroid, then each time the one farthest from every centre chosen, until every candidate is
+/// within rho of one (ties: the lowest index). Extremes first (a box's corners, then its edges),
+/// where the surface is farthest from the layer. C candidates and K centres: O(K C).
+std::vector<std::size_t> coverLayer(const Grid& g, const std::vector<std::size_t>& candidates, double rho) {
+  std::vector<std::size_t> chosen;
+  if (candidates.empty()) return chosen;
+  std::vector<D3> p(candidates.size());
+  D3 mean{0.0, 0.0, 0.0};
+  for (std::size_t c = 0; c < p.size(); ++c) {
+    p[c] = g.point(candidates[c]);
+    for (int a = 0; a < 3; ++a) mean[a] += p[c][a];
+  }
+  for (int a = 0; a < 3; ++a) mean[a] /= double(p.size());
+  std::vector<double> near(p.size(), std::numeric_limits<double>::infinity());
+  std::size_t next = 0;
+  double far = -1.0;
+  for (std::size_t c = 0; c < p.size(); ++c) {
+    const D3 d = sub(p[c], mean);
+    if (dot(d, d) > far) far = dot(d, d), next = c;
+  }
+  for (;;) {
+    chosen.push_back(candidates[next]);
+    const D3 q = p[next];
+    far = -1.0;
+    for (std::size_t c = 0; c < p.size(); ++c) {
+      const D3 d = sub(p[c], q);
+      near[c] = std::min(near[c], dot(d, d));
+      if (near[c] > far) far = near[c], next = c;
+    }
+    if (!(far > rho * rho)) break;
+  }
+  return chosen;
+}
+
+/// The surface fill (clump.hpp): the layer's radius from the tolerance (measured) and the sphere
+/// count, its spheres into out.
+void placeLayer(const TriangleMesh& mesh, const Grid& g, const std::vector<Tri>& tris,
+                const std::vector<std::uint8_t>& inside, const std::vector<double>& d2, const ClumpOptions& options,
+                const std::array<double, 3>& scale, Clump& out) {
+  double deepest = 0.0;
+  for (std::size_t v = 0; v < g.size(); ++v)
+    if (inside[v]) deepest = std::max(deepest, d2[v]);
+  deepest = (std::sqrt(deepest) - 0.5) * g.h;  // the depth of the deepest point (layerCandidates())
+  const double least = std::min(1.5 * g.h, deepest);  // a layer's spheres at least 1.5 voxels (the depths' grain)
+  const auto centres = [&](double rho) { return coverLayer(g, layerCandidates(g, inside, d2, rho), rho); };
+  const auto spheresAt = [&](const std::vector<std::size_t>& chosen) {
+    std::vector<ClumpSphere> s;
+    for (const std::size_t v : chosen) {
+      const D3 p = g.point(v);
+      const double r = distanceToMesh(p, tris);
+      if (r >= 0.5 * g.h) s.push_back({p, r});  // (a sliver of the surface: too small a sphere)
+    }
+    return s;
+  };
+  struct Layer {
+    double rho = 0.0, deviation = 0.0;
+    std::vector<ClumpSphere> spheres;
+  };
+  const auto measured = [&](double rho) {
+    Layer l{rho, 0.0, spheresAt(centres(rho))};
+    l.deviation = clumpQuality(mesh, l.spheres, g.h, out.solid.volume, scale).largestDeviation;
+    return l;
+  };
+  Layer best;
+  const double tol = options.tolerance;
+  if (tol > 0.0) {
+    // From D / (√3 − 1) down, by bisection, to the largest radius whose layer the surface lies
+    // within D of (measured: the corners' share depends on where the centres fall).
+    double hi = std::min(tol / (std::sqrt(3.0) - 1.0), deepest), lo = least;
+    char buf[320];
+    if (hi < least) {
+      std::snprintf(buf, sizeof buf, ": a surface layer for the tolerance %g m needs spheres of radius %.4g m, under 1.5 "
+                    "voxels (%.4g m): give a resolution of at least %.0f, or a larger tolerance",
+                    tol, hi, 1.5 * g.h, std::ceil(options.resolution * 1.5 * g.h / hi));
+      throw Error(mesh.file + buf);
+    }
+    best = measured(hi);
+    if (best.deviation > tol) {
+      best = measured(lo);
+      if (best.deviation > tol) {
+        std::snprintf(buf, sizeof buf, ": no surface layer meets the tolerance %g m down to spheres of 1.5 voxels "
+                      "(%.4g m; the surface then lies up to %.4g m from it): give a finer resolution or a larger "
+                      "tolerance", tol, lo, best.deviation);
+        throw Error(mesh.file + buf);
+      }
+      for (int k = 0; k < 10 && hi - lo > 0.05 * g.h; ++k) {
+        Layer mid = measured(0.5 * (lo + hi));
+        if (mid.deviation <= tol) {
+          lo = mid.rho;
+          best = std::move(mid);
+        } else {
+          hi = mid.rho;
+        }
+      }
+    }
+  }
+  if (options.spheres != 0 && (tol <= 0.0 || best.spheres.size() > options.spheres)) {
+    // The smallest radius whose layer has at most that many spheres, by bisection.
+    double lo = std::max(best.rho, least), hi = deepest;
+    std::vector<std::size_t> atHi = centres(hi);
+    if (atHi.size() > options.spheres) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, ": a layer under the surface needs at least %zu spheres here (of radius %g m, the "
+                    "solid's depth); allow more spheres", atHi.size(), hi);
+      throw Error(mesh.file + buf);
+    }
+    for (int k = 0; k < 24 && hi - lo > 0.01 * g.h; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      std::vector<std::size_t> c = centres(mid);
+      if (c.size() <= options.spheres) {
+        hi = mid;
+        atHi = std::move(c);
+      } else {
+        lo = mid;
+      }
+    }
+    best.rho = hi;
+    best.spheres = spheresAt(atHi);
+  }
+  out.layerRadius = best.rho;
+  out.spheres = std::move(best.spheres);
+}
+
 }  // namespace
+
+const char* toString(ClumpFill fill) { return fill == ClumpFill::Surface ? "surface" : "inside"; }
 
 ClumpQuality clumpQuality(const TriangleMesh& mesh, const std::vector<ClumpSphere>& spheres, double voxel,
                           double meshVolume, std::array<double, 3> scale) {
@@ -266,9 +419,10 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
   const Grid g(lo, hi, out.voxel);
   const std::vector<std::uint8_t> inside = insideVoxels(g, tris);
   const std::vector<double> d2 = squaredDepths(g, inside);
-  // The inside voxels, deepest first (ties: the lowest index).
+  if (options.fill == ClumpFill::Surface) placeLayer(mesh, g, tris, inside, d2, options, scale, out);
+  // The inside fill: the inside voxels, deepest first (ties: the lowest index).
   std::vector<std::size_t> order;
-  for (std::size_t v = 0; v < inside.size(); ++v)
+  for (std::size_t v = 0; v < inside.size() && options.fill == ClumpFill::Inside; ++v)
     if (inside[v]) order.push_back(v);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return d2[a] > d2[b]; });
   std::vector<std::uint8_t> covered(g.size(), 0);

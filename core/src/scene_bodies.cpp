@@ -25,7 +25,7 @@ void SceneParser::readShapes(Scene& scene) {
   const std::vector<const toml::table*> tables = tablesOf(m_file, *n, "'shape'", "[[shape]]");
   for (std::size_t s = 0; s < tables.size(); ++s) {
     const TableReader r(m_file, *tables[s], "[[shape]] #" + std::to_string(s + 1),
-                        {"name", "sphere", "mass", "centre_of_mass", "inertia", "mesh", "spheres", "tolerance",
+                        {"name", "sphere", "mass", "centre_of_mass", "inertia", "mesh", "spheres", "tolerance", "fill",
                          "resolution", "scale", "orientation", "density", "material", "elasticity"});
     ShapeDef shape;
     const toml::node& nameNode = r.require("name", "the name that bodies and groups use, e.g. name = \"dimer\"");
@@ -39,7 +39,7 @@ void SceneParser::readShapes(Scene& scene) {
     // A shape made from a mesh, or of the spheres written out: each has keys the other has not.
     const bool fromMesh = r.has("mesh");
     static const std::vector<const char*> kSpheresOnly{"sphere", "mass", "centre_of_mass", "inertia"};
-    static const std::vector<const char*> kMeshOnly{"spheres", "tolerance", "resolution", "scale", "orientation",
+    static const std::vector<const char*> kMeshOnly{"spheres", "tolerance", "fill", "resolution", "scale", "orientation",
                                                     "density",  "material",  "elasticity"};
     for (const char* key : fromMesh ? kSpheresOnly : kMeshOnly)
       if (const toml::node* k = r.find(key))
@@ -111,6 +111,13 @@ ShapeDef SceneParser::readMeshShape(const Scene& scene, const TableReader& r, co
     o.spheres = std::uint32_t(n);
   }
   if (tn != nullptr) o.tolerance = r.number(*tn, "tolerance", Rule::Positive);
+  if (const toml::node* fn = r.find("fill")) {
+    const std::string fill = r.string(*fn, "fill");
+    if (fill == "surface") o.fill = ClumpFill::Surface;
+    else if (fill != "inside")
+      r.fail(sourceOf(*fn), "unknown fill \"" + fill + "\"; use \"inside\" (spheres filling the solid, the largest "
+                            "first) or \"surface\" (a layer of spheres of one radius under its surface)");
+  }
   if (const toml::node* rn = r.find("resolution")) {
     const std::int64_t n = r.integer(*rn, "resolution", 8);
     if (n > 512) r.fail(sourceOf(*rn), "resolution must be from 8 to 512 voxels along the longest side (got " +

@@ -171,6 +171,85 @@ TEST(Clump, SaysWhatTheSphereCountLeavesUncovered) {
   EXPECT_EQ(many.uncoveredDepth, 0.0) << "the tolerance ended it";
 }
 
+// fill = surface (clump.hpp): a layer of spheres of one radius ρ under the surface, at most
+// D / (√3 − 1). On the box: every sphere inside it, nearly all of the layer's radius within 1.5
+// voxels, the surface within the tolerance (as measured: the radius is chosen so), no fewer
+// spheres for a smaller tolerance; a sphere count alone takes the smallest layer radius whose
+// layer fits in it; a tolerance finer than the voxels allow is refused with the resolution it
+// needs. A plate 2.5 voxels thick, whose faces the inside fill leaves far from as many spheres,
+// gets its layer on its mid-plane. The same spheres every time.
+TEST(Clump, ASurfaceLayerCoversFacesAndThinParts) {
+  const double dims[3] = {1.0, 0.375, 0.25};
+  const tumble::TriangleMesh mesh = box(dims[0], dims[1], dims[2]);
+  double last = 0.0;
+  for (const double tol : {0.06, 0.04}) {
+    tumble::ClumpOptions o;
+    o.tolerance = tol;
+    o.fill = tumble::ClumpFill::Surface;
+    const tumble::Clump k = tumble::clumpFromMesh(mesh, o);
+    const double rho = tol / (std::sqrt(3.0) - 1.0);
+    std::size_t off = 0;
+    for (const tumble::ClumpSphere& s : k.spheres) {
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_GE(s.centre[a] - s.radius, -1e-12);
+        EXPECT_LE(s.centre[a] + s.radius, dims[a] + 1e-12);
+      }
+      off += std::abs(s.radius - k.layerRadius) > 1.5 * k.voxel ? 1u : 0u;
+    }
+    std::printf("box, surface fill, tolerance %g: %zu spheres of radius %.4g (layer %.4g), %zu off by more than 1.5 "
+                "voxels (%.4g); surface deviation largest %.4f mean %.4f, volume ratio %.3f\n",
+                tol, k.spheres.size(), rho, k.layerRadius, off, k.voxel, k.quality.largestDeviation,
+                k.quality.meanDeviation, k.quality.volumeRatio);
+    EXPECT_LE(k.layerRadius, rho);
+    EXPECT_LT(off, k.spheres.size() / 10 + 1);
+    EXPECT_LE(k.quality.largestDeviation, tol);
+    EXPECT_GE(k.spheres.size(), last) << "a smaller tolerance, no fewer spheres";
+    last = double(k.spheres.size());
+  }
+  tumble::ClumpOptions o;
+  o.fill = tumble::ClumpFill::Surface;
+  o.spheres = 100;
+  const tumble::Clump counted = tumble::clumpFromMesh(mesh, o);
+  std::printf("box, surface fill, at most 100 spheres: %zu of radius %.4g, deviation largest %.4f\n",
+              counted.spheres.size(), counted.layerRadius, counted.quality.largestDeviation);
+  EXPECT_LE(counted.spheres.size(), 100u);
+  EXPECT_GT(counted.spheres.size(), 50u) << "the smallest radius that fits: most of the count used";
+  const tumble::Clump again = tumble::clumpFromMesh(mesh, o);
+  ASSERT_EQ(again.spheres.size(), counted.spheres.size());
+  for (std::size_t i = 0; i < again.spheres.size(); ++i) {
+    EXPECT_EQ(again.spheres[i].radius, counted.spheres[i].radius);
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(again.spheres[i].centre[a], counted.spheres[i].centre[a]);
+  }
+  // A tolerance under 1.5 voxels' layer: refused, with the resolution it needs.
+  tumble::ClumpOptions fine;
+  fine.fill = tumble::ClumpFill::Surface;
+  fine.tolerance = 0.01;
+  try {
+    (void)tumble::clumpFromMesh(mesh, fine);
+    ADD_FAILURE() << "a layer finer than the voxels was accepted";
+  } catch (const tumble::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("give a resolution of at least 110"), std::string::npos) << e.what();
+  }
+  // The plate: 0.5 x 0.5 x 0.02 (voxels of 1/128 m).
+  const tumble::TriangleMesh plate = box(0.5, 0.5, 0.02);
+  tumble::ClumpOptions p;
+  p.tolerance = 0.015;
+  p.fill = tumble::ClumpFill::Surface;
+  const tumble::Clump layer = tumble::clumpFromMesh(plate, p);
+  tumble::ClumpOptions q;
+  q.spheres = std::uint32_t(layer.spheres.size());
+  const tumble::Clump filled = tumble::clumpFromMesh(plate, q);
+  std::printf("plate 0.02 thick: surface fill %zu spheres, deviation largest %.4f mean %.4f; inside fill %zu spheres, "
+              "largest %.4f mean %.4f\n",
+              layer.spheres.size(), layer.quality.largestDeviation, layer.quality.meanDeviation, filled.spheres.size(),
+              filled.quality.largestDeviation, filled.quality.meanDeviation);
+  for (const tumble::ClumpSphere& s : layer.spheres) {
+    EXPECT_GE(s.centre[2] - s.radius, -1e-12);
+    EXPECT_LE(s.centre[2] + s.radius, 0.02 + 1e-12);
+  }
+  EXPECT_LT(layer.quality.meanDeviation, 0.5 * filled.quality.meanDeviation);
+}
+
 TEST(Clump, BadRequestsAreRefused) {
   const tumble::TriangleMesh mesh = box(1, 1, 1);
   EXPECT_THROW(tumble::clumpFromMesh(mesh, tumble::ClumpOptions{}), tumble::Error);
@@ -234,6 +313,17 @@ TEST(Clump, AShapeFromAMeshFile) {
   EXPECT_NEAR(sh.solid->mass, m, 1e-12);
   EXPECT_NEAR(sh.solid->inertia[2], m * (0.0625 + 0.015625) / 12, 1e-12);
   EXPECT_EQ(sh.meshFile, brickFolder() + "/brick.obj");
+  // fill = "surface" (of at most 20 spheres: the layer needs 13 at least): the layer clumpFromMesh() gives.
+  std::string surface = shape;
+  surface.replace(surface.find("spheres = 5"), 11, "spheres = 20");
+  const tumble::Scene layered = tumble::parseScene(std::string(kHead) + surface + "fill = \"surface\"\n" + kBody,
+                                                   "bricks.toml", {}, tumble::OverrideSource::CommandLine, brickFolder());
+  o.fill = tumble::ClumpFill::Surface;
+  o.spheres = 20;
+  const tumble::ShapeDef layer =
+      tumble::clumpShape(tumble::clumpFromMesh(tumble::readMeshFile(brickFolder() + "/brick.obj"), o), "brick", 2000.0);
+  ASSERT_EQ(layered.shapes[0].spheres.size(), layer.spheres.size());
+  for (std::size_t i = 0; i < layer.spheres.size(); ++i) EXPECT_EQ(layered.shapes[0].spheres[i].radius, layer.spheres[i].radius);
   const tumble::Scene big = tumble::parseScene(std::string(kHead) + shape + "scale = 2\n" + kBody, "bricks.toml", {},
                                                tumble::OverrideSource::CommandLine, brickFolder());
   EXPECT_NEAR(big.shapes[0].solid->mass, 8 * m, 1e-12);
@@ -267,6 +357,7 @@ TEST(ClumpErrors, AShapeFromAMeshFile) {
   refused(head + "density = 2000\n", 5, "needs spheres = N");
   refused(head + "spheres = 3\n", 5, "needs its density");
   refused(head + "spheres = 3\ndensity = 2000\nmass = 1\n", 10, "mass is not a key of a shape made from a mesh");
+  refused(head + "spheres = 3\ndensity = 2000\nfill = \"hollow\"\n", 10, "unknown fill \"hollow\"; use \"inside\"");
   refused("[[shape]]\nname = \"brick\"\nspheres = 3\n[[shape.sphere]]\nradius = 0.1\nmass = 1\n", 7,
           "spheres is a key of a shape made from a mesh");
   refused("[[shape]]\nname = \"brick\"\nmesh = \"nope.obj\"\nspheres = 3\ndensity = 1\n", 7, "looked for at");

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-// `tumble clump MESH [--spheres N] [--tolerance D] [-o shape.toml]`: a clump of spheres that
+// `tumble clump MESH [--spheres N] [--tolerance D] [--fill inside|surface] [-o shape.toml]`: a clump of spheres that
 // approximates a closed mesh (tumble/clump.hpp), written as a [[shape]] table with the mesh's
 // own mass properties, and the approximation's quality.
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -25,6 +26,7 @@ struct ClumpCommand {
   ClumpOptions options;
   std::vector<double> scale{1.0};
   double density = 1000.0;
+  std::string fill = "inside";
 };
 
 void clump(const ClumpCommand& o) {
@@ -39,13 +41,17 @@ void clump(const ClumpCommand& o) {
   const TriangleMesh mesh = readMeshFile(o.mesh);
   const Clump c = clumpFromMesh(mesh, o.options, scale);
   const ShapeDef shape = clumpShape(c, o.name.empty() ? std::filesystem::path(o.mesh).stem().string() : o.name, o.density);
-  char limits[96] = "";
+  char limits[160] = "";
   if (o.options.spheres != 0 && o.options.tolerance > 0.0)
     std::snprintf(limits, sizeof limits, "at most %u, tolerance %g m", o.options.spheres, o.options.tolerance);
   else if (o.options.spheres != 0)
     std::snprintf(limits, sizeof limits, "at most %u", o.options.spheres);
   else
     std::snprintf(limits, sizeof limits, "tolerance %g m", o.options.tolerance);
+  if (o.options.fill == ClumpFill::Surface) {
+    const std::size_t used = std::strlen(limits);
+    std::snprintf(limits + used, sizeof limits - used, "; a layer under the surface, radius %.4g m", c.layerRadius);
+  }
   char numbers[640];  // (the mesh's path, of any length, outside it)
   std::snprintf(numbers, sizeof numbers,
                 ": %zu sphere%s (%s), %zu triangles, voxels of %.4g m (resolution %u)\n"
@@ -67,6 +73,15 @@ void clump(const ClumpCommand& o) {
     else
       std::snprintf(left, sizeof left, "\nwith %zu sphere%s a part of the solid %.4g m deep is left uncovered",
                     c.spheres.size(), plural, c.uncoveredDepth);
+    head += left;
+  }
+  if (o.options.fill == ClumpFill::Surface && o.options.tolerance > 0.0 &&
+      c.quality.largestDeviation > o.options.tolerance) {  // the sphere count ended it
+    char left[240];
+    std::snprintf(left, sizeof left,
+                  "\nthe tolerance is not reached: with %zu spheres the layer's radius is %.4g m, and the surface lies up "
+                  "to %.4g m from it (more than %g m); allow more spheres or give a larger tolerance",
+                  c.spheres.size(), c.layerRadius, c.quality.largestDeviation, o.options.tolerance);
     head += left;
   }
   std::fprintf(stderr, "%s\n", head.c_str());
@@ -93,6 +108,11 @@ void addClump(CLI::App& app) {
   c->add_option("--tolerance", o->options.tolerance,
                 "Stop when no uncovered part of the solid is deeper than this (m): the largest surface deviation, "
                 "about");
+  c->add_option("--fill", o->fill,
+                "inside: spheres filling the solid, the largest first; surface: a layer of spheres of one radius under "
+                "its surface (hollow), for thin parts and flat faces")
+      ->check(CLI::IsMember({"inside", "surface"}))
+      ->default_val("inside");
   c->add_option("--resolution", o->options.resolution, "Voxels along the solid's longest side, 8 to 512")
       ->default_val(64);
   c->add_option("--scale", o->scale, "The factor of the file's coordinates, one or x,y,z (as a mesh wall's scale)")
@@ -104,6 +124,7 @@ void addClump(CLI::App& app) {
   c->callback([o] {
     if (o->options.spheres == 0 && !(o->options.tolerance > 0.0))
       throw Error("give --spheres N, --tolerance D or both");
+    o->options.fill = o->fill == "surface" ? ClumpFill::Surface : ClumpFill::Inside;
     if (!(o->density > 0.0) || !std::isfinite(o->density)) throw Error("--density must be a finite number > 0");
     clump(*o);
   });

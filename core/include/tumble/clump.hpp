@@ -24,6 +24,23 @@
 ///    before, before or after its climb (reaching less than a quarter voxel out of it: the
 ///    voxels in its ball are covered).
 ///
+/// `fill = Surface` places a layer instead (the surface fill): spheres of one radius ρ whose
+/// centres lie at the depth ρ (within half a voxel; a voxel's depth taken as its distance to the
+/// outside less half a voxel), so that each touches the surface from within, chosen by
+/// farthest-point sampling (the shell's extremes first: a box's corners, then its edges) until
+/// every voxel of that shell is within ρ of a centre; in parts thinner than 2ρ the voxels of their ridge (no face neighbour deeper)
+/// stand in for the shell, each sphere as deep as it is. ρ from the tolerance D: at most
+/// D / (√3 − 1) (a convex corner of a box is (√3 − 1) ρ from a sphere tangent to its three
+/// faces, a flat face between two centres ρ apart within (√2 − 1) ρ), the largest below it whose
+/// layer the surface lies within D of, measured as clumpQuality() does (bisection; the corners'
+/// deviation depends on where the centres fall); at least 1.5 voxels (a smaller one is refused:
+/// a finer resolution), at most the solid's depth. With a
+/// sphere count N (alone, or when D's layer needs more than N), the smallest ρ whose layer has at
+/// most N spheres (bisection). Each sphere's radius is the exact distance from its centre to the
+/// triangles. The inside holds no sphere: a hollow clump for the contacts of its surface, whose
+/// thin parts and flat faces the inside fill covers poorly (a plate thinner than two voxels gets
+/// no sphere there).
+///
 /// Deterministic: integer depths, fixed orders, every distance in double; the same spheres on
 /// any machine and thread count (it runs on one).
 #pragma once
@@ -38,10 +55,19 @@
 
 namespace tumble {
 
+/// Where a clump's spheres go: filling the solid, deepest first, or as a layer under its surface.
+enum class ClumpFill : std::uint8_t { Inside, Surface };
+
+/// "inside" / "surface".
+const char* toString(ClumpFill fill);
+
 struct ClumpOptions {
   std::uint32_t spheres = 0;      ///< at most this many spheres (0: no bound)
-  double tolerance = 0.0;         ///< stop when no uncovered voxel is deeper than this (m; 0: no bound)
+  /// Inside: stop when no uncovered voxel is deeper than this; Surface: the deviation the layer's
+  /// radius is chosen for (m; 0: no bound).
+  double tolerance = 0.0;
   std::uint32_t resolution = 64;  ///< voxels along the solid's longest side (8 to 512)
+  ClumpFill fill = ClumpFill::Inside;
 };
 
 struct ClumpSphere {
@@ -69,8 +95,11 @@ struct Clump {
   double voxel = 0.0;                ///< the voxel's edge (m)
   /// Where the sphere count ended the placement: the depth (m, in voxels, as the tolerance
   /// compares it) of the deepest part of the solid left uncovered; 0 when the spheres cover the
-  /// solid to within the tolerance (or to half a voxel).
+  /// solid to within the tolerance (or to half a voxel). The inside fill only.
   double uncoveredDepth = 0.0;
+  /// The surface fill: the layer's radius ρ (m); larger than the tolerance's, D / (√3 − 1), when
+  /// the sphere count ended it.
+  double layerRadius = 0.0;
 };
 
 /// The clump of `mesh` (its vertices times `scale` per axis). Throws tumble::InputError for a
