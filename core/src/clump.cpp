@@ -227,9 +227,9 @@ std::vector<std::size_t> layerCandidates(const Grid& g, const std::vector<std::u
 
 /// The layer's centres by farthest-point sampling: first the candidate farthest from their
 /// centroid, then each time the one farthest from every centre chosen, until every candidate is
-/// within rho of one (ties: the lowest index). Extremes first (a box's corners, then its edges),
-/// where the surface is farthest from the layer. C candidates and K centres: O(K C).
-std::vector<std::size_t> coverLayer(const Grid& g, const std::vector<std::size_t>& candidates, double rho) {
+/// within `spacing` of one (ties: the lowest index). Extremes first (a box's corners, then its
+/// edges), where the surface is farthest from the layer. C candidates and K centres: O(K C).
+std::vector<std::size_t> coverLayer(const Grid& g, const std::vector<std::size_t>& candidates, double spacing) {
   std::vector<std::size_t> chosen;
   if (candidates.empty()) return chosen;
   std::vector<D3> p(candidates.size());
@@ -255,13 +255,13 @@ std::vector<std::size_t> coverLayer(const Grid& g, const std::vector<std::size_t
       near[c] = std::min(near[c], dot(d, d));
       if (near[c] > far) far = near[c], next = c;
     }
-    if (!(far > rho * rho)) break;
+    if (!(far > spacing * spacing)) break;
   }
   return chosen;
 }
 
 /// The surface fill (clump.hpp): the layer's radius from the tolerance (measured) and the sphere
-/// count, its spheres into out.
+/// count, its spheres (and, where it measured them, their quality) into out.
 void placeLayer(const TriangleMesh& mesh, const Grid& g, const std::vector<Tri>& tris,
                 const std::vector<std::uint8_t>& inside, const std::vector<double>& d2, const ClumpOptions& options,
                 const std::array<double, 3>& scale, Clump& out) {
@@ -269,11 +269,26 @@ void placeLayer(const TriangleMesh& mesh, const Grid& g, const std::vector<Tri>&
   for (std::size_t v = 0; v < g.size(); ++v)
     if (inside[v]) deepest = std::max(deepest, d2[v]);
   deepest = (std::sqrt(deepest) - 0.5) * g.h;  // the depth of the deepest point (layerCandidates())
-  const double least = std::min(1.5 * g.h, deepest);  // a layer's spheres at least 1.5 voxels (the depths' grain)
-  const auto centres = [&](double rho) { return coverLayer(g, layerCandidates(g, inside, d2, rho), rho); };
-  const auto spheresAt = [&](const std::vector<std::size_t>& chosen) {
+  char buf[400];
+  if (!(deepest >= 0.5 * g.h)) {
+    std::snprintf(buf, sizeof buf, ": the solid is too thin for its voxels (%.4g m: resolution %u), no layer fits; give a "
+                  "finer resolution", g.h, options.resolution);
+    throw Error(mesh.file + buf);
+  }
+  const double least = std::min(1.5 * g.h, deepest);  // 1.5 voxels (the depths' grain), or a thin solid's depth
+  const double tol = options.tolerance;
+  // The tolerance the layer is laid out for: D less 1.5 voxels, what the centres' and the depths'
+  // grain adds (measured on boxes).
+  const double design = tol - 1.5 * g.h;
+  // The centres' spacing for a layer of radius ρ: with a tolerance, √(E² + 2Eρ − 2ρ²) for E the
+  // design's, with which a box's corner lies within E of a centre that far along the layer from
+  // its own corner (√(3ρ² + s²) − ρ ≤ E; a flat face then within less); for a count alone √2 ρ.
+  const auto spheresAt = [&](double rho, bool forTolerance) {
+    const double spacing =
+        forTolerance ? std::sqrt(std::max(design * design + 2.0 * design * rho - 2.0 * rho * rho, 0.0))
+                     : std::sqrt(2.0) * rho;
     std::vector<ClumpSphere> s;
-    for (const std::size_t v : chosen) {
+    for (const std::size_t v : coverLayer(g, layerCandidates(g, inside, d2, rho), spacing)) {
       const D3 p = g.point(v);
       const double r = distanceToMesh(p, tris);
       if (r >= 0.5 * g.h) s.push_back({p, r});  // (a sliver of the surface: too small a sphere)
@@ -281,60 +296,62 @@ void placeLayer(const TriangleMesh& mesh, const Grid& g, const std::vector<Tri>&
     return s;
   };
   struct Layer {
-    double rho = 0.0, deviation = 0.0;
+    double rho = 0.0;
     std::vector<ClumpSphere> spheres;
-  };
-  const auto measured = [&](double rho) {
-    Layer l{rho, 0.0, spheresAt(centres(rho))};
-    l.deviation = clumpQuality(mesh, l.spheres, g.h, out.solid.volume, scale).largestDeviation;
-    return l;
+    ClumpQuality quality;
   };
   Layer best;
-  const double tol = options.tolerance;
   if (tol > 0.0) {
-    // From D / (√3 − 1) down, by bisection, to the largest radius whose layer the surface lies
-    // within D of (measured: the corners' share depends on where the centres fall).
-    double hi = std::min(tol / (std::sqrt(3.0) - 1.0), deepest), lo = least;
-    char buf[320];
-    if (hi < least) {
-      std::snprintf(buf, sizeof buf, ": a surface layer for the tolerance %g m needs spheres of radius %.4g m, under 1.5 "
-                    "voxels (%.4g m): give a resolution of at least %.0f, or a larger tolerance",
-                    tol, hi, 1.5 * g.h, std::ceil(options.resolution * 1.5 * g.h / hi));
+    // Radii from 0.35 E to 1.1 E (at most the solid's depth, at least 1.5 voxels), each layer
+    // measured (the corners' share depends on where the centres fall): the one that meets D with
+    // the fewest spheres (ties: the larger radius). E must exceed 1.5 voxels (a layer's least).
+    if (!(design > 1.5 * g.h)) {
+      const double needed = std::ceil(options.resolution * 3.0 * g.h / tol);  // 3 voxels in D
+      if (needed > 512)
+        std::snprintf(buf, sizeof buf, ": a surface layer for the tolerance %g m needs voxels of a third of it, finer "
+                      "than resolution 512 gives; give a larger tolerance", tol);
+      else
+        std::snprintf(buf, sizeof buf, ": a surface layer for the tolerance %g m needs voxels of a third of it or less "
+                      "(they are %.4g m): give a resolution of at least %.0f, or a larger tolerance",
+                      tol, g.h, needed);
       throw Error(mesh.file + buf);
     }
-    best = measured(hi);
-    if (best.deviation > tol) {
-      best = measured(lo);
-      if (best.deviation > tol) {
-        std::snprintf(buf, sizeof buf, ": no surface layer meets the tolerance %g m down to spheres of 1.5 voxels "
-                      "(%.4g m; the surface then lies up to %.4g m from it): give a finer resolution or a larger "
-                      "tolerance", tol, lo, best.deviation);
-        throw Error(mesh.file + buf);
+    double worst = 0.0;
+    bool found = false;
+    double last = -1.0;
+    for (const double f : {1.1, 0.9, 0.7, 0.5, 0.35}) {
+      const double rho = std::clamp(f * design, least, deepest);
+      if (rho == last) continue;
+      last = rho;
+      Layer l{rho, spheresAt(rho, true), {}};
+      l.quality = clumpQuality(mesh, l.spheres, g.h, out.solid.volume, scale);
+      if (!(l.quality.largestDeviation <= tol)) {
+        worst = std::max(worst, l.quality.largestDeviation);
+        continue;
       }
-      for (int k = 0; k < 10 && hi - lo > 0.05 * g.h; ++k) {
-        Layer mid = measured(0.5 * (lo + hi));
-        if (mid.deviation <= tol) {
-          lo = mid.rho;
-          best = std::move(mid);
-        } else {
-          hi = mid.rho;
-        }
-      }
+      if (!found || l.spheres.size() < best.spheres.size()) best = std::move(l);
+      found = true;
     }
+    if (!found) {
+      std::snprintf(buf, sizeof buf, ": no surface layer meets the tolerance %g m with spheres of %.4g to %.4g m (the "
+                    "surface lies up to %.4g m from them): give a finer resolution or a larger tolerance",
+                    tol, std::clamp(0.35 * design, least, deepest), std::clamp(1.1 * design, least, deepest), worst);
+      throw Error(mesh.file + buf);
+    }
+    out.quality = best.quality;
   }
   if (options.spheres != 0 && (tol <= 0.0 || best.spheres.size() > options.spheres)) {
     // The smallest radius whose layer has at most that many spheres, by bisection.
     double lo = std::max(best.rho, least), hi = deepest;
-    std::vector<std::size_t> atHi = centres(hi);
+    std::vector<ClumpSphere> atHi = spheresAt(hi, false);
     if (atHi.size() > options.spheres) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, ": a layer under the surface needs at least %zu spheres here (of radius %g m, the "
-                    "solid's depth); allow more spheres", atHi.size(), hi);
+      std::snprintf(buf, sizeof buf, ": a layer under the surface needs at least %zu spheres here (of radius %.4g m, "
+                    "the solid's depth); allow more spheres", atHi.size(), hi);
       throw Error(mesh.file + buf);
     }
-    for (int k = 0; k < 24 && hi - lo > 0.01 * g.h; ++k) {
+    for (int k = 0; k < 20 && hi - lo > 0.01 * g.h; ++k) {
       const double mid = 0.5 * (lo + hi);
-      std::vector<std::size_t> c = centres(mid);
+      std::vector<ClumpSphere> c = spheresAt(mid, false);
       if (c.size() <= options.spheres) {
         hi = mid;
         atHi = std::move(c);
@@ -343,11 +360,73 @@ void placeLayer(const TriangleMesh& mesh, const Grid& g, const std::vector<Tri>&
       }
     }
     best.rho = hi;
-    best.spheres = spheresAt(atHi);
+    best.spheres = std::move(atHi);
+    out.quality = ClumpQuality{};  // (measured below)
   }
   out.layerRadius = best.rho;
   out.spheres = std::move(best.spheres);
 }
+
+/// The spheres bucketed in cubic cells of edge at least twice the largest radius over a box that
+/// holds them and the points asked about: the distance from a point to the union of the spheres,
+/// min over them of max(0, |p − c| − r), by rings of cells around the point's until no sphere
+/// further out can be nearer. The same value as the loop over every sphere (a minimum of the
+/// same numbers), in about a cell's worth of spheres per point.
+class SphereGrid {
+ public:
+  SphereGrid(const std::vector<ClumpSphere>& spheres, D3 lo, D3 hi) : m_spheres(spheres) {
+    for (const ClumpSphere& s : spheres) {
+      m_rmax = std::max(m_rmax, s.radius);
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], s.centre[a]), hi[a] = std::max(hi[a], s.centre[a]);
+    }
+    m_lo = lo;
+    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
+    // At least 2 r_max, and cells no more than about 8 per sphere (and 2^21 in all).
+    m_cell = std::max(2.0 * m_rmax, extent / std::cbrt(std::min(8.0 * double(spheres.size()) + 8.0, 2097152.0)));
+    for (int a = 0; a < 3; ++a) m_n[a] = int(std::floor((hi[a] - lo[a]) / m_cell)) + 1;
+    m_first.assign(std::size_t(m_n[0]) * m_n[1] * m_n[2] + 1, 0);
+    for (const ClumpSphere& s : spheres) ++m_first[cellOf(s.centre) + 1];
+    for (std::size_t c = 1; c < m_first.size(); ++c) m_first[c] += m_first[c - 1];
+    m_index.resize(spheres.size());
+    std::vector<std::size_t> at(m_first.begin(), m_first.end() - 1);
+    for (std::size_t k = 0; k < spheres.size(); ++k) m_index[at[cellOf(spheres[k].centre)]++] = k;
+  }
+  double distance(const D3& p) const {
+    int c[3];
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(std::floor((p[a] - m_lo[a]) / m_cell)), 0, m_n[a] - 1);
+    double best = std::numeric_limits<double>::infinity();
+    const int most = std::max({m_n[0], m_n[1], m_n[2]});
+    for (int k = 0; k < most; ++k) {
+      // A sphere in ring k + 1 or further has its centre k cells or more away: no nearer than this.
+      for (int z = c[2] - k; z <= c[2] + k; ++z)
+        for (int y = c[1] - k; y <= c[1] + k; ++y)
+          for (int x = c[0] - k; x <= c[0] + k; ++x) {
+            if (std::max({std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != k) continue;
+            if (x < 0 || y < 0 || z < 0 || x >= m_n[0] || y >= m_n[1] || z >= m_n[2]) continue;
+            const std::size_t cell = (std::size_t(z) * m_n[1] + y) * m_n[0] + x;
+            for (std::size_t i = m_first[cell]; i < m_first[cell + 1]; ++i) {
+              const ClumpSphere& s = m_spheres[m_index[i]];
+              const D3 e = sub(p, s.centre);
+              best = std::min(best, std::max(0.0, std::sqrt(dot(e, e)) - s.radius));
+            }
+          }
+      if (best <= double(k) * m_cell - m_rmax) break;
+    }
+    return best;
+  }
+
+ private:
+  std::size_t cellOf(const D3& p) const {
+    int c[3];
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(std::floor((p[a] - m_lo[a]) / m_cell)), 0, m_n[a] - 1);
+    return (std::size_t(c[2]) * m_n[1] + c[1]) * m_n[0] + c[0];
+  }
+  const std::vector<ClumpSphere>& m_spheres;
+  D3 m_lo{0.0, 0.0, 0.0};
+  double m_cell = 1.0, m_rmax = 0.0;
+  int m_n[3] = {1, 1, 1};
+  std::vector<std::size_t> m_first, m_index;
+};
 
 }  // namespace
 
@@ -373,6 +452,11 @@ ClumpQuality clumpQuality(const TriangleMesh& mesh, const std::vector<ClumpSpher
   // spheres: min over them of max(0, |p − c| − r), exact outside the union. The mean weighs each
   // triangle by its area.
   double sum = 0.0, area = 0.0;
+  D3 lo = tris.empty() ? D3{0.0, 0.0, 0.0} : tris[0].a, hi = lo;
+  for (const Tri& t : tris)
+    for (const D3* c : {&t.a, &t.b, &t.c})
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], (*c)[a]), hi[a] = std::max(hi[a], (*c)[a]);
+  const SphereGrid near(spheres, lo, hi);
   for (const Tri& t : tris) {
     const D3 ab = sub(t.b, t.a), ac = sub(t.c, t.a), bc = sub(t.c, t.b);
     const double longest = std::sqrt(std::max({dot(ab, ab), dot(ac, ac), dot(bc, bc)}));
@@ -385,11 +469,7 @@ ClumpQuality clumpQuality(const TriangleMesh& mesh, const std::vector<ClumpSpher
       for (int j = 0; i + j <= k; ++j) {
         const double v = double(i) / k, w = double(j) / k;
         const D3 p{t.a[0] + v * ab[0] + w * ac[0], t.a[1] + v * ab[1] + w * ac[1], t.a[2] + v * ab[2] + w * ac[2]};
-        double d = std::numeric_limits<double>::infinity();
-        for (const ClumpSphere& s : spheres) {
-          const D3 e = sub(p, s.centre);
-          d = std::min(d, std::max(0.0, std::sqrt(dot(e, e)) - s.radius));
-        }
+        const double d = near.distance(p);
         q.largestDeviation = std::max(q.largestDeviation, d);
         local += d;
         ++points;
@@ -493,7 +573,7 @@ Clump clumpFromMesh(const TriangleMesh& mesh, const ClumpOptions& options, std::
     throw Error(mesh.file + (options.tolerance > 0.0
                                  ? ": the whole solid lies within the tolerance of its surface: give a smaller tolerance"
                                  : ": no sphere of at least half a voxel fits in the solid; use a finer resolution"));
-  out.quality = clumpQuality(mesh, out.spheres, out.voxel, out.solid.volume, scale);
+  if (out.quality.samples == 0) out.quality = clumpQuality(mesh, out.spheres, out.voxel, out.solid.volume, scale);
   return out;
 }
 

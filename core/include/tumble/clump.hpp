@@ -28,18 +28,18 @@
 /// centres lie at the depth ρ (within half a voxel; a voxel's depth taken as its distance to the
 /// outside less half a voxel), so that each touches the surface from within, chosen by
 /// farthest-point sampling (the shell's extremes first: a box's corners, then its edges) until
-/// every voxel of that shell is within ρ of a centre; in parts thinner than 2ρ the voxels of their ridge (no face neighbour deeper)
-/// stand in for the shell, each sphere as deep as it is. ρ from the tolerance D: at most
-/// D / (√3 − 1) (a convex corner of a box is (√3 − 1) ρ from a sphere tangent to its three
-/// faces, a flat face between two centres ρ apart within (√2 − 1) ρ), the largest below it whose
-/// layer the surface lies within D of, measured as clumpQuality() does (bisection; the corners'
-/// deviation depends on where the centres fall); at least 1.5 voxels (a smaller one is refused:
-/// a finer resolution), at most the solid's depth. With a
-/// sphere count N (alone, or when D's layer needs more than N), the smallest ρ whose layer has at
-/// most N spheres (bisection). Each sphere's radius is the exact distance from its centre to the
-/// triangles. The inside holds no sphere: a hollow clump for the contacts of its surface, whose
-/// thin parts and flat faces the inside fill covers poorly (a plate thinner than two voxels gets
-/// no sphere there).
+/// every voxel of that shell is within a spacing s of a centre; in parts thinner than 2ρ the
+/// voxels of their ridge (none of the 26 neighbours deeper) stand in for the shell, each sphere
+/// as deep as it is. With a tolerance D: E = D − 1.5 voxels (the grain the voxels add), which
+/// must exceed 1.5 voxels (else refused, with the resolution it needs), s = √(E² + 2Eρ − 2ρ²)
+/// (a box's corner then lies within E of a centre s along the layer from its own corner), and
+/// of the radii 1.1, 0.9, 0.7, 0.5 and 0.35 E (within 1.5 voxels and the solid's depth) the one
+/// whose layer, measured as clumpQuality() does, meets D with the fewest spheres. With a sphere
+/// count N (alone, or when D's layer needs more than N): s = √2 ρ and the smallest ρ whose layer
+/// has at most N spheres (bisection). Each sphere's radius is the exact distance from its centre
+/// to the triangles. The inside holds no sphere: a hollow clump for the contacts of its surface,
+/// whose thin parts and flat faces the inside fill covers poorly (a plate thinner than two
+/// voxels gets no sphere there).
 ///
 /// Deterministic: integer depths, fixed orders, every distance in double; the same spheres on
 /// any machine and thread count (it runs on one).
@@ -97,8 +97,7 @@ struct Clump {
   /// compares it) of the deepest part of the solid left uncovered; 0 when the spheres cover the
   /// solid to within the tolerance (or to half a voxel). The inside fill only.
   double uncoveredDepth = 0.0;
-  /// The surface fill: the layer's radius ρ (m); larger than the tolerance's, D / (√3 − 1), when
-  /// the sphere count ended it.
+  /// The surface fill: the layer's radius ρ (m).
   double layerRadius = 0.0;
 };
 
