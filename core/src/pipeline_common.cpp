@@ -122,11 +122,7 @@ void StepStats::add(const StepStats& later) {
   for (int p = 0; p < kNumPhases; ++p) seconds[p] += before.seconds[p];
   numRebuilds += before.numRebuilds;
   numNearRefreshes += before.numNearRefreshes;
-  energy.normal += before.energy.normal;
-  energy.tangential += before.energy.tangential;
-  energy.friction += before.energy.friction;
-  energy.cohesion += before.energy.cohesion;
-  energy.wall += before.energy.wall;
+  energy += before.energy;
 }
 
 }  // namespace tumble

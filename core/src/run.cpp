@@ -326,9 +326,7 @@ ThermoSample Run::sampleNow() const {
 ThermoSample Run::withTally(ThermoSample s) const {
   if (!m_tallying) return withEnergy(s, kNoEnergyTally);
   const EnergyTotals e = stats().energy;  // since the series began: less what was there then
-  return withEnergy(s, EnergyTotals{e.normal - m_tallyBase.normal, e.tangential - m_tallyBase.tangential,
-                                    e.friction - m_tallyBase.friction, e.cohesion - m_tallyBase.cohesion,
-                                    e.wall - m_tallyBase.wall});
+  return withEnergy(s, e - m_tallyBase);
 }
 
 bool Run::writeOrGiveUp(const std::function<void()>& write) {

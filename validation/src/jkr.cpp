@@ -57,7 +57,7 @@ std::string jkrSceneText(double e, double g, double dt, const std::string& bodie
   return buf + bodies;
 }
 
-JkrImpact jkrImpact(Backend backend, bool plane, double v) {
+std::string jkrHeadOnBodies(bool plane, double v) {
   char body[400];
   if (plane)
     std::snprintf(body, sizeof body, "[[body]]\nshape = \"s\"\nposition = [0, 0, 0.00001]\nvelocity = [0, 0, %.17g]\n", -v);
@@ -66,7 +66,11 @@ JkrImpact jkrImpact(Backend backend, bool plane, double v) {
                   "[[body]]\nshape = \"s\"\nposition = [-0.00201, 0, 0.01]\nvelocity = [%.17g, 0, 0]\n"
                   "[[body]]\nshape = \"s\"\nposition = [0.00201, 0, 0.01]\nvelocity = [%.17g, 0, 0]\n",
                   0.5 * v, -0.5 * v);
-  const Scene scene = parseScene(jkrSceneText(1.0, 0.0, 1e-6, body), "jkr impact");
+  return body;
+}
+
+JkrImpact jkrImpact(Backend backend, bool plane, double v) {
+  const Scene scene = parseScene(jkrSceneText(1.0, 0.0, 1e-6, jkrHeadOnBodies(plane, v)), "jkr impact");
   auto p = makePipeline(backend);
   p->load(World::fromScene(scene));
   p->setEnergyTally(true);

@@ -181,12 +181,8 @@ TEST_P(JkrTest, NecksAreContactsAndTheGuardCountsTheirEnergy) {
   const double m = validation::kJkrDensity * 4.0 / 3.0 * kPi * kR * kR * kR;
   const JkrCurve c{0.5 * kR, jkrYstar(false), kGamma};
   const double v = 0.9 * std::sqrt(2.0 * c.neckWork() / (0.5 * m));
-  char body[400];
-  std::snprintf(body, sizeof body,
-                "[[body]]\nshape = \"s\"\nposition = [-0.00201, 0, 0.01]\nvelocity = [%.17g, 0, 0]\n"
-                "[[body]]\nshape = \"s\"\nposition = [0.00201, 0, 0.01]\nvelocity = [%.17g, 0, 0]\n",
-                0.5 * v, -0.5 * v);
-  const World w = World::fromScene(parseScene(jkrSceneText(1.0, 0.0, 1e-6, body), "jkr neck"));
+  const World w =
+      World::fromScene(parseScene(jkrSceneText(1.0, 0.0, 1e-6, validation::jkrHeadOnBodies(false, v)), "jkr neck"));
   auto p = makePipeline(GetParam());
   p->load(w);
   p->setDebugCapture(true);

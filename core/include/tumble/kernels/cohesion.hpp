@@ -146,31 +146,24 @@ TUMBLE_HD_INLINE double jkrEnergy(double delta, double reff, double ystar, doubl
   const double c = sqrt(2.0 * kPiD * gamma / ystar), x = c * reff;
   double sc = gamma > 0.0 ? double(cubeRoot(float(0.25 * x))) : 0.0;
   for (int k = 0; k < 2 && sc > 0.0; ++k) sc = sc - (sc * sc * sc - 0.25 * x) / (3.0 * sc * sc);
-  const double rd = reff * delta;
-  double s = 2.0 * sc;
-  if (rd > 0.0 && sqrt(sqrt(2.0 * rd)) > s) s = sqrt(sqrt(2.0 * rd));
-  for (int k = 0; k < 200 && s > 0.0; ++k) {
-    const double s3 = s * s * s;
-    const double next = s - ((s3 * s - x * s) - rd) / (4.0 * s3 - x);
-    if (!(next < s)) break;
-    if (!(next > sc)) {  // past the turn (as jkrContact())
-      s = sc;
-      break;
+  // s at R* δ = rd, as jkrContact() (from above, stopped at s_c).
+  const auto root = [&](double rd) {
+    double s = 2.0 * sc;
+    if (rd > 0.0 && sqrt(sqrt(2.0 * rd)) > s) s = sqrt(sqrt(2.0 * rd));
+    for (int k = 0; k < 200 && s > 0.0; ++k) {
+      const double s3 = s * s * s;
+      const double next = s - ((s3 * s - x * s) - rd) / (4.0 * s3 - x);
+      if (!(next < s)) break;
+      if (!(next > sc)) return sc;  // past the turn
+      s = next;
     }
-    s = next;
-  }
+    return s;
+  };
   const auto p = [&](double t) {
     const double t3 = t * t * t, t4 = t3 * t;
     return (8.0 / 15.0) * t4 * t4 * t * t / (reff * reff) - (4.0 / 3.0) * c * t4 * t3 / reff + 0.5 * c * c * t4;
   };
-  double s0 = 2.0 * sc;  // s₀ = (4)^{1/3} s_c, refined from above
-  for (int k = 0; k < 200 && s0 > 0.0; ++k) {
-    const double s3 = s0 * s0 * s0;
-    const double next = s0 - (s3 * s0 - x * s0) / (4.0 * s3 - x);
-    if (!(next < s0)) break;
-    s0 = next;
-  }
-  return ystar * (p(s) - p(s0));
+  return ystar * (p(root(reff * delta)) - p(root(0.0)));  // from s₀ = 4^{1/3} s_c, where δ = 0
 }
 
 /// The cohesive potential of a contact at overlap δ > 0 (double, for the guard and the time

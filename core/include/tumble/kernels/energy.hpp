@@ -96,6 +96,15 @@ TUMBLE_HD_INLINE void addLimbs(EnergyLimbs& a, const EnergyLimbs& b) {
 /// The energies of EnergyFlows (J) since the tally began.
 struct EnergyTotals {
   double normal = 0.0, tangential = 0.0, friction = 0.0, cohesion = 0.0, wall = 0.0;
+  EnergyTotals& operator+=(const EnergyTotals& o) {
+    normal += o.normal, tangential += o.tangential, friction += o.friction, cohesion += o.cohesion, wall += o.wall;
+    return *this;
+  }
+  /// What flowed since `base` was taken.
+  EnergyTotals operator-(const EnergyTotals& base) const {
+    return EnergyTotals{normal - base.normal, tangential - base.tangential, friction - base.friction,
+                        cohesion - base.cohesion, wall - base.wall};
+  }
 };
 
 /// A running tally (host side): the exact sum of the limbs added, in 128 bits per flow.

@@ -37,7 +37,11 @@ double jkrYstar(bool plane);
 /// resolves the slowest motion), shape "s", with `bodies` ([[body]] tables) appended.
 std::string jkrSceneText(double e, double g, double dt, const std::string& bodies);
 
-/// A head-on impact without damping at relative speed v: two of the spheres (R* = r/2, m* = m/2)
+/// The [[body]] tables of a head-on impact at relative speed v: two of the spheres 20 µm apart
+/// along x, each at v/2 towards the other, or one 10 µm above the ground falling at v.
+std::string jkrHeadOnBodies(bool plane, double v);
+
+/// A head-on impact without damping at relative speed v (jkrHeadOnBodies()): two of the spheres (R* = r/2, m* = m/2)
 /// or one on the ground (r, m), with the energy tally on, run for 30000 steps of 1 µs. The
 /// relative speed after (positive: apart), the gap between the surfaces at the end (negative:
 /// overlapping or a neck), and the tally's dissipated_cohesion.
